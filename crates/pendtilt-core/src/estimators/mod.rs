@@ -1,0 +1,1 @@
+//! The paper's estimators, one per module, all implementing [`crate::Estimator`].

@@ -1,0 +1,1 @@
+//! Second-order low-pass section.

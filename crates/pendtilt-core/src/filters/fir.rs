@@ -1,0 +1,1 @@
+//! Windowed-sinc FIR low-pass.

@@ -1,0 +1,64 @@
+//! Per-sample diagnostics shared by every estimator.
+
+bitflags::bitflags! {
+    /// What happened while an estimate was computed. An empty set means a normal sample.
+    ///
+    /// Flags are sticky only for the sample they are returned with; every `update`
+    /// returns a fresh set.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct Flags: u16 {
+        /// The estimator has not seen enough samples for its filters or windows to be valid
+        /// (for example the first sample, or the Eq (22) gyro window still filling).
+        const INITIALISING = 1 << 0;
+        /// The argument of asin left [-1, 1] and was clamped (Eqs 20, 21, 30): the
+        /// parameters or the data are inconsistent with the pendulum model.
+        const ASIN_CLAMPED = 1 << 1;
+        /// A required input was missing or not finite: the output holds (or, for a
+        /// filter, predicts) instead of using it.
+        const SAMPLE_MISSING = 1 << 2;
+        /// The time step was not positive or not finite: the sample was not integrated.
+        const BAD_TIME_STEP = 1 << 3;
+        /// A sensor was at its full-scale limit.
+        const SATURATED = 1 << 4;
+        /// A Kalman measurement was not used (missing, or flagged by its source).
+        const MEASUREMENT_SKIPPED = 1 << 5;
+        /// The encoder angle jumped by about a full turn and was unwrapped.
+        const ENCODER_WRAPPED = 1 << 6;
+    }
+}
+
+impl Flags {
+    /// Short names of the set flags, `|`-separated, for CSV output (empty when none).
+    pub fn names(self) -> FlagNames {
+        FlagNames(self)
+    }
+}
+
+/// Display adapter returned by [`Flags::names`]: `asin_clamped|initialising`.
+#[derive(Debug, Clone, Copy)]
+pub struct FlagNames(Flags);
+
+impl core::fmt::Display for FlagNames {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        const NAMES: [(Flags, &str); 7] = [
+            (Flags::INITIALISING, "initialising"),
+            (Flags::ASIN_CLAMPED, "asin_clamped"),
+            (Flags::SAMPLE_MISSING, "sample_missing"),
+            (Flags::BAD_TIME_STEP, "bad_time_step"),
+            (Flags::SATURATED, "saturated"),
+            (Flags::MEASUREMENT_SKIPPED, "measurement_skipped"),
+            (Flags::ENCODER_WRAPPED, "encoder_wrapped"),
+        ];
+        let mut first = true;
+        for (flag, name) in NAMES {
+            if self.0.contains(flag) {
+                if !first {
+                    f.write_str("|")?;
+                }
+                f.write_str(name)?;
+                first = false;
+            }
+        }
+        Ok(())
+    }
+}

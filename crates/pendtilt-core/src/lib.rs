@@ -1,0 +1,39 @@
+//! # pendtilt-core
+//!
+//! Tilt estimation of a moving body from a pendulum read by an encoder, after Suresh and
+//! Raju, "A Novel Method to Estimate Tilt Angle of a Body using a Pendulum" (the paper).
+//! `#![no_std]`, no allocation, generic over `f32` and `f64`, no panic on finite input:
+//! the same code runs per sample on a microcontroller and over logs on a PC.
+//!
+//! ## Layout
+//! - [`params`]: the pendulum's physical and normalised parameters (a, b, c).
+//! - [`filters`]: the signal processing the estimators stand on: smoothing
+//!   differentiators (phi', phi''), a biquad low-pass, the paper's FIR low-pass.
+//! - [`estimators`]: one module per estimator of the paper, all with the same streaming
+//!   shape (settings with defaults, `new(settings)`, `update(sample) -> estimate`, flags):
+//!   [`estimators::accel`] (Eq 1), [`estimators::pendulum`] (raw), [`estimators::alg1`]
+//!   (Eq 20), [`estimators::alg2`] (Eqs 21-22), [`estimators::alg3`] (Eq 30).
+//! - [`kalman`]: process models, measurement models and a linear Kalman filter, kept apart
+//!   so that a new sensor is a new measurement model; [`kalman::tilt`] assembles the paper's
+//!   angle+bias filter (Eqs 2-11) over any measurement source.
+//!
+//! ## Sign convention
+//! The paper prints `theta = phi - asin(...)` in Eqs (20), (21) and (30). Solving its own
+//! Eq (18) gives `theta = phi + asin(a phi' + b (phi'' - theta''))`; this crate implements
+//! the plus sign (MODEL.md section 3).
+#![no_std]
+#![warn(missing_docs)]
+
+pub mod estimators;
+pub mod filters;
+mod flags;
+pub mod kalman;
+pub mod linalg;
+pub mod params;
+mod real;
+mod sample;
+
+pub use flags::{FlagNames, Flags};
+pub use params::{PendulumParams, PhysicalParams};
+pub use real::{lit, Real};
+pub use sample::{Estimate, Estimator, Sample};

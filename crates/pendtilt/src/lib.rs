@@ -1,0 +1,6 @@
+//! # pendtilt
+//!
+//! The std side of pendtilt: rig configuration, CSV logs, the simulator, parameter
+//! fitting, reports, and the `pendtilt` command. The per-sample algorithms live in
+//! [`pendtilt_core`], re-exported here as [`core`].
+pub use pendtilt_core as core;
