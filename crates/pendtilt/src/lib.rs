@@ -4,3 +4,5 @@
 //! fitting, reports, and the `pendtilt` command. The per-sample algorithms live in
 //! [`pendtilt_core`], re-exported here as [`core`].
 pub use pendtilt_core as core;
+
+pub mod cli;

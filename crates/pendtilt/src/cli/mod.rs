@@ -1,0 +1,51 @@
+//! Command-line front end: one module per subcommand, each with its `Args` and `run`.
+use clap::{Parser, Subcommand};
+
+pub mod estimate;
+pub mod filter;
+pub mod fit;
+pub mod report;
+pub mod reproduce;
+pub mod simulate;
+pub mod stream;
+
+/// Tilt estimation with a pendulum as the sensor.
+#[derive(Debug, Parser)]
+#[command(name = "pendtilt", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run every estimator whose inputs are present over a sensor log (CSV).
+    Estimate(estimate::Args),
+    /// Apply the paper's FIR low-pass to columns of any CSV.
+    Filter(filter::Args),
+    /// Simulate the pendulum rig on a moving, vibrating body and write a sensor log.
+    Simulate(simulate::Args),
+    /// Fit the pendulum's parameters to a log (Newton, Eqs 23-29, or Levenberg-Marquardt).
+    Fit(fit::Args),
+    /// Metrics, figures and an HTML page for a log with a true angle.
+    Report(report::Args),
+    /// Redo the paper's experiment and figures on built-in simulated data.
+    Reproduce(reproduce::Args),
+    /// Estimate from log lines on standard input as they arrive.
+    Stream(stream::Args),
+}
+
+/// Runs one parsed command line.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Estimate(a) => estimate::run(a),
+        Command::Filter(a) => filter::run(a),
+        Command::Simulate(a) => simulate::run(a),
+        Command::Fit(a) => fit::run(a),
+        Command::Report(a) => report::run(a),
+        Command::Reproduce(a) => reproduce::run(a),
+        Command::Stream(a) => stream::run(a),
+    }
+}
