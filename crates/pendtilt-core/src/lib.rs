@@ -24,6 +24,9 @@
 #![no_std]
 #![warn(missing_docs)]
 
+#[cfg(test)]
+extern crate std;
+
 pub mod estimators;
 pub mod filters;
 mod flags;
