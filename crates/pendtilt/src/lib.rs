@@ -6,3 +6,5 @@
 pub use pendtilt_core as core;
 
 pub mod cli;
+pub mod config;
+pub mod io;

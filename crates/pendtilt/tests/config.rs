@@ -1,0 +1,313 @@
+//! The rig file: defaults, round trips, and every error naming file, line, key and why.
+use pendtilt::config::{ConfigErrorKind, KalmanConfig, PendulumConfig, RigConfig};
+use pendtilt::core::{PendulumParams, PhysicalParams};
+
+fn err(text: &str) -> pendtilt::config::ConfigError {
+    match RigConfig::from_toml_str(text, "rig.toml") {
+        Ok(cfg) => panic!("expected an error for {text:?}, got {cfg:?}"),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn empty_file_gives_documented_defaults() {
+    let cfg = RigConfig::from_toml_str("", "rig.toml").unwrap();
+    assert_eq!(cfg.physical(), Some(PhysicalParams::default()));
+    assert_eq!(cfg.params(), PendulumParams::default());
+    let k = cfg.kalman;
+    assert_eq!(
+        (
+            k.q_angle,
+            k.q_bias,
+            k.r_accel,
+            k.r_pendulum,
+            k.p0_angle,
+            k.p0_bias
+        ),
+        (0.001, 0.003, 0.03, 0.001, 0.01, 0.01)
+    );
+    assert_eq!(k, KalmanConfig::default());
+}
+
+#[test]
+fn physical_form_reads_every_key_and_defaults_the_rest() {
+    let cfg = RigConfig::from_toml_str(
+        "[pendulum]\nmass = 0.1\nlength = 0.04\ninertia = 2e-4\ndamping = 0\n",
+        "rig.toml",
+    )
+    .unwrap();
+    let p = cfg.physical().unwrap();
+    assert_eq!(p.mass, 0.1);
+    assert_eq!(p.length, 0.04);
+    assert_eq!(p.inertia, 2e-4);
+    assert_eq!(p.damping, 0.0);
+    assert_eq!(p.pivot_offset, 0.0);
+    assert_eq!(p.gravity, 9.80665);
+    let n = cfg.params();
+    assert!((n.b - 2e-4 / (0.1 * 9.80665 * 0.04)).abs() < 1e-15);
+    assert_eq!(n.a, 0.0);
+}
+
+#[test]
+fn integers_are_accepted_for_floats() {
+    let cfg = RigConfig::from_toml_str("[pendulum]\ngravity = 10\n", "rig.toml").unwrap();
+    assert_eq!(cfg.physical().unwrap().gravity, 10.0);
+}
+
+#[test]
+fn normalised_form_reads_a_b_c() {
+    let cfg = RigConfig::from_toml_str(
+        "[pendulum]\na = 0.05\nb = 0.006\nc = 0.001\n\n[kalman]\nr_accel = 0.5\n",
+        "rig.toml",
+    )
+    .unwrap();
+    assert_eq!(cfg.physical(), None);
+    assert_eq!(
+        cfg.params(),
+        PendulumParams {
+            a: 0.05,
+            b: 0.006,
+            c: 0.001
+        }
+    );
+    assert_eq!(cfg.kalman.r_accel, 0.5);
+    assert_eq!(cfg.kalman.q_angle, 0.001);
+}
+
+#[test]
+fn physical_round_trip() {
+    let p = PhysicalParams {
+        mass: 0.123_456_789,
+        length: 0.0371,
+        inertia: 1.9e-4,
+        damping: 2.5e-3,
+        pivot_offset: -0.12,
+        gravity: 9.81,
+    };
+    let mut cfg = RigConfig::from_physical(p).unwrap();
+    cfg.kalman.q_bias = 1.0 / 3.0;
+    let text = cfg.to_toml_string();
+    let back = RigConfig::from_toml_str(&text, "written.toml").unwrap();
+    assert_eq!(back, cfg, "text was:\n{text}");
+    assert!(text.contains("[pendulum]") && text.contains("[kalman]"));
+    assert!(
+        !text
+            .lines()
+            .any(|l| l.starts_with("a ") || l.starts_with("b ")),
+        "physical form only:\n{text}"
+    );
+}
+
+#[test]
+fn normalised_round_trip_and_save_load() {
+    let p = PendulumParams {
+        a: 0.043_643_1,
+        b: 5.302_5e-3,
+        c: 0.0,
+    };
+    let cfg = RigConfig::from_params(p).unwrap();
+    assert!(matches!(cfg.pendulum, PendulumConfig::Normalised(_)));
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("fit.toml");
+    cfg.save(&path).unwrap();
+    let back = RigConfig::load(&path).unwrap();
+    assert_eq!(back, cfg);
+    assert_eq!(back.params(), p);
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(!text.contains("mass"), "normalised form only:\n{text}");
+}
+
+#[test]
+fn unknown_key_names_file_line_column_key_and_allowed_keys() {
+    let e = err("[pendulum]\nmass = 0.05\nmasss = 0.1\n");
+    assert_eq!(e.location.file, "rig.toml");
+    assert_eq!(e.location.line, Some(3));
+    assert_eq!(e.location.column, Some(1));
+    assert_eq!(e.location.key.as_deref(), Some("pendulum.masss"));
+    assert!(matches!(e.kind, ConfigErrorKind::UnknownKey { .. }));
+    let msg = e.to_string();
+    assert!(
+        msg.starts_with("rig.toml:3:1: pendulum.masss: unknown key"),
+        "{msg}"
+    );
+    assert!(msg.contains("mass") && msg.contains("inertia"), "{msg}");
+}
+
+#[test]
+fn unknown_kalman_key_and_unknown_table() {
+    let e = err("[kalman]\n  q_angel = 0.1\n");
+    assert_eq!(e.location.key.as_deref(), Some("kalman.q_angel"));
+    assert_eq!((e.location.line, e.location.column), (Some(2), Some(3)));
+    assert!(e.to_string().contains("q_angle"), "{e}");
+
+    let e = err("[pendulum]\nmass = 1\n[kalmann]\nq_angle = 1\n");
+    assert_eq!(e.location.key.as_deref(), Some("kalmann"));
+    assert_eq!(e.location.line, Some(3));
+    assert!(matches!(e.kind, ConfigErrorKind::UnknownKey { .. }));
+    assert!(e.to_string().contains("[kalman]"), "{e}");
+}
+
+#[test]
+fn wrong_type_names_key_and_position() {
+    let e = err("[pendulum]\nmass = \"heavy\"\n");
+    assert_eq!(e.location.key.as_deref(), Some("pendulum.mass"));
+    assert_eq!((e.location.line, e.location.column), (Some(2), Some(8)));
+    assert!(matches!(e.kind, ConfigErrorKind::WrongType(_)));
+    let msg = e.to_string();
+    assert!(
+        msg.starts_with("rig.toml:2:8: pendulum.mass: wrong type"),
+        "{msg}"
+    );
+    assert!(msg.contains("heavy"), "{msg}");
+
+    let e = err("pendulum = 3\n");
+    assert_eq!(e.location.key.as_deref(), Some("pendulum"));
+    assert!(e.to_string().contains("must be a table"), "{e}");
+
+    let e = err("[kalman]\nr_accel = [1, 2]\n");
+    assert_eq!(e.location.key.as_deref(), Some("kalman.r_accel"));
+    assert_eq!(e.location.line, Some(2));
+}
+
+#[test]
+fn syntax_error_has_line_and_column() {
+    let e = err("[pendulum]\nmass = = 1\n");
+    assert!(matches!(e.kind, ConfigErrorKind::Syntax(_)));
+    assert_eq!(e.location.line, Some(2));
+    assert!(e.location.column.is_some());
+    assert!(e.to_string().starts_with("rig.toml:2:"), "{e}");
+}
+
+fn impossible(text: &str, key: &str, line: Option<usize>, why: &str) {
+    let e = err(text);
+    assert_eq!(e.location.key.as_deref(), Some(key), "{e}");
+    assert_eq!(e.location.line, line, "{e}");
+    assert!(matches!(e.kind, ConfigErrorKind::Impossible { .. }), "{e}");
+    let msg = e.to_string();
+    assert!(msg.starts_with("rig.toml"), "{msg}");
+    assert!(msg.contains(key), "{msg}");
+    assert!(msg.contains(why), "expected `{why}` in {msg}");
+}
+
+#[test]
+fn physically_impossible_values_are_named() {
+    impossible(
+        "[pendulum]\nmass = -0.05\n",
+        "pendulum.mass",
+        Some(2),
+        "must be > 0",
+    );
+    impossible(
+        "[pendulum]\nmass = 0\n",
+        "pendulum.mass",
+        Some(2),
+        "must be > 0",
+    );
+    impossible(
+        "[pendulum]\nlength = 0.0\n",
+        "pendulum.length",
+        Some(2),
+        "must be > 0",
+    );
+    impossible(
+        "[pendulum]\ninertia = -1e-4\n",
+        "pendulum.inertia",
+        Some(2),
+        "> 0",
+    );
+    impossible(
+        "[pendulum]\ndamping = -1e-3\n",
+        "pendulum.damping",
+        Some(2),
+        ">= 0",
+    );
+    impossible(
+        "[pendulum]\ngravity = 0\n",
+        "pendulum.gravity",
+        Some(2),
+        "> 0",
+    );
+    impossible(
+        "[pendulum]\nmass = nan\n",
+        "pendulum.mass",
+        Some(2),
+        "finite",
+    );
+    impossible(
+        "[pendulum]\ndamping = inf\n",
+        "pendulum.damping",
+        Some(2),
+        "finite",
+    );
+    impossible("[pendulum]\nb = 0\n", "pendulum.b", Some(2), "> 0");
+    impossible("[pendulum]\na = -0.1\n", "pendulum.a", Some(2), ">= 0");
+    impossible("[kalman]\nr_accel = 0\n", "kalman.r_accel", Some(2), "> 0");
+    impossible("[kalman]\nq_bias = -1\n", "kalman.q_bias", Some(2), ">= 0");
+    impossible(
+        "[kalman]\np0_angle = -1\n",
+        "kalman.p0_angle",
+        Some(2),
+        ">= 0",
+    );
+}
+
+#[test]
+fn inertia_below_point_mass_is_impossible() {
+    // 1 kg at 0.5 m needs I >= 0.25 kg m^2.
+    impossible(
+        "[pendulum]\nmass = 1\nlength = 0.5\ninertia = 0.2\n",
+        "pendulum.inertia",
+        Some(4),
+        "mass * length^2",
+    );
+    // The same with the inertia defaulted: no line, and the message says it is the default.
+    impossible(
+        "[pendulum]\nmass = 1\nlength = 0.5\n",
+        "pendulum.inertia",
+        None,
+        "default",
+    );
+    // Exactly a point mass is allowed.
+    assert!(
+        RigConfig::from_toml_str("[pendulum]\nmass = 1\nlength = 0.5\ninertia = 0.25\n", "r")
+            .is_ok()
+    );
+}
+
+#[test]
+fn mixed_forms_are_an_error() {
+    let e = err("[pendulum]\nmass = 0.05\nb = 0.005\n");
+    assert!(matches!(e.kind, ConfigErrorKind::MixedPendulumForms { .. }));
+    assert_eq!(e.location.line, Some(3));
+    let msg = e.to_string();
+    assert!(msg.contains("mass") && msg.contains("b"), "{msg}");
+}
+
+#[test]
+fn constructors_reject_impossible_values() {
+    let p = PhysicalParams {
+        mass: -1.0,
+        ..PhysicalParams::default()
+    };
+    let e = RigConfig::from_physical(p).unwrap_err();
+    assert_eq!(e.location.key.as_deref(), Some("pendulum.mass"));
+    let e = RigConfig::from_params(PendulumParams {
+        a: 0.1,
+        b: f64::NAN,
+        c: 0.0,
+    })
+    .unwrap_err();
+    assert_eq!(e.location.key.as_deref(), Some("pendulum.b"));
+    assert!(e.to_string().contains("finite"), "{e}");
+}
+
+#[test]
+fn missing_file_names_it() {
+    let e = RigConfig::load("/nonexistent/dir/rig.toml").unwrap_err();
+    assert!(matches!(e.kind, ConfigErrorKind::Io(_)));
+    assert!(
+        e.to_string()
+            .starts_with("/nonexistent/dir/rig.toml: cannot read"),
+        "{e}"
+    );
+}
