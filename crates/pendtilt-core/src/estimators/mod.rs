@@ -1,1 +1,29 @@
-//! The paper's estimators, one per module, all implementing [`crate::Estimator`].
+//! The paper's estimators, one per module, all implementing [`crate::Estimator`]:
+//! a settings struct with documented defaults, `new(settings)`, `update(sample)` and
+//! per-sample [`crate::Flags`].
+//!
+//! | module | output | equation | inputs |
+//! |---|---|---|---|
+//! | [`accel`] | `accel` | Eq (1) | ax, ay |
+//! | [`pendulum`] | `pendulum` | theta = phi | phi |
+//! | [`alg1`] | `alg1` | Eq (20), sign corrected | phi |
+//! | [`alg2`] | `alg2`, `alg2_offset` | Eqs (21)-(22), sign corrected | phi, gyro |
+//! | [`alg3`] | `alg3` | Eq (30), sign corrected | phi, gyro |
+//!
+//! The equations themselves, free of any state, are in [`equations`] so that they can be
+//! checked against hand computations and reused by fitting code.
+//!
+//! Common behaviour: a sample whose time does not increase is flagged
+//! [`crate::Flags::BAD_TIME_STEP`] and the previous estimate is returned; a sample whose
+//! required input is missing (`NaN`) is flagged [`crate::Flags::SAMPLE_MISSING`] and the
+//! previous estimate is held; the next good sample resumes, its time step spanning the gap.
+pub mod accel;
+pub mod alg1;
+pub mod alg2;
+pub mod alg3;
+pub mod equations;
+mod inverter;
+pub mod pendulum;
+pub mod theta_dd;
+
+pub use inverter::PhiSource;

@@ -1,0 +1,91 @@
+//! The accelerometer tilt, Eq (1): `theta = atan2(ax, ay)`.
+//!
+//! Under vibration atan2 of raw samples is biased: the nonlinearity rectifies the vibration
+//! (about 2.7 deg on a simulated ride, MODEL.md section 4). [`AccelSettings::prefilter_hz`]
+//! low-passes ax and ay before atan2; it is off by default so that Eq (1) stays the paper's.
+use super::equations::accel_angle;
+use crate::filters::biquad::LowPass2;
+use crate::{Estimate, Estimator, Flags, Real, Sample};
+
+/// Settings of [`Accel`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AccelSettings<T> {
+    /// Cutoff [Hz] of a 2nd-order Butterworth low-pass on ax and ay before atan2.
+    /// Default `None` (the paper's Eq 1 on raw samples).
+    pub prefilter_hz: Option<T>,
+    /// Accelerometer full scale [m/s^2]: samples at or beyond it are flagged
+    /// [`Flags::SATURATED`]. Default `None` (unknown).
+    pub full_scale: Option<T>,
+}
+
+/// Eq (1) as a streaming estimator.
+#[derive(Debug, Clone)]
+pub struct Accel<T: Real> {
+    settings: AccelSettings<T>,
+    lx: LowPass2<T>,
+    ly: LowPass2<T>,
+    t_prev: Option<T>,
+    last: T,
+}
+
+impl<T: Real> Accel<T> {
+    /// A new estimator.
+    pub fn new(settings: AccelSettings<T>) -> Self {
+        let f = settings.prefilter_hz.unwrap_or(T::one());
+        Self {
+            settings,
+            lx: LowPass2::new(f),
+            ly: LowPass2::new(f),
+            t_prev: None,
+            last: T::nan(),
+        }
+    }
+}
+
+impl<T: Real> Estimator<T> for Accel<T> {
+    #[inline]
+    fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
+        if !s.t.is_finite() || self.t_prev.is_some_and(|tp| !(s.t > tp)) {
+            return Estimate {
+                theta: self.last,
+                flags: Flags::BAD_TIME_STEP,
+            };
+        }
+        if !(s.ax.is_finite() && s.ay.is_finite()) {
+            return Estimate {
+                theta: self.last,
+                flags: Flags::SAMPLE_MISSING,
+            };
+        }
+        let mut flags = Flags::empty();
+        if let Some(fs) = self.settings.full_scale {
+            if s.ax.abs() >= fs || s.ay.abs() >= fs {
+                flags |= Flags::SATURATED;
+            }
+        }
+        let (ax, ay) = match (self.settings.prefilter_hz, self.t_prev) {
+            (Some(_), Some(tp)) => {
+                let dt = s.t - tp;
+                (self.lx.update(s.ax, dt), self.ly.update(s.ay, dt))
+            }
+            (Some(_), None) => {
+                flags |= Flags::INITIALISING;
+                (
+                    self.lx.update(s.ax, T::one()),
+                    self.ly.update(s.ay, T::one()),
+                )
+            }
+            (None, _) => (s.ax, s.ay),
+        };
+        self.t_prev = Some(s.t);
+        self.last = accel_angle(ax, ay);
+        Estimate {
+            theta: self.last,
+            flags,
+        }
+    }
+
+    fn reset(&mut self) {
+        *self = Self::new(self.settings);
+    }
+}

@@ -1,0 +1,103 @@
+//! Algorithm 2, pendulum and gyro: Eq (21), `theta = phi + asin(a phi' + b (phi'' - G_d))`,
+//! with theta'' = `G_d` from the gyro (Eq 22, or the matched differentiator; see
+//! [`super::theta_dd`]). Optionally with the pivot-offset term the paper dropped
+//! ([`Alg2Settings::pivot_offset`], output `alg2_offset`).
+use super::equations;
+use super::inverter::{Inverter, PhiSource};
+use super::theta_dd::{ThetaDdSource, DEFAULT_WINDOW_CAPACITY};
+use crate::filters::diff::DiffSettings;
+use crate::{Estimate, Estimator, Flags, PendulumParams, Real, Sample};
+
+/// Settings of [`Alg2`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Alg2Settings<T> {
+    /// The pendulum's normalised parameters a, b (and c with `pivot_offset`).
+    pub params: PendulumParams<T>,
+    /// Differentiator for phi', phi'' (and the gyro when matched). Default: Butterworth at
+    /// 1.7 f_n.
+    pub differentiator: DiffSettings<T>,
+    /// Which phi enters the equation. Default [`PhiSource::Raw`].
+    pub phi: PhiSource,
+    /// Where theta'' comes from. Default [`ThetaDdSource::Matched`].
+    pub theta_dd: ThetaDdSource<T>,
+    /// Add `c (theta'' cos phi - theta'^2 sin phi)`, c = l12 / g (MODEL.md section 3).
+    /// Default false (the paper's Eq 21).
+    pub pivot_offset: bool,
+}
+
+impl<T: Real> Default for Alg2Settings<T> {
+    fn default() -> Self {
+        Self::from_params(PendulumParams::default())
+    }
+}
+
+impl<T: Real> Alg2Settings<T> {
+    /// Default settings for a pendulum with parameters `params`.
+    pub fn from_params(params: PendulumParams<T>) -> Self {
+        Self {
+            params,
+            differentiator: DiffSettings::default(),
+            phi: PhiSource::default(),
+            theta_dd: ThetaDdSource::default(),
+            pivot_offset: false,
+        }
+    }
+}
+
+/// Algorithm 2 as a streaming estimator; `W` bounds the Eq (22) window in samples.
+#[derive(Debug, Clone)]
+pub struct Alg2<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
+    settings: Alg2Settings<T>,
+    inv: Inverter<T, W>,
+}
+
+impl<T: Real, const W: usize> Alg2<T, W> {
+    /// A new estimator.
+    pub fn new(settings: Alg2Settings<T>) -> Self {
+        Self {
+            inv: Inverter::new(
+                &settings.params,
+                &settings.differentiator,
+                settings.phi,
+                Some(settings.theta_dd),
+            ),
+            settings,
+        }
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> &Alg2Settings<T> {
+        &self.settings
+    }
+}
+
+impl<T: Real, const W: usize> Estimator<T> for Alg2<T, W> {
+    #[inline]
+    fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
+        match self.inv.step(s) {
+            Ok((k, mut flags)) => {
+                let p = &self.settings.params;
+                let r = if self.settings.pivot_offset {
+                    equations::alg2_offset(p, k.phi, k.dphi, k.ddphi, k.gyro, k.theta_dd)
+                } else {
+                    equations::alg2(p, k.phi, k.dphi, k.ddphi, k.theta_dd)
+                };
+                if r.clamped {
+                    flags |= Flags::ASIN_CLAMPED;
+                }
+                Estimate {
+                    theta: self.inv.finish(r.theta),
+                    flags,
+                }
+            }
+            Err(flags) => Estimate {
+                theta: self.inv.last_theta,
+                flags,
+            },
+        }
+    }
+
+    fn reset(&mut self) {
+        self.inv.reset();
+    }
+}

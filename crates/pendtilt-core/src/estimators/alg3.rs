@@ -1,0 +1,148 @@
+//! Algorithm 3's estimation equation: Eq (30),
+//! `theta = phi + asin(K phi' + L phi'' + M G_d) + N G_k` (sign corrected). With K = a,
+//! L = b, M = -b, N = 0 it equals [`super::alg2`]. The gains can be changed between
+//! samples with [`Alg3::set_gains`]: that is what live supervision (Eq 29) drives.
+use super::equations::{self, Alg3Gains};
+use super::inverter::{Inverter, PhiSource};
+use super::theta_dd::{ThetaDdSource, DEFAULT_WINDOW_CAPACITY};
+use crate::filters::diff::DiffSettings;
+use crate::{Estimate, Estimator, Flags, PendulumParams, Real, Sample};
+
+/// Settings of [`Alg3`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Alg3Settings<T> {
+    /// The pendulum's parameters: set the differentiator's cutoff (relative to f_n).
+    pub params: PendulumParams<T>,
+    /// K, L, M, N. Default: those that make Eq (30) equal Eq (21).
+    pub gains: Alg3Gains<T>,
+    /// Differentiator for phi', phi''. Default: Butterworth at 1.7 f_n.
+    pub differentiator: DiffSettings<T>,
+    /// Which phi enters the equation. Default [`PhiSource::Raw`].
+    pub phi: PhiSource,
+    /// Where G_d comes from. Default [`ThetaDdSource::Matched`].
+    pub theta_dd: ThetaDdSource<T>,
+}
+
+impl<T: Real> Default for Alg3Settings<T> {
+    fn default() -> Self {
+        Self::from_params(PendulumParams::default())
+    }
+}
+
+impl<T: Real> Alg3Settings<T> {
+    /// Default settings for a pendulum with parameters `params` (gains K=a, L=b, M=-b, N=0).
+    pub fn from_params(params: PendulumParams<T>) -> Self {
+        Self {
+            params,
+            gains: Alg3Gains::from_params(&params),
+            differentiator: DiffSettings::default(),
+            phi: PhiSource::default(),
+            theta_dd: ThetaDdSource::default(),
+        }
+    }
+}
+
+/// Eq (30) as a streaming estimator; `W` bounds the Eq (22) window in samples.
+#[derive(Debug, Clone)]
+pub struct Alg3<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
+    settings: Alg3Settings<T>,
+    inv: Inverter<T, W>,
+}
+
+/// The signals Eq (30) combines at one sample, for supervisors that refit K, L, M, N.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Alg3Terms<T> {
+    /// phi as used in the equation [rad].
+    pub phi: T,
+    /// phi' [rad/s].
+    pub dphi: T,
+    /// phi'' [rad/s^2].
+    pub ddphi: T,
+    /// G_d, theta'' from the gyro [rad/s^2].
+    pub gd: T,
+    /// G_k, the gyro [rad/s].
+    pub gk: T,
+}
+
+impl<T: Real, const W: usize> Alg3<T, W> {
+    /// A new estimator.
+    pub fn new(settings: Alg3Settings<T>) -> Self {
+        Self {
+            inv: Inverter::new(
+                &settings.params,
+                &settings.differentiator,
+                settings.phi,
+                Some(settings.theta_dd),
+            ),
+            settings,
+        }
+    }
+
+    /// The gains in use.
+    pub fn gains(&self) -> Alg3Gains<T> {
+        self.settings.gains
+    }
+
+    /// Replaces K, L, M, N from the next sample on. Non-finite gains are refused (returns
+    /// false and keeps the old ones).
+    pub fn set_gains(&mut self, gains: Alg3Gains<T>) -> bool {
+        if gains.is_finite() {
+            self.settings.gains = gains;
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Like [`Estimator::update`], also returning the terms of Eq (30) (None when held).
+    #[inline]
+    pub fn update_with_terms(&mut self, s: &Sample<T>) -> (Estimate<T>, Option<Alg3Terms<T>>) {
+        match self.inv.step(s) {
+            Ok((k, mut flags)) => {
+                let r = equations::alg3(
+                    &self.settings.gains,
+                    k.phi,
+                    k.dphi,
+                    k.ddphi,
+                    k.theta_dd,
+                    k.gyro,
+                );
+                if r.clamped {
+                    flags |= Flags::ASIN_CLAMPED;
+                }
+                let terms = Alg3Terms {
+                    phi: k.phi,
+                    dphi: k.dphi,
+                    ddphi: k.ddphi,
+                    gd: k.theta_dd,
+                    gk: k.gyro,
+                };
+                (
+                    Estimate {
+                        theta: self.inv.finish(r.theta),
+                        flags,
+                    },
+                    Some(terms),
+                )
+            }
+            Err(flags) => (
+                Estimate {
+                    theta: self.inv.last_theta,
+                    flags,
+                },
+                None,
+            ),
+        }
+    }
+}
+
+impl<T: Real, const W: usize> Estimator<T> for Alg3<T, W> {
+    #[inline]
+    fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
+        self.update_with_terms(s).0
+    }
+
+    fn reset(&mut self) {
+        self.inv.reset();
+    }
+}

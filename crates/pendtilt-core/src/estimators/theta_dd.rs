@@ -1,0 +1,169 @@
+//! Body angular acceleration theta'' from the gyro, for Algorithms 2 and 3.
+//!
+//! Two sources:
+//! - [`ThetaDdSource::Window`]: the paper's Eq (22), `G_d = (G_k - G_{k-w}) / (w dt)`. It lags
+//!   by half its window, while phi'' lags by the differentiator's delay: the two sides of
+//!   Eq (21) are then out of step.
+//! - [`ThetaDdSource::Matched`] (default): the gyro through the same smoothing differentiator
+//!   as phi, so theta'' carries exactly the delay of phi''. On simulated scooter rides with
+//!   engine angular vibration this measured about half the error of the best Eq (22)
+//!   window (MODEL.md section 3).
+use super::equations::windowed_rate;
+use crate::filters::diff::SmoothingDifferentiator;
+use crate::Real;
+
+/// Where theta'' comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ThetaDdSource<T> {
+    /// Eq (22) over a window of about `span` seconds (rounded to whole samples at the
+    /// first time step, at least 1, at most the buffer capacity minus one).
+    Window {
+        /// Window length [s].
+        span: T,
+    },
+    /// The derivative of the gyro through the phi differentiator (same delay as phi'').
+    Matched,
+}
+
+impl<T: Real> Default for ThetaDdSource<T> {
+    fn default() -> Self {
+        ThetaDdSource::Matched
+    }
+}
+
+/// Capacity of the Eq (22) history: 256 samples, a 0.256 s window at 1 kHz.
+pub const DEFAULT_WINDOW_CAPACITY: usize = 256;
+
+/// Streaming theta'' from gyro samples. `W` bounds the Eq (22) window (no allocation).
+#[derive(Debug, Clone)]
+pub struct ThetaDd<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
+    source: ThetaDdSource<T>,
+    diff: SmoothingDifferentiator<T>,
+    // Eq (22) history ring: times and gyro values.
+    times: [T; W],
+    rates: [T; W],
+    head: usize,
+    len: usize,
+    w: usize,
+    t_prev: Option<T>,
+    last: T,
+}
+
+impl<T: Real, const W: usize> ThetaDd<T, W> {
+    /// A new source; `diff` is a fresh copy of the phi differentiator (used when matched).
+    pub fn new(source: ThetaDdSource<T>, diff: SmoothingDifferentiator<T>) -> Self {
+        Self {
+            source,
+            diff,
+            times: [T::zero(); W],
+            rates: [T::zero(); W],
+            head: 0,
+            len: 0,
+            w: 0,
+            t_prev: None,
+            last: T::zero(),
+        }
+    }
+
+    /// Forgets all history.
+    pub fn reset(&mut self) {
+        self.diff.reset();
+        self.len = 0;
+        self.head = 0;
+        self.w = 0;
+        self.t_prev = None;
+        self.last = T::zero();
+    }
+
+    /// The last theta'' [rad/s^2] (held when the gyro is missing).
+    pub fn last(&self) -> T {
+        self.last
+    }
+
+    /// Takes the gyro sample `g` at time `t` (finite, after the previous one) and returns
+    /// `(theta'', still_initialising)`.
+    pub fn update(&mut self, t: T, g: T) -> (T, bool) {
+        let dt = match self.t_prev {
+            Some(tp) => t - tp,
+            None => T::zero(),
+        };
+        self.t_prev = Some(t);
+        match self.source {
+            ThetaDdSource::Matched => {
+                let d = if self.diff.is_started() {
+                    self.diff.update(g, dt)
+                } else {
+                    self.diff.update(g, T::one())
+                };
+                self.last = d.d1;
+                (self.last, false)
+            }
+            ThetaDdSource::Window { span } => {
+                if W < 2 {
+                    return (T::zero(), true);
+                }
+                if self.w == 0 && dt > T::zero() {
+                    let n = (span / dt).round().to_f64();
+                    self.w = if n.is_finite() && n >= 1.0 {
+                        (n as usize).min(W - 1)
+                    } else {
+                        1
+                    };
+                }
+                // Push (t, g).
+                self.times[self.head] = t;
+                self.rates[self.head] = g;
+                self.head = (self.head + 1) % W;
+                if self.len < W {
+                    self.len += 1;
+                }
+                let want = self.w.max(1);
+                let back = want.min(self.len - 1);
+                if back == 0 {
+                    self.last = T::zero();
+                    return (self.last, true);
+                }
+                let old = (self.head + W - 1 - back) % W;
+                self.last = windowed_rate(g, t, self.rates[old], self.times[old]);
+                (self.last, back < want || self.w == 0)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::filters::diff::Response;
+
+    #[test]
+    fn window_gives_eq22_on_a_ramp_of_rate() {
+        // G = 2 t → theta'' = 2 once the window (10 samples at 1 kHz) has filled.
+        let d = SmoothingDifferentiator::new(Response::Butterworth, 3.0);
+        let mut s = ThetaDd::<f64, 32>::new(ThetaDdSource::Window { span: 0.010 }, d);
+        let mut init_count = 0;
+        let mut last = 0.0;
+        for k in 0..100 {
+            let t = k as f64 * 1e-3;
+            let (v, init) = s.update(t, 2.0 * t + 0.5);
+            if init {
+                init_count += 1;
+            }
+            last = v;
+        }
+        assert_eq!(init_count, 10, "first sample plus nine filling samples");
+        assert!((last - 2.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn matched_differentiates_the_gyro() {
+        let d = SmoothingDifferentiator::new(Response::Butterworth, 3.0);
+        let mut s = ThetaDd::<f64, 4>::new(ThetaDdSource::Matched, d);
+        let mut last = 0.0;
+        for k in 0..10_000 {
+            let t = k as f64 * 1e-3;
+            last = s.update(t, -0.7 * t).0;
+        }
+        assert!((last + 0.7).abs() < 1e-9);
+    }
+}
