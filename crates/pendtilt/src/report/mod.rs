@@ -3,7 +3,10 @@
 //!
 //! The pieces are independent of the estimators: they take named series (the truth and
 //! one series per estimator, sampled at a known rate) and write files.
+pub mod fig3;
+pub mod figures;
 pub mod metrics;
+pub mod palette;
 
 /// What can go wrong while computing or writing a report.
 #[derive(Debug, thiserror::Error)]
