@@ -27,6 +27,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod ekf;
 pub mod estimators;
 pub mod filters;
 mod flags;

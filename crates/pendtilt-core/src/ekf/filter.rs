@@ -1,0 +1,26 @@
+//! What the estimator needs of a nonlinear filter over the pendulum state: predict through
+//! the process model, apply a scalar linear measurement, apply the accelerometer. The EKF
+//! ([`super::ExtendedKalman`]) and the UKF ([`super::UnscentedKalman`]) implement it.
+use super::measurement::Accelerometer;
+use super::model::{Cov, PendulumProcess, State};
+use super::update::Rejected;
+use crate::Real;
+
+/// A Gaussian filter over the pendulum state.
+pub trait StateFilter<T: Real> {
+    /// A filter at `x0` with covariance `p0`.
+    fn start(x0: State<T>, p0: Cov<T>) -> Self;
+    /// The state estimate.
+    fn state(&self) -> &State<T>;
+    /// Its covariance.
+    fn covariance(&self) -> &Cov<T>;
+    /// Shifts the estimate by `dx` (used to keep angles within a turn); `P` is unchanged.
+    fn shift(&mut self, dx: &State<T>);
+    /// Predicts over `dt` seconds. `false` if the covariance could not be propagated (the
+    /// state is then left as it was).
+    fn predict(&mut self, model: &PendulumProcess<T>, dt: T) -> bool;
+    /// Applies `z = h . x + v`, `v ~ N(0, r)`.
+    fn update_linear(&mut self, h: &State<T>, z: T, r: T) -> Result<(), Rejected>;
+    /// Applies an accelerometer reading `[f_x, f_y]`.
+    fn update_accel(&mut self, m: &Accelerometer<T>, z: [T; 2]) -> Result<(), Rejected>;
+}

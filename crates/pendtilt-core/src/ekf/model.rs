@@ -1,0 +1,249 @@
+//! The process model: the pendulum of MODEL.md section 2 (with the pivot offset l12) on a
+//! body whose tilt acceleration is a random walk, plus a gyro bias that drifts.
+//!
+//! State `x = [theta, theta', theta'', phi, phi', bias]` (indices [`THETA`] .. [`BIAS`]).
+//! Dividing the equation of motion by `m_p g l_p` gives, with a = C / (m g l),
+//! b = I / (m g l), c = l12 / g,
+//!
+//! ```text
+//! phi'' = theta'' - (a phi' + sin(phi - theta) + c (theta'' cos phi - theta'^2 sin phi)) / b
+//! ```
+//!
+//! Translation and vibration of the rotation axis P1 are not known to the filter: they
+//! force the pendulum as an unknown acceleration, modelled as white noise on phi''
+//! ([`ProcessNoise::pendulum`]). theta''' is white noise ([`ProcessNoise::jerk`]), the
+//! gyro bias a random walk ([`ProcessNoise::bias`]).
+//!
+//! One step of `dt` is a semi-implicit (symplectic) Euler step: theta, theta' are advanced
+//! exactly for a constant theta''; phi' is advanced with the acceleration at the start of
+//! the step and phi with the new phi'. It stays stable for `w_n dt < 2` (the filters split
+//! longer steps) and keeps the undamped pendulum's energy bounded. The Jacobian is
+//! analytic ([`PendulumProcess::jacobian`]).
+use crate::{PendulumParams, Real};
+use nalgebra::{SMatrix, SVector};
+
+/// Number of states.
+pub const N: usize = 6;
+/// Index of the body tilt theta [rad].
+pub const THETA: usize = 0;
+/// Index of the tilt rate theta' [rad/s].
+pub const OMEGA: usize = 1;
+/// Index of the tilt acceleration theta'' [rad/s^2].
+pub const ALPHA: usize = 2;
+/// Index of the pendulum angle relative to the body phi [rad].
+pub const PHI: usize = 3;
+/// Index of phi' [rad/s].
+pub const DPHI: usize = 4;
+/// Index of the gyro bias [rad/s].
+pub const BIAS: usize = 5;
+
+/// The filter state.
+pub type State<T> = SVector<T, N>;
+/// A state covariance (or Jacobian).
+pub type Cov<T> = SMatrix<T, N, N>;
+
+/// Continuous-time process noise densities.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProcessNoise<T> {
+    /// Density of theta''' (white), [rad^2/s^5]: how fast the body's angular acceleration
+    /// may change.
+    pub jerk: T,
+    /// Density of the unknown forcing of phi'' [rad^2/s^3]: translation and vibration of
+    /// the rotation axis, `(a_perp / (b g))^2` per Hz of vibration.
+    pub pendulum: T,
+    /// Density of the gyro-bias random walk [(rad/s)^2/s].
+    pub bias: T,
+}
+
+/// The pendulum process model with its parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PendulumProcess<T> {
+    /// Normalised parameters a, b, c.
+    pub params: PendulumParams<T>,
+    /// Process noise densities.
+    pub noise: ProcessNoise<T>,
+}
+
+impl<T: Real> PendulumProcess<T> {
+    /// phi'' from the state (the equation in the module documentation).
+    #[inline]
+    pub fn phi_acceleration(&self, x: &State<T>) -> T {
+        let p = &self.params;
+        let (sp, cp) = x[PHI].sin_cos();
+        let w = x[OMEGA];
+        let offset = p.c * (x[ALPHA] * cp - w * w * sp);
+        x[ALPHA] - (p.a * x[DPHI] + (x[PHI] - x[THETA]).sin() + offset) / p.b
+    }
+
+    /// The state after one step of `dt` seconds (see the module documentation).
+    #[inline]
+    pub fn step(&self, x: &State<T>, dt: T) -> State<T> {
+        let half = T::lit(0.5);
+        let acc = self.phi_acceleration(x);
+        let dphi = x[DPHI] + dt * acc;
+        State::<T>::from([
+            x[THETA] + dt * x[OMEGA] + half * dt * dt * x[ALPHA],
+            x[OMEGA] + dt * x[ALPHA],
+            x[ALPHA],
+            x[PHI] + dt * dphi,
+            dphi,
+            x[BIAS],
+        ])
+    }
+
+    /// The state after one step and the Jacobian of [`Self::step`] at `x`, analytic.
+    #[inline]
+    pub fn step_with_jacobian(&self, x: &State<T>, dt: T) -> (State<T>, Cov<T>) {
+        (self.step(x, dt), self.jacobian(x, dt))
+    }
+
+    /// The Jacobian of [`Self::step`] with respect to the state at `x`.
+    #[inline]
+    pub fn jacobian(&self, x: &State<T>, dt: T) -> Cov<T> {
+        let p = &self.params;
+        let inv_b = T::one() / p.b;
+        let (sp, cp) = x[PHI].sin_cos();
+        let co = (x[PHI] - x[THETA]).cos();
+        let w = x[OMEGA];
+        // Partial derivatives of phi'' (the acceleration).
+        let j_theta = co * inv_b;
+        let j_omega = T::lit(2.0) * p.c * w * sp * inv_b;
+        let j_alpha = T::one() - p.c * cp * inv_b;
+        let j_phi = (p.c * (x[ALPHA] * sp + w * w * cp) - co) * inv_b;
+        let j_dphi = -p.a * inv_b;
+        let z = T::zero();
+        let o = T::one();
+        let dt2 = dt * dt;
+        #[rustfmt::skip]
+        let f = Cov::<T>::from_row_slice(&[
+            o, dt, T::lit(0.5) * dt2, z, z, z,
+            z, o, dt, z, z, z,
+            z, z, o, z, z, z,
+            dt2 * j_theta, dt2 * j_omega, dt2 * j_alpha, o + dt2 * j_phi, dt + dt2 * j_dphi, z,
+            dt * j_theta, dt * j_omega, dt * j_alpha, dt * j_phi, o + dt * j_dphi, z,
+            z, z, z, z, z, o,
+        ]);
+        f
+    }
+
+    /// The process noise covariance over a step of `dt`: the exact integrals for the
+    /// theta chain driven by white theta''' and for the phi chain driven by white phi''
+    /// forcing; the bias walk adds `bias dt`.
+    #[inline]
+    pub fn q(&self, dt: T) -> Cov<T> {
+        let n = &self.noise;
+        let dt2 = dt * dt;
+        let dt3 = dt2 * dt;
+        let mut q = Cov::<T>::zeros();
+        let j = n.jerk;
+        q[(THETA, THETA)] = j * dt3 * dt2 / T::lit(20.0);
+        q[(THETA, OMEGA)] = j * dt2 * dt2 / T::lit(8.0);
+        q[(THETA, ALPHA)] = j * dt3 / T::lit(6.0);
+        q[(OMEGA, OMEGA)] = j * dt3 / T::lit(3.0);
+        q[(OMEGA, ALPHA)] = j * dt2 / T::lit(2.0);
+        q[(ALPHA, ALPHA)] = j * dt;
+        q[(OMEGA, THETA)] = q[(THETA, OMEGA)];
+        q[(ALPHA, THETA)] = q[(THETA, ALPHA)];
+        q[(ALPHA, OMEGA)] = q[(OMEGA, ALPHA)];
+        let v = n.pendulum;
+        q[(PHI, PHI)] = v * dt3 / T::lit(3.0);
+        q[(PHI, DPHI)] = v * dt2 / T::lit(2.0);
+        q[(DPHI, PHI)] = q[(PHI, DPHI)];
+        q[(DPHI, DPHI)] = v * dt;
+        q[(BIAS, BIAS)] = n.bias * dt;
+        q
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn model(c: f64) -> PendulumProcess<f64> {
+        PendulumProcess {
+            params: PendulumParams {
+                a: 0.04,
+                b: 0.005,
+                c,
+            },
+            noise: ProcessNoise {
+                jerk: 1.0,
+                pendulum: 1.0,
+                bias: 1e-6,
+            },
+        }
+    }
+
+    #[test]
+    fn phi_acceleration_matches_the_equation_of_motion_by_hand() {
+        // b (phi'' - theta'') + a phi' + sin(phi - theta) + c (theta'' cos phi - theta'^2 sin phi) = 0
+        let m = model(0.03);
+        let x = State::<f64>::from([0.1, 0.5, 2.0, 0.3, -0.7, 0.01]);
+        let acc = m.phi_acceleration(&x);
+        let (a, b, c) = (0.04, 0.005, 0.03);
+        let residual = b * (acc - 2.0)
+            + a * -0.7
+            + (0.3f64 - 0.1).sin()
+            + c * (2.0 * 0.3f64.cos() - 0.25 * 0.3f64.sin());
+        assert!(residual.abs() < 1e-14, "{residual}");
+    }
+
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let m = model(0.03);
+        let x = State::<f64>::from([0.1, 0.5, 2.0, 0.3, -0.7, 0.01]);
+        let dt = 2e-3;
+        let f = m.jacobian(&x, dt);
+        for j in 0..N {
+            let h = 1e-6;
+            let mut xp = x;
+            let mut xm = x;
+            xp[j] += h;
+            xm[j] -= h;
+            let col = (m.step(&xp, dt) - m.step(&xm, dt)) / (2.0 * h);
+            for i in 0..N {
+                assert!(
+                    (col[i] - f[(i, j)]).abs() < 1e-8,
+                    "F[{i},{j}] = {} vs {}",
+                    f[(i, j)],
+                    col[i]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn small_oscillation_has_the_natural_frequency() {
+        // Undamped, body still: phi oscillates at w_n = 1/sqrt(b); count zero crossings.
+        let mut m = model(0.0);
+        m.params.a = 0.0;
+        let dt = 1e-3;
+        let mut x = State::<f64>::from([0.0, 0.0, 0.0, 0.01, 0.0, 0.0]);
+        let mut crossings = 0;
+        let mut prev = x[PHI];
+        let steps = 10_000; // 10 s
+        for _ in 0..steps {
+            x = m.step(&x, dt);
+            if prev > 0.0 && x[PHI] <= 0.0 || prev < 0.0 && x[PHI] >= 0.0 {
+                crossings += 1;
+            }
+            prev = x[PHI];
+        }
+        let f_n = 1.0 / (2.0 * core::f64::consts::PI * 0.005f64.sqrt());
+        let measured = crossings as f64 / 2.0 / 10.0;
+        assert!((measured - f_n).abs() < 0.06, "{measured} vs {f_n}");
+        // Energy stays bounded (symplectic): amplitude within 1 %.
+        let e = 0.5 * 0.005 * x[DPHI] * x[DPHI] + (1.0 - x[PHI].cos());
+        let e0 = 1.0 - 0.01f64.cos();
+        assert!((e / e0 - 1.0).abs() < 0.01, "{}", e / e0);
+    }
+
+    #[test]
+    fn q_is_symmetric_positive_semidefinite() {
+        let q = model(0.0).q(1e-3);
+        assert_eq!(q, q.transpose());
+        let eig = q.symmetric_eigenvalues();
+        assert!(eig.iter().all(|&e| e >= -1e-30), "{eig}");
+        assert!(q[(ALPHA, ALPHA)] > 0.0 && q[(DPHI, DPHI)] > 0.0 && q[(BIAS, BIAS)] > 0.0);
+    }
+}

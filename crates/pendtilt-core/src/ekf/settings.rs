@@ -1,0 +1,269 @@
+//! Settings of the model-based filters and how their defaults follow from the rig and the
+//! sensors' data-sheet noise figures.
+//!
+//! # Where the defaults come from
+//! Measurement noise (per sample, from the sensors):
+//! - encoder: `r_phi = q^2 / 12 + sigma_enc^2`, `q = 2 pi / 2^bits` (a uniform rounding
+//!   error has variance q^2 / 12);
+//! - gyro: `r_gyro = d_g^2 / dt` for a white-noise density `d_g` [rad/s/sqrt(Hz)]
+//!   (MODEL.md section 6: per-sample standard deviation `d sqrt(rate)`), recomputed from
+//!   each sample's actual step;
+//! - accelerometer: `r_acc = d_a^2 / dt + sigma_vib^2` per axis: its own white noise plus
+//!   the floor vibration, which the filter does not model and which dominates.
+//!
+//! Process noise (densities, see [`ProcessNoise`]):
+//! - bias: the gyro's bias random-walk density squared;
+//! - pendulum: the vibration forces phi'' by `a_perp / (b g)` (MODEL.md section 2: a
+//!   specific force `f` across the pendulum gives `I beta'' = -m l f`); spread over the
+//!   vibration band `B`, its density is `sigma_vib^2 / (B (b g)^2)`;
+//! - jerk: the body's tilt acceleration changes at the rate of the manoeuvres and of the
+//!   body's angular vibration: `(2 pi f)^6 A^2 / f` summed over both (a sinusoid of
+//!   amplitude A at f has theta''' of amplitude `A (2 pi f)^3`; the density spreads it over
+//!   a band of width f).
+//!
+//! The tuner in the std crate (`pendtilt::peers::tune`) fits the three process noise
+//! densities on a log with a true angle.
+use super::model::{PendulumProcess, ProcessNoise};
+use crate::params::STANDARD_GRAVITY;
+use crate::{PendulumParams, PhysicalParams, Real};
+
+/// Data-sheet noise figures of the sensors. Defaults: a 12-bit encoder and a common MEMS
+/// IMU (the simulator's defaults).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SensorNoise<T> {
+    /// Encoder resolution in bits per turn (0: not quantised). Default 12.
+    pub encoder_bits: u32,
+    /// Encoder noise, standard deviation [rad]. Default 0.
+    pub encoder_noise: T,
+    /// Gyro white-noise density [rad/s/sqrt(Hz)]. Default 0.005 deg/s/sqrt(Hz) = 8.73e-5.
+    pub gyro_density: T,
+    /// Gyro bias random-walk density [rad/s/sqrt(s)]. Default 1e-4.
+    pub gyro_bias_walk: T,
+    /// How large the gyro's initial bias may be, standard deviation [rad/s].
+    /// Default 1 deg/s = 0.01745.
+    pub gyro_bias: T,
+    /// Accelerometer white-noise density per axis [m/s^2/sqrt(Hz)].
+    /// Default 400 ug/sqrt(Hz) = 3.92e-3.
+    pub accel_density: T,
+}
+
+impl<T: Real> Default for SensorNoise<T> {
+    fn default() -> Self {
+        let deg = core::f64::consts::PI / 180.0;
+        Self {
+            encoder_bits: 12,
+            encoder_noise: T::zero(),
+            gyro_density: T::lit(0.005 * deg),
+            gyro_bias_walk: T::lit(1e-4),
+            gyro_bias: T::lit(deg),
+            accel_density: T::lit(400e-6 * STANDARD_GRAVITY),
+        }
+    }
+}
+
+impl<T: Real> SensorNoise<T> {
+    /// Variance of one encoder reading [rad^2]: `q^2 / 12 + sigma^2`.
+    pub fn encoder_variance(&self) -> T {
+        let q = if self.encoder_bits == 0 || self.encoder_bits > 52 {
+            T::zero()
+        } else {
+            T::two_pi() / T::lit((1u64 << self.encoder_bits) as f64)
+        };
+        q * q / T::lit(12.0) + self.encoder_noise * self.encoder_noise
+    }
+}
+
+/// What the filter is told about the environment: how the body moves and shakes. Only
+/// used to derive [`ProcessNoise`]. Defaults: the `scooter` scenario of MODEL.md
+/// section 6.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Environment<T> {
+    /// RMS of the slow tilt manoeuvres [rad]. Default 7 deg.
+    pub tilt_rms: T,
+    /// Their highest frequency [Hz]. Default 0.8 Hz.
+    pub tilt_bandwidth_hz: T,
+    /// Amplitude of the body's angular vibration [rad]. Default 0.1 deg.
+    pub angular_vibration: T,
+    /// Its frequency [Hz]. Default 30 Hz.
+    pub angular_vibration_hz: T,
+    /// RMS of the translational vibration of the rig across the pendulum [m/s^2].
+    /// Default 2 m/s^2.
+    pub vibration_rms: T,
+    /// Width of the band it spreads over [Hz]. Default 200 Hz.
+    pub vibration_band_hz: T,
+}
+
+impl<T: Real> Default for Environment<T> {
+    fn default() -> Self {
+        let deg = core::f64::consts::PI / 180.0;
+        Self {
+            tilt_rms: T::lit(7.0 * deg),
+            tilt_bandwidth_hz: T::lit(0.8),
+            angular_vibration: T::lit(0.1 * deg),
+            angular_vibration_hz: T::lit(30.0),
+            vibration_rms: T::lit(2.0),
+            vibration_band_hz: T::lit(200.0),
+        }
+    }
+}
+
+impl<T: Real> ProcessNoise<T> {
+    /// The densities derived from the rig, the sensors and the environment (see the module
+    /// documentation).
+    pub fn derive(
+        params: &PendulumParams<T>,
+        gravity: T,
+        sensors: &SensorNoise<T>,
+        env: &Environment<T>,
+    ) -> Self {
+        let jerk_of = |amp: T, hz: T| {
+            if hz > T::zero() {
+                let w = T::two_pi() * hz;
+                let w3 = w * w * w;
+                amp * amp * w3 * w3 / hz
+            } else {
+                T::zero()
+            }
+        };
+        let jerk = jerk_of(env.tilt_rms, env.tilt_bandwidth_hz)
+            + jerk_of(env.angular_vibration, env.angular_vibration_hz);
+        let bg = params.b * gravity;
+        let band = if env.vibration_band_hz > T::zero() {
+            env.vibration_band_hz
+        } else {
+            T::one()
+        };
+        let pendulum = env.vibration_rms * env.vibration_rms / (band * bg * bg);
+        Self {
+            jerk,
+            pendulum,
+            bias: sensors.gyro_bias_walk * sensors.gyro_bias_walk,
+        }
+    }
+}
+
+/// Settings of [`super::Ekf`] and [`super::Ukf`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModelSettings<T> {
+    /// The pendulum's normalised parameters a, b and c = l12 / g.
+    pub params: PendulumParams<T>,
+    /// Gravity g [m/s^2]. Default 9.80665.
+    pub gravity: T,
+    /// Sensor noise figures (measurement noise).
+    pub sensors: SensorNoise<T>,
+    /// Process noise densities. Default [`ProcessNoise::derive`] with the default
+    /// [`Environment`].
+    pub process: ProcessNoise<T>,
+    /// Use the accelerometer as a further measurement. Default false: the pendulum and
+    /// the gyro alone (on the scooter ride the accelerometer, which reads the vibration
+    /// unfiltered, did not improve the estimate; see the crate README).
+    pub use_accel: bool,
+    /// Distance of the accelerometer from the rotation axis P1 along the body's up-axis
+    /// [m]. Default `c g` = l12 (mounted at the pendulum pivot).
+    pub accel_distance: T,
+    /// Standard deviation of the vibration the accelerometer reads, per axis [m/s^2],
+    /// added to its white noise. Default [`Environment::vibration_rms`], 2 m/s^2.
+    pub accel_vibration: T,
+    /// Longest single integration step [s]; longer sample intervals are split.
+    /// Default 5 ms (w_n dt = 0.07 for the default pendulum).
+    pub max_step: T,
+    /// Longest gap [s] bridged by prediction; after a longer one the filter restarts.
+    /// Default 1 s.
+    pub max_gap: T,
+    /// Initial standard deviation of theta around the first phi [rad]. Default 2 deg
+    /// (the pendulum is assumed at rest on the first sample, MODEL.md section 6).
+    pub initial_angle: T,
+}
+
+impl<T: Real> Default for ModelSettings<T> {
+    fn default() -> Self {
+        Self::from_params(PendulumParams::default(), T::lit(STANDARD_GRAVITY))
+    }
+}
+
+impl<T: Real> ModelSettings<T> {
+    /// Defaults for a pendulum with normalised parameters `params` under gravity `gravity`,
+    /// default sensors and environment.
+    pub fn from_params(params: PendulumParams<T>, gravity: T) -> Self {
+        Self::derived(
+            params,
+            gravity,
+            SensorNoise::default(),
+            &Environment::default(),
+        )
+    }
+
+    /// Defaults for a rig given by its physical parameters.
+    pub fn from_physical(p: &PhysicalParams<T>) -> Self {
+        Self::from_params(p.normalised(), p.gravity)
+    }
+
+    /// Settings derived from the rig, the sensors and the environment.
+    pub fn derived(
+        params: PendulumParams<T>,
+        gravity: T,
+        sensors: SensorNoise<T>,
+        env: &Environment<T>,
+    ) -> Self {
+        Self {
+            process: ProcessNoise::derive(&params, gravity, &sensors, env),
+            params,
+            gravity,
+            sensors,
+            use_accel: false,
+            accel_distance: params.c * gravity,
+            accel_vibration: env.vibration_rms,
+            max_step: T::lit(0.005),
+            max_gap: T::one(),
+            initial_angle: T::lit(2.0 * core::f64::consts::PI / 180.0),
+        }
+    }
+
+    /// The process model these settings describe.
+    pub fn process_model(&self) -> PendulumProcess<T> {
+        PendulumProcess {
+            params: self.params,
+            noise: self.process,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn encoder_variance_is_quantisation_over_twelve() {
+        let s = SensorNoise::<f64>::default();
+        let q = core::f64::consts::TAU / 4096.0;
+        assert!((s.encoder_variance() - q * q / 12.0).abs() < 1e-18);
+        let s0 = SensorNoise::<f64> {
+            encoder_bits: 0,
+            encoder_noise: 0.01,
+            ..s
+        };
+        assert!((s0.encoder_variance() - 1e-4).abs() < 1e-18);
+    }
+
+    #[test]
+    fn derived_process_noise_by_hand() {
+        let p = PendulumParams::<f64> {
+            a: 0.04,
+            b: 0.005,
+            c: 0.0,
+        };
+        let env = Environment::<f64> {
+            tilt_rms: 0.1,
+            tilt_bandwidth_hz: 1.0,
+            angular_vibration: 0.0,
+            angular_vibration_hz: 30.0,
+            vibration_rms: 2.0,
+            vibration_band_hz: 100.0,
+        };
+        let q = ProcessNoise::derive(&p, 10.0, &SensorNoise::default(), &env);
+        let w = core::f64::consts::TAU;
+        assert!((q.jerk - 0.01 * w.powi(6)).abs() < 1e-9);
+        assert!((q.pendulum - 4.0 / (100.0 * 0.05 * 0.05)).abs() < 1e-12);
+        assert!((q.bias - 1e-8).abs() < 1e-20);
+    }
+}

@@ -1,0 +1,102 @@
+//! The scalar measurement update both filters share, in Joseph form.
+use super::model::{Cov, State, N};
+use crate::Real;
+
+/// Why an update was not applied.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rejected {
+    /// The measurement, its variance or the innovation variance was not finite.
+    NotFinite,
+    /// The innovation variance was not positive.
+    NotPositive,
+}
+
+/// Applies one scalar measurement with row `h`, innovation `y = z - h(x)` and variance `r`.
+///
+/// Gain `k = P h / s`, `s = h P h + r`. The covariance is updated in Joseph form,
+/// `P = (I - k h) P (I - k h)^T + r k k^T`, which for one scalar row and `v = P h` is
+/// `P - k v^T - v k^T + s k k^T`: it costs O(N^2) and is computed on the upper triangle
+/// and mirrored, so `P` stays exactly symmetric. Returns the innovation variance `s`.
+#[inline]
+pub fn scalar_update<T: Real>(
+    x: &mut State<T>,
+    p: &mut Cov<T>,
+    h: &State<T>,
+    y: T,
+    r: T,
+) -> Result<T, Rejected> {
+    if !(y.is_finite() && r.is_finite()) {
+        return Err(Rejected::NotFinite);
+    }
+    let v = *p * h;
+    let s = h.dot(&v) + r;
+    if !s.is_finite() {
+        return Err(Rejected::NotFinite);
+    }
+    if s <= T::zero() {
+        return Err(Rejected::NotPositive);
+    }
+    let k = v / s;
+    *x += k * y;
+    for i in 0..N {
+        for j in i..N {
+            let val = p[(i, j)] - k[i] * v[j] - v[i] * k[j] + s * k[i] * k[j];
+            p[(i, j)] = val;
+            p[(j, i)] = val;
+        }
+    }
+    Ok(s)
+}
+
+/// `(P + P^T) / 2`.
+#[inline]
+pub fn symmetrise<T: Real>(p: &mut Cov<T>) {
+    let half = T::lit(0.5);
+    for i in 0..N {
+        for j in (i + 1)..N {
+            let m = (p[(i, j)] + p[(j, i)]) * half;
+            p[(i, j)] = m;
+            p[(j, i)] = m;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn matches_the_textbook_update() {
+        // A random SPD P and the textbook K = P h / s, P = (I - k h) P.
+        let a = Cov::<f64>::from_fn(|i, j| ((i * 7 + j * 3) % 5) as f64 * 0.1 + 0.01 * i as f64);
+        let p0 = a * a.transpose() + Cov::<f64>::identity() * 0.1;
+        let h = State::<f64>::from([0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
+        let mut x = State::<f64>::zeros();
+        let mut p = p0;
+        let s = scalar_update(&mut x, &mut p, &h, 0.5, 0.2).unwrap();
+        let s_ref = (h.transpose() * p0 * h)[0] + 0.2;
+        assert!((s - s_ref).abs() < 1e-12);
+        let k = p0 * h / s_ref;
+        let p_ref = (Cov::<f64>::identity() - k * h.transpose()) * p0;
+        assert!((p - p_ref).abs().max() < 1e-12);
+        assert!((x - k * 0.5).abs().max() < 1e-15);
+        assert_eq!(p, p.transpose());
+    }
+
+    #[test]
+    fn rejects_bad_input() {
+        let mut x = State::<f64>::zeros();
+        let mut p = Cov::<f64>::identity();
+        let h = State::<f64>::from([1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        assert_eq!(
+            scalar_update(&mut x, &mut p, &h, f64::NAN, 1.0),
+            Err(Rejected::NotFinite)
+        );
+        p = Cov::<f64>::zeros();
+        assert_eq!(
+            scalar_update(&mut x, &mut p, &h, 1.0, 0.0),
+            Err(Rejected::NotPositive)
+        );
+        assert_eq!(x, State::<f64>::zeros());
+    }
+}
