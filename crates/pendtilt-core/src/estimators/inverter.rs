@@ -121,7 +121,7 @@ impl<T: Real, const W: usize> Inverter<T, W> {
             flags |= Flags::INITIALISING;
             self.phi_diff.update(phi, T::one())
         } else {
-            self.phi_diff.update(phi, dt)
+            self.phi_diff.update_at(phi, dt, s.t)
         };
         let mut theta_dd = T::zero();
         if let Some(g) = self.gyro.as_mut() {

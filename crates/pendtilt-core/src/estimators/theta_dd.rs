@@ -91,7 +91,7 @@ impl<T: Real, const W: usize> ThetaDd<T, W> {
         match self.source {
             ThetaDdSource::Matched => {
                 let d = if self.diff.is_started() {
-                    self.diff.update(g, dt)
+                    self.diff.update_at(g, dt, t)
                 } else {
                     self.diff.update(g, T::one())
                 };
