@@ -3,10 +3,16 @@
 //!
 //! The pieces are independent of the estimators: they take named series (the truth and
 //! one series per estimator, sampled at a known rate) and write files.
+mod builder;
+pub mod claims;
 pub mod fig3;
 pub mod figures;
+pub mod html;
+pub mod markdown;
 pub mod metrics;
 pub mod palette;
+
+pub use builder::{file_safe, FigureGroup, Report, ReportData, ReportOutput, ViewFn, ViewMetrics};
 
 /// What can go wrong while computing or writing a report.
 #[derive(Debug, thiserror::Error)]
