@@ -1,10 +1,584 @@
-//! `pendtilt filter`.
+//! `pendtilt filter`: the paper's FIR low-pass over columns of any CSV.
+//!
+//! ```text
+//! pendtilt filter IN.csv --order 50 --cutoff 20 [--columns a,b] [--window hamming] -o OUT.csv
+//! ```
+//!
+//! The paper smooths every result with a 50th-order, 20 Hz FIR low-pass
+//! ([`pendtilt_core::filters::fir`]); this command applies the same filter to a log or an
+//! estimates file so that results can be compared the paper's way.
+//!
+//! - The sample rate comes from the time column (`t`, or `--time-column`): it must be
+//!   strictly increasing and uniform to within `--max-jitter` (the FIR's frequency axis is
+//!   in samples, so a gap would silently move the cut-off). The rate is
+//!   `(rows - 1) / (t_last - t_first)`.
+//! - The chosen columns (default: every column whose first data cell is a number, except
+//!   the time column) are filtered; every other column is copied byte for byte. One output
+//!   row per input row, in the same order, with the same header.
+//! - The output is **delayed by order/2 samples** (25 ms for the paper's filter at 1 kHz), as
+//!   every causal linear-phase filter is, unless `--compensate-delay` is given: then each
+//!   row gets the filter output from order/2 samples later, and the end of the file is
+//!   extended by holding the last value (the mirror of the start, where the history is
+//!   pre-filled with the first value). That needs an even order (a whole-sample delay).
+//! - An empty cell or `NaN` in a filtered column is a missing sample: it makes the next
+//!   order + 1 outputs of that column `NaN`, then the filter recovers. Any other cell that
+//!   is not a number is an error naming the file, line and column.
+//! - Streaming: the file is read twice (once to check the time column and the cells and
+//!   find the rate, once to filter), and memory holds only the filter histories, not the
+//!   file. Nothing is written unless the first pass succeeds.
+
+use anyhow::{bail, Context, Result};
+use csv::ByteRecord;
+use pendtilt_core::filters::fir::{design_lowpass, FirSlice, Window, PAPER_CUTOFF_HZ, PAPER_ORDER};
+use std::collections::VecDeque;
+use std::fmt::Write as _;
+use std::fs::File;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// The largest `--order` accepted. Far beyond any useful low-pass for these logs; the limit
+/// exists so that a typo (an extra zero or three) is an error, not an attempt to allocate
+/// gigabytes of filter history.
+pub const MAX_ORDER: usize = 100_000;
 
 /// Options of `pendtilt filter`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Input CSV, with a header row and a time column.
+    pub input: PathBuf,
+    /// Output CSV (`-` for standard output).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// FIR order; the filter has order + 1 taps and delays by order/2 samples.
+    /// The paper's filter is 50.
+    #[arg(long, default_value_t = PAPER_ORDER)]
+    pub order: usize,
+    /// Cut-off frequency [Hz] (where scipy's firwin puts it); must be below half the
+    /// sample rate. The paper's filter is 20 Hz.
+    #[arg(long, default_value_t = PAPER_CUTOFF_HZ)]
+    pub cutoff: f64,
+    /// Columns to filter, comma-separated. Default: every column whose first data cell is
+    /// a number, except the time column.
+    #[arg(long, value_delimiter = ',')]
+    pub columns: Option<Vec<String>>,
+    /// Window of the windowed-sinc design: hamming, hann, blackman or rectangular.
+    #[arg(long, default_value = "hamming", value_parser = parse_window)]
+    pub window: Window,
+    /// Name of the time column [s].
+    #[arg(long, default_value = "t")]
+    pub time_column: String,
+    /// Largest accepted deviation of any time step from the mean step, as a fraction of the
+    /// mean (0.1 = 10%). A larger one is an error naming its line.
+    #[arg(long, default_value_t = 0.1)]
+    pub max_jitter: f64,
+    /// Undo the filter's delay: row k gets the output of row k + order/2, the end is
+    /// extended by holding the last value. Needs an even order.
+    #[arg(long)]
+    pub compensate_delay: bool,
+}
 
-/// Runs `pendtilt filter`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("pendtilt filter is not built yet")
+fn parse_window(s: &str) -> Result<Window, String> {
+    s.parse::<Window>().map_err(|e| e.to_string())
+}
+
+/// Settings of [`scan`] (the library form of [`Args`], without the file names).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FilterOptions {
+    /// FIR order (taps = order + 1), at most [`MAX_ORDER`].
+    pub order: usize,
+    /// Cut-off frequency [Hz].
+    pub cutoff_hz: f64,
+    /// Columns to filter; `None` for every numeric column except time.
+    pub columns: Option<Vec<String>>,
+    /// Window of the design.
+    pub window: Window,
+    /// Name of the time column.
+    pub time_column: String,
+    /// Largest relative deviation of a time step from the mean step.
+    pub max_jitter: f64,
+    /// Shift the output back by order/2 samples (even order only).
+    pub compensate_delay: bool,
+}
+
+impl Default for FilterOptions {
+    /// The paper's filter: order 50, 20 Hz, Hamming, all numeric columns, time in `t`, 10%
+    /// jitter allowed, delay not compensated.
+    fn default() -> Self {
+        Self {
+            order: PAPER_ORDER,
+            cutoff_hz: PAPER_CUTOFF_HZ,
+            columns: None,
+            window: Window::Hamming,
+            time_column: "t".to_string(),
+            max_jitter: 0.1,
+            compensate_delay: false,
+        }
+    }
+}
+
+impl From<&Args> for FilterOptions {
+    fn from(a: &Args) -> Self {
+        Self {
+            order: a.order,
+            cutoff_hz: a.cutoff,
+            columns: a.columns.clone(),
+            window: a.window,
+            time_column: a.time_column.clone(),
+            max_jitter: a.max_jitter,
+            compensate_delay: a.compensate_delay,
+        }
+    }
+}
+
+/// What [`scan`] found and decided: everything [`Plan::apply`] needs to filter the file,
+/// validated, so that applying it writes a complete output or fails only on I/O.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    input: PathBuf,
+    /// Header names as read (lossily decoded, trimmed).
+    pub names: Vec<String>,
+    /// Field indices of the filtered columns, in file order.
+    pub filtered: Vec<usize>,
+    /// Number of data rows.
+    pub rows: u64,
+    /// Sample rate from the time column [Hz].
+    pub rate_hz: f64,
+    /// The FIR coefficients (order + 1 of them).
+    pub taps: Vec<f64>,
+    /// Samples by which the output is shifted back (0, or order/2 with
+    /// `--compensate-delay`).
+    pub shift: usize,
+}
+
+impl Plan {
+    /// Names of the filtered columns, in file order.
+    pub fn filtered_names(&self) -> Vec<&str> {
+        self.filtered
+            .iter()
+            .map(|&i| self.names[i].as_str())
+            .collect()
+    }
+
+    /// Names of the columns copied unchanged, in file order.
+    pub fn passed_names(&self) -> Vec<&str> {
+        (0..self.names.len())
+            .filter(|i| !self.filtered.contains(i))
+            .map(|i| self.names[i].as_str())
+            .collect()
+    }
+
+    /// Delay of the filtered columns relative to the pass-through ones, in samples:
+    /// order/2, or 0 when compensated.
+    pub fn output_delay_samples(&self) -> f64 {
+        (self.taps.len() as f64 - 1.0) / 2.0 - self.shift as f64
+    }
+
+    /// Second pass: filters the input into `out` (CSV with the input's header), one row per
+    /// input row. Returns the number of rows written.
+    ///
+    /// # Errors
+    /// I/O errors, and the input changing between [`scan`] and here (a row that no longer
+    /// parses is reported with its line as in the first pass).
+    pub fn apply<W: Write>(&self, out: W) -> Result<u64> {
+        let path = self.input.as_path();
+        let mut rdr = open_reader(path)?;
+        let header = rdr.byte_headers().map_err(|e| csv_error(path, e))?.clone();
+        let mut wtr = csv::WriterBuilder::new().from_writer(out);
+        wtr.write_byte_record(&header)
+            .with_context(|| "cannot write the output header".to_string())?;
+
+        let n_cols = self.filtered.len();
+        let mut histories = vec![vec![0.0f64; self.taps.len()]; n_cols];
+        let mut filters = Vec::with_capacity(n_cols);
+        for h in histories.iter_mut() {
+            filters.push(FirSlice::new(&self.taps, h).context("FIR filter")?);
+        }
+        let mut is_filtered = vec![None; self.names.len()];
+        for (j, &i) in self.filtered.iter().enumerate() {
+            is_filtered[i] = Some(j);
+        }
+
+        let mut x = vec![f64::NAN; n_cols];
+        let mut y = vec![f64::NAN; n_cols];
+        let mut pending: VecDeque<ByteRecord> = VecDeque::with_capacity(self.shift + 1);
+        let mut rec = ByteRecord::new();
+        let mut out_rec = ByteRecord::new();
+        let mut cell = String::new();
+        let mut written = 0u64;
+
+        let mut write_row = |wtr: &mut csv::Writer<W>, row: &ByteRecord, y: &[f64]| -> Result<()> {
+            out_rec.clear();
+            for (i, field) in row.iter().enumerate() {
+                match is_filtered.get(i).copied().flatten() {
+                    Some(j) => {
+                        format_f64(&mut cell, y[j]);
+                        out_rec.push_field(cell.as_bytes());
+                    }
+                    None => out_rec.push_field(field),
+                }
+            }
+            wtr.write_byte_record(&out_rec)
+                .context("cannot write an output row")?;
+            written += 1;
+            Ok(())
+        };
+
+        while rdr
+            .read_byte_record(&mut rec)
+            .map_err(|e| csv_error(path, e))?
+        {
+            let line = rec.position().map_or(0, |p| p.line());
+            for (j, &i) in self.filtered.iter().enumerate() {
+                x[j] = parse_cell(path, line, &self.names, i, rec.get(i))?;
+            }
+            for (j, f) in filters.iter_mut().enumerate() {
+                y[j] = f.update(x[j]);
+            }
+            if self.shift == 0 {
+                write_row(&mut wtr, &rec, &y)?;
+            } else {
+                pending.push_back(rec.clone());
+                if pending.len() > self.shift {
+                    if let Some(row) = pending.pop_front() {
+                        write_row(&mut wtr, &row, &y)?;
+                    }
+                }
+            }
+        }
+        // Delay compensation: the last `shift` rows need outputs from beyond the end of the
+        // file; hold the last input (as the start holds the first). With fewer rows than
+        // `shift`, first run the filter on until the first pending row's output is reached.
+        for _ in pending.len()..self.shift {
+            for (j, f) in filters.iter_mut().enumerate() {
+                y[j] = f.update(x[j]);
+            }
+        }
+        while let Some(row) = pending.pop_front() {
+            for (j, f) in filters.iter_mut().enumerate() {
+                y[j] = f.update(x[j]);
+            }
+            write_row(&mut wtr, &row, &y)?;
+        }
+        wtr.flush().context("cannot write the output")?;
+        Ok(written)
+    }
+}
+
+/// Writes `x` into `out` as the shortest text that parses back to the same `f64` (Rust's
+/// `{}` and `{:e}` both are): plain for ordinary magnitudes, exponent form for tiny or huge
+/// ones, where `{}` would write dozens of zeros (a filter's output in the stop band is often
+/// 1e-20).
+fn format_f64(out: &mut String, x: f64) {
+    out.clear();
+    let a = x.abs();
+    let _ = if a == 0.0 || !a.is_finite() || (1e-5..1e16).contains(&a) {
+        write!(out, "{x}")
+    } else {
+        write!(out, "{x:e}")
+    };
+}
+
+fn open_reader(path: &Path) -> Result<csv::Reader<File>> {
+    let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
+    Ok(csv::ReaderBuilder::new()
+        .has_headers(true)
+        .flexible(false)
+        .from_reader(file))
+}
+
+/// A csv error as `FILE:LINE: what`, with the row-length case spelled out.
+fn csv_error(path: &Path, e: csv::Error) -> anyhow::Error {
+    let file = path.display();
+    match e.kind() {
+        csv::ErrorKind::UnequalLengths {
+            pos,
+            expected_len,
+            len,
+        } => {
+            let line = pos.as_ref().map_or(0, |p| p.line());
+            anyhow::anyhow!("{file}:{line}: row has {len} fields but the header has {expected_len}")
+        }
+        csv::ErrorKind::Io(_) => anyhow::anyhow!("{file}: cannot read: {e}"),
+        _ => match e.position() {
+            Some(p) => anyhow::anyhow!("{file}:{}: {e}", p.line()),
+            None => anyhow::anyhow!("{file}: {e}"),
+        },
+    }
+}
+
+/// Parses one cell of a filtered (or time) column. Empty means missing (NaN); anything else
+/// that is not a number is an error naming file, line and column.
+fn parse_cell(
+    path: &Path,
+    line: u64,
+    names: &[String],
+    i: usize,
+    field: Option<&[u8]>,
+) -> Result<f64> {
+    let name = names.get(i).map_or("?", String::as_str);
+    let Some(field) = field else {
+        bail!(
+            "{}:{line}: column '{name}' (field {}) is missing from this row",
+            path.display(),
+            i + 1
+        );
+    };
+    let text = String::from_utf8_lossy(field);
+    let s = text.trim();
+    if s.is_empty() {
+        return Ok(f64::NAN);
+    }
+    s.parse::<f64>().map_err(|_| {
+        anyhow::anyhow!(
+            "{}:{line}: column '{name}' (field {}): '{s}' is not a number",
+            path.display(),
+            i + 1
+        )
+    })
+}
+
+/// The index of the header field named `name`: an error listing the columns if there is
+/// none, and an error if there are several (the choice would be a guess).
+fn find_column(path: &Path, names: &[String], name: &str, what: &str) -> Result<usize> {
+    let hits: Vec<usize> = (0..names.len()).filter(|&i| names[i] == name).collect();
+    match hits.as_slice() {
+        [i] => Ok(*i),
+        [] => bail!(
+            "{}:1: no {what} column '{name}' in the header; the columns are: {}",
+            path.display(),
+            names.join(", ")
+        ),
+        many => bail!(
+            "{}:1: the {what} column '{name}' appears {} times in the header (fields {})",
+            path.display(),
+            many.len(),
+            many.iter()
+                .map(|i| (i + 1).to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+/// First pass: checks the options, the header, the time column (strictly increasing,
+/// uniform within `max_jitter`) and every cell of the filtered columns, measures the rate
+/// and designs the filter. Reads the file once, in constant memory; writes nothing.
+///
+/// # Errors
+/// Every problem with the file or the options, as `FILE:LINE: what`, naming the column.
+pub fn scan(input: &Path, opts: &FilterOptions) -> Result<Plan> {
+    let file = input.display();
+    if opts.order > MAX_ORDER {
+        bail!(
+            "--order {} is larger than the maximum {MAX_ORDER}",
+            opts.order
+        );
+    }
+    let n_taps = opts.order + 1;
+    let shift = if opts.compensate_delay {
+        if opts.order % 2 != 0 {
+            bail!(
+                "--compensate-delay needs an even --order (got {}): an odd order delays by a \
+                 half sample, which cannot be undone by shifting rows",
+                opts.order
+            );
+        }
+        opts.order / 2
+    } else {
+        0
+    };
+    if !(opts.max_jitter.is_finite() && opts.max_jitter >= 0.0) {
+        bail!(
+            "--max-jitter {} must be a finite fraction >= 0",
+            opts.max_jitter
+        );
+    }
+    if opts.cutoff_hz.is_nan() || opts.cutoff_hz <= 0.0 {
+        bail!("--cutoff {} Hz must be positive", opts.cutoff_hz);
+    }
+
+    let mut rdr = open_reader(input)?;
+    let header = rdr.byte_headers().map_err(|e| csv_error(input, e))?;
+    let names: Vec<String> = header
+        .iter()
+        .map(|f| String::from_utf8_lossy(f).trim().to_string())
+        .collect();
+    if names.is_empty() || (names.len() == 1 && names[0].is_empty()) {
+        bail!("{file}: empty file: expected a header row");
+    }
+    let time_idx = find_column(input, &names, &opts.time_column, "time")?;
+
+    // Explicit columns are checked against the header now; the default set needs the first
+    // data row.
+    let mut filtered: Option<Vec<usize>> = match &opts.columns {
+        None => None,
+        Some(cols) => {
+            let mut idx = Vec::new();
+            for c in cols.iter().map(|c| c.trim()) {
+                if c.is_empty() {
+                    bail!("--columns: empty column name in the list");
+                }
+                let i = find_column(input, &names, c, "requested")?;
+                if i == time_idx {
+                    bail!(
+                        "--columns: '{c}' is the time column; it is passed through, not \
+                         filtered"
+                    );
+                }
+                if !idx.contains(&i) {
+                    idx.push(i);
+                }
+            }
+            if idx.is_empty() {
+                bail!("--columns: no column named");
+            }
+            idx.sort_unstable();
+            Some(idx)
+        }
+    };
+
+    let mut rec = ByteRecord::new();
+    let mut rows = 0u64;
+    let (mut t_first, mut t_prev, mut prev_line) = (0.0f64, 0.0f64, 0u64);
+    // Extreme time steps and where they are, for the uniformity check after the pass.
+    let (mut dt_min, mut dt_min_line) = (f64::INFINITY, 0u64);
+    let (mut dt_max, mut dt_max_line) = (0.0f64, 0u64);
+    while rdr
+        .read_byte_record(&mut rec)
+        .map_err(|e| csv_error(input, e))?
+    {
+        let line = rec.position().map_or(0, |p| p.line());
+        let t = parse_cell(input, line, &names, time_idx, rec.get(time_idx))?;
+        if !t.is_finite() {
+            bail!(
+                "{file}:{line}: time column '{}' is empty or not finite",
+                opts.time_column
+            );
+        }
+        if rows == 0 {
+            t_first = t;
+            if filtered.is_none() {
+                let idx: Vec<usize> = (0..names.len())
+                    .filter(|&i| i != time_idx)
+                    .filter(|&i| {
+                        rec.get(i)
+                            .and_then(|f| std::str::from_utf8(f).ok())
+                            .map(str::trim)
+                            .is_some_and(|s| !s.is_empty() && s.parse::<f64>().is_ok())
+                    })
+                    .collect();
+                if idx.is_empty() {
+                    bail!(
+                        "{file}:{line}: no numeric column to filter besides the time column \
+                         '{}' (name them with --columns)",
+                        opts.time_column
+                    );
+                }
+                filtered = Some(idx);
+            }
+        } else {
+            if t <= t_prev {
+                bail!(
+                    "{file}:{line}: time {t} is not after {t_prev} (line {prev_line}): the time \
+                     column '{}' must be strictly increasing",
+                    opts.time_column
+                );
+            }
+            let dt = t - t_prev;
+            if dt < dt_min {
+                (dt_min, dt_min_line) = (dt, line);
+            }
+            if dt > dt_max {
+                (dt_max, dt_max_line) = (dt, line);
+            }
+        }
+        if let Some(idx) = &filtered {
+            for &i in idx {
+                parse_cell(input, line, &names, i, rec.get(i))?;
+            }
+        }
+        t_prev = t;
+        prev_line = line;
+        rows += 1;
+    }
+    if rows < 2 {
+        bail!("{file}: {rows} data row(s): at least 2 are needed to find the sample rate");
+    }
+    let mean_dt = (t_prev - t_first) / (rows - 1) as f64;
+    let rate_hz = 1.0 / mean_dt;
+    for (dt, line) in [(dt_max, dt_max_line), (dt_min, dt_min_line)] {
+        let dev = (dt - mean_dt).abs() / mean_dt;
+        if dev > opts.max_jitter {
+            bail!(
+                "{file}:{line}: time step {dt} s differs from the mean step {mean_dt} s by {:.1}% \
+                 (more than --max-jitter {:.1}%): the FIR needs uniformly sampled data; \
+                 resample the log or raise --max-jitter",
+                dev * 100.0,
+                opts.max_jitter * 100.0
+            );
+        }
+    }
+
+    let mut taps = vec![0.0f64; n_taps];
+    design_lowpass(opts.cutoff_hz, rate_hz, opts.window, &mut taps).with_context(|| {
+        format!(
+            "--cutoff {} Hz at the sample rate {rate_hz} Hz of {file}",
+            opts.cutoff_hz
+        )
+    })?;
+    Ok(Plan {
+        input: input.to_path_buf(),
+        names,
+        filtered: filtered.unwrap_or_default(),
+        rows,
+        rate_hz,
+        taps,
+        shift,
+    })
+}
+
+/// Runs `pendtilt filter`: [`scan`], then [`Plan::apply`] into the output file (created
+/// only after the scan succeeded; removed again if writing fails half-way).
+pub fn run(args: Args) -> Result<()> {
+    let opts = FilterOptions::from(&args);
+    let to_stdout = args.output.as_os_str() == "-";
+    if !to_stdout {
+        if let (Ok(a), Ok(b)) = (args.input.canonicalize(), args.output.canonicalize()) {
+            if a == b {
+                bail!(
+                    "-o {} is the input file: filtering in place would destroy it",
+                    args.output.display()
+                );
+            }
+        }
+    }
+    let plan = scan(&args.input, &opts)?;
+    let written = if to_stdout {
+        plan.apply(std::io::stdout().lock())?
+    } else {
+        let out = File::create(&args.output)
+            .with_context(|| format!("cannot create {}", args.output.display()))?;
+        match plan.apply(std::io::BufWriter::new(out)) {
+            Ok(n) => n,
+            Err(e) => {
+                let _ = std::fs::remove_file(&args.output);
+                return Err(e);
+            }
+        }
+    };
+    let delay = plan.output_delay_samples();
+    eprintln!(
+        "pendtilt filter: {written} rows at {:.6} Hz; {}-tap {} low-pass at {} Hz on: {}; \
+         passed through: {}; output delay {} samples ({:.3} ms){}",
+        plan.rate_hz,
+        plan.taps.len(),
+        args.window,
+        args.cutoff,
+        plan.filtered_names().join(", "),
+        plan.passed_names().join(", "),
+        delay,
+        delay / plan.rate_hz * 1e3,
+        if plan.shift > 0 { " (compensated)" } else { "" }
+    );
+    Ok(())
 }
