@@ -125,6 +125,10 @@ fn report_writes_every_file_and_the_page_references_only_existing_files() {
     assert!(std::fs::read_to_string(&out.markdown)
         .unwrap()
         .contains("| alg2 |"));
+    // a copy for a human look when PENDTILT_KEEP_REPORT names a directory
+    if let Ok(keep) = std::env::var("PENDTILT_KEEP_REPORT") {
+        build().write(Path::new(&keep)).unwrap();
+    }
     let js: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out.json).unwrap()).unwrap();
     assert_eq!(js["views"][0]["metrics"][0]["name"], "accel");

@@ -232,7 +232,7 @@ impl ClaimSpec {
             &self.why_fails
         };
         let mut why = reasons.join("; ");
-        if let Some(x) = extra {
+        if let Some(x) = extra.as_deref().filter(|x| !x.trim().is_empty()) {
             why = format!("{why}. {x}");
         }
         Claim {

@@ -7,7 +7,7 @@ use super::ReportError;
 pub const METRIC_COLUMNS: &[&str] = &[
     "estimator",
     "RMS [deg]",
-    "max |err| [deg]",
+    "max abs err [deg]",
     "bias [deg]",
     "err std [deg]",
     "lag [ms]",
@@ -48,7 +48,8 @@ fn md_cell(s: &str) -> String {
 
 fn md_table(header: &[&str], rows: &[Vec<String>]) -> String {
     let mut out = String::new();
-    out.push_str(&format!("| {} |\n", header.join(" | ")));
+    let head: Vec<String> = header.iter().map(|c| md_cell(c)).collect();
+    out.push_str(&format!("| {} |\n", head.join(" | ")));
     out.push_str(&format!(
         "|{}\n",
         header.iter().map(|_| "---|").collect::<String>()
