@@ -1,1 +1,34 @@
-//! CSV input and output: the sensor-log reader and the estimates writer (MODEL.md section 5).
+//! CSV input and output (MODEL.md section 5): the streaming sensor-log reader and the
+//! streaming estimates writer. The library never prints: warnings are queued for the
+//! caller ([`LogReader::drain_warnings`]) and counted ([`LogReader::summary`]).
+//!
+//! ```no_run
+//! use pendtilt::io::{LogReader, ReaderOptions};
+//! let options = ReaderOptions {
+//!     map: "phi=enc_angle".parse()?,
+//!     degrees: "phi".parse()?,
+//!     ..ReaderOptions::default()
+//! };
+//! let mut log = LogReader::open("log.csv", options)?;
+//! eprintln!("{}", log.columns());
+//! while let Some(record) = log.next_record()? {
+//!     for w in log.drain_warnings() {
+//!         eprintln!("warning: {w}");
+//!     }
+//!     let _ = (record.line, record.sample, record.theta);
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+mod columns;
+mod diagnostics;
+mod estimates_writer;
+mod log_reader;
+mod split;
+
+pub use columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns, OptionError};
+pub use diagnostics::{LogSummary, LogWarning, WarningKind};
+pub use estimates_writer::{EstimatesWriter, WriterOptions};
+pub use log_reader::{
+    CellRef, LogError, LogErrorKind, LogReader, LogRecord, ReaderOptions, RowIssues,
+    ANGLE_LOOKS_LIKE_DEGREES, RATE_LOOKS_LIKE_DEGREES,
+};

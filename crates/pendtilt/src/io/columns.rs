@@ -1,0 +1,347 @@
+//! The columns of a sensor log (MODEL.md section 5), how other names map onto them
+//! (`--map`), which ones are in degrees (`--deg`), and what was found in a header.
+use std::fmt;
+use std::str::FromStr;
+
+/// A column of the sensor log contract (MODEL.md section 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Column {
+    /// `t`: time [s], strictly increasing. Required.
+    T,
+    /// `phi`: encoder, pendulum angle relative to the body [rad].
+    Phi,
+    /// `gyro`: body rate about the tilt axis [rad/s].
+    Gyro,
+    /// `ax`: accelerometer specific force along body x [m/s^2].
+    Ax,
+    /// `ay`: accelerometer specific force along body y [m/s^2].
+    Ay,
+    /// `theta`: true tilt [rad] (potentiometer), optional.
+    Theta,
+}
+
+impl Column {
+    /// Every column, in the contract's order.
+    pub const ALL: [Column; 6] = [
+        Column::T,
+        Column::Phi,
+        Column::Gyro,
+        Column::Ax,
+        Column::Ay,
+        Column::Theta,
+    ];
+
+    /// The contract name (`t`, `phi`, `gyro`, `ax`, `ay`, `theta`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Column::T => "t",
+            Column::Phi => "phi",
+            Column::Gyro => "gyro",
+            Column::Ax => "ax",
+            Column::Ay => "ay",
+            Column::Theta => "theta",
+        }
+    }
+
+    /// The column with this contract name, if any (exact, case-sensitive).
+    pub fn from_name(name: &str) -> Option<Column> {
+        Column::ALL.into_iter().find(|c| c.name() == name)
+    }
+
+    /// The SI unit the contract uses for this column.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Column::T => "s",
+            Column::Phi | Column::Theta => "rad",
+            Column::Gyro => "rad/s",
+            Column::Ax | Column::Ay => "m/s^2",
+        }
+    }
+
+    /// True for the columns `--deg` can convert: the angles `phi`, `theta` and the rate `gyro`.
+    pub fn is_angular(self) -> bool {
+        matches!(self, Column::Phi | Column::Gyro | Column::Theta)
+    }
+
+    pub(crate) fn index(self) -> usize {
+        self as usize
+    }
+}
+
+impl fmt::Display for Column {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A bad `--map` or `--deg` option.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum OptionError {
+    /// A name that is not a column of the contract.
+    #[error("`{0}` is not a log column; the columns are t, phi, gyro, ax, ay, theta")]
+    UnknownColumn(String),
+    /// A `--map` entry without `=`, or with an empty side.
+    #[error("`{0}` is not of the form column=header_name (e.g. phi=enc_angle)")]
+    BadMapEntry(String),
+    /// The same contract column mapped twice.
+    #[error("`{0}` is mapped twice")]
+    MappedTwice(String),
+    /// Two contract columns mapped onto the same header name.
+    #[error("`{source_name}` is mapped onto both `{first}` and `{second}`")]
+    SameSource {
+        /// The header name.
+        source_name: String,
+        /// The first column mapped onto it.
+        first: String,
+        /// The second column mapped onto it.
+        second: String,
+    },
+    /// `--deg` names a column that is not an angle or angular rate.
+    #[error("`{0}` is not an angle or angular rate; --deg takes phi, gyro, theta (or all)")]
+    NotAngular(String),
+}
+
+/// Which header name feeds each contract column (`--map phi=enc_angle,gyro=gz`).
+///
+/// A column that is not mapped is read from the header column of its own name, if there
+/// is one. Mapping a column onto a name that is not in the header is an error (the user
+/// asked for it explicitly), not a silent miss.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ColumnMap {
+    sources: [Option<String>; 6],
+}
+
+impl ColumnMap {
+    /// No mapping: every column is read under its own name.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Reads `column` from the header column named `source`.
+    pub fn set(&mut self, column: Column, source: impl Into<String>) {
+        self.sources[column.index()] = Some(source.into());
+    }
+
+    /// The header name mapped onto `column`, if it was mapped.
+    pub fn source(&self, column: Column) -> Option<&str> {
+        self.sources[column.index()].as_deref()
+    }
+
+    /// True when nothing is mapped.
+    pub fn is_empty(&self) -> bool {
+        self.sources.iter().all(Option::is_none)
+    }
+}
+
+impl FromStr for ColumnMap {
+    type Err = OptionError;
+
+    /// Parses `phi=enc_angle,gyro=gz` (entries separated by commas; spaces around names
+    /// are ignored; an empty string maps nothing).
+    fn from_str(spec: &str) -> Result<Self, Self::Err> {
+        let mut map = ColumnMap::new();
+        for entry in spec.split(',').map(str::trim).filter(|e| !e.is_empty()) {
+            let (col, source) = entry
+                .split_once('=')
+                .map(|(c, s)| (c.trim(), s.trim()))
+                .filter(|(c, s)| !c.is_empty() && !s.is_empty())
+                .ok_or_else(|| OptionError::BadMapEntry(entry.to_string()))?;
+            let column =
+                Column::from_name(col).ok_or_else(|| OptionError::UnknownColumn(col.into()))?;
+            if map.source(column).is_some() {
+                return Err(OptionError::MappedTwice(col.to_string()));
+            }
+            if let Some(other) = Column::ALL
+                .into_iter()
+                .find(|c| map.source(*c) == Some(source))
+            {
+                return Err(OptionError::SameSource {
+                    source_name: source.to_string(),
+                    first: other.name().to_string(),
+                    second: col.to_string(),
+                });
+            }
+            map.set(column, source);
+        }
+        Ok(map)
+    }
+}
+
+/// Which angular columns of the log are in degrees (`--deg`); they are converted to
+/// radians (or rad/s) as they are read.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct DegreeColumns(u8);
+
+impl DegreeColumns {
+    /// Every column in SI units (the default).
+    pub fn none() -> Self {
+        Self(0)
+    }
+
+    /// `phi`, `gyro` and `theta` all in degrees (deg/s for `gyro`): plain `--deg`.
+    pub fn all() -> Self {
+        let mut d = Self(0);
+        for c in Column::ALL.into_iter().filter(|c| c.is_angular()) {
+            d.0 |= 1 << c.index();
+        }
+        d
+    }
+
+    /// Marks one angular column as degrees. Errors for `t`, `ax`, `ay`.
+    pub fn insert(&mut self, column: Column) -> Result<(), OptionError> {
+        if !column.is_angular() {
+            return Err(OptionError::NotAngular(column.name().to_string()));
+        }
+        self.0 |= 1 << column.index();
+        Ok(())
+    }
+
+    /// True when `column` is read in degrees.
+    pub fn contains(self, column: Column) -> bool {
+        self.0 & (1 << column.index()) != 0
+    }
+}
+
+impl FromStr for DegreeColumns {
+    type Err = OptionError;
+
+    /// Parses `all` (or an empty string) as every angular column, else a comma-separated
+    /// list such as `phi,theta`.
+    fn from_str(spec: &str) -> Result<Self, Self::Err> {
+        let spec = spec.trim();
+        if spec.is_empty() || spec == "all" {
+            return Ok(Self::all());
+        }
+        let mut d = Self::none();
+        for name in spec.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+            let column =
+                Column::from_name(name).ok_or_else(|| OptionError::UnknownColumn(name.into()))?;
+            d.insert(column)?;
+        }
+        Ok(d)
+    }
+}
+
+/// How one contract column was found in the header.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ColumnStatus {
+    /// The contract column.
+    pub column: Column,
+    /// The header name it is read from, when present.
+    pub source: Option<String>,
+    /// 0-based position of that header field.
+    pub position: Option<usize>,
+    /// True when the source came from `--map` rather than the contract name.
+    pub mapped: bool,
+    /// True when the column is read in degrees and converted.
+    pub degrees: bool,
+    /// For a missing column: a header name that matches it but for case or spaces
+    /// (`Phi`, ` phi `), offered as a `--map` suggestion; never used on its own.
+    pub suggestion: Option<String>,
+}
+
+/// What the header gave: for every contract column, found (and how) or missing; and the
+/// other columns, which are ignored.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ColumnReport {
+    /// One entry per contract column, in [`Column::ALL`] order.
+    pub columns: Vec<ColumnStatus>,
+    /// Header names not used by any contract column, in file order.
+    pub ignored: Vec<String>,
+}
+
+impl ColumnReport {
+    /// The status of one contract column.
+    pub fn status(&self, column: Column) -> &ColumnStatus {
+        &self.columns[column.index()]
+    }
+
+    /// True when the log has this column.
+    pub fn has(&self, column: Column) -> bool {
+        self.status(column).position.is_some()
+    }
+
+    /// The contract columns the log lacks.
+    pub fn missing(&self) -> Vec<Column> {
+        Column::ALL.into_iter().filter(|c| !self.has(*c)).collect()
+    }
+}
+
+impl fmt::Display for ColumnReport {
+    /// One line: `columns: t, phi <- enc_angle (deg), gyro; missing: ax, ay, theta; ignored: temp`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("columns: ")?;
+        let mut first = true;
+        for s in self.columns.iter().filter(|s| s.position.is_some()) {
+            if !first {
+                f.write_str(", ")?;
+            }
+            first = false;
+            f.write_str(s.column.name())?;
+            if s.mapped {
+                write!(f, " <- {}", s.source.as_deref().unwrap_or(""))?;
+            }
+            if s.degrees {
+                f.write_str(" (deg)")?;
+            }
+        }
+        let missing = self.missing();
+        if !missing.is_empty() {
+            let names: Vec<String> = missing
+                .iter()
+                .map(|c| match &self.status(*c).suggestion {
+                    Some(s) => format!("{c} (the header has `{s}`: --map {c}={s}?)"),
+                    None => c.name().to_string(),
+                })
+                .collect();
+            write!(f, "; missing: {}", names.join(", "))?;
+        }
+        if !self.ignored.is_empty() {
+            write!(f, "; ignored: {}", self.ignored.join(", "))?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn map_parses_and_rejects() {
+        let m: ColumnMap = "phi=enc_angle, gyro = gz".parse().unwrap();
+        assert_eq!(m.source(Column::Phi), Some("enc_angle"));
+        assert_eq!(m.source(Column::Gyro), Some("gz"));
+        assert_eq!(m.source(Column::T), None);
+        assert!("".parse::<ColumnMap>().unwrap().is_empty());
+        assert_eq!(
+            "psi=x".parse::<ColumnMap>(),
+            Err(OptionError::UnknownColumn("psi".into()))
+        );
+        assert_eq!(
+            "phi".parse::<ColumnMap>(),
+            Err(OptionError::BadMapEntry("phi".into()))
+        );
+        assert_eq!(
+            "phi=a,phi=b".parse::<ColumnMap>(),
+            Err(OptionError::MappedTwice("phi".into()))
+        );
+        assert!(matches!(
+            "phi=a,theta=a".parse::<ColumnMap>(),
+            Err(OptionError::SameSource { .. })
+        ));
+    }
+
+    #[test]
+    fn degrees_parse() {
+        let all: DegreeColumns = "all".parse().unwrap();
+        assert!(all.contains(Column::Phi) && all.contains(Column::Gyro));
+        assert!(all.contains(Column::Theta) && !all.contains(Column::T));
+        let some: DegreeColumns = "phi,theta".parse().unwrap();
+        assert!(some.contains(Column::Phi) && !some.contains(Column::Gyro));
+        assert_eq!(
+            "ax".parse::<DegreeColumns>(),
+            Err(OptionError::NotAngular("ax".into()))
+        );
+    }
+}

@@ -1,0 +1,782 @@
+//! Streaming reader of the sensor log (MODEL.md section 5).
+//!
+//! One [`LogRecord`] per data row, in file order, never a row dropped; memory does not
+//! grow with the log. What is wrong with a file is either an error that stops the read
+//! ([`LogError`], naming the file, the line and the column) or, when the row can still be
+//! used, a warning ([`LogWarning`]) queued for the caller together with a flagged or
+//! missing (NaN) value that the estimators hold through and flag. The library never
+//! prints. See `docs/bad-input.md` for the table of cases and outcomes.
+//!
+//! The format: a header row, then one row per sample, fields separated by `,` (or
+//! [`ReaderOptions::delimiter`]), optionally quoted with `"`. Line ends may be LF or CRLF;
+//! a UTF-8 byte-order mark is skipped; blank lines and lines whose first non-blank
+//! character is `#` are skipped (before and after the header) but still counted, so that
+//! every line number is the one an editor shows. Whitespace around a field is ignored.
+//! Lines are read and split by this module rather than by the `csv` crate because that
+//! crate does not count comment lines in its line numbers; quoted fields therefore may
+//! not span lines.
+use std::fs::File;
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+
+use pendtilt_core::Sample;
+
+use super::columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns};
+use super::diagnostics::{LogSummary, LogWarning, WarningKind};
+use super::split::{split_fields, unquote, SplitError};
+
+/// An angle beyond this [rad] in a column read as radians looks like degrees (about 200
+/// degrees: a pendulum or a tilt never gets there, a degree value of a few tens does).
+pub const ANGLE_LOOKS_LIKE_DEGREES: f64 = 3.5;
+/// A rate beyond this [rad/s] in a gyro column read as rad/s looks like deg/s (2000
+/// deg/s is the largest full scale of common MEMS gyros).
+pub const RATE_LOOKS_LIKE_DEGREES: f64 = 35.0;
+
+/// Options of the log reader.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReaderOptions {
+    /// Other header names for the contract columns (`--map`).
+    pub map: ColumnMap,
+    /// Angular columns given in degrees (`--deg`); converted to radians as read.
+    pub degrees: DegreeColumns,
+    /// Field separator. Default `,`.
+    pub delimiter: u8,
+    /// A time step longer than this many nominal steps is reported as a gap. Default 3.
+    pub gap_factor: f64,
+    /// A time step that differs from the nominal one by more than this fraction of it
+    /// (and is not a gap) is counted as jitter. Default 0.5.
+    pub jitter_tolerance: f64,
+    /// Warnings of one kind queued for the caller before the rest are only counted.
+    /// Default 10.
+    pub max_reported: usize,
+}
+
+impl Default for ReaderOptions {
+    fn default() -> Self {
+        Self {
+            map: ColumnMap::new(),
+            degrees: DegreeColumns::none(),
+            delimiter: b',',
+            gap_factor: 3.0,
+            jitter_tolerance: 0.5,
+            max_reported: 10,
+        }
+    }
+}
+
+/// What is wrong with a row, beyond the NaN values it carries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct RowIssues {
+    /// The row had fewer fields than the header; the absent cells are missing (NaN).
+    pub truncated: bool,
+    /// At least one used cell was empty, `nan` or `inf` (now NaN in the sample).
+    pub missing_values: bool,
+    /// The time is missing, or not later than the previous row's: the estimators flag
+    /// `bad_time_step` on this sample.
+    pub bad_time: bool,
+    /// The time step before this row is a gap (longer than `gap_factor` nominal steps).
+    pub time_gap: bool,
+}
+
+impl RowIssues {
+    /// True when nothing was wrong.
+    pub fn is_clean(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+/// One data row of the log.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LogRecord {
+    /// 1-based line in the file (comment and blank lines counted).
+    pub line: u64,
+    /// The sensors in SI units; a missing or non-finite cell, or a column the log does not
+    /// have, is NaN.
+    pub sample: Sample<f64>,
+    /// The true tilt [rad]: `None` when the log has no `theta` column, `Some(NaN)` when
+    /// this row's cell is missing.
+    pub theta: Option<f64>,
+    /// What was wrong with the row.
+    pub issues: RowIssues,
+}
+
+/// A cell position for error messages: its 1-based field number and header name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CellRef {
+    /// 1-based field number in the row.
+    pub position: usize,
+    /// The header name of that field.
+    pub header: String,
+}
+
+/// Why a log could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum LogErrorKind {
+    /// The file could not be opened or read.
+    #[error("cannot read: {0}")]
+    Io(#[from] std::io::Error),
+    /// No header: the file is empty (or holds only blank and comment lines).
+    #[error("the file is empty: no header row")]
+    Empty,
+    /// A header and no data row.
+    #[error("header only, no data rows")]
+    NoData,
+    /// A line that is not UTF-8 text.
+    #[error("not UTF-8 text")]
+    InvalidUtf8,
+    /// A quoted field not closed on its line.
+    #[error("a quoted field is not closed on its line")]
+    UnterminatedQuote,
+    /// No time column.
+    #[error("no `t` column (the header has: {header}){hint}")]
+    MissingTime {
+        /// The header names, comma-separated.
+        header: String,
+        /// A suggestion: `--map t=...` or another delimiter.
+        hint: String,
+    },
+    /// A used column appears twice in the header.
+    #[error("duplicate column: `{name}` is also field {first}; which one is meant is unclear")]
+    DuplicateColumn {
+        /// The header name.
+        name: String,
+        /// 1-based field number of its first appearance.
+        first: usize,
+    },
+    /// `--map` names a header column that is not there.
+    #[error("--map {column}={source_name}: no column `{source_name}` in the header (the header has: {header})")]
+    MappedSourceMissing {
+        /// The contract column.
+        column: Column,
+        /// The header name asked for.
+        source_name: String,
+        /// The header names, comma-separated.
+        header: String,
+    },
+    /// A cell that is not a number (nor empty, `nan` or `inf`).
+    #[error("not a number: `{text}`")]
+    NotANumber {
+        /// The cell text.
+        text: String,
+    },
+    /// A row with more non-empty fields than the header.
+    #[error("{found} fields, the header has {expected}")]
+    TooManyFields {
+        /// Fields in the row.
+        found: usize,
+        /// Fields in the header.
+        expected: usize,
+    },
+}
+
+/// A log reading error: the file, the line and the column where it is, and why.
+///
+/// Displays as `log.csv:5: column 3 (`phi`): not a number: `abc``.
+#[derive(Debug, thiserror::Error)]
+#[error("{file}{}{}: {kind}", line_part(*.line), column_part(.column))]
+pub struct LogError {
+    /// The file (or origin name).
+    pub file: String,
+    /// 1-based line, when the error is on a line.
+    pub line: Option<u64>,
+    /// The cell's field, when the error is in one.
+    pub column: Option<CellRef>,
+    /// What is wrong.
+    pub kind: LogErrorKind,
+}
+
+fn line_part(line: Option<u64>) -> String {
+    line.map(|l| format!(":{l}")).unwrap_or_default()
+}
+
+fn column_part(column: &Option<CellRef>) -> String {
+    column
+        .as_ref()
+        .map(|c| format!(": column {} (`{}`)", c.position, c.header))
+        .unwrap_or_default()
+}
+
+/// Streaming sensor-log reader over any [`BufRead`].
+///
+/// [`LogReader::new`] reads the header (and the lines before it) and resolves the
+/// columns; each [`LogReader::next_record`] (or iterator step) reads one data row. After
+/// an error the reader is finished. Warnings queue up, at most
+/// [`ReaderOptions::max_reported`] per kind (the rest are counted in
+/// [`LogReader::summary`]); take them with [`LogReader::drain_warnings`].
+#[derive(Debug)]
+pub struct LogReader<R> {
+    input: R,
+    file: String,
+    options: ReaderOptions,
+    buf: Vec<u8>,
+    fields: Vec<(usize, usize)>,
+    line: u64,
+    header: Vec<String>,
+    /// Field position of each contract column.
+    positions: [Option<usize>; 6],
+    /// Factor to SI of each contract column (pi/180 for degrees).
+    scale: [f64; 6],
+    report: ColumnReport,
+    summary: LogSummary,
+    pending: Vec<LogWarning>,
+    reported: [usize; 9],
+    degree_warned: [bool; 6],
+    last_t: Option<f64>,
+    first_dts: Vec<f64>,
+    finished: bool,
+}
+
+/// Positive time steps used for the nominal step (their median).
+const NOMINAL_DT_SAMPLES: usize = 15;
+
+impl LogReader<BufReader<File>> {
+    /// Opens a log file; errors (and warnings) name it as given.
+    pub fn open(path: impl AsRef<Path>, options: ReaderOptions) -> Result<Self, LogError> {
+        let path = path.as_ref();
+        let name = path.display().to_string();
+        let file = File::open(path).map_err(|e| LogError {
+            file: name.clone(),
+            line: None,
+            column: None,
+            kind: LogErrorKind::Io(e),
+        })?;
+        Self::new(BufReader::with_capacity(1 << 16, file), &name, options)
+    }
+}
+
+impl<R: BufRead> LogReader<R> {
+    /// Reads the header from `input`; `origin` names the source in messages.
+    pub fn new(input: R, origin: &str, options: ReaderOptions) -> Result<Self, LogError> {
+        let mut reader = Self {
+            input,
+            file: origin.to_string(),
+            options,
+            buf: Vec::with_capacity(256),
+            fields: Vec::with_capacity(16),
+            line: 0,
+            header: Vec::new(),
+            positions: [None; 6],
+            scale: [1.0; 6],
+            report: ColumnReport {
+                columns: Vec::new(),
+                ignored: Vec::new(),
+            },
+            summary: LogSummary::default(),
+            pending: Vec::new(),
+            reported: [0; 9],
+            degree_warned: [false; 6],
+            last_t: None,
+            first_dts: Vec::with_capacity(NOMINAL_DT_SAMPLES),
+            finished: false,
+        };
+        reader.read_header()?;
+        Ok(reader)
+    }
+
+    /// The name used for the source in messages.
+    pub fn file(&self) -> &str {
+        &self.file
+    }
+
+    /// Which contract columns were found (and how), missing, or ignored.
+    pub fn columns(&self) -> &ColumnReport {
+        &self.report
+    }
+
+    /// The header names, in file order.
+    pub fn header(&self) -> &[String] {
+        &self.header
+    }
+
+    /// Counts over the rows read so far.
+    pub fn summary(&self) -> &LogSummary {
+        &self.summary
+    }
+
+    /// Takes the warnings queued since the last call, oldest first.
+    pub fn drain_warnings(&mut self) -> std::vec::Drain<'_, LogWarning> {
+        self.pending.drain(..)
+    }
+
+    fn error(
+        &mut self,
+        line: Option<u64>,
+        column: Option<CellRef>,
+        kind: LogErrorKind,
+    ) -> LogError {
+        self.finished = true;
+        LogError {
+            file: self.file.clone(),
+            line,
+            column,
+            kind,
+        }
+    }
+
+    fn warn(
+        &mut self,
+        kind: WarningKind,
+        column: Option<Column>,
+        header: Option<String>,
+        message: String,
+    ) {
+        self.summary.warning_counts[kind.index()] += 1;
+        if self.reported[kind.index()] < self.options.max_reported {
+            self.reported[kind.index()] += 1;
+            self.pending.push(LogWarning {
+                file: self.file.clone(),
+                line: self.line,
+                column,
+                header,
+                kind,
+                message,
+            });
+        } else {
+            self.summary.warnings_not_listed += 1;
+        }
+    }
+
+    /// Reads the next line that is neither blank nor a comment into `self.buf` (line end
+    /// and BOM removed). `Ok(false)` at the end of the input.
+    fn next_line(&mut self) -> Result<bool, LogError> {
+        loop {
+            self.buf.clear();
+            let n = match self.input.read_until(b'\n', &mut self.buf) {
+                Ok(n) => n,
+                Err(e) => {
+                    let line = Some(self.line + 1);
+                    return Err(self.error(line, None, LogErrorKind::Io(e)));
+                }
+            };
+            if n == 0 {
+                return Ok(false);
+            }
+            self.line += 1;
+            if self.buf.last() == Some(&b'\n') {
+                self.buf.pop();
+            }
+            if self.buf.last() == Some(&b'\r') {
+                self.buf.pop();
+            }
+            if self.line == 1 && self.buf.starts_with(b"\xEF\xBB\xBF") {
+                self.buf.drain(..3);
+            }
+            match self.buf.iter().find(|b| !matches!(b, b' ' | b'\t' | b'\r')) {
+                None | Some(b'#') => continue,
+                Some(_) => return Ok(true),
+            }
+        }
+    }
+
+    fn split(&mut self) -> Result<(), LogError> {
+        match split_fields(&self.buf, self.options.delimiter, &mut self.fields) {
+            Ok(()) => Ok(()),
+            Err(SplitError::UnterminatedQuote(i)) => {
+                let column = Some(CellRef {
+                    position: i + 1,
+                    header: self.header.get(i).cloned().unwrap_or_default(),
+                });
+                let line = Some(self.line);
+                Err(self.error(line, column, LogErrorKind::UnterminatedQuote))
+            }
+        }
+    }
+
+    fn read_header(&mut self) -> Result<(), LogError> {
+        if !self.next_line()? {
+            return Err(self.error(None, None, LogErrorKind::Empty));
+        }
+        self.split()?;
+        let quoted = self.buf.contains(&b'"');
+        let mut header = Vec::with_capacity(self.fields.len());
+        for &(a, b) in &self.fields {
+            let Ok(name) = std::str::from_utf8(&self.buf[a..b]) else {
+                let line = Some(self.line);
+                return Err(self.error(line, None, LogErrorKind::InvalidUtf8));
+            };
+            header.push(if quoted {
+                unquote(name)
+            } else {
+                name.to_string()
+            });
+        }
+        self.header = header;
+        let listing = self.header.join(", ");
+
+        // Which header name feeds each contract column: the mapped one, else its own name
+        // unless that header column is mapped onto another contract column.
+        let mapped_sources: Vec<&str> = Column::ALL
+            .into_iter()
+            .filter_map(|c| self.options.map.source(c))
+            .collect();
+        let mut statuses = Vec::with_capacity(6);
+        for column in Column::ALL {
+            let (source, mapped) = match self.options.map.source(column) {
+                Some(s) => (Some(s.to_string()), true),
+                None if mapped_sources.contains(&column.name()) => (None, false),
+                None => (Some(column.name().to_string()), false),
+            };
+            let position = source
+                .as_deref()
+                .and_then(|s| self.header.iter().position(|h| h == s));
+            if mapped && position.is_none() {
+                let line = Some(self.line);
+                return Err(self.error(
+                    line,
+                    None,
+                    LogErrorKind::MappedSourceMissing {
+                        column,
+                        source_name: source.unwrap_or_default(),
+                        header: listing,
+                    },
+                ));
+            }
+            let suggestion = if position.is_none() {
+                self.header
+                    .iter()
+                    .find(|h| h.trim().eq_ignore_ascii_case(column.name()))
+                    .cloned()
+            } else {
+                None
+            };
+            let degrees = self.options.degrees.contains(column);
+            statuses.push(ColumnStatus {
+                column,
+                source: position.and(source),
+                position,
+                mapped,
+                degrees,
+                suggestion,
+            });
+        }
+
+        if statuses[Column::T.index()].position.is_none() {
+            let hint = if let Some(s) = &statuses[Column::T.index()].suggestion {
+                format!("; did you mean `{s}`? (--map t={s})")
+            } else if self.header.len() == 1 && (listing.contains(';') || listing.contains('\t')) {
+                "; the header is a single field: are the fields separated by `;` or tabs?"
+                    .to_string()
+            } else {
+                "; name the time column with --map t=NAME".to_string()
+            };
+            let line = Some(self.line);
+            return Err(self.error(
+                line,
+                None,
+                LogErrorKind::MissingTime {
+                    header: listing,
+                    hint,
+                },
+            ));
+        }
+
+        // Duplicates: an error when the name feeds a contract column, else a warning.
+        let used: Vec<usize> = statuses.iter().filter_map(|s| s.position).collect();
+        for i in 0..self.header.len() {
+            let name = &self.header[i];
+            if name.is_empty() {
+                continue;
+            }
+            let Some(first) = self.header[..i].iter().position(|h| h == name) else {
+                continue;
+            };
+            if used.contains(&first) {
+                let name = name.clone();
+                let line = Some(self.line);
+                return Err(self.error(
+                    line,
+                    Some(CellRef {
+                        position: i + 1,
+                        header: name.clone(),
+                    }),
+                    LogErrorKind::DuplicateColumn {
+                        name,
+                        first: first + 1,
+                    },
+                ));
+            }
+            let name = name.clone();
+            self.warn(
+                WarningKind::DuplicateIgnoredColumn,
+                None,
+                Some(name),
+                format!(
+                    "appears as fields {} and {}; it is not used, so both are ignored",
+                    first + 1,
+                    i + 1
+                ),
+            );
+        }
+
+        for s in &statuses {
+            self.positions[s.column.index()] = s.position;
+            if s.degrees {
+                self.scale[s.column.index()] = std::f64::consts::PI / 180.0;
+            }
+        }
+        self.report = ColumnReport {
+            ignored: self
+                .header
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| !used.contains(i))
+                .map(|(_, h)| h.clone())
+                .collect(),
+            columns: statuses,
+        };
+        Ok(())
+    }
+
+    /// Reads the next data row. `Ok(None)` at the end of the log; after an error the
+    /// reader is finished and returns `Ok(None)`.
+    pub fn next_record(&mut self) -> Result<Option<LogRecord>, LogError> {
+        if self.finished {
+            return Ok(None);
+        }
+        if !self.next_line()? {
+            self.finished = true;
+            if self.summary.rows == 0 {
+                let line = Some(self.line.max(1));
+                return Err(self.error(line, None, LogErrorKind::NoData));
+            }
+            return Ok(None);
+        }
+        self.split()?;
+        let expected = self.header.len();
+        let found = self.fields.len();
+        let mut issues = RowIssues::default();
+        if found > expected {
+            let extra_nonempty = self.fields[expected..].iter().any(|&(a, b)| b > a);
+            if extra_nonempty {
+                let line = Some(self.line);
+                return Err(self.error(
+                    line,
+                    None,
+                    LogErrorKind::TooManyFields { found, expected },
+                ));
+            }
+        } else if found < expected {
+            issues.truncated = true;
+            self.warn(
+                WarningKind::TruncatedRow,
+                None,
+                None,
+                format!(
+                    "{found} fields, the header has {expected} (a truncated line?): \
+                     the absent cells read as missing"
+                ),
+            );
+        }
+
+        let mut values = [f64::NAN; 6];
+        for column in Column::ALL {
+            let Some(pos) = self.positions[column.index()] else {
+                continue;
+            };
+            let value = self.cell(column, pos, &mut issues)?;
+            values[column.index()] = value;
+        }
+
+        self.check_time(values[Column::T.index()], &mut issues);
+        self.summary.rows += 1;
+        let sample = Sample {
+            t: values[Column::T.index()],
+            phi: values[Column::Phi.index()],
+            gyro: values[Column::Gyro.index()],
+            ax: values[Column::Ax.index()],
+            ay: values[Column::Ay.index()],
+        };
+        let theta = self.positions[Column::Theta.index()].map(|_| values[Column::Theta.index()]);
+        Ok(Some(LogRecord {
+            line: self.line,
+            sample,
+            theta,
+            issues,
+        }))
+    }
+
+    /// One used cell: a finite value in SI units, or NaN (with a warning) when it is
+    /// missing; an error when it is not a number.
+    fn cell(
+        &mut self,
+        column: Column,
+        pos: usize,
+        issues: &mut RowIssues,
+    ) -> Result<f64, LogError> {
+        let Some(&(a, b)) = self.fields.get(pos) else {
+            // Absent from a truncated row (already warned about).
+            self.summary.missing_cells[column.index()] += 1;
+            issues.missing_values = true;
+            return Ok(f64::NAN);
+        };
+        if a == b {
+            self.summary.missing_cells[column.index()] += 1;
+            issues.missing_values = true;
+            let h = self.header[pos].clone();
+            self.warn(
+                WarningKind::EmptyCell,
+                Some(column),
+                Some(h),
+                "empty cell: read as missing".to_string(),
+            );
+            return Ok(f64::NAN);
+        }
+        let parsed = std::str::from_utf8(&self.buf[a..b])
+            .ok()
+            .and_then(|s| s.parse::<f64>().ok());
+        let Some(raw) = parsed else {
+            let text = String::from_utf8_lossy(&self.buf[a..b]).into_owned();
+            let cell = CellRef {
+                position: pos + 1,
+                header: self.header[pos].clone(),
+            };
+            let line = Some(self.line);
+            return Err(self.error(line, Some(cell), LogErrorKind::NotANumber { text }));
+        };
+        if !raw.is_finite() {
+            self.summary.missing_cells[column.index()] += 1;
+            issues.missing_values = true;
+            let h = self.header[pos].clone();
+            self.warn(
+                WarningKind::NonFinite,
+                Some(column),
+                Some(h),
+                format!("`{raw}`: read as missing, the estimators hold and flag this sample"),
+            );
+            return Ok(f64::NAN);
+        }
+        if self.scale[column.index()] == 1.0 && !self.degree_warned[column.index()] {
+            let limit = match column {
+                Column::Phi | Column::Theta => ANGLE_LOOKS_LIKE_DEGREES,
+                Column::Gyro => RATE_LOOKS_LIKE_DEGREES,
+                _ => f64::INFINITY,
+            };
+            if raw.abs() > limit {
+                self.degree_warned[column.index()] = true;
+                let h = self.header[pos].clone();
+                let unit = column.unit();
+                self.warn(
+                    WarningKind::LooksLikeDegrees,
+                    Some(column),
+                    Some(h),
+                    format!(
+                        "{raw} is beyond {limit} {unit}: the column looks like degrees; \
+                         if it is, read it with --deg {column}"
+                    ),
+                );
+            }
+        }
+        Ok(raw * self.scale[column.index()])
+    }
+
+    fn check_time(&mut self, t: f64, issues: &mut RowIssues) {
+        if t.is_nan() {
+            issues.bad_time = true;
+            let h = self.header[self.positions[Column::T.index()].unwrap_or(0)].clone();
+            self.warn(
+                WarningKind::TimeMissing,
+                Some(Column::T),
+                Some(h),
+                "no time: the sample is kept and the estimators flag bad_time_step".to_string(),
+            );
+            return;
+        }
+        if self.summary.first_t.is_none() {
+            self.summary.first_t = Some(t);
+        }
+        self.summary.last_t = Some(t);
+        let Some(prev) = self.last_t.replace(t) else {
+            return;
+        };
+        let dt = t - prev;
+        if dt <= 0.0 {
+            issues.bad_time = true;
+            let what = if dt == 0.0 { "repeated" } else { "goes back" };
+            self.warn(
+                WarningKind::TimeNotIncreasing,
+                Some(Column::T),
+                None,
+                format!(
+                    "time {what} ({prev} then {t}): the sample is kept and the estimators \
+                     flag bad_time_step"
+                ),
+            );
+            return;
+        }
+        self.summary.max_dt = Some(self.summary.max_dt.map_or(dt, |m| m.max(dt)));
+        self.summary.min_dt = Some(self.summary.min_dt.map_or(dt, |m| m.min(dt)));
+        if self.first_dts.len() < NOMINAL_DT_SAMPLES {
+            self.first_dts.push(dt);
+            if self.first_dts.len() >= 3 {
+                let mut sorted = self.first_dts.clone();
+                sorted.sort_by(f64::total_cmp);
+                self.summary.nominal_dt = Some(sorted[sorted.len() / 2]);
+            }
+        }
+        let Some(nominal) = self.summary.nominal_dt else {
+            return;
+        };
+        if dt > self.options.gap_factor * nominal {
+            issues.time_gap = true;
+            self.warn(
+                WarningKind::TimeGap,
+                Some(Column::T),
+                None,
+                format!(
+                    "gap in time: {prev} to {t} s, {:.1} times the nominal step {nominal} s",
+                    dt / nominal
+                ),
+            );
+        } else if (dt - nominal).abs() > self.options.jitter_tolerance * nominal {
+            self.warn(
+                WarningKind::TimeJitter,
+                Some(Column::T),
+                None,
+                format!("time step {dt} s against a nominal {nominal} s (jitter)"),
+            );
+        }
+    }
+}
+
+impl<R: BufRead> Iterator for LogReader<R> {
+    type Item = Result<LogRecord, LogError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        self.next_record().transpose()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reader(text: &str) -> LogReader<&[u8]> {
+        LogReader::new(text.as_bytes(), "x.csv", ReaderOptions::default()).unwrap()
+    }
+
+    #[test]
+    fn reads_plain_rows_with_line_numbers() {
+        let mut r = reader("t,phi\n0,0.1\n# note\n\n0.001,0.2\n");
+        let a = r.next_record().unwrap().unwrap();
+        assert_eq!((a.line, a.sample.t, a.sample.phi), (2, 0.0, 0.1));
+        assert!(a.sample.gyro.is_nan() && a.theta.is_none());
+        let b = r.next_record().unwrap().unwrap();
+        assert_eq!((b.line, b.sample.t, b.sample.phi), (5, 0.001, 0.2));
+        assert!(r.next_record().unwrap().is_none());
+        assert!(r.next_record().unwrap().is_none());
+        assert_eq!(r.summary().rows, 2);
+    }
+
+    #[test]
+    fn nominal_dt_is_a_median() {
+        let mut text = String::from("t\n");
+        for k in 0..20 {
+            text.push_str(&format!("{}\n", k as f64 * 0.01));
+        }
+        let mut r = reader(&text);
+        while r.next_record().unwrap().is_some() {}
+        let dt = r.summary().nominal_dt.unwrap();
+        assert!((dt - 0.01).abs() < 1e-12, "{dt}");
+        assert_eq!(r.summary().count(WarningKind::TimeGap), 0);
+    }
+}
