@@ -36,6 +36,7 @@ pub mod linalg;
 pub mod params;
 mod real;
 mod sample;
+pub mod supervision;
 
 pub use flags::{FlagNames, Flags};
 pub use params::{PendulumParams, PhysicalParams};
