@@ -8,3 +8,4 @@ pub use pendtilt_core as core;
 pub mod cli;
 pub mod config;
 pub mod io;
+pub mod report;
