@@ -125,13 +125,16 @@ pub enum ConfigErrorKind {
 pub struct ConfigError {
     /// File, line, column and key.
     pub location: Location,
-    /// What is wrong.
-    pub kind: ConfigErrorKind,
+    /// What is wrong (boxed to keep `Result<_, ConfigError>` small).
+    pub kind: Box<ConfigErrorKind>,
 }
 
 impl ConfigError {
     fn new(location: Location, kind: ConfigErrorKind) -> Self {
-        Self { location, kind }
+        Self {
+            location,
+            kind: Box::new(kind),
+        }
     }
 }
 

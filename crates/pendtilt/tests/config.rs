@@ -124,7 +124,7 @@ fn unknown_key_names_file_line_column_key_and_allowed_keys() {
     assert_eq!(e.location.line, Some(3));
     assert_eq!(e.location.column, Some(1));
     assert_eq!(e.location.key.as_deref(), Some("pendulum.masss"));
-    assert!(matches!(e.kind, ConfigErrorKind::UnknownKey { .. }));
+    assert!(matches!(*e.kind, ConfigErrorKind::UnknownKey { .. }));
     let msg = e.to_string();
     assert!(
         msg.starts_with("rig.toml:3:1: pendulum.masss: unknown key"),
@@ -143,7 +143,7 @@ fn unknown_kalman_key_and_unknown_table() {
     let e = err("[pendulum]\nmass = 1\n[kalmann]\nq_angle = 1\n");
     assert_eq!(e.location.key.as_deref(), Some("kalmann"));
     assert_eq!(e.location.line, Some(3));
-    assert!(matches!(e.kind, ConfigErrorKind::UnknownKey { .. }));
+    assert!(matches!(*e.kind, ConfigErrorKind::UnknownKey { .. }));
     assert!(e.to_string().contains("[kalman]"), "{e}");
 }
 
@@ -152,7 +152,7 @@ fn wrong_type_names_key_and_position() {
     let e = err("[pendulum]\nmass = \"heavy\"\n");
     assert_eq!(e.location.key.as_deref(), Some("pendulum.mass"));
     assert_eq!((e.location.line, e.location.column), (Some(2), Some(8)));
-    assert!(matches!(e.kind, ConfigErrorKind::WrongType(_)));
+    assert!(matches!(*e.kind, ConfigErrorKind::WrongType(_)));
     let msg = e.to_string();
     assert!(
         msg.starts_with("rig.toml:2:8: pendulum.mass: wrong type"),
@@ -172,7 +172,7 @@ fn wrong_type_names_key_and_position() {
 #[test]
 fn syntax_error_has_line_and_column() {
     let e = err("[pendulum]\nmass = = 1\n");
-    assert!(matches!(e.kind, ConfigErrorKind::Syntax(_)));
+    assert!(matches!(*e.kind, ConfigErrorKind::Syntax(_)));
     assert_eq!(e.location.line, Some(2));
     assert!(e.location.column.is_some());
     assert!(e.to_string().starts_with("rig.toml:2:"), "{e}");
@@ -182,7 +182,7 @@ fn impossible(text: &str, key: &str, line: Option<usize>, why: &str) {
     let e = err(text);
     assert_eq!(e.location.key.as_deref(), Some(key), "{e}");
     assert_eq!(e.location.line, line, "{e}");
-    assert!(matches!(e.kind, ConfigErrorKind::Impossible { .. }), "{e}");
+    assert!(matches!(*e.kind, ConfigErrorKind::Impossible { .. }), "{e}");
     let msg = e.to_string();
     assert!(msg.starts_with("rig.toml"), "{msg}");
     assert!(msg.contains(key), "{msg}");
@@ -277,7 +277,10 @@ fn inertia_below_point_mass_is_impossible() {
 #[test]
 fn mixed_forms_are_an_error() {
     let e = err("[pendulum]\nmass = 0.05\nb = 0.005\n");
-    assert!(matches!(e.kind, ConfigErrorKind::MixedPendulumForms { .. }));
+    assert!(matches!(
+        *e.kind,
+        ConfigErrorKind::MixedPendulumForms { .. }
+    ));
     assert_eq!(e.location.line, Some(3));
     let msg = e.to_string();
     assert!(msg.contains("mass") && msg.contains("b"), "{msg}");
@@ -304,7 +307,7 @@ fn constructors_reject_impossible_values() {
 #[test]
 fn missing_file_names_it() {
     let e = RigConfig::load("/nonexistent/dir/rig.toml").unwrap_err();
-    assert!(matches!(e.kind, ConfigErrorKind::Io(_)));
+    assert!(matches!(*e.kind, ConfigErrorKind::Io(_)));
     assert!(
         e.to_string()
             .starts_with("/nonexistent/dir/rig.toml: cannot read"),

@@ -181,8 +181,8 @@ pub struct LogError {
     pub line: Option<u64>,
     /// The cell's field, when the error is in one.
     pub column: Option<CellRef>,
-    /// What is wrong.
-    pub kind: LogErrorKind,
+    /// What is wrong (boxed to keep `Result<_, LogError>` small).
+    pub kind: Box<LogErrorKind>,
 }
 
 fn line_part(line: Option<u64>) -> String {
@@ -238,7 +238,7 @@ impl LogReader<BufReader<File>> {
             file: name.clone(),
             line: None,
             column: None,
-            kind: LogErrorKind::Io(e),
+            kind: Box::new(LogErrorKind::Io(e)),
         })?;
         Self::new(BufReader::with_capacity(1 << 16, file), &name, options)
     }
@@ -309,7 +309,7 @@ impl<R: BufRead> LogReader<R> {
             file: self.file.clone(),
             line,
             column,
-            kind,
+            kind: Box::new(kind),
         }
     }
 

@@ -1,0 +1,552 @@
+//! The sensor-log reader on good and bad files (issue 6 item 1): each case gives an
+//! error naming file, line and column, or a kept (flagged / NaN) sample with a warning;
+//! never a panic, never a dropped row. The cases and outcomes are tabled in
+//! docs/bad-input.md.
+use std::f64::consts::PI;
+
+use pendtilt::io::{
+    Column, LogError, LogErrorKind, LogReader, LogRecord, LogWarning, ReaderOptions, WarningKind,
+};
+
+fn open(text: &str, options: ReaderOptions) -> Result<LogReader<&[u8]>, LogError> {
+    LogReader::new(text.as_bytes(), "log.csv", options)
+}
+
+/// Reads everything: the records, the warnings, and the error that stopped the read.
+fn read_all(
+    text: &str,
+    options: ReaderOptions,
+) -> (Vec<LogRecord>, Vec<LogWarning>, Option<LogError>) {
+    let mut reader = match open(text, options) {
+        Ok(r) => r,
+        Err(e) => return (Vec::new(), Vec::new(), Some(e)),
+    };
+    let mut records = Vec::new();
+    let mut warnings: Vec<LogWarning> = reader.drain_warnings().collect();
+    let mut error = None;
+    loop {
+        match reader.next_record() {
+            Ok(Some(r)) => records.push(r),
+            Ok(None) => break,
+            Err(e) => {
+                error = Some(e);
+                break;
+            }
+        }
+        warnings.extend(reader.drain_warnings());
+    }
+    warnings.extend(reader.drain_warnings());
+    (records, warnings, error)
+}
+
+fn ok(text: &str) -> (Vec<LogRecord>, Vec<LogWarning>) {
+    let (records, warnings, error) = read_all(text, ReaderOptions::default());
+    if let Some(e) = error {
+        panic!("unexpected error: {e}");
+    }
+    (records, warnings)
+}
+
+fn fails(text: &str, options: ReaderOptions) -> LogError {
+    let (_, _, error) = read_all(text, options);
+    error.expect("expected an error")
+}
+
+const GOOD: &str = "t,phi,gyro,ax,ay,theta\n\
+0.000,0.01,0.1,0.5,9.8,0.011\n\
+0.001,0.02,0.2,0.6,9.7,0.021\n\
+0.002,0.03,0.3,0.7,9.6,0.031\n";
+
+#[test]
+fn good_log_reads_every_column() {
+    let (records, warnings) = ok(GOOD);
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(records.len(), 3);
+    let r = &records[1];
+    assert_eq!(r.line, 3);
+    assert_eq!(
+        (
+            r.sample.t,
+            r.sample.phi,
+            r.sample.gyro,
+            r.sample.ax,
+            r.sample.ay
+        ),
+        (0.001, 0.02, 0.2, 0.6, 9.7)
+    );
+    assert_eq!(r.theta, Some(0.021));
+    assert!(r.issues.is_clean());
+    let reader = open(GOOD, ReaderOptions::default()).unwrap();
+    assert!(reader.columns().missing().is_empty());
+    assert!(reader.columns().ignored.is_empty());
+}
+
+#[test]
+fn empty_file_is_an_error() {
+    for text in ["", "\n\n", "# only a comment\n"] {
+        let e = fails(text, ReaderOptions::default());
+        assert!(matches!(*e.kind, LogErrorKind::Empty), "{e}");
+        assert_eq!(e.to_string(), "log.csv: the file is empty: no header row");
+    }
+}
+
+#[test]
+fn header_only_is_an_error() {
+    let e = fails("t,phi\n", ReaderOptions::default());
+    assert!(matches!(*e.kind, LogErrorKind::NoData), "{e}");
+    assert_eq!(e.line, Some(1));
+    assert_eq!(e.to_string(), "log.csv:1: header only, no data rows");
+}
+
+#[test]
+fn missing_time_column_is_an_error_with_a_hint() {
+    let e = fails("time,phi\n0,1\n", ReaderOptions::default());
+    assert!(matches!(*e.kind, LogErrorKind::MissingTime { .. }), "{e}");
+    let msg = e.to_string();
+    assert!(msg.starts_with("log.csv:1: no `t` column"), "{msg}");
+    assert!(
+        msg.contains("time, phi") && msg.contains("--map t="),
+        "{msg}"
+    );
+
+    let e = fails("T,phi\n0,1\n", ReaderOptions::default());
+    assert!(e.to_string().contains("did you mean `T`"), "{e}");
+
+    let e = fails("t;phi;gyro\n0;1;2\n", ReaderOptions::default());
+    assert!(e.to_string().contains("separated by `;`"), "{e}");
+    let semicolon = ReaderOptions {
+        delimiter: b';',
+        ..ReaderOptions::default()
+    };
+    let (records, _, error) = read_all("t;phi;gyro\n0;1;2\n", semicolon);
+    assert!(error.is_none());
+    assert_eq!(records[0].sample.gyro, 2.0);
+}
+
+#[test]
+fn missing_optional_columns_are_reported_not_errors() {
+    let text = "t,phi,temp\n0,0.1,20\n";
+    let reader = open(text, ReaderOptions::default()).unwrap();
+    let cols = reader.columns();
+    assert!(cols.has(Column::Phi) && !cols.has(Column::Gyro));
+    assert_eq!(
+        cols.missing(),
+        vec![Column::Gyro, Column::Ax, Column::Ay, Column::Theta]
+    );
+    assert_eq!(cols.ignored, vec!["temp".to_string()]);
+    assert_eq!(
+        cols.to_string(),
+        "columns: t, phi; missing: gyro, ax, ay, theta; ignored: temp"
+    );
+    let (records, _) = ok(text);
+    assert!(records[0].sample.gyro.is_nan() && records[0].theta.is_none());
+}
+
+#[test]
+fn case_mismatch_is_suggested_never_guessed() {
+    let reader = open("t,Phi\n0,1\n", ReaderOptions::default()).unwrap();
+    assert!(!reader.columns().has(Column::Phi));
+    let s = reader.columns().to_string();
+    assert!(s.contains("--map phi=Phi"), "{s}");
+}
+
+#[test]
+fn duplicate_used_column_is_an_error_naming_both_fields() {
+    let e = fails("t,phi,gyro,phi\n0,1,2,3\n", ReaderOptions::default());
+    assert!(
+        matches!(*e.kind, LogErrorKind::DuplicateColumn { first: 2, .. }),
+        "{e}"
+    );
+    assert_eq!(e.line, Some(1));
+    assert_eq!(e.column.as_ref().unwrap().position, 4);
+    let msg = e.to_string();
+    assert!(
+        msg.starts_with("log.csv:1: column 4 (`phi`): duplicate column"),
+        "{msg}"
+    );
+    assert!(msg.contains("field 2"), "{msg}");
+}
+
+#[test]
+fn duplicate_ignored_column_is_a_warning() {
+    let (records, warnings) = ok("t,temp,temp\n0,1,2\n");
+    assert_eq!(records.len(), 1);
+    assert_eq!(warnings.len(), 1);
+    assert_eq!(warnings[0].kind, WarningKind::DuplicateIgnoredColumn);
+    assert!(
+        warnings[0]
+            .to_string()
+            .starts_with("log.csv:1: column `temp`"),
+        "{}",
+        warnings[0]
+    );
+}
+
+#[test]
+fn non_numeric_cell_is_an_error_naming_line_column_and_text() {
+    let text = "t,phi,gyro\n0,0.1,0.2\n0.001,abc,0.2\n0.002,0.1,0.2\n";
+    let (records, _, error) = read_all(text, ReaderOptions::default());
+    assert_eq!(records.len(), 1, "rows before the bad one are delivered");
+    let e = error.unwrap();
+    assert!(matches!(*e.kind, LogErrorKind::NotANumber { ref text } if text == "abc"));
+    assert_eq!(e.line, Some(3));
+    assert_eq!(
+        e.to_string(),
+        "log.csv:3: column 2 (`phi`): not a number: `abc`"
+    );
+}
+
+#[test]
+fn nan_inf_and_empty_cells_are_missing_samples_with_warnings() {
+    let text =
+        "t,phi,gyro,theta\n0,nan,0.1,0\n0.001,0.2,inf,0\n0.002,0.3,,-Infinity\n0.003,0.4,0.4,0\n";
+    let (records, warnings) = ok(text);
+    assert_eq!(records.len(), 4, "no row dropped");
+    assert!(records[0].sample.phi.is_nan() && records[0].issues.missing_values);
+    assert!(records[1].sample.gyro.is_nan() && records[1].sample.phi == 0.2);
+    assert!(records[2].sample.gyro.is_nan());
+    assert!(records[2].theta.unwrap().is_nan());
+    assert!(records[3].issues.is_clean());
+    let kinds: Vec<WarningKind> = warnings.iter().map(|w| w.kind).collect();
+    assert_eq!(
+        kinds,
+        vec![
+            WarningKind::NonFinite,
+            WarningKind::NonFinite,
+            WarningKind::EmptyCell,
+            WarningKind::NonFinite
+        ]
+    );
+    assert_eq!(warnings[0].line, 2);
+    assert_eq!(warnings[0].column, Some(Column::Phi));
+    assert!(warnings[2]
+        .to_string()
+        .starts_with("log.csv:4: column `gyro`: empty cell"));
+    let mut reader = open(text, ReaderOptions::default()).unwrap();
+    while reader.next_record().unwrap().is_some() {}
+    assert_eq!(reader.summary().missing(Column::Gyro), 2);
+    assert_eq!(reader.summary().missing(Column::Phi), 1);
+    assert_eq!(reader.summary().count(WarningKind::NonFinite), 3);
+}
+
+#[test]
+fn time_repeated_or_backwards_is_kept_and_flagged() {
+    let text = "t,phi\n0,0\n0.001,0\n0.001,0\n0.0005,0\n0.002,0\n";
+    let (records, warnings) = ok(text);
+    assert_eq!(records.len(), 5, "no row dropped");
+    let bad: Vec<bool> = records.iter().map(|r| r.issues.bad_time).collect();
+    assert_eq!(bad, vec![false, false, true, true, false]);
+    assert_eq!(
+        records[2].sample.t, 0.001,
+        "time passed through for the estimators to flag"
+    );
+    let time: Vec<&LogWarning> = warnings
+        .iter()
+        .filter(|w| w.kind == WarningKind::TimeNotIncreasing)
+        .collect();
+    assert_eq!(time.len(), 2);
+    assert_eq!(time[0].line, 4);
+    assert!(time[0].message.contains("repeated"), "{}", time[0]);
+    assert_eq!(time[1].line, 5);
+    assert!(time[1].message.contains("goes back"), "{}", time[1]);
+    assert!(
+        time[1].to_string().starts_with("log.csv:5: column `t`:"),
+        "{}",
+        time[1]
+    );
+}
+
+#[test]
+fn missing_time_cell_is_kept_and_flagged() {
+    let (records, warnings) = ok("t,phi\n0,0\n,0.1\nnan,0.2\n0.003,0\n");
+    assert_eq!(records.len(), 4);
+    assert!(records[1].sample.t.is_nan() && records[1].issues.bad_time);
+    assert!(records[2].sample.t.is_nan() && records[2].issues.bad_time);
+    assert!(warnings
+        .iter()
+        .any(|w| w.kind == WarningKind::TimeMissing && w.line == 3));
+}
+
+fn regular(n: usize, dt: f64) -> String {
+    let mut s = String::from("t,phi\n");
+    for k in 0..n {
+        s.push_str(&format!("{},0\n", k as f64 * dt));
+    }
+    s
+}
+
+#[test]
+fn gap_in_time_is_a_warning_with_its_line() {
+    let mut text = regular(20, 0.001);
+    text.push_str("0.5,0\n0.501,0\n");
+    let (records, warnings) = ok(&text);
+    assert_eq!(records.len(), 22);
+    let gaps: Vec<&LogWarning> = warnings
+        .iter()
+        .filter(|w| w.kind == WarningKind::TimeGap)
+        .collect();
+    assert_eq!(gaps.len(), 1, "{warnings:?}");
+    assert_eq!(gaps[0].line, 22);
+    assert!(records[20].issues.time_gap && !records[21].issues.time_gap);
+    assert!(gaps[0].message.contains("0.019 to 0.5"), "{}", gaps[0]);
+}
+
+#[test]
+fn dt_jitter_is_counted_and_the_first_ones_listed() {
+    let mut text = String::from("t,phi\n");
+    let mut t = 0.0;
+    for k in 0..200 {
+        text.push_str(&format!("{t},0\n"));
+        // Every tenth step is 1.8 nominal steps: jitter, not a gap.
+        t += if k % 10 == 9 { 0.0018 } else { 0.001 };
+    }
+    let options = ReaderOptions {
+        max_reported: 5,
+        ..ReaderOptions::default()
+    };
+    let mut reader = open(&text, options).unwrap();
+    let mut rows = 0;
+    let mut listed = 0;
+    while reader.next_record().unwrap().is_some() {
+        rows += 1;
+        listed += reader
+            .drain_warnings()
+            .filter(|w| w.kind == WarningKind::TimeJitter)
+            .count();
+    }
+    assert_eq!(rows, 200);
+    assert_eq!(listed, 5);
+    let s = reader.summary();
+    assert_eq!(s.count(WarningKind::TimeJitter), 19);
+    assert_eq!(s.count(WarningKind::TimeGap), 0);
+    assert_eq!(s.warnings_not_listed, 14);
+    assert!((s.nominal_dt.unwrap() - 0.001).abs() < 1e-12);
+    assert!((s.max_dt.unwrap() - 0.0018).abs() < 1e-9);
+}
+
+#[test]
+fn crlf_bom_comments_and_blank_lines_keep_true_line_numbers() {
+    let text =
+        "\u{feff}# rig 3, run 7\r\n\r\nt,phi\r\n# calibration pause\r\n0,0.1\r\n\r\n0.001,0.2\r\n";
+    let (records, warnings) = ok(text);
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(records.len(), 2);
+    assert_eq!((records[0].line, records[0].sample.phi), (5, 0.1));
+    assert_eq!((records[1].line, records[1].sample.phi), (7, 0.2));
+    // The BOM on the header line itself.
+    let (records, _) = ok("\u{feff}t,phi\r\n0,1\r\n");
+    assert_eq!(records[0].sample.phi, 1.0);
+}
+
+#[test]
+fn truncated_last_line_is_kept_with_missing_cells() {
+    let (records, warnings) = ok("t,phi,gyro\n0,0.1,0.2\n0.001,0.1");
+    assert_eq!(records.len(), 2);
+    let last = &records[1];
+    assert_eq!((last.line, last.sample.t, last.sample.phi), (3, 0.001, 0.1));
+    assert!(last.sample.gyro.is_nan());
+    assert!(last.issues.truncated && last.issues.missing_values);
+    assert_eq!(warnings.len(), 1);
+    assert_eq!(warnings[0].kind, WarningKind::TruncatedRow);
+    assert!(warnings[0]
+        .to_string()
+        .starts_with("log.csv:3: 2 fields, the header has 3"));
+}
+
+#[test]
+fn too_many_fields_is_an_error_but_a_trailing_comma_is_not() {
+    let e = fails("t,phi\n0,1\n0.001,1,7\n", ReaderOptions::default());
+    assert!(matches!(
+        *e.kind,
+        LogErrorKind::TooManyFields {
+            found: 3,
+            expected: 2
+        }
+    ));
+    assert_eq!(e.to_string(), "log.csv:3: 3 fields, the header has 2");
+    let (records, _) = ok("t,phi\n0,1,\n");
+    assert_eq!(records[0].sample.phi, 1.0);
+}
+
+#[test]
+fn angles_that_look_like_degrees_are_warned_once_per_column() {
+    let text = "t,phi,gyro,theta\n0,10,0,10\n0.001,45,100,45\n0.002,50,0,50\n";
+    let (records, warnings) = ok(text);
+    assert_eq!(records[1].sample.phi, 45.0, "not converted without --deg");
+    let deg: Vec<&LogWarning> = warnings
+        .iter()
+        .filter(|w| w.kind == WarningKind::LooksLikeDegrees)
+        .collect();
+    assert_eq!(deg.len(), 3, "{deg:?}");
+    assert_eq!((deg[0].column, deg[0].line), (Some(Column::Phi), 2));
+    assert!(deg[0].message.contains("--deg phi"), "{}", deg[0]);
+    assert_eq!((deg[1].column, deg[1].line), (Some(Column::Theta), 2));
+    assert_eq!((deg[2].column, deg[2].line), (Some(Column::Gyro), 3));
+    assert!(deg[2].message.contains("--deg gyro"), "{}", deg[2]);
+    // Radians that stay within a turn are not warned about.
+    let (_, warnings) = ok("t,phi,theta\n0,3.1,-3.1\n");
+    assert!(warnings.is_empty());
+}
+
+#[test]
+fn degrees_option_converts_chosen_columns_only() {
+    let text = "t,phi,gyro,theta,ax\n0,90,180,-45,90\n";
+    let all = ReaderOptions {
+        degrees: "all".parse().unwrap(),
+        ..ReaderOptions::default()
+    };
+    let (records, warnings, error) = read_all(text, all);
+    assert!(error.is_none() && warnings.is_empty(), "{warnings:?}");
+    let r = records[0];
+    assert!((r.sample.phi - PI / 2.0).abs() < 1e-15);
+    assert!((r.sample.gyro - PI).abs() < 1e-15);
+    assert!((r.theta.unwrap() + PI / 4.0).abs() < 1e-15);
+    assert_eq!(r.sample.ax, 90.0, "accelerometer is never converted");
+
+    let phi_only = ReaderOptions {
+        degrees: "phi".parse().unwrap(),
+        ..ReaderOptions::default()
+    };
+    let (records, _, _) = read_all(text, phi_only);
+    assert!((records[0].sample.phi - PI / 2.0).abs() < 1e-15);
+    assert_eq!(records[0].sample.gyro, 180.0);
+    let reader = open(
+        text,
+        ReaderOptions {
+            degrees: "phi".parse().unwrap(),
+            ..ReaderOptions::default()
+        },
+    )
+    .unwrap();
+    assert!(reader.columns().to_string().contains("phi (deg)"));
+}
+
+#[test]
+fn column_map_reads_other_names() {
+    let text = "time_s,enc_angle,gz,phi\n0,0.5,0.25,9\n";
+    let options = ReaderOptions {
+        map: "t=time_s,phi=enc_angle,gyro=gz".parse().unwrap(),
+        ..ReaderOptions::default()
+    };
+    let reader = open(text, options.clone()).unwrap();
+    let cols = reader.columns();
+    assert_eq!(
+        cols.status(Column::Phi).source.as_deref(),
+        Some("enc_angle")
+    );
+    assert!(cols.status(Column::Phi).mapped);
+    assert_eq!(cols.ignored, vec!["phi".to_string()]);
+    assert!(cols
+        .to_string()
+        .starts_with("columns: t <- time_s, phi <- enc_angle, gyro <- gz"));
+    let (records, _, error) = read_all(text, options);
+    assert!(error.is_none());
+    assert_eq!(
+        (
+            records[0].sample.t,
+            records[0].sample.phi,
+            records[0].sample.gyro
+        ),
+        (0.0, 0.5, 0.25)
+    );
+}
+
+#[test]
+fn a_header_column_mapped_elsewhere_does_not_also_feed_its_own_name() {
+    let options = ReaderOptions {
+        map: "theta=phi".parse().unwrap(),
+        ..ReaderOptions::default()
+    };
+    let reader = open("t,phi\n0,1\n", options).unwrap();
+    assert!(reader.columns().has(Column::Theta));
+    assert!(!reader.columns().has(Column::Phi));
+}
+
+#[test]
+fn mapping_onto_an_absent_column_is_an_error() {
+    let options = ReaderOptions {
+        map: "phi=enc".parse().unwrap(),
+        ..ReaderOptions::default()
+    };
+    let e = fails("t,encoder\n0,1\n", options);
+    assert!(matches!(*e.kind, LogErrorKind::MappedSourceMissing { .. }));
+    let msg = e.to_string();
+    assert!(
+        msg.starts_with("log.csv:1: --map phi=enc: no column `enc`"),
+        "{msg}"
+    );
+    assert!(msg.contains("t, encoder"), "{msg}");
+}
+
+#[test]
+fn quoted_header_and_cells() {
+    let (records, _) = ok("\"t\",\"phi\"\n\"0\",\"0.5\"\n");
+    assert_eq!(records[0].sample.phi, 0.5);
+    let e = fails("t,phi\n0,\"0.5\n", ReaderOptions::default());
+    assert!(matches!(*e.kind, LogErrorKind::UnterminatedQuote));
+    assert_eq!(
+        e.to_string(),
+        "log.csv:2: column 2 (`phi`): a quoted field is not closed on its line"
+    );
+}
+
+#[test]
+fn invalid_utf8_is_an_error_not_a_panic() {
+    let bytes: &[u8] = b"t,phi\n0,\xff\n";
+    let mut reader = LogReader::new(bytes, "log.csv", ReaderOptions::default()).unwrap();
+    let e = reader.next_record().unwrap_err();
+    assert!(matches!(*e.kind, LogErrorKind::NotANumber { .. }));
+    assert_eq!(e.line, Some(2));
+    let e = LogReader::new(
+        &b"t,\xffphi\n0,1\n"[..],
+        "log.csv",
+        ReaderOptions::default(),
+    )
+    .unwrap_err();
+    assert!(matches!(*e.kind, LogErrorKind::InvalidUtf8));
+}
+
+#[test]
+fn missing_file_names_it() {
+    let e = LogReader::open("/nonexistent/log.csv", ReaderOptions::default()).unwrap_err();
+    assert!(matches!(*e.kind, LogErrorKind::Io(_)));
+    assert!(
+        e.to_string()
+            .starts_with("/nonexistent/log.csv: cannot read"),
+        "{e}"
+    );
+}
+
+#[test]
+fn iterator_yields_every_row_then_stops_after_an_error() {
+    let reader = open("t\n0\n1\nx\n3\n", ReaderOptions::default()).unwrap();
+    let items: Vec<Result<LogRecord, LogError>> = reader.collect();
+    assert_eq!(items.len(), 3);
+    assert!(items[0].is_ok() && items[1].is_ok() && items[2].is_err());
+}
+
+#[test]
+fn streaming_from_a_file_gives_one_record_per_row() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.csv");
+    let mut f = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+    writeln!(f, "t,phi,gyro,ax,ay,theta").unwrap();
+    let n = 50_000;
+    for k in 0..n {
+        let t = k as f64 * 1e-3;
+        writeln!(f, "{t},{},{},0,9.8,{}", t.sin(), t.cos(), t.sin()).unwrap();
+    }
+    drop(f);
+    let mut reader = LogReader::open(&path, ReaderOptions::default()).unwrap();
+    let mut count = 0u64;
+    let mut last_line = 0;
+    while let Some(r) = reader.next_record().unwrap() {
+        count += 1;
+        assert_eq!(r.line, last_line + 1 + u64::from(last_line == 0));
+        last_line = r.line;
+    }
+    assert_eq!(count, n);
+    assert_eq!(reader.summary().rows, n);
+    assert_eq!(reader.summary().total_warnings(), 0, "{}", reader.summary());
+}
