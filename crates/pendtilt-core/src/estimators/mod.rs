@@ -21,6 +21,7 @@ pub mod accel;
 pub mod alg1;
 pub mod alg2;
 pub mod alg3;
+pub mod complementary;
 pub mod equations;
 mod inverter;
 pub mod pendulum;

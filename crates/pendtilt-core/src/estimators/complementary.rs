@@ -1,0 +1,206 @@
+//! A complementary filter, the peer most users would pick instead of a pendulum: the gyro
+//! integrated for the fast part, the accelerometer angle (Eq 1) for the slow part,
+//!
+//! ```text
+//! theta_k = alpha (theta_{k-1} + G_k dt) + (1 - alpha) atan2(ax, ay),   alpha = tau / (tau + dt)
+//! ```
+//!
+//! a first-order high-pass on the gyro angle and a low-pass on the accelerometer angle
+//! that add up to one, crossing over at `1 / (2 pi tau)`. Optionally ax and ay are
+//! low-passed before atan2 (atan2 of raw samples rectifies vibration into a bias,
+//! MODEL.md section 4).
+use super::equations::accel_angle;
+use crate::filters::biquad::LowPass2;
+use crate::{Estimate, Estimator, Flags, Real, Sample};
+
+/// Settings of [`Complementary`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ComplementarySettings<T> {
+    /// Crossover time constant tau [s]. Default 2 s: on the simulated scooter ride the
+    /// gain search (`pendtilt::peers::tune`) found the error flat within a few percent
+    /// from 1 s to 5 s, with its minimum near 2 s.
+    pub time_constant: T,
+    /// Cutoff [Hz] of a 2nd-order Butterworth low-pass on ax and ay before atan2.
+    /// Default `Some(5 Hz)`: well below the engine vibration, well above the crossover.
+    pub accel_prefilter_hz: Option<T>,
+}
+
+impl<T: Real> Default for ComplementarySettings<T> {
+    fn default() -> Self {
+        Self {
+            time_constant: T::lit(2.0),
+            accel_prefilter_hz: Some(T::lit(5.0)),
+        }
+    }
+}
+
+/// The complementary filter as a streaming estimator (column `complementary`).
+///
+/// Starts at the accelerometer angle of the first sample with both axes; a missing gyro
+/// reuses the last one ([`Flags::SAMPLE_MISSING`]); a missing accelerometer integrates
+/// the gyro alone ([`Flags::MEASUREMENT_SKIPPED`]).
+#[derive(Debug, Clone)]
+pub struct Complementary<T: Real> {
+    settings: ComplementarySettings<T>,
+    lx: LowPass2<T>,
+    ly: LowPass2<T>,
+    t_prev: Option<T>,
+    theta: T,
+    last_gyro: T,
+}
+
+impl<T: Real> Complementary<T> {
+    /// A new estimator.
+    pub fn new(settings: ComplementarySettings<T>) -> Self {
+        let f = settings.accel_prefilter_hz.unwrap_or(T::one());
+        Self {
+            settings,
+            lx: LowPass2::new(f),
+            ly: LowPass2::new(f),
+            t_prev: None,
+            theta: T::nan(),
+            last_gyro: T::zero(),
+        }
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> &ComplementarySettings<T> {
+        &self.settings
+    }
+
+    fn accel(&mut self, s: &Sample<T>, dt: T) -> Option<T> {
+        if !(s.ax.is_finite() && s.ay.is_finite()) {
+            return None;
+        }
+        Some(match self.settings.accel_prefilter_hz {
+            Some(_) => accel_angle(self.lx.update(s.ax, dt), self.ly.update(s.ay, dt)),
+            None => accel_angle(s.ax, s.ay),
+        })
+    }
+}
+
+impl<T: Real> Estimator<T> for Complementary<T> {
+    #[inline]
+    fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
+        if !s.t.is_finite() || self.t_prev.is_some_and(|tp| s.t <= tp) {
+            return Estimate {
+                theta: self.theta,
+                flags: Flags::BAD_TIME_STEP,
+            };
+        }
+        let mut flags = Flags::empty();
+        let gyro = if s.gyro.is_finite() {
+            self.last_gyro = s.gyro;
+            s.gyro
+        } else {
+            flags |= Flags::SAMPLE_MISSING;
+            self.last_gyro
+        };
+        let Some(tp) = self.t_prev else {
+            // Start on the first accelerometer angle.
+            return match self.accel(s, T::one()) {
+                Some(a) => {
+                    self.theta = a;
+                    self.t_prev = Some(s.t);
+                    Estimate {
+                        theta: a,
+                        flags: flags | Flags::INITIALISING,
+                    }
+                }
+                None => Estimate {
+                    theta: T::nan(),
+                    flags: flags | Flags::INITIALISING | Flags::SAMPLE_MISSING,
+                },
+            };
+        };
+        let dt = s.t - tp;
+        self.t_prev = Some(s.t);
+        let predicted = self.theta + gyro * dt;
+        self.theta = match self.accel(s, dt) {
+            Some(a) => {
+                let tau = self.settings.time_constant.max(T::zero());
+                let alpha = tau / (tau + dt);
+                // Blend on the circle: the accelerometer angle taken within half a turn.
+                let mut d = a - predicted;
+                if d.abs() > T::pi() {
+                    d = d.sin().atan2(d.cos());
+                }
+                predicted + (T::one() - alpha) * d
+            }
+            None => {
+                flags |= Flags::MEASUREMENT_SKIPPED;
+                predicted
+            }
+        };
+        if self.theta.abs() > T::pi() {
+            self.theta = self.theta.sin().atan2(self.theta.cos());
+        }
+        Estimate {
+            theta: self.theta,
+            flags,
+        }
+    }
+
+    fn reset(&mut self) {
+        *self = Self::new(self.settings);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(t: f64, gyro: f64, angle: f64) -> Sample<f64> {
+        Sample {
+            t,
+            phi: f64::NAN,
+            gyro,
+            ax: 9.81 * angle.sin(),
+            ay: 9.81 * angle.cos(),
+        }
+    }
+
+    #[test]
+    fn one_step_by_hand() {
+        let mut c = Complementary::new(ComplementarySettings {
+            time_constant: 0.99,
+            accel_prefilter_hz: None,
+        });
+        let e0 = c.update(&sample(0.0, 0.0, 0.1));
+        assert!((e0.theta - 0.1).abs() < 1e-15 && e0.flags.contains(Flags::INITIALISING));
+        // dt = 0.01, alpha = 0.99: 0.99 (0.1 + 0.5 * 0.01) + 0.01 * 0.2 = 0.10595
+        let e1 = c.update(&sample(0.01, 0.5, 0.2));
+        assert!((e1.theta - 0.10595).abs() < 1e-12, "{}", e1.theta);
+    }
+
+    #[test]
+    fn converges_to_the_accelerometer_and_follows_the_gyro() {
+        let mut c = Complementary::new(ComplementarySettings::<f64>::default());
+        c.update(&sample(0.0, 0.0, 0.0));
+        // Held at 0.3 rad with a still gyro: converges to 0.3 within a few tau.
+        let mut e = c.update(&sample(1e-3, 0.0, 0.3));
+        for k in 2..20_000 {
+            e = c.update(&sample(k as f64 * 1e-3, 0.0, 0.3));
+        }
+        assert!((e.theta - 0.3).abs() < 1e-4, "{}", e.theta);
+        // A fast rotation with the accelerometer lying: the gyro wins in the short term.
+        let t0 = 20.0;
+        for k in 1..=100 {
+            e = c.update(&sample(t0 + k as f64 * 1e-3, 1.0, 0.3));
+        }
+        assert!((e.theta - 0.4).abs() < 0.01, "{}", e.theta);
+    }
+
+    #[test]
+    fn missing_accel_integrates_the_gyro_and_bad_time_holds() {
+        let mut c = Complementary::new(ComplementarySettings::<f64>::default());
+        c.update(&sample(0.0, 0.0, 0.0));
+        let mut s = sample(0.1, 2.0, 0.0);
+        s.ax = f64::NAN;
+        let e = c.update(&s);
+        assert!(e.flags.contains(Flags::MEASUREMENT_SKIPPED));
+        assert!((e.theta - 0.2).abs() < 1e-12);
+        let e2 = c.update(&sample(0.1, 0.0, 0.0));
+        assert!(e2.flags.contains(Flags::BAD_TIME_STEP) && e2.theta == e.theta);
+    }
+}
