@@ -23,6 +23,33 @@
 //! r_pendulum = 0.001    # variance of a pendulum algorithm's angle [rad^2]
 //! p0_angle = 0.01       # initial angle variance [rad^2]
 //! p0_bias = 0.01        # initial bias variance [(rad/s)^2]
+//!
+//! [differentiator]      # phi', phi'' for alg1, alg2, alg3 (filters::diff)
+//! response = "butterworth"      # or "bessel", "critically_damped"
+//! # cutoff_times_natural = 1.7  # cutoff / natural frequency (default 1.7) ...
+//! # cutoff_hz = 3.0             # ... or a fixed cutoff [Hz]; never both
+//!
+//! [accel]               # Eq (1)
+//! # prefilter_hz = 5.0  # low-pass on ax, ay before atan2 [Hz]; default off
+//! # full_scale = 78.5   # accelerometer full scale [m/s^2]; default unknown
+//!
+//! [alg1]                # Eq (20)
+//! phi = "raw"           # or "filtered"
+//!
+//! [alg2]                # Eqs (21)-(22)
+//! phi = "raw"
+//! theta_dd = "matched"  # or "window" (the paper's Eq 22)
+//! window = 0.02         # Eq (22) window [s], with theta_dd = "window"
+//! pivot_offset = false  # add the l12 term (MODEL.md section 3)
+//!
+//! [alg3]                # Eq (30); gains left out: K = a, L = b, M = -b, N = 0
+//! # k = 0.0436          # [s]
+//! # l = 0.0053          # [s^2]
+//! # m = -0.0053         # [s^2]
+//! # n = 0.0             # [s]
+//! phi = "raw"
+//! theta_dd = "matched"
+//! window = 0.02
 //! ```
 //!
 //! Every key is optional and has the default shown (the pendulum defaults are
@@ -39,15 +66,31 @@
 //! `file:line:column: table.key:` (line and column are 1-based, and absent when the
 //! value was not in the file, e.g. a defaulted inertia that is too small for the given
 //! mass and length) followed by why: a TOML syntax error, an unknown key (with the keys
-//! that are allowed), a value of the wrong type, or a physically impossible value.
+//! that are allowed), a value of the wrong type, a string that is not one of the
+//! choices, or a physically impossible value.
 use std::fmt;
 use std::path::Path;
 
+mod estimators;
+
+pub use estimators::{
+    AccelConfig, Alg1Config, Alg2Config, Alg3Config, DifferentiatorConfig, PhiChoice,
+    ResponseChoice, ThetaDdChoice, DEFAULT_GD_WINDOW,
+};
+
+use pendtilt_core::estimators::accel::AccelSettings;
+use pendtilt_core::estimators::alg1::Alg1Settings;
+use pendtilt_core::estimators::alg2::Alg2Settings;
+use pendtilt_core::estimators::alg3::Alg3Settings;
+use pendtilt_core::filters::diff::DiffSettings;
+use pendtilt_core::kalman::KalmanSettings;
 use pendtilt_core::{PendulumParams, PhysicalParams};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
+
+use estimators::Issue;
 
 /// Where a configuration error is: the file, the position in it, and the dotted key.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -93,6 +136,9 @@ pub enum ConfigErrorKind {
         /// The keys allowed in this table, comma-separated.
         allowed: String,
     },
+    /// A string that is not one of the allowed choices (e.g. `response = "chebyshev"`).
+    #[error("not one of the choices: {0}")]
+    BadChoice(String),
     /// A value of the wrong TOML type (e.g. a string where a number is expected).
     #[error("wrong type: {0}")]
     WrongType(String),
@@ -217,6 +263,16 @@ pub struct RigConfig {
     pub pendulum: PendulumConfig,
     /// The `[kalman]` table.
     pub kalman: KalmanConfig,
+    /// The `[differentiator]` table (phi', phi'' for alg1, alg2, alg3).
+    pub differentiator: DifferentiatorConfig,
+    /// The `[accel]` table (Eq 1).
+    pub accel: AccelConfig,
+    /// The `[alg1]` table (Eq 20).
+    pub alg1: Alg1Config,
+    /// The `[alg2]` table (Eqs 21-22).
+    pub alg2: Alg2Config,
+    /// The `[alg3]` table (Eq 30: gains K, L, M, N).
+    pub alg3: Alg3Config,
 }
 
 /// Name used in errors for configurations built in memory rather than read from a file.
@@ -278,11 +334,68 @@ impl RigConfig {
         self.pendulum.physical()
     }
 
+    /// Settings of the Kalman filters (`kf_*`), from `[kalman]`.
+    pub fn kalman_settings(&self) -> KalmanSettings<f64> {
+        let k = &self.kalman;
+        KalmanSettings {
+            q_angle: k.q_angle,
+            q_bias: k.q_bias,
+            r_accel: k.r_accel,
+            r_pendulum: k.r_pendulum,
+            p0_angle: k.p0_angle,
+            p0_bias: k.p0_bias,
+        }
+    }
+
+    /// Settings of the phi differentiator, from `[differentiator]`.
+    pub fn diff_settings(&self) -> DiffSettings<f64> {
+        self.differentiator.settings()
+    }
+
+    /// Settings of `accel`, from `[accel]`.
+    pub fn accel_settings(&self) -> AccelSettings<f64> {
+        self.accel.settings()
+    }
+
+    /// Settings of `alg1`, from `[pendulum]`, `[differentiator]` and `[alg1]`.
+    pub fn alg1_settings(&self) -> Alg1Settings<f64> {
+        Alg1Settings {
+            differentiator: self.diff_settings(),
+            phi: self.alg1.phi.into(),
+            ..Alg1Settings::from_params(self.params())
+        }
+    }
+
+    /// Settings of `alg2`, from `[pendulum]`, `[differentiator]` and `[alg2]`.
+    pub fn alg2_settings(&self) -> Alg2Settings<f64> {
+        Alg2Settings {
+            differentiator: self.diff_settings(),
+            phi: self.alg2.phi.into(),
+            theta_dd: estimators::theta_dd(self.alg2.theta_dd, self.alg2.window),
+            pivot_offset: self.alg2.pivot_offset,
+            ..Alg2Settings::from_params(self.params())
+        }
+    }
+
+    /// Settings of `alg3`, from `[pendulum]`, `[differentiator]` and `[alg3]` (gains left
+    /// out of `[alg3]` are K = a, L = b, M = -b, N = 0).
+    pub fn alg3_settings(&self) -> Alg3Settings<f64> {
+        let params = self.params();
+        Alg3Settings {
+            gains: self.alg3.gains(&params),
+            differentiator: self.diff_settings(),
+            phi: self.alg3.phi.into(),
+            theta_dd: estimators::theta_dd(self.alg3.theta_dd, self.alg3.window),
+            ..Alg3Settings::from_params(params)
+        }
+    }
+
     /// Checks every value as [`RigConfig::load`] does; errors name [`IN_MEMORY`] as the file.
     pub fn validate(&self) -> Result<(), ConfigError> {
         let mut issues = Vec::new();
         check_pendulum(&self.pendulum, &mut issues);
         check_kalman(&self.kalman, &mut issues);
+        estimators::check_estimators(self, &mut issues);
         match issues.into_iter().next() {
             None => Ok(()),
             Some((key, value, why)) => Err(ConfigError::new(
@@ -303,6 +416,11 @@ impl RigConfig {
         let file = RawFile {
             pendulum: RawPendulum::from(&self.pendulum),
             kalman: self.kalman,
+            differentiator: self.differentiator,
+            accel: self.accel,
+            alg1: self.alg1,
+            alg2: self.alg2,
+            alg3: self.alg3,
         };
         // Serialising plain structs of finite floats cannot fail; fall back to an empty
         // body rather than panic if it ever did.
@@ -357,11 +475,19 @@ fn key_comment(table: &str, key: &str) -> Option<&'static str> {
         ("kalman", "r_pendulum") => "pendulum angle variance [rad^2]",
         ("kalman", "p0_angle") => "initial angle variance [rad^2]",
         ("kalman", "p0_bias") => "initial bias variance [(rad/s)^2]",
-        _ => return None,
+        _ => return estimators::key_comment(table, key),
     })
 }
 
-const TABLES: [&str; 2] = ["pendulum", "kalman"];
+const TABLES: [&str; 7] = [
+    "pendulum",
+    "kalman",
+    "differentiator",
+    "accel",
+    "alg1",
+    "alg2",
+    "alg3",
+];
 
 /// The `[pendulum]` table as written: every key optional.
 #[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
@@ -414,10 +540,12 @@ impl From<&PendulumConfig> for RawPendulum {
 struct RawFile {
     pendulum: RawPendulum,
     kalman: KalmanConfig,
+    differentiator: DifferentiatorConfig,
+    accel: AccelConfig,
+    alg1: Alg1Config,
+    alg2: Alg2Config,
+    alg3: Alg3Config,
 }
-
-/// A rule broken: (dotted key, value, why).
-type Issue = (String, f64, String);
 
 fn require(issues: &mut Vec<Issue>, key: &str, value: f64, ok: bool, why: &str) {
     if !value.is_finite() {
@@ -662,6 +790,11 @@ impl<'a> Parser<'a> {
                         self.at(self.key_span(name, key), Some(dotted)),
                         ConfigErrorKind::UnknownKey { allowed },
                     )
+                } else if message.starts_with("unknown variant") {
+                    ConfigError::new(
+                        self.at(self.value_span(name, key), Some(dotted)),
+                        ConfigErrorKind::BadChoice(message),
+                    )
                 } else {
                     ConfigError::new(
                         self.at(self.value_span(name, key), Some(dotted)),
@@ -742,11 +875,19 @@ impl<'a> Parser<'a> {
                 c: raw.c.unwrap_or(d.c),
             })
         };
-        let kalman: KalmanConfig = self.section("kalman")?;
-        let cfg = RigConfig { pendulum, kalman };
+        let cfg = RigConfig {
+            pendulum,
+            kalman: self.section("kalman")?,
+            differentiator: self.section("differentiator")?,
+            accel: self.section("accel")?,
+            alg1: self.section("alg1")?,
+            alg2: self.section("alg2")?,
+            alg3: self.section("alg3")?,
+        };
         let mut issues = Vec::new();
         check_pendulum(&cfg.pendulum, &mut issues);
         check_kalman(&cfg.kalman, &mut issues);
+        estimators::check_estimators(&cfg, &mut issues);
         if let Some((key, value, why)) = issues.into_iter().next() {
             let (table, k) = key.split_once('.').unwrap_or((key.as_str(), ""));
             let span = self.value_span(table, k);

@@ -314,3 +314,116 @@ fn missing_file_names_it() {
         "{e}"
     );
 }
+
+#[test]
+fn estimator_tables_default_to_the_core_defaults() {
+    use pendtilt::core::estimators::{
+        accel::AccelSettings, alg1::Alg1Settings, alg2::Alg2Settings, alg3::Alg3Settings,
+    };
+    use pendtilt::core::kalman::KalmanSettings;
+    let cfg = RigConfig::from_toml_str("", "rig.toml").unwrap();
+    let p = PendulumParams::default();
+    assert_eq!(cfg.accel_settings(), AccelSettings::default());
+    assert_eq!(cfg.alg1_settings(), Alg1Settings::from_params(p));
+    assert_eq!(cfg.alg2_settings(), Alg2Settings::from_params(p));
+    assert_eq!(cfg.alg3_settings(), Alg3Settings::from_params(p));
+    assert_eq!(cfg.kalman_settings(), KalmanSettings::default());
+}
+
+#[test]
+fn estimator_tables_map_onto_core_settings() {
+    use pendtilt::core::estimators::theta_dd::ThetaDdSource;
+    use pendtilt::core::estimators::PhiSource;
+    use pendtilt::core::filters::diff::{Cutoff, Response};
+    let text = "[pendulum]\na = 0.04\nb = 0.005\n\
+        [differentiator]\nresponse = \"bessel\"\ncutoff_hz = 3\n\
+        [accel]\nprefilter_hz = 5.0\nfull_scale = 78.5\n\
+        [alg1]\nphi = \"filtered\"\n\
+        [alg2]\ntheta_dd = \"window\"\nwindow = 0.03\npivot_offset = true\n\
+        [alg3]\nk = 0.1\nn = 0.002\n\
+        [kalman]\nr_pendulum = 0.002\n";
+    let cfg = RigConfig::from_toml_str(text, "rig.toml").unwrap();
+    let d = cfg.diff_settings();
+    assert_eq!(d.response, Response::Bessel);
+    assert_eq!(d.cutoff, Cutoff::Hz(3.0));
+    let a = cfg.accel_settings();
+    assert_eq!((a.prefilter_hz, a.full_scale), (Some(5.0), Some(78.5)));
+    assert_eq!(cfg.alg1_settings().phi, PhiSource::Filtered);
+    assert_eq!(cfg.alg1_settings().differentiator, d);
+    let s2 = cfg.alg2_settings();
+    assert_eq!(s2.theta_dd, ThetaDdSource::Window { span: 0.03 });
+    assert!(s2.pivot_offset);
+    assert_eq!(s2.params.a, 0.04);
+    let g = cfg.alg3_settings().gains;
+    // K and N given; L and M from b.
+    assert_eq!((g.k, g.l, g.m, g.n), (0.1, 0.005, -0.005, 0.002));
+    assert_eq!(cfg.alg3_settings().theta_dd, ThetaDdSource::Matched);
+    assert_eq!(cfg.kalman_settings().r_pendulum, 0.002);
+    // And the whole file round-trips.
+    let back = RigConfig::from_toml_str(&cfg.to_toml_string(), "again.toml").unwrap();
+    assert_eq!(back, cfg, "{}", cfg.to_toml_string());
+}
+
+#[test]
+fn fitted_alg3_gains_round_trip() {
+    use pendtilt::core::estimators::equations::Alg3Gains;
+    let mut cfg = RigConfig::from_params(PendulumParams {
+        a: 0.05,
+        b: 0.006,
+        c: 0.0,
+    })
+    .unwrap();
+    let g = Alg3Gains {
+        k: 0.051,
+        l: 0.0061,
+        m: -0.0058,
+        n: 1.0e-3,
+    };
+    cfg.alg3.set_gains(g);
+    let text = cfg.to_toml_string();
+    let back = RigConfig::from_toml_str(&text, "fit.toml").unwrap();
+    assert_eq!(back.alg3_settings().gains, g, "{text}");
+    assert!(
+        text.contains("[alg3]") && text.contains("k = 0.051"),
+        "{text}"
+    );
+}
+
+#[test]
+fn estimator_table_errors_name_the_key() {
+    let e = err("[differentiator]\nresponse = \"chebyshev\"\n");
+    assert!(matches!(*e.kind, ConfigErrorKind::BadChoice(_)), "{e}");
+    assert_eq!(e.location.key.as_deref(), Some("differentiator.response"));
+    assert_eq!(e.location.line, Some(2));
+    assert!(e.to_string().contains("bessel"), "{e}");
+
+    let e = err("[alg2]\nwindow_s = 0.1\n");
+    assert!(matches!(*e.kind, ConfigErrorKind::UnknownKey { .. }), "{e}");
+    assert_eq!(e.location.key.as_deref(), Some("alg2.window_s"));
+    assert!(e.to_string().contains("window"), "{e}");
+
+    let e = err("[alg2]\npivot_offset = 1\n");
+    assert!(matches!(*e.kind, ConfigErrorKind::WrongType(_)), "{e}");
+    assert_eq!(e.location.key.as_deref(), Some("alg2.pivot_offset"));
+
+    impossible(
+        "[differentiator]\ncutoff_hz = 0\n",
+        "differentiator.cutoff_hz",
+        Some(2),
+        "> 0",
+    );
+    impossible(
+        "[differentiator]\ncutoff_hz = 3\ncutoff_times_natural = 2\n",
+        "differentiator.cutoff_times_natural",
+        Some(3),
+        "not both",
+    );
+    impossible("[alg3]\nwindow = -0.01\n", "alg3.window", Some(2), "> 0");
+    impossible("[alg3]\nm = nan\n", "alg3.m", Some(2), "finite");
+    impossible(
+        "[accel]\nprefilter_hz = -5\n",
+        "accel.prefilter_hz",
+        Some(2),
+        "> 0",
+    );
+}

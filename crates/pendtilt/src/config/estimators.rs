@@ -1,0 +1,327 @@
+//! The estimator tables of the rig file: `[differentiator]`, `[accel]`, `[alg1]`,
+//! `[alg2]`, `[alg3]`. Each key maps onto a field of a core settings struct
+//! ([`pendtilt_core::estimators`], [`pendtilt_core::filters::diff`]); every key is
+//! optional and its default is the core's default.
+use pendtilt_core::estimators::accel::AccelSettings;
+use pendtilt_core::estimators::equations::Alg3Gains;
+use pendtilt_core::estimators::theta_dd::ThetaDdSource;
+use pendtilt_core::estimators::PhiSource;
+use pendtilt_core::filters::diff::{Cutoff, DiffSettings, Response};
+use pendtilt_core::PendulumParams;
+use serde::{Deserialize, Serialize};
+
+/// Shape of the smoothing differentiator's 4th-order low-pass (`response = "..."`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ResponseChoice {
+    /// `"butterworth"` (default): sharpest cut-off, about 11 % overshoot.
+    #[default]
+    Butterworth,
+    /// `"bessel"`: flat group delay, no ringing.
+    Bessel,
+    /// `"critically_damped"`: four equal poles, no overshoot, shortest delay.
+    CriticallyDamped,
+}
+
+impl From<ResponseChoice> for Response {
+    fn from(r: ResponseChoice) -> Self {
+        match r {
+            ResponseChoice::Butterworth => Response::Butterworth,
+            ResponseChoice::Bessel => Response::Bessel,
+            ResponseChoice::CriticallyDamped => Response::CriticallyDamped,
+        }
+    }
+}
+
+/// Which phi enters `theta = phi + asin(...)` (`phi = "raw"` or `"filtered"`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PhiChoice {
+    /// `"raw"` (default): the encoder reading as measured.
+    #[default]
+    Raw,
+    /// `"filtered"`: the differentiator's low-passed phi (smoother, later).
+    Filtered,
+}
+
+impl From<PhiChoice> for PhiSource {
+    fn from(p: PhiChoice) -> Self {
+        match p {
+            PhiChoice::Raw => PhiSource::Raw,
+            PhiChoice::Filtered => PhiSource::Filtered,
+        }
+    }
+}
+
+/// Where theta'' (G_d) comes from in Algorithms 2 and 3 (`theta_dd = "..."`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ThetaDdChoice {
+    /// `"matched"` (default): the gyro through the same differentiator as phi.
+    #[default]
+    Matched,
+    /// `"window"`: the paper's Eq (22) over `window` seconds.
+    Window,
+}
+
+/// The `[differentiator]` table: the smoothing differentiator that gives phi' and phi''
+/// to `alg1`, `alg2` and `alg3` (and theta'' under `theta_dd = "matched"`).
+///
+/// The cutoff is either fixed (`cutoff_hz`) or relative to the pendulum's natural
+/// frequency (`cutoff_times_natural`, default 1.7); giving both is an error. A higher
+/// cutoff lets more residual vibration through phi''; a lower one delays the estimate
+/// (see [`pendtilt_core::filters::diff`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DifferentiatorConfig {
+    /// Filter shape. Default `"butterworth"`.
+    pub response: ResponseChoice,
+    /// Fixed cutoff [Hz], > 0. Default: unset (relative cutoff).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cutoff_hz: Option<f64>,
+    /// Cutoff as a multiple of the natural frequency f_n, > 0. Default: unset, meaning 1.7.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cutoff_times_natural: Option<f64>,
+}
+
+impl DifferentiatorConfig {
+    /// The core settings.
+    pub fn settings(&self) -> DiffSettings<f64> {
+        let default = DiffSettings::<f64>::default();
+        DiffSettings {
+            response: self.response.into(),
+            cutoff: match (self.cutoff_hz, self.cutoff_times_natural) {
+                (Some(hz), _) => Cutoff::Hz(hz),
+                (None, Some(k)) => Cutoff::TimesNatural(k),
+                (None, None) => default.cutoff,
+            },
+        }
+    }
+}
+
+/// The `[accel]` table: Eq (1), `theta = atan2(ax, ay)` (also the measurement of
+/// `kf_accel` and `kf_fused`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AccelConfig {
+    /// Cutoff [Hz] of a 2nd-order low-pass on ax, ay before atan2, > 0. Default: unset
+    /// (off: the paper's Eq 1 on raw samples).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub prefilter_hz: Option<f64>,
+    /// Accelerometer full scale [m/s^2], > 0: samples at or beyond it are flagged
+    /// `saturated`. Default: unset (unknown).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub full_scale: Option<f64>,
+}
+
+impl AccelConfig {
+    /// The core settings.
+    pub fn settings(&self) -> AccelSettings<f64> {
+        AccelSettings {
+            prefilter_hz: self.prefilter_hz,
+            full_scale: self.full_scale,
+        }
+    }
+}
+
+/// The `[alg1]` table: Eq (20).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Alg1Config {
+    /// Which phi enters the equation. Default `"raw"`.
+    pub phi: PhiChoice,
+}
+
+/// Default Eq (22) window [s] when `theta_dd = "window"`.
+pub const DEFAULT_GD_WINDOW: f64 = 0.02;
+
+fn default_window() -> f64 {
+    DEFAULT_GD_WINDOW
+}
+
+/// The `[alg2]` table: Eqs (21)-(22), and `alg2_offset` (the pivot-offset term).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Alg2Config {
+    /// Which phi enters the equation. Default `"raw"`.
+    pub phi: PhiChoice,
+    /// Where theta'' comes from. Default `"matched"`.
+    pub theta_dd: ThetaDdChoice,
+    /// Eq (22) window [s], > 0, used with `theta_dd = "window"`. Default 0.02.
+    #[serde(default = "default_window")]
+    pub window: f64,
+    /// Add the pivot-offset term c (theta'' cos phi - theta'^2 sin phi) to `alg2` itself.
+    /// Default false (the paper's Eq 21).
+    pub pivot_offset: bool,
+}
+
+impl Default for Alg2Config {
+    fn default() -> Self {
+        Self {
+            phi: PhiChoice::Raw,
+            theta_dd: ThetaDdChoice::Matched,
+            window: DEFAULT_GD_WINDOW,
+            pivot_offset: false,
+        }
+    }
+}
+
+pub(super) fn theta_dd(choice: ThetaDdChoice, window: f64) -> ThetaDdSource<f64> {
+    match choice {
+        ThetaDdChoice::Matched => ThetaDdSource::Matched,
+        ThetaDdChoice::Window => ThetaDdSource::Window { span: window },
+    }
+}
+
+/// The `[alg3]` table: Eq (30) with gains K, L, M, N (as fitted by `pendtilt fit`).
+///
+/// A gain left out takes the value under which Eq (30) equals Eq (21): K = a, L = b,
+/// M = -b, N = 0, with a, b from `[pendulum]`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Alg3Config {
+    /// K, multiplies phi' [s]. Default a.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k: Option<f64>,
+    /// L, multiplies phi'' [s^2]. Default b.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub l: Option<f64>,
+    /// M, multiplies G_d [s^2]. Default -b.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub m: Option<f64>,
+    /// N, multiplies the gyro G_k outside the asin [s]. Default 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub n: Option<f64>,
+    /// Which phi enters the equation. Default `"raw"`.
+    pub phi: PhiChoice,
+    /// Where G_d comes from. Default `"matched"`.
+    pub theta_dd: ThetaDdChoice,
+    /// Eq (22) window [s], > 0, used with `theta_dd = "window"`. Default 0.02.
+    #[serde(default = "default_window")]
+    pub window: f64,
+}
+
+impl Default for Alg3Config {
+    fn default() -> Self {
+        Self {
+            k: None,
+            l: None,
+            m: None,
+            n: None,
+            phi: PhiChoice::Raw,
+            theta_dd: ThetaDdChoice::Matched,
+            window: DEFAULT_GD_WINDOW,
+        }
+    }
+}
+
+impl Alg3Config {
+    /// The gains, those left out taken from `params` (K = a, L = b, M = -b, N = 0).
+    pub fn gains(&self, params: &PendulumParams<f64>) -> Alg3Gains<f64> {
+        let d = Alg3Gains::from_params(params);
+        Alg3Gains {
+            k: self.k.unwrap_or(d.k),
+            l: self.l.unwrap_or(d.l),
+            m: self.m.unwrap_or(d.m),
+            n: self.n.unwrap_or(d.n),
+        }
+    }
+
+    /// Sets all four gains (for example a fit result).
+    pub fn set_gains(&mut self, g: Alg3Gains<f64>) {
+        self.k = Some(g.k);
+        self.l = Some(g.l);
+        self.m = Some(g.m);
+        self.n = Some(g.n);
+    }
+}
+
+/// A rule broken: (dotted key, value, why).
+pub(super) type Issue = (String, f64, String);
+
+fn positive(issues: &mut Vec<Issue>, key: &str, value: Option<f64>, why: &str) {
+    if let Some(v) = value {
+        if !v.is_finite() {
+            issues.push((key.into(), v, "must be a finite number".into()));
+        } else if v <= 0.0 {
+            issues.push((key.into(), v, why.into()));
+        }
+    }
+}
+
+pub(super) fn check_estimators(e: &super::RigConfig, issues: &mut Vec<Issue>) {
+    let d = &e.differentiator;
+    positive(
+        issues,
+        "differentiator.cutoff_hz",
+        d.cutoff_hz,
+        "the cutoff must be > 0 [Hz]",
+    );
+    positive(
+        issues,
+        "differentiator.cutoff_times_natural",
+        d.cutoff_times_natural,
+        "the cutoff must be > 0 (a multiple of f_n)",
+    );
+    if let (Some(_), Some(k)) = (d.cutoff_hz, d.cutoff_times_natural) {
+        issues.push((
+            "differentiator.cutoff_times_natural".into(),
+            k,
+            "give either cutoff_hz or cutoff_times_natural, not both".into(),
+        ));
+    }
+    positive(
+        issues,
+        "accel.prefilter_hz",
+        e.accel.prefilter_hz,
+        "the prefilter cutoff must be > 0 [Hz] (leave it out to turn it off)",
+    );
+    positive(
+        issues,
+        "accel.full_scale",
+        e.accel.full_scale,
+        "the full scale must be > 0 [m/s^2] (leave it out when unknown)",
+    );
+    positive(
+        issues,
+        "alg2.window",
+        Some(e.alg2.window),
+        "the Eq (22) window must be > 0 [s]",
+    );
+    positive(
+        issues,
+        "alg3.window",
+        Some(e.alg3.window),
+        "the Eq (22) window must be > 0 [s]",
+    );
+    for (key, v) in [
+        ("alg3.k", e.alg3.k),
+        ("alg3.l", e.alg3.l),
+        ("alg3.m", e.alg3.m),
+        ("alg3.n", e.alg3.n),
+    ] {
+        if let Some(v) = v.filter(|v| !v.is_finite()) {
+            issues.push((key.into(), v, "must be a finite number".into()));
+        }
+    }
+}
+
+/// The unit and meaning of each estimator key, for the written file's comments.
+pub(super) fn key_comment(table: &str, key: &str) -> Option<&'static str> {
+    Some(match (table, key) {
+        ("differentiator", "response") => "butterworth | bessel | critically_damped",
+        ("differentiator", "cutoff_hz") => "fixed cutoff [Hz]",
+        ("differentiator", "cutoff_times_natural") => "cutoff / natural frequency",
+        ("accel", "prefilter_hz") => "low-pass on ax, ay before atan2 [Hz]",
+        ("accel", "full_scale") => "accelerometer full scale [m/s^2]",
+        ("alg1" | "alg2" | "alg3", "phi") => "raw | filtered",
+        ("alg2" | "alg3", "theta_dd") => "matched | window (Eq 22)",
+        ("alg2" | "alg3", "window") => "Eq (22) window [s]",
+        ("alg2", "pivot_offset") => "add the l12 term to alg2",
+        ("alg3", "k") => "K, times phi' [s]",
+        ("alg3", "l") => "L, times phi'' [s^2]",
+        ("alg3", "m") => "M, times G_d [s^2]",
+        ("alg3", "n") => "N, times G_k [s]",
+        _ => return None,
+    })
+}
