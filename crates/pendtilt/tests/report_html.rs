@@ -23,8 +23,11 @@ fn png_size(path: &Path) -> (u32, u32) {
     )
 }
 
+/// Named estimates, in order.
+type Estimates = Vec<(&'static str, Vec<f64>)>;
+
 /// Sigmoid truth (rad) and three fake estimators: late, late + overshoot + noise, biased.
-fn series() -> (Vec<f64>, Vec<f64>, Vec<(&'static str, Vec<f64>)>) {
+fn series() -> (Vec<f64>, Vec<f64>, Estimates) {
     let d = 10f64.to_radians();
     let s = |t: f64| d / (1.0 + (-(t - 2.0) / 0.2).exp());
     let t: Vec<f64> = (0..5000).map(|k| k as f64 / RATE).collect();

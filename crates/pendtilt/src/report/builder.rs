@@ -267,7 +267,7 @@ impl Report {
     }
 
     /// The truth and estimates under a view (index 0: unfiltered).
-    fn view_series(&self, view: usize) -> Result<(Vec<f64>, Vec<(String, Vec<f64>)>), ReportError> {
+    fn view_series(&self, view: usize) -> Result<(Vec<f64>, NamedSeries), ReportError> {
         if view == 0 {
             return Ok((self.truth.clone(), self.estimates.clone()));
         }
@@ -570,7 +570,11 @@ impl Report {
     }
 }
 
-type Windowed = (Vec<f64>, Vec<f64>, Vec<(String, Vec<f64>)>);
+/// Named series, in order.
+type NamedSeries = Vec<(String, Vec<f64>)>;
+
+/// Time, truth and named series of a figure window.
+type Windowed = (Vec<f64>, Vec<f64>, NamedSeries);
 
 /// The samples of a figure group inside its time window.
 fn windowed<'a>(
