@@ -1,10 +1,269 @@
-//! `pendtilt simulate`.
+//! `pendtilt simulate`: run a scenario and write the sensor log, the rig TOML and the
+//! resolved scenario beside it.
+//!
+//! Settings are applied in this order, each overriding the one before: the named scenario
+//! (`--scenario`), the scenario TOML (`--config`), the rig (`--rig`), the individual flags,
+//! `--set KEY=VALUE` assignments, and last `--no-noise`, `--ideal-sensors`, `--no-vibration`.
+
+use std::io::{BufWriter, IsTerminal};
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{bail, Context};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::sim::{self, output, Scenario, Simulator};
+
+/// Seed used when neither `--seed` nor the scenario TOML gives one.
+pub const DEFAULT_SEED: u64 = 1;
 
 /// Options of `pendtilt simulate`.
-#[derive(Debug, clap::Args)]
-pub struct Args {}
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct Args {
+    /// Base scenario: still, sigmoid, step, sine, chirp or scooter (MODEL.md section 6).
+    #[arg(long, value_name = "NAME")]
+    pub scenario: Option<String>,
+    /// Scenario TOML overriding the base key by key (see `pendtilt::sim::scenario`).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Seed of every random part (same seed, same bytes). Default: the TOML's `seed`, else 1.
+    #[arg(long, value_name = "N")]
+    pub seed: Option<u64>,
+    /// Length of the run [s].
+    #[arg(long, value_name = "S")]
+    pub duration: Option<f64>,
+    /// Sample rate [Hz] (default 1000).
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+    /// Rig, motion, vibration and sensor settings.
+    #[command(flatten)]
+    pub settings: Box<Settings>,
+    /// The log to write (CSV of MODEL.md section 5).
+    #[arg(
+        short,
+        long,
+        value_name = "LOG.csv",
+        required_unless_present = "print_scenario"
+    )]
+    pub output: Option<PathBuf>,
+    /// Where to write the rig TOML (default: beside the log, `LOG.rig.toml`).
+    #[arg(long, value_name = "FILE")]
+    pub rig_out: Option<PathBuf>,
+    /// Print the resolved scenario as TOML and exit.
+    #[arg(long)]
+    pub print_scenario: bool,
+    /// No progress bar and no summary.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// The options that change one part of the scenario (boxed in [`Args`]: they are many).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct Settings {
+    /// RK4 steps per sample (default 4).
+    #[arg(long, value_name = "N")]
+    pub substeps: Option<u32>,
+    /// Switch off every random sensor error (white noise, gyro bias walk, potentiometer
+    /// noise); biases, quantisation and saturation stay. Vibration is not sensor noise: see
+    /// --no-vibration.
+    #[arg(long)]
+    pub no_noise: bool,
+    /// Ideal sensors: no noise, bias, quantisation or saturation.
+    #[arg(long)]
+    pub ideal_sensors: bool,
+    /// No floor vibration (harmonics, broadband, angular).
+    #[arg(long)]
+    pub no_vibration: bool,
+    /// Take the pendulum from the [pendulum] table of a rig TOML (physical form).
+    #[arg(long, value_name = "FILE")]
+    pub rig: Option<PathBuf>,
+    /// Pendulum mass m_p [kg].
+    #[arg(long, value_name = "KG")]
+    pub mass: Option<f64>,
+    /// Pivot-to-CG distance l_p [m].
+    #[arg(long, value_name = "M")]
+    pub length: Option<f64>,
+    /// Inertia about the pivot I_p [kg m^2].
+    #[arg(long, value_name = "KG_M2")]
+    pub inertia: Option<f64>,
+    /// Pivot friction C [N m s/rad].
+    #[arg(long, value_name = "NMS")]
+    pub damping: Option<f64>,
+    /// Distance l12 from the body's pivot P1 to the pendulum pivot P2 [m].
+    #[arg(long, value_name = "M")]
+    pub pivot_offset: Option<f64>,
+    /// Size of the body motion [rad] (amplitude, or the angle of `still`).
+    #[arg(long, value_name = "RAD", allow_negative_numbers = true)]
+    pub amplitude: Option<f64>,
+    /// Frequency of the `sine` motion [Hz].
+    #[arg(long, value_name = "HZ")]
+    pub frequency: Option<f64>,
+    /// Engine fundamental [Hz]: every vibration harmonic keeps its ratio to the first.
+    #[arg(long, value_name = "HZ")]
+    pub engine_hz: Option<f64>,
+    /// Multiply every vibration amplitude (harmonic, broadband, angular) by this.
+    #[arg(long, value_name = "X")]
+    pub vibration_scale: Option<f64>,
+    /// Accelerometer position relative to P2 in body axes [m], e.g. `--accel-mount 0.02,-0.1`.
+    #[arg(
+        long,
+        value_name = "X,Y",
+        value_delimiter = ',',
+        num_args = 2,
+        allow_negative_numbers = true
+    )]
+    pub accel_mount: Option<Vec<f64>>,
+    /// Encoder resolution [bits per turn]; 0 = no quantisation.
+    #[arg(long, value_name = "BITS")]
+    pub encoder_bits: Option<u32>,
+    /// Set any scenario key, TOML syntax: `--set vibration.broadband.rms=[1.0,2.0]`
+    /// (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+/// The scenario and seed the options describe (see the module docs for the order).
+pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
+    let o = &args.settings;
+    let (mut s, file_seed) = match (&args.config, &args.scenario) {
+        (Some(path), name) => sim::load_config(path, name.as_deref())?,
+        (None, Some(name)) => (Scenario::named(name)?, None),
+        (None, None) => bail!(
+            "give --scenario NAME (one of {}) or --config FILE",
+            sim::SCENARIO_NAMES.join(", ")
+        ),
+    };
+    if let Some(path) = &o.rig {
+        s.pendulum = sim::load_rig(path)?;
+    }
+    let p = &mut s.pendulum;
+    for (flag, v) in [
+        (&mut p.mass, o.mass),
+        (&mut p.length, o.length),
+        (&mut p.inertia, o.inertia),
+        (&mut p.damping, o.damping),
+        (&mut p.pivot_offset, o.pivot_offset),
+    ] {
+        if let Some(v) = v {
+            *flag = v;
+        }
+    }
+    if let Some(d) = args.duration {
+        s.duration = d;
+    }
+    if let Some(r) = args.rate {
+        s.rate = r;
+    }
+    if let Some(n) = o.substeps {
+        s.substeps = n;
+    }
+    if let Some(a) = o.amplitude {
+        s.motion.set_amplitude(a);
+    }
+    if let Some(f) = o.frequency {
+        match &mut s.motion {
+            sim::motion::Motion::Sine(m) => m.frequency = f,
+            m => bail!(
+                "--frequency applies to the sine motion, this scenario's motion is '{}' \
+                 (use --set motion.KEY=VALUE)",
+                m.kind()
+            ),
+        }
+    }
+    if let Some(hz) = o.engine_hz {
+        if s.vibration.harmonics.is_empty() {
+            bail!("--engine-hz: this scenario has no vibration harmonics");
+        }
+        s.vibration.set_engine_frequency(hz);
+    }
+    if let Some(k) = o.vibration_scale {
+        if !(k.is_finite() && k >= 0.0) {
+            bail!("--vibration-scale: must be >= 0, got {k}");
+        }
+        s.vibration.scale(k);
+    }
+    if let Some(m) = &o.accel_mount {
+        s.sensors.accel.mount = [m[0], m[1]];
+    }
+    if let Some(b) = o.encoder_bits {
+        s.sensors.encoder.bits = b;
+    }
+    for a in &o.set {
+        s.set(a)?;
+    }
+    if o.no_noise {
+        s.sensors = s.sensors.without_noise();
+    }
+    if o.ideal_sensors {
+        s.sensors = s.sensors.ideal();
+    }
+    if o.no_vibration {
+        s.vibration = Default::default();
+    }
+    s.validate()?;
+    Ok((s, args.seed.or(file_seed).unwrap_or(DEFAULT_SEED)))
+}
 
 /// Runs `pendtilt simulate`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("pendtilt simulate is not built yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let (scenario, seed) = resolve(&args)?;
+    // Every key is written below, so the base only has to exist.
+    let base = args.scenario.clone().unwrap_or_else(|| "still".into());
+    let scenario_text = format!(
+        "# Resolved scenario written by `pendtilt simulate`; rerun with\n\
+         # pendtilt simulate --config THIS_FILE -o LOG.csv\nscenario = \"{base}\"\nseed = {seed}\n{}",
+        scenario.to_toml()
+    );
+    if args.print_scenario {
+        print!("{scenario_text}");
+        return Ok(());
+    }
+    let Some(log) = args.output.clone() else {
+        bail!("give -o LOG.csv");
+    };
+    let rig_path = args
+        .rig_out
+        .clone()
+        .unwrap_or_else(|| output::rig_path_for(&log));
+    let scen_path = output::scenario_path_for(&log);
+
+    let sim = Simulator::new(&scenario, seed)?;
+    let total = sim.total_rows();
+    let file = std::fs::File::create(&log)
+        .with_context(|| format!("cannot create the log {}", log.display()))?;
+    let bar = if args.quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+        b.set_style(
+            ProgressStyle::with_template(
+                "simulating {bar:40} {percent:>3}% {human_pos}/{human_len} rows, eta {eta}",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        b
+    };
+    let started = Instant::now();
+    let n = output::write_log(sim, BufWriter::with_capacity(1 << 20, file), |done, _| {
+        bar.set_position(done)
+    })
+    .with_context(|| format!("cannot write the log {}", log.display()))?;
+    bar.finish_and_clear();
+
+    std::fs::write(&rig_path, sim::rig_toml(&scenario.physical())?)
+        .with_context(|| format!("cannot write the rig TOML {}", rig_path.display()))?;
+    std::fs::write(&scen_path, scenario_text)
+        .with_context(|| format!("cannot write the scenario TOML {}", scen_path.display()))?;
+    if !args.quiet {
+        eprintln!(
+            "wrote {n} rows ({} s at {} Hz, seed {seed}) to {} in {:.2} s; rig: {}; scenario: {}",
+            scenario.duration,
+            scenario.rate,
+            log.display(),
+            started.elapsed().as_secs_f64(),
+            rig_path.display(),
+            scen_path.display()
+        );
+    }
+    Ok(())
 }

@@ -1,0 +1,99 @@
+//! Writing a run: the CSV log of MODEL.md section 5, streamed row by row.
+
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+use super::{SimRow, Simulator};
+
+/// The log's header row.
+pub const LOG_HEADER: &str = "t,phi,gyro,ax,ay,theta";
+
+/// Writes one number: shortest round-trip form, exponent notation for very small or large
+/// magnitudes (so noise of 1e-17 does not become a 20-digit decimal).
+#[inline]
+fn write_num<W: Write>(w: &mut W, x: f64) -> io::Result<()> {
+    let a = x.abs();
+    if x == 0.0 || (1e-4..1e15).contains(&a) || !x.is_finite() {
+        write!(w, "{x}")
+    } else {
+        write!(w, "{x:e}")
+    }
+}
+
+/// Writes one CSV row (no header) for `row`.
+pub fn write_row<W: Write>(w: &mut W, row: &SimRow) -> io::Result<()> {
+    write_num(w, row.t)?;
+    for x in [row.phi, row.gyro, row.ax, row.ay, row.theta] {
+        w.write_all(b",")?;
+        write_num(w, x)?;
+    }
+    w.write_all(b"\n")
+}
+
+/// Streams every row of `sim` as CSV (header first) into `w`, calling `progress(done,
+/// total)` every 8192 rows and at the end. Returns the number of rows written.
+pub fn write_log<W: Write>(
+    sim: Simulator,
+    mut w: W,
+    mut progress: impl FnMut(u64, u64),
+) -> io::Result<u64> {
+    let total = sim.total_rows();
+    writeln!(w, "{LOG_HEADER}")?;
+    let mut n = 0u64;
+    for row in sim {
+        write_row(&mut w, &row)?;
+        n += 1;
+        if n % 8192 == 0 {
+            progress(n, total);
+        }
+    }
+    progress(n, total);
+    w.flush()?;
+    Ok(n)
+}
+
+/// Where the rig TOML goes beside a log: `run.csv` -> `run.rig.toml`.
+pub fn rig_path_for(log: &Path) -> PathBuf {
+    sibling(log, "rig.toml")
+}
+
+/// Where the resolved scenario goes beside a log: `run.csv` -> `run.scenario.toml`.
+pub fn scenario_path_for(log: &Path) -> PathBuf {
+    sibling(log, "scenario.toml")
+}
+
+fn sibling(log: &Path, ext: &str) -> PathBuf {
+    let stem = log
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "log".into());
+    log.with_file_name(format!("{stem}.{ext}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_round_trip() {
+        for x in [0.0, 1e-17, -3.5e-9, 0.001, 12.25, 9.80665, 1e300, -0.0] {
+            let mut v = Vec::new();
+            write_num(&mut v, x).unwrap();
+            let s = String::from_utf8(v).unwrap();
+            assert_eq!(s.parse::<f64>().unwrap(), x, "{s}");
+            assert!(s.len() < 26, "{s}");
+        }
+    }
+
+    #[test]
+    fn sibling_paths() {
+        assert_eq!(
+            rig_path_for(Path::new("/tmp/a/run.csv")),
+            PathBuf::from("/tmp/a/run.rig.toml")
+        );
+        assert_eq!(
+            scenario_path_for(Path::new("run")),
+            PathBuf::from("run.scenario.toml")
+        );
+    }
+}
