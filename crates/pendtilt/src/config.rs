@@ -604,7 +604,7 @@ fn check_pendulum(p: &PendulumConfig, issues: &mut Vec<Issue>) {
                     "pendulum.inertia".to_string(),
                     p.inertia,
                     format!(
-                        "inertia about the pivot must be >= mass * length^2 = {point:e} kg m^2 \
+                        "inertia about the pivot must be >= mass * length^2 = {point} kg m^2 \
                          (a point mass at the centre of gravity)"
                     ),
                 ));

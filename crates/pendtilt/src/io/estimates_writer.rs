@@ -32,6 +32,8 @@ pub struct EstimatesWriter<W: Write> {
     with_theta: bool,
     options: WriterOptions,
     flag_text: Vec<String>,
+    /// The flags each `flag_text` entry renders (re-rendered only on change).
+    flag_last: Vec<Flags>,
 }
 
 impl EstimatesWriter<File> {
@@ -82,6 +84,15 @@ impl<W: Write> EstimatesWriter<W> {
         if let Some(n) = names.iter().find(|n| n.trim().is_empty()) {
             return Err(invalid(format!("estimator name `{n}` is empty")));
         }
+        if let Some(n) = names
+            .iter()
+            .find(|n| n.contains([',', '"', '\n', '\r']) || n.trim() != n.as_str())
+        {
+            return Err(invalid(format!(
+                "estimator name `{}` has a comma, quote, line break or outer spaces",
+                n.escape_debug()
+            )));
+        }
         for (i, h) in header.iter().enumerate() {
             if header[..i].contains(h) {
                 return Err(invalid(format!(
@@ -90,14 +101,18 @@ impl<W: Write> EstimatesWriter<W> {
                 )));
             }
         }
+        // Every field is a number, a checked name or a flag list (letters, `_`, `|`): none
+        // needs quoting, so the per-field quoting scan is skipped.
         let mut out = csv::WriterBuilder::new()
             .has_headers(false)
+            .quote_style(csv::QuoteStyle::Never)
             .buffer_capacity(1 << 16)
             .from_writer(out);
         out.write_record(&header).map_err(csv_to_io)?;
         Ok(Self {
             out,
             flag_text: vec![String::new(); names.len()],
+            flag_last: vec![Flags::empty(); names.len()],
             names,
             with_theta,
             options,
@@ -131,9 +146,17 @@ impl<W: Write> EstimatesWriter<W> {
             1.0
         };
         if self.options.flags {
-            for (text, e) in self.flag_text.iter_mut().zip(estimates) {
-                text.clear();
-                write_flags(text, e.flags);
+            for ((text, last), e) in self
+                .flag_text
+                .iter_mut()
+                .zip(self.flag_last.iter_mut())
+                .zip(estimates)
+            {
+                if *last != e.flags {
+                    *last = e.flags;
+                    text.clear();
+                    write_flags(text, e.flags);
+                }
             }
         }
         let row = Row {
@@ -215,6 +238,15 @@ mod tests {
         )
         .unwrap();
         w.write(
+            0.25,
+            &[
+                est(0.0, Flags::ASIN_CLAMPED),
+                est(0.0, Flags::SAMPLE_MISSING | Flags::INITIALISING),
+            ],
+            None,
+        )
+        .unwrap();
+        w.write(
             0.5,
             &[
                 est(std::f64::consts::PI / 2.0, Flags::empty()),
@@ -226,8 +258,12 @@ mod tests {
         let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines[0], "t,accel,alg2,theta,accel_flags,alg2_flags");
-        assert_eq!(lines[1], "0.5,90.0,NaN,180.0,,initialising|sample_missing");
-        assert_eq!(lines.len(), 2);
+        assert_eq!(
+            lines[1],
+            "0.25,0.0,0.0,NaN,asin_clamped,initialising|sample_missing"
+        );
+        assert_eq!(lines[2], "0.5,90.0,NaN,180.0,,initialising|sample_missing");
+        assert_eq!(lines.len(), 3);
     }
 
     #[test]
@@ -257,6 +293,8 @@ mod tests {
         assert!(EstimatesWriter::new(Vec::new(), &["theta"], true, opts).is_err());
         assert!(EstimatesWriter::new(Vec::new(), &["t"], false, opts).is_err());
         assert!(EstimatesWriter::new(Vec::new(), &[""], false, opts).is_err());
+        assert!(EstimatesWriter::new(Vec::new(), &["a,b"], false, opts).is_err());
+        assert!(EstimatesWriter::new(Vec::new(), &[" a"], false, opts).is_err());
         let mut w = EstimatesWriter::new(Vec::new(), &["alg1"], false, opts).unwrap();
         let e = w.write(0.0, &[], None).unwrap_err();
         assert_eq!(e.kind(), io::ErrorKind::InvalidInput);

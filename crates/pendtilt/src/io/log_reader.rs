@@ -568,12 +568,29 @@ impl<R: BufRead> LogReader<R> {
             );
         }
 
+        // Parse the used cells first: the line is checked for UTF-8 once, and every field
+        // (cut at ASCII delimiters and blanks) is then valid text too.
+        let mut parsed = [None; 6];
+        {
+            let whole = std::str::from_utf8(&self.buf).ok();
+            for column in Column::ALL {
+                let Some(&(a, b)) = self.positions[column.index()].and_then(|p| self.fields.get(p))
+                else {
+                    continue;
+                };
+                let text = match whole {
+                    Some(w) => w.get(a..b),
+                    None => std::str::from_utf8(&self.buf[a..b]).ok(),
+                };
+                parsed[column.index()] = text.and_then(|t| t.parse::<f64>().ok());
+            }
+        }
         let mut values = [f64::NAN; 6];
         for column in Column::ALL {
             let Some(pos) = self.positions[column.index()] else {
                 continue;
             };
-            let value = self.cell(column, pos, &mut issues)?;
+            let value = self.cell(column, pos, parsed[column.index()], &mut issues)?;
             values[column.index()] = value;
         }
 
@@ -595,12 +612,13 @@ impl<R: BufRead> LogReader<R> {
         }))
     }
 
-    /// One used cell: a finite value in SI units, or NaN (with a warning) when it is
-    /// missing; an error when it is not a number.
+    /// One used cell (`parsed`: its number, `None` if it is not one): a finite value in SI
+    /// units, or NaN (with a warning) when it is missing; an error when it is not a number.
     fn cell(
         &mut self,
         column: Column,
         pos: usize,
+        parsed: Option<f64>,
         issues: &mut RowIssues,
     ) -> Result<f64, LogError> {
         let Some(&(a, b)) = self.fields.get(pos) else {
@@ -621,9 +639,6 @@ impl<R: BufRead> LogReader<R> {
             );
             return Ok(f64::NAN);
         }
-        let parsed = std::str::from_utf8(&self.buf[a..b])
-            .ok()
-            .and_then(|s| s.parse::<f64>().ok());
         let Some(raw) = parsed else {
             let text = String::from_utf8_lossy(&self.buf[a..b]).into_owned();
             let cell = CellRef {
