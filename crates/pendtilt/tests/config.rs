@@ -427,3 +427,23 @@ fn estimator_table_errors_name_the_key() {
         "> 0",
     );
 }
+
+mod never_panics {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(1000))]
+
+        #[test]
+        fn arbitrary_toml_like_text(
+            body in "(\\[(pendulum|kalman|alg3)\\]\n)?([a-z_0-9]{1,8} = [-0-9.e\"a-z\\[\\]]{0,8}\n){0,6}"
+        ) {
+            if let Ok(cfg) = RigConfig::from_toml_str(&body, "fuzz.toml") {
+                // Whatever loads also writes and reloads to the same value.
+                let back = RigConfig::from_toml_str(&cfg.to_toml_string(), "again.toml");
+                prop_assert_eq!(back.ok(), Some(cfg));
+            }
+        }
+    }
+}

@@ -109,6 +109,9 @@ fn missing_time_column_is_an_error_with_a_hint() {
         "{msg}"
     );
 
+    let e = fails("0,0.1,0.2\n0.001,0.1,0.2\n", ReaderOptions::default());
+    assert!(e.to_string().contains("looks like data"), "{e}");
+
     let e = fails("T,phi\n0,1\n", ReaderOptions::default());
     assert!(e.to_string().contains("did you mean `T`"), "{e}");
 
@@ -549,4 +552,47 @@ fn streaming_from_a_file_gives_one_record_per_row() {
     assert_eq!(count, n);
     assert_eq!(reader.summary().rows, n);
     assert_eq!(reader.summary().total_warnings(), 0, "{}", reader.summary());
+}
+
+mod never_panics {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Reads everything and checks the invariants: rows are in line order, one per data
+    /// line at most, and any value is finite or NaN (never an infinity).
+    fn check(bytes: &[u8]) {
+        let Ok(mut reader) = LogReader::new(bytes, "fuzz.csv", ReaderOptions::default()) else {
+            return;
+        };
+        let lines = bytes.iter().filter(|&&b| b == b'\n').count() as u64 + 1;
+        let mut last = 0;
+        while let Ok(Some(r)) = reader.next_record() {
+            assert!(r.line > last && r.line <= lines);
+            last = r.line;
+            for v in [
+                r.sample.t,
+                r.sample.phi,
+                r.sample.gyro,
+                r.sample.ax,
+                r.sample.ay,
+            ] {
+                assert!(v.is_finite() || v.is_nan());
+            }
+        }
+        let _ = reader.drain_warnings().count();
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        #[test]
+        fn arbitrary_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..300)) {
+            check(&bytes);
+        }
+
+        #[test]
+        fn csv_like_text(body in "[-0-9.,#\"eEnaif \r\n\t]{0,300}") {
+            check(format!("t,phi,gyro\n{body}").as_bytes());
+        }
+    }
 }

@@ -453,6 +453,10 @@ impl<R: BufRead> LogReader<R> {
         if statuses[Column::T.index()].position.is_none() {
             let hint = if let Some(s) = &statuses[Column::T.index()].suggestion {
                 format!("; did you mean `{s}`? (--map t={s})")
+            } else if self.header.iter().all(|h| h.parse::<f64>().is_ok()) {
+                "; the first line looks like data: the log needs a header row \
+                 (t,phi,gyro,ax,ay,theta)"
+                    .to_string()
             } else if self.header.len() == 1 && (listing.contains(';') || listing.contains('\t')) {
                 "; the header is a single field: are the fields separated by `;` or tabs?"
                     .to_string()
