@@ -451,9 +451,12 @@ impl RigConfig {
         out
     }
 
-    /// Writes [`RigConfig::to_toml_string`] to `path`.
+    /// Writes [`RigConfig::to_toml_string`] to `path`; an error message names the path.
     pub fn save(&self, path: impl AsRef<Path>) -> std::io::Result<()> {
-        std::fs::write(path, self.to_toml_string())
+        let path = path.as_ref();
+        std::fs::write(path, self.to_toml_string()).map_err(|e| {
+            std::io::Error::new(e.kind(), format!("cannot write {}: {e}", path.display()))
+        })
     }
 }
 
@@ -600,11 +603,13 @@ fn check_pendulum(p: &PendulumConfig, issues: &mut Vec<Issue>) {
             );
             let point = p.mass * p.length * p.length;
             if issues.is_empty() && p.inertia < point * (1.0 - 1e-12) {
+                // Six significant digits, written plainly (0.00015, not 0.00015000000000000001).
+                let shown: f64 = format!("{point:.5e}").parse().unwrap_or(point);
                 issues.push((
                     "pendulum.inertia".to_string(),
                     p.inertia,
                     format!(
-                        "inertia about the pivot must be >= mass * length^2 = {point} kg m^2 \
+                        "inertia about the pivot must be >= mass * length^2 = {shown} kg m^2 \
                          (a point mass at the centre of gravity)"
                     ),
                 ));

@@ -258,7 +258,7 @@ fn inertia_below_point_mass_is_impossible() {
         "[pendulum]\nmass = 1\nlength = 0.5\ninertia = 0.2\n",
         "pendulum.inertia",
         Some(4),
-        "mass * length^2",
+        "mass * length^2 = 0.25 kg m^2",
     );
     // The same with the inertia defaulted: no line, and the message says it is the default.
     impossible(
@@ -446,4 +446,23 @@ mod never_panics {
             }
         }
     }
+}
+
+#[test]
+fn save_error_names_the_path() {
+    let e = RigConfig::default()
+        .save("/nonexistent/dir/rig.toml")
+        .unwrap_err();
+    assert!(e.to_string().contains("/nonexistent/dir/rig.toml"), "{e}");
+}
+
+#[test]
+fn dotted_keys_at_top_level_are_read_and_located() {
+    let cfg =
+        RigConfig::from_toml_str("pendulum.mass = 0.04\nkalman.r_accel = 0.5\n", "r").unwrap();
+    assert_eq!(cfg.physical().unwrap().mass, 0.04);
+    assert_eq!(cfg.kalman.r_accel, 0.5);
+    let e = err("pendulum.mass = -1\n");
+    assert_eq!(e.location.key.as_deref(), Some("pendulum.mass"));
+    assert_eq!(e.location.line, Some(1));
 }
