@@ -46,7 +46,7 @@ use nalgebra::ComplexField;
 pub const PAPER_ORDER: usize = 50;
 /// Number of taps of the paper's FIR: order + 1 = 51.
 pub const PAPER_TAPS: usize = PAPER_ORDER + 1;
-/// The paper's FIR cut-off frequency [Hz].
+/// The paper's FIR cut-off frequency \[Hz\].
 pub const PAPER_CUTOFF_HZ: f64 = 20.0;
 
 /// The paper's filter type: a 51-tap streaming FIR, built with [`Fir::paper`].
@@ -58,22 +58,22 @@ pub type PaperFir<T> = Fir<T, PAPER_TAPS>;
 pub enum FirError {
     /// The coefficient slice (or history) is empty: a filter needs at least one tap.
     NoTaps,
-    /// The sample rate is not finite and positive [Hz].
+    /// The sample rate is not finite and positive \[Hz\].
     InvalidRate {
-        /// The rejected rate [Hz].
+        /// The rejected rate \[Hz\].
         rate_hz: f64,
     },
-    /// The cut-off is not finite and positive [Hz] (a low-pass at 0 Hz passes nothing).
+    /// The cut-off is not finite and positive \[Hz\] (a low-pass at 0 Hz passes nothing).
     CutoffNotPositive {
-        /// The rejected cut-off [Hz].
+        /// The rejected cut-off \[Hz\].
         cutoff_hz: f64,
     },
     /// The cut-off is at or above the Nyquist frequency (half the rate): the design would
     /// not be a low-pass, and scipy's `firwin` rejects it for the same reason.
     CutoffAboveNyquist {
-        /// The rejected cut-off [Hz].
+        /// The rejected cut-off \[Hz\].
         cutoff_hz: f64,
-        /// Half the sample rate [Hz].
+        /// Half the sample rate \[Hz\].
         nyquist_hz: f64,
     },
     /// [`FirSlice::new`] was given a history whose length differs from the number of taps.
@@ -337,8 +337,9 @@ pub fn magnitude_response<T: Real>(taps: &[T], freq_hz: f64, rate_hz: f64) -> f6
 }
 
 /// `sum a[i] b[i]` over the common length, with four partial sums: a single running sum is
-/// one long chain of dependent multiply-adds; four chains let the CPU overlap them (about
-/// three times faster for the paper's 51 taps) at no cost in accuracy worth mentioning.
+/// one long chain of multiply-adds, each waiting for the previous result; four independent
+/// chains let the CPU overlap them. The summation order differs from the textbook one only
+/// by rounding (about 1e-16 relative for these taps).
 #[inline(always)]
 fn dot<T: Real>(a: &[T], b: &[T]) -> T {
     let mut acc = [T::zero(); 4];
@@ -397,7 +398,11 @@ fn step<T: Real>(taps: &[T], hist: &mut [T], pos: &mut usize, count: &mut usize,
 /// is taken to be the first input (see the [module docs](self)); [`Fir::is_filled`] turns
 /// true once `N` real samples are in the window.
 ///
-/// `N = 0` is rejected at compile time.
+/// `N = 0` is rejected at compile time:
+///
+/// ```compile_fail
+/// let _ = pendtilt_core::filters::fir::Fir::<f64, 0>::new([]);
+/// ```
 ///
 /// ```
 /// use pendtilt_core::filters::fir::PaperFir;

@@ -53,7 +53,7 @@ pub struct Args {
     /// The paper's filter is 50.
     #[arg(long, default_value_t = PAPER_ORDER)]
     pub order: usize,
-    /// Cut-off frequency [Hz] (where scipy's firwin puts it); must be below half the
+    /// Cut-off frequency in Hz (where scipy's firwin puts it); must be below half the
     /// sample rate. The paper's filter is 20 Hz.
     #[arg(long, default_value_t = PAPER_CUTOFF_HZ)]
     pub cutoff: f64,
@@ -64,7 +64,7 @@ pub struct Args {
     /// Window of the windowed-sinc design: hamming, hann, blackman or rectangular.
     #[arg(long, default_value = "hamming", value_parser = parse_window)]
     pub window: Window,
-    /// Name of the time column [s].
+    /// Name of the time column (seconds).
     #[arg(long, default_value = "t")]
     pub time_column: String,
     /// Largest accepted deviation of any time step from the mean step, as a fraction of the
@@ -86,7 +86,7 @@ fn parse_window(s: &str) -> Result<Window, String> {
 pub struct FilterOptions {
     /// FIR order (taps = order + 1), at most [`MAX_ORDER`].
     pub order: usize,
-    /// Cut-off frequency [Hz].
+    /// Cut-off frequency \[Hz\].
     pub cutoff_hz: f64,
     /// Columns to filter; `None` for every numeric column except time.
     pub columns: Option<Vec<String>>,
@@ -141,7 +141,7 @@ pub struct Plan {
     pub filtered: Vec<usize>,
     /// Number of data rows.
     pub rows: u64,
-    /// Sample rate from the time column [Hz].
+    /// Sample rate from the time column \[Hz\].
     pub rate_hz: f64,
     /// The FIR coefficients (order + 1 of them).
     pub taps: Vec<f64>,
