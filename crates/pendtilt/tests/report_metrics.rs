@@ -134,6 +134,21 @@ fn lag_outside_the_window_is_an_error_not_a_wrong_number() {
     .unwrap();
     assert_eq!(m.lag_ms, None);
     assert!(m.notes.iter().any(|n| n.contains("edge")), "{:?}", m.notes);
+    // a delayed copy buried in noise: the lag comes out, flagged as unreliable
+    let (late, truth) = sampled(100.0, 20.0, 0.05);
+    let noisy: Vec<f64> = late
+        .iter()
+        .enumerate()
+        .map(|(k, v)| v + ((k * 7919 % 1009) as f64 / 1009.0 - 0.5) * 36.0)
+        .collect();
+    let m = compute_metrics("noisy", &noisy, &truth, 100.0, &deg_cfg()).unwrap();
+    let r = m.lag_correlation.unwrap();
+    assert!(r < 0.8 && r > 0.2, "r {r}");
+    assert!(
+        m.notes.iter().any(|n| n.contains("unreliable")),
+        "{:?}",
+        m.notes
+    );
     // a constant estimate has no correlation at all
     let flat = vec![1.0; truth.len()];
     assert!(lag_by_xcorr(&flat, &truth, 100.0, 0.1).is_err());

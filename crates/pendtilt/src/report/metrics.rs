@@ -254,6 +254,9 @@ pub fn rate_from_times(t: &[f64]) -> Result<f64, ReportError> {
     Ok((t.len() - 1) as f64 / (t[t.len() - 1] - t[0]))
 }
 
+/// Below this peak correlation [`compute_metrics`] notes that the lag is unreliable.
+pub const WEAK_CORRELATION: f64 = 0.8;
+
 /// Result of [`lag_by_xcorr`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct LagEstimate {
@@ -524,7 +527,16 @@ pub fn compute_metrics(
     let errs = ErrorSamples::new(&est, &tru)?;
     let mut notes = Vec::new();
     let (lag_ms, lag_correlation) = match lag_by_xcorr(&est, &tru, rate_hz, cfg.max_lag_s) {
-        Ok(l) => (Some(l.lag_s * 1e3), Some(l.peak_correlation)),
+        Ok(l) => {
+            // a weak peak (noise-dominated estimate) gives a number that means little
+            if l.peak_correlation < WEAK_CORRELATION {
+                notes.push(format!(
+                    "lag: weak correlation peak (r = {:.2}), the lag is unreliable",
+                    l.peak_correlation
+                ));
+            }
+            (Some(l.lag_s * 1e3), Some(l.peak_correlation))
+        }
         Err(e) => {
             notes.push(format!("lag: {e}"));
             (None, None)

@@ -3,6 +3,15 @@
 //!
 //! The pieces are independent of the estimators: they take named series (the truth and
 //! one series per estimator, sampled at a known rate) and write files.
+//!
+//! - [`metrics`]: RMS, max, bias, std, lag, overshoot, settling, share within tolerance.
+//! - [`figures`] and [`palette`]: PNG + SVG figures, one fixed colour per series name.
+//! - [`fig3`]: the paper's Fig. 3 (Eq 12 and a Monte-Carlo check).
+//! - [`claims`], [`markdown`], [`html`]: claims table, Markdown/JSON, the HTML page.
+//! - [`Report`]: all of it from named series into one directory. `pendtilt report` is
+//!   `Report::new(title, t, theta)`, one `.estimate(name, values)` per estimator column,
+//!   `.reference("accel")`, `.view("FIR 20 Hz", ..)` with the paper's filter, then
+//!   `.write(out_dir)`.
 mod builder;
 pub mod claims;
 pub mod fig3;
