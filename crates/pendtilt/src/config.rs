@@ -82,6 +82,7 @@ use pendtilt_core::estimators::accel::AccelSettings;
 use pendtilt_core::estimators::alg1::Alg1Settings;
 use pendtilt_core::estimators::alg2::Alg2Settings;
 use pendtilt_core::estimators::alg3::Alg3Settings;
+use pendtilt_core::estimators::equations::Alg3Gains;
 use pendtilt_core::filters::diff::DiffSettings;
 use pendtilt_core::kalman::KalmanSettings;
 use pendtilt_core::{PendulumParams, PhysicalParams};
@@ -332,6 +333,11 @@ impl RigConfig {
     /// The physical pendulum, when the file gave the physical form.
     pub fn physical(&self) -> Option<PhysicalParams<f64>> {
         self.pendulum.physical()
+    }
+
+    /// Algorithm 3's gains: those of `[alg3]`, the ones left out K = a, L = b, M = -b, N = 0.
+    pub fn alg3_gains(&self) -> Alg3Gains<f64> {
+        self.alg3.gains(&self.params())
     }
 
     /// Settings of the Kalman filters (`kf_*`), from `[kalman]`.

@@ -227,6 +227,14 @@ impl Alg3Config {
         }
     }
 
+    /// A table with all four gains given (for example a fit result) and the other keys at
+    /// their defaults.
+    pub fn from_gains(g: &Alg3Gains<f64>) -> Self {
+        let mut c = Self::default();
+        c.set_gains(*g);
+        c
+    }
+
     /// Sets all four gains (for example a fit result).
     pub fn set_gains(&mut self, g: Alg3Gains<f64>) {
         self.k = Some(g.k);
