@@ -387,6 +387,14 @@ fn fitted_alg3_gains_round_trip() {
         text.contains("[alg3]") && text.contains("k = 0.051"),
         "{text}"
     );
+    assert_eq!(back.alg3_gains(), g);
+    let mut other = RigConfig::default();
+    other.alg3 = pendtilt::config::Alg3Config::from_gains(&g);
+    assert_eq!(other.alg3_gains(), g);
+    assert_eq!(
+        other.alg3.theta_dd,
+        pendtilt::config::ThetaDdChoice::Matched
+    );
 }
 
 #[test]
