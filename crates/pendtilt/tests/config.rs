@@ -388,8 +388,10 @@ fn fitted_alg3_gains_round_trip() {
         "{text}"
     );
     assert_eq!(back.alg3_gains(), g);
-    let mut other = RigConfig::default();
-    other.alg3 = pendtilt::config::Alg3Config::from_gains(&g);
+    let other = RigConfig {
+        alg3: pendtilt::config::Alg3Config::from_gains(&g),
+        ..RigConfig::default()
+    };
     assert_eq!(other.alg3_gains(), g);
     assert_eq!(
         other.alg3.theta_dd,
