@@ -252,7 +252,7 @@ fn trajectory_matches_an_independent_integration_of_the_body_form() {
             4.0,
         );
         s.pendulum.pivot_offset = l12;
-        // 8 steps per sample (the default is 4) so that both integrations are converged
+        // 8 steps per sample (the default is 2) so that both integrations are converged
         // far below the tolerance: what is left is any difference in the equations.
         s.substeps = 8;
         let rows = simulate(&s, 1).unwrap();

@@ -78,7 +78,7 @@ fn bad_settings_name_the_key() {
         "{e}"
     );
     let mut s = Scenario::named("scooter").unwrap();
-    // 100 Hz x 4 substeps: nodes at 400 Hz cannot carry a 200 Hz band.
+    // 100 Hz x 2 substeps: nodes at 200 Hz cannot carry a 200 Hz band.
     s.rate = 100.0;
     let e = Simulator::new(&s, 1).unwrap_err().to_string();
     assert!(e.contains("vibration.broadband.band"), "{e}");

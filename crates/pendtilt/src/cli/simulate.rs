@@ -60,7 +60,7 @@ pub struct Args {
 /// The options that change one part of the scenario (boxed in [`Args`]: they are many).
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct Settings {
-    /// RK4 steps per sample (default 4).
+    /// RK4 steps per sample (default 2).
     #[arg(long, value_name = "N")]
     pub substeps: Option<u32>,
     /// Switch off every random sensor error (white noise, gyro bias walk, potentiometer

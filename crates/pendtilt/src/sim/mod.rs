@@ -247,10 +247,10 @@ impl Simulator {
         let h = 1.0 / (self.rate * self.substeps as f64);
         let half = 0.5 * h;
         let g = self.pend.params.gravity;
-        self.motion.fill(t0, half, &mut self.kin);
-        self.vib.add_angular(t0, half, &mut self.kin);
+        self.motion.fill(self.k, t0, half, &mut self.kin);
+        self.vib.add_angular(self.k, t0, half, &mut self.kin);
         self.vib
-            .fill_accel(t0, half, &mut self.vib_rng, &mut self.acc);
+            .fill_accel(self.k, t0, half, &mut self.vib_rng, &mut self.acc);
         let mut sc0 = (0.0, 1.0);
         for j in 0..self.kin.len() {
             let sc = self.kin[j][0].sin_cos();

@@ -8,7 +8,7 @@ use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
-use super::sines::{SineSum, Sinusoid};
+use super::sines::{SineGrid, SineSum, Sinusoid};
 use super::SimError;
 
 /// Degrees to radians, for the defaults below.
@@ -321,11 +321,15 @@ impl Motion {
                 tau: m.tau,
                 offset: m.offset,
             },
-            Motion::Sine(m) => MotionFn::Sines {
-                sum: SineSum::new(vec![Sinusoid::scalar(m.amplitude, m.frequency, m.phase)]),
-                offset: m.offset,
-                limit: None,
-            },
+            Motion::Sine(m) => {
+                let sum = SineSum::new(vec![Sinusoid::scalar(m.amplitude, m.frequency, m.phase)]);
+                MotionFn::Sines {
+                    grid: Box::new(SineGrid::new(&sum)),
+                    sum,
+                    offset: m.offset,
+                    limit: None,
+                }
+            }
             Motion::Chirp(m) => MotionFn::Chirp(m.clone()),
             Motion::Manoeuvres(m) => {
                 let n = m.components.max(1) as usize;
@@ -337,8 +341,10 @@ impl Motion {
                         Sinusoid::scalar(amp, f, phase)
                     })
                     .collect();
+                let sum = SineSum::new(parts);
                 MotionFn::Sines {
-                    sum: SineSum::new(parts),
+                    grid: Box::new(SineGrid::new(&sum)),
+                    sum,
                     offset: m.offset,
                     limit: Some(m.amplitude),
                 }
@@ -367,6 +373,8 @@ pub enum MotionFn {
     Sines {
         /// The sinusoids.
         sum: SineSum,
+        /// The same, for evaluation block by block (boxed: it is large).
+        grid: Box<SineGrid>,
         /// Mean tilt [rad].
         offset: f64,
         /// Soft limit [rad].
@@ -408,7 +416,9 @@ impl MotionFn {
                 let s = logistic((t - t0) / tau);
                 [offset + a * s[0], a * s[1] / tau, a * s[2] / (tau * tau)]
             }
-            MotionFn::Sines { sum, offset, limit } => {
+            MotionFn::Sines {
+                sum, offset, limit, ..
+            } => {
                 let u = sum.eval(t);
                 let k = match limit {
                     Some(a) => soft_limit(u, *a),
@@ -443,17 +453,24 @@ impl MotionFn {
         }
     }
 
-    /// Writes theta, theta', theta'' at `t0 + j * dt` into `out[j]` (overwriting).
-    pub fn fill(&self, t0: f64, dt: f64, out: &mut [Kinematics]) {
+    /// Writes theta, theta', theta'' at `t0 + j * dt` into `out[j]` (overwriting), for
+    /// block number `block`; consecutive blocks share their end point (see
+    /// [`SineGrid::add_kinematics`]).
+    pub fn fill(&mut self, block: u64, t0: f64, dt: f64, out: &mut [Kinematics]) {
         match self {
-            MotionFn::Sines { sum, offset, limit } => {
+            MotionFn::Sines {
+                grid,
+                offset,
+                limit,
+                ..
+            } => {
                 out.iter_mut().for_each(|o| *o = [0.0; 3]);
-                sum.add_kinematics(t0, dt, out);
+                grid.add_kinematics(block, t0, dt, out);
                 for o in out.iter_mut() {
                     if let Some(a) = limit {
                         *o = soft_limit(*o, *a);
                     }
-                    o[0] += offset;
+                    o[0] += *offset;
                 }
             }
             _ => {
@@ -525,13 +542,16 @@ mod tests {
     #[test]
     fn grid_fill_matches_eval() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
-        let f = Motion::Manoeuvres(Manoeuvres::default()).build(&mut rng);
+        let mut f = Motion::Manoeuvres(Manoeuvres::default()).build(&mut rng);
         let mut out = [[0.0; 3]; 9];
-        f.fill(12.5, 1.25e-4, &mut out);
-        for (j, o) in out.iter().enumerate() {
-            let e = f.eval(12.5 + j as f64 * 1.25e-4);
-            for i in 0..3 {
-                assert!((o[i] - e[i]).abs() < 1e-12 * (1.0 + e[i].abs()));
+        for k in 0..40u64 {
+            let t0 = 12.5 + k as f64 * 1e-3;
+            f.fill(k, t0, 1.25e-4, &mut out);
+            for (j, o) in out.iter().enumerate() {
+                let e = f.eval(t0 + j as f64 * 1.25e-4);
+                for i in 0..3 {
+                    assert!((o[i] - e[i]).abs() < 1e-12 * (1.0 + e[i].abs()));
+                }
             }
         }
     }

@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 
 use super::motion::Kinematics;
-use super::sines::{SineSum, Sinusoid};
+use super::sines::{SineGrid, SineSum, Sinusoid};
 use super::SimError;
 
 /// One vibration harmonic of P1: `amplitude * sin(2 pi frequency t + phase)` along `axis`.
@@ -260,8 +260,8 @@ struct NoiseAxis {
 /// The vibration of a run, with its random parts drawn.
 #[derive(Debug, Clone)]
 pub struct VibrationGen {
-    harmonics: SineSum,
-    angular: SineSum,
+    harmonics: SineGrid,
+    angular: SineGrid,
     broadband: Vec<(usize, NoiseAxis)>,
     /// Broadband acceleration at the last node [m/s^2], body axes.
     last_node: [f64; 2],
@@ -271,7 +271,7 @@ impl VibrationGen {
     /// Builds the generator for integration nodes at `node_rate` [Hz], warming the broadband
     /// filters up with draws from `rng` so that t = 0 is already in steady state.
     pub fn new<R: Rng>(v: &Vibration, node_rate: f64, rng: &mut R) -> Self {
-        let harmonics = SineSum::new(
+        let harmonics = SineGrid::new(&SineSum::new(
             v.harmonics
                 .iter()
                 .map(|h| {
@@ -282,13 +282,13 @@ impl VibrationGen {
                     }
                 })
                 .collect(),
-        );
-        let angular = SineSum::new(
+        ));
+        let angular = SineGrid::new(&SineSum::new(
             v.angular
                 .iter()
                 .map(|h| Sinusoid::scalar(h.amplitude, h.frequency, h.phase))
                 .collect(),
-        );
+        ));
         let [lo, hi] = v.broadband.band;
         // Only used when the broadband part is on, and then validated: 0 <= lo < hi.
         // Long enough for the slowest pole (about 1 / (2 pi lo)) to die out many times over.
@@ -331,7 +331,15 @@ impl VibrationGen {
     /// `j = 0 .. out.len()`, where `dt` is half an integration step: even `j` are nodes
     /// (new broadband draws after the first), odd `j` are mid-points (linear interpolation).
     /// Consecutive calls must continue in time: `out[0]` repeats the previous call's last node.
-    pub fn fill_accel<R: Rng>(&mut self, t0: f64, dt: f64, rng: &mut R, out: &mut [[f64; 2]]) {
+    /// `block` numbers the calls (the sample index).
+    pub fn fill_accel<R: Rng>(
+        &mut self,
+        block: u64,
+        t0: f64,
+        dt: f64,
+        rng: &mut R,
+        out: &mut [[f64; 2]],
+    ) {
         out.iter_mut().for_each(|o| *o = [0.0; 2]);
         if !self.broadband.is_empty() {
             let mut prev = self.last_node;
@@ -345,12 +353,12 @@ impl VibrationGen {
                 j += 2;
             }
         }
-        self.harmonics.add_vectors(t0, dt, out);
+        self.harmonics.add_vectors(block, t0, dt, out);
     }
 
     /// Adds the angular vibration to theta, theta', theta'' at `t0 + j * dt`.
-    pub fn add_angular(&self, t0: f64, dt: f64, out: &mut [Kinematics]) {
-        self.angular.add_kinematics(t0, dt, out);
+    pub fn add_angular(&mut self, block: u64, t0: f64, dt: f64, out: &mut [Kinematics]) {
+        self.angular.add_kinematics(block, t0, dt, out);
     }
 }
 
@@ -373,7 +381,7 @@ mod tests {
         let mut out = [[0.0; 2]; 9];
         let (mut sx, mut sy, mut n) = (0.0, 0.0, 0.0);
         for k in 0..50_000 {
-            g.fill_accel(k as f64 * 1e-3, 1.25e-4, &mut rng, &mut out);
+            g.fill_accel(k, k as f64 * 1e-3, 1.25e-4, &mut rng, &mut out);
             for o in &out[1..] {
                 sx += o[0] * o[0];
                 sy += o[1] * o[1];
