@@ -225,17 +225,17 @@ impl PendulumConfig {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct KalmanConfig {
-    /// Angle process noise spectral density [rad^2/s], multiplied by dt. Default 0.001.
+    /// Angle process noise spectral density \[rad^2/s\], multiplied by dt. Default 0.001.
     pub q_angle: f64,
-    /// Gyro-bias process noise spectral density [(rad/s)^2/s], multiplied by dt. Default 0.003.
+    /// Gyro-bias process noise spectral density \[(rad/s)^2/s\], multiplied by dt. Default 0.003.
     pub q_bias: f64,
-    /// Measurement variance of the accelerometer angle (Eq 1) [rad^2]. Default 0.03.
+    /// Measurement variance of the accelerometer angle (Eq 1) \[rad^2\]. Default 0.03.
     pub r_accel: f64,
-    /// Measurement variance of a pendulum algorithm's angle [rad^2]. Default 0.001.
+    /// Measurement variance of a pendulum algorithm's angle \[rad^2\]. Default 0.001.
     pub r_pendulum: f64,
-    /// Initial angle variance [rad^2]. Default 0.01.
+    /// Initial angle variance \[rad^2\]. Default 0.01.
     pub p0_angle: f64,
-    /// Initial gyro-bias variance [(rad/s)^2]. Default 0.01.
+    /// Initial gyro-bias variance \[(rad/s)^2\]. Default 0.01.
     pub p0_bias: f64,
 }
 

@@ -76,7 +76,7 @@ pub enum ThetaDdChoice {
 pub struct DifferentiatorConfig {
     /// Filter shape. Default `"butterworth"`.
     pub response: ResponseChoice,
-    /// Fixed cutoff [Hz], > 0. Default: unset (relative cutoff).
+    /// Fixed cutoff \[Hz\], > 0. Default: unset (relative cutoff).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cutoff_hz: Option<f64>,
     /// Cutoff as a multiple of the natural frequency f_n, > 0. Default: unset, meaning 1.7.
@@ -104,11 +104,11 @@ impl DifferentiatorConfig {
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct AccelConfig {
-    /// Cutoff [Hz] of a 2nd-order low-pass on ax, ay before atan2, > 0. Default: unset
+    /// Cutoff \[Hz\] of a 2nd-order low-pass on ax, ay before atan2, > 0. Default: unset
     /// (off: the paper's Eq 1 on raw samples).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub prefilter_hz: Option<f64>,
-    /// Accelerometer full scale [m/s^2], > 0: samples at or beyond it are flagged
+    /// Accelerometer full scale \[m/s^2\], > 0: samples at or beyond it are flagged
     /// `saturated`. Default: unset (unknown).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub full_scale: Option<f64>,
@@ -132,7 +132,7 @@ pub struct Alg1Config {
     pub phi: PhiChoice,
 }
 
-/// Default Eq (22) window [s] when `theta_dd = "window"`.
+/// Default Eq (22) window \[s\] when `theta_dd = "window"`.
 pub const DEFAULT_GD_WINDOW: f64 = 0.02;
 
 fn default_window() -> f64 {
@@ -147,7 +147,7 @@ pub struct Alg2Config {
     pub phi: PhiChoice,
     /// Where theta'' comes from. Default `"matched"`.
     pub theta_dd: ThetaDdChoice,
-    /// Eq (22) window [s], > 0, used with `theta_dd = "window"`. Default 0.02.
+    /// Eq (22) window \[s\], > 0, used with `theta_dd = "window"`. Default 0.02.
     #[serde(default = "default_window")]
     pub window: f64,
     /// Add the pivot-offset term c (theta'' cos phi - theta'^2 sin phi) to `alg2` itself.
@@ -180,23 +180,23 @@ pub(super) fn theta_dd(choice: ThetaDdChoice, window: f64) -> ThetaDdSource<f64>
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Alg3Config {
-    /// K, multiplies phi' [s]. Default a.
+    /// K, multiplies phi' \[s\]. Default a.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub k: Option<f64>,
-    /// L, multiplies phi'' [s^2]. Default b.
+    /// L, multiplies phi'' \[s^2\]. Default b.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub l: Option<f64>,
-    /// M, multiplies G_d [s^2]. Default -b.
+    /// M, multiplies G_d \[s^2\]. Default -b.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub m: Option<f64>,
-    /// N, multiplies the gyro G_k outside the asin [s]. Default 0.
+    /// N, multiplies the gyro G_k outside the asin \[s\]. Default 0.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub n: Option<f64>,
     /// Which phi enters the equation. Default `"raw"`.
     pub phi: PhiChoice,
     /// Where G_d comes from. Default `"matched"`.
     pub theta_dd: ThetaDdChoice,
-    /// Eq (22) window [s], > 0, used with `theta_dd = "window"`. Default 0.02.
+    /// Eq (22) window \[s\], > 0, used with `theta_dd = "window"`. Default 0.02.
     #[serde(default = "default_window")]
     pub window: f64,
 }

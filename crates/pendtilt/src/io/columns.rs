@@ -6,17 +6,17 @@ use std::str::FromStr;
 /// A column of the sensor log contract (MODEL.md section 5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Column {
-    /// `t`: time [s], strictly increasing. Required.
+    /// `t`: time \[s\], strictly increasing. Required.
     T,
-    /// `phi`: encoder, pendulum angle relative to the body [rad].
+    /// `phi`: encoder, pendulum angle relative to the body \[rad\].
     Phi,
-    /// `gyro`: body rate about the tilt axis [rad/s].
+    /// `gyro`: body rate about the tilt axis \[rad/s\].
     Gyro,
-    /// `ax`: accelerometer specific force along body x [m/s^2].
+    /// `ax`: accelerometer specific force along body x \[m/s^2\].
     Ax,
-    /// `ay`: accelerometer specific force along body y [m/s^2].
+    /// `ay`: accelerometer specific force along body y \[m/s^2\].
     Ay,
-    /// `theta`: true tilt [rad] (potentiometer), optional.
+    /// `theta`: true tilt \[rad\] (potentiometer), optional.
     Theta,
 }
 

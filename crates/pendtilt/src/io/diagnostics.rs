@@ -98,15 +98,15 @@ impl fmt::Display for LogWarning {
 pub struct LogSummary {
     /// Data rows returned.
     pub rows: u64,
-    /// Time of the first row with a finite time [s].
+    /// Time of the first row with a finite time \[s\].
     pub first_t: Option<f64>,
-    /// Time of the last row with a finite time [s].
+    /// Time of the last row with a finite time \[s\].
     pub last_t: Option<f64>,
-    /// The nominal time step: the median of the first positive steps [s].
+    /// The nominal time step: the median of the first positive steps \[s\].
     pub nominal_dt: Option<f64>,
-    /// The smallest positive time step seen [s].
+    /// The smallest positive time step seen \[s\].
     pub min_dt: Option<f64>,
-    /// The largest time step seen [s].
+    /// The largest time step seen \[s\].
     pub max_dt: Option<f64>,
     /// Per contract column ([`Column::ALL`] order): cells read as missing (empty, nan,
     /// inf, or absent from a truncated row).

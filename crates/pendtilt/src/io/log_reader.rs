@@ -25,10 +25,10 @@ use super::columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumn
 use super::diagnostics::{LogSummary, LogWarning, WarningKind};
 use super::split::{split_fields, unquote, SplitError};
 
-/// An angle beyond this [rad] in a column read as radians looks like degrees (about 200
+/// An angle beyond this \[rad\] in a column read as radians looks like degrees (about 200
 /// degrees: a pendulum or a tilt never gets there, a degree value of a few tens does).
 pub const ANGLE_LOOKS_LIKE_DEGREES: f64 = 3.5;
-/// A rate beyond this [rad/s] in a gyro column read as rad/s looks like deg/s (2000
+/// A rate beyond this \[rad/s\] in a gyro column read as rad/s looks like deg/s (2000
 /// deg/s is the largest full scale of common MEMS gyros).
 pub const RATE_LOOKS_LIKE_DEGREES: f64 = 35.0;
 
@@ -93,7 +93,7 @@ pub struct LogRecord {
     /// The sensors in SI units; a missing or non-finite cell, or a column the log does not
     /// have, is NaN.
     pub sample: Sample<f64>,
-    /// The true tilt [rad]: `None` when the log has no `theta` column, `Some(NaN)` when
+    /// The true tilt \[rad\]: `None` when the log has no `theta` column, `Some(NaN)` when
     /// this row's cell is missing.
     pub theta: Option<f64>,
     /// What was wrong with the row.
