@@ -510,6 +510,17 @@ fn invalid_utf8_is_an_error_not_a_panic() {
 }
 
 #[test]
+fn utf16_file_is_named_as_such() {
+    let bytes: &[u8] = b"\xFF\xFEt\x00,\x00p\x00\n\x00";
+    let e = LogReader::new(bytes, "log.csv", ReaderOptions::default()).unwrap_err();
+    assert!(matches!(*e.kind, LogErrorKind::Utf16), "{e}");
+    assert_eq!(
+        e.to_string(),
+        "log.csv:1: the file is UTF-16 text; save it as UTF-8 (or ASCII)"
+    );
+}
+
+#[test]
 fn missing_file_names_it() {
     let e = LogReader::open("/nonexistent/log.csv", ReaderOptions::default()).unwrap_err();
     assert!(matches!(*e.kind, LogErrorKind::Io(_)));

@@ -124,6 +124,9 @@ pub enum LogErrorKind {
     /// A line that is not UTF-8 text.
     #[error("not UTF-8 text")]
     InvalidUtf8,
+    /// The file starts with a UTF-16 byte-order mark.
+    #[error("the file is UTF-16 text; save it as UTF-8 (or ASCII)")]
+    Utf16,
     /// A quoted field not closed on its line.
     #[error("a quoted field is not closed on its line")]
     UnterminatedQuote,
@@ -385,6 +388,11 @@ impl<R: BufRead> LogReader<R> {
     fn read_header(&mut self) -> Result<(), LogError> {
         if !self.next_line()? {
             return Err(self.error(None, None, LogErrorKind::Empty));
+        }
+        if self.line == 1
+            && (self.buf.starts_with(b"\xFF\xFE") || self.buf.starts_with(b"\xFE\xFF"))
+        {
+            return Err(self.error(Some(1), None, LogErrorKind::Utf16));
         }
         self.split()?;
         let quoted = self.buf.contains(&b'"');
