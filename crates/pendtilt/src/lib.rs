@@ -7,6 +7,7 @@ pub use pendtilt_core as core;
 
 pub mod cli;
 pub mod config;
+pub mod fit;
 pub mod io;
 pub mod report;
 pub mod sim;

@@ -1,10 +1,238 @@
-//! `pendtilt fit`.
+//! `pendtilt fit LOG.csv --target truth|gyro --method newton|lm [--algorithm alg1|alg2|alg3]
+//! -o RIG.toml`: fits the pendulum's parameters to a log (paper section IV-B, C) and writes a
+//! rig file that `pendtilt estimate` reads as it is.
+use std::path::PathBuf;
+
+use anyhow::Context;
+
+use crate::config::RigConfig;
+use crate::fit::{self, Algorithm, FitSettings, Iteration, Method, Target};
+use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions};
+use pendtilt_core::supervision::Objective;
 
 /// Options of `pendtilt fit`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// The sensor log (CSV, MODEL.md section 5).
+    pub log: PathBuf,
+    /// Cost: `truth` = Eq (23) against the `theta` column; `gyro` = Eq (29) against the gyro.
+    #[arg(long, value_enum, default_value = "truth")]
+    pub target: Target,
+    /// Optimiser: `newton` = the paper's Eqs (24)-(28); `lm` = Levenberg-Marquardt.
+    #[arg(long, value_enum, default_value = "newton")]
+    pub method: Method,
+    /// Which parameters: alg1/alg2 fit a, b; alg3 fits K, L, M, N.
+    #[arg(long, value_enum, default_value = "alg2")]
+    pub algorithm: Algorithm,
+    /// Where to write the fitted rig file (TOML).
+    #[arg(long, short = 'o')]
+    pub output: PathBuf,
+    /// Rig file with the start values (and the differentiator settings). Default: the
+    /// MODEL.md rig.
+    #[arg(long, short = 'p')]
+    pub params: Option<PathBuf>,
+    /// Start a [s] (overrides the rig file).
+    #[arg(long)]
+    pub a: Option<f64>,
+    /// Start b [s^2] (overrides the rig file).
+    #[arg(long)]
+    pub b: Option<f64>,
+    /// Newton's step factor h (Eq 24).
+    #[arg(long, default_value_t = 1.0)]
+    pub h: f64,
+    /// Newton's finite difference dp (Eqs 25-28), absolute.
+    #[arg(long, default_value_t = 1e-6)]
+    pub dp: f64,
+    /// Iteration limit.
+    #[arg(long, default_value_t = 100)]
+    pub max_iterations: usize,
+    /// Newton: stop when the cost changes by less than this fraction.
+    #[arg(long, default_value_t = 1e-10)]
+    pub ftol: f64,
+    /// Newton: stop when every parameter changes by less than this fraction.
+    #[arg(long, default_value_t = 1e-8)]
+    pub xtol: f64,
+    /// Newton minimises the mean square instead of the paper's RMS (same minimiser).
+    #[arg(long)]
+    pub mean_square: bool,
+    /// Seconds at the start left out while the differentiators settle.
+    #[arg(long, default_value_t = 0.5)]
+    pub skip: f64,
+    /// Compare with the raw target (the paper's cost as printed) instead of the target
+    /// through the same low-pass as phi.
+    #[arg(long)]
+    pub unmatched: bool,
+    /// Other column names, e.g. `phi=enc_angle,gyro=gz`.
+    #[arg(long, default_value = "")]
+    pub map: ColumnMap,
+    /// Angular columns in degrees: alone, every one; or a list like `phi,theta`.
+    #[arg(long, num_args = 0..=1, default_missing_value = "all")]
+    pub deg: Option<DegreeColumns>,
+    /// Print nothing but errors.
+    #[arg(long, short = 'q')]
+    pub quiet: bool,
+}
 
 /// Runs `pendtilt fit`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("pendtilt fit is not built yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let mut rig = match &args.params {
+        Some(p) => RigConfig::load(p)?,
+        None => RigConfig::default(),
+    };
+    let mut start = rig.params();
+    if let Some(a) = args.a {
+        start.a = a;
+    }
+    if let Some(b) = args.b {
+        start.b = b;
+    }
+    let options = ReaderOptions {
+        map: args.map.clone(),
+        degrees: args.deg.unwrap_or_default(),
+        ..ReaderOptions::default()
+    };
+    let mut log = LogReader::open(&args.log, options)?;
+    if !args.quiet {
+        eprintln!("{}: {}", log.file(), log.columns());
+    }
+    let has_theta = log.columns().has(Column::Theta);
+    let mut samples = Vec::new();
+    let mut truth = Vec::new();
+    while let Some(rec) = log.next_record()? {
+        if !args.quiet {
+            for w in log.drain_warnings() {
+                eprintln!("warning: {w}");
+            }
+        }
+        samples.push(rec.sample);
+        truth.push(rec.theta.unwrap_or(f64::NAN));
+    }
+    if !args.quiet {
+        eprintln!("read {} samples", samples.len());
+    }
+    let mut settings = FitSettings {
+        algorithm: args.algorithm,
+        target: args.target,
+        method: args.method,
+        start,
+        start_gains: (args.algorithm == Algorithm::Alg3 && args.a.is_none() && args.b.is_none())
+            .then(|| rig.alg3.gains(&start)),
+        objective: if args.mean_square {
+            Objective::MeanSquare
+        } else {
+            Objective::Rms
+        },
+        ..FitSettings::default()
+    };
+    settings.kinematics.differentiator = rig.diff_settings();
+    settings.kinematics.skip = args.skip;
+    settings.kinematics.matched_target = !args.unmatched;
+    settings.newton.h = args.h;
+    settings.newton.dp = args.dp;
+    settings.newton.max_iterations = args.max_iterations;
+    settings.newton.ftol = args.ftol;
+    settings.newton.xtol = args.xtol;
+    settings.lm.max_iterations = args.max_iterations;
+    let problem = fit::prepare(&samples, has_theta.then_some(&truth[..]), &settings)?;
+    let unit = match args.target {
+        Target::Truth => "rad",
+        Target::Gyro => "rad/s",
+    };
+    let quiet = args.quiet;
+    if !quiet {
+        eprintln!(
+            "fitting {} of {:?} by {:?} on {} samples (cost Eq {} in {unit}, differentiator cutoff {:.3} Hz)",
+            args.algorithm.names().join(", "),
+            args.algorithm,
+            args.method,
+            problem.len(),
+            if args.target == Target::Truth { 23 } else { 29 },
+            problem.cutoff_hz(),
+        );
+        let names: Vec<String> = args
+            .algorithm
+            .names()
+            .iter()
+            .map(|n| format!("{n:>13}"))
+            .collect();
+        eprintln!(
+            "{:>4} {} {:>12} {:>10} {:>10} {:>5}",
+            "iter",
+            names.join(" "),
+            "cost",
+            "|grad|",
+            if args.method == Method::Newton {
+                "step"
+            } else {
+                "lambda"
+            },
+            "evals"
+        );
+    }
+    let report = fit::fit(&problem, &settings, |it: &Iteration| {
+        if !quiet {
+            let p: Vec<String> = it.params.iter().map(|v| format!("{v:>13.6e}")).collect();
+            eprintln!(
+                "{:>4} {} {:>12.5e} {:>10.3e} {:>10.3e} {:>5}",
+                it.n,
+                p.join(" "),
+                it.cost,
+                it.gradient_norm,
+                it.step,
+                it.evaluations
+            );
+        }
+    })?;
+    let fitted = report.pendulum_params();
+    println!(
+        "{:?} after {} iterations ({} passes over the log, {:.1} ms): cost {:.4e} -> {:.4e} {}",
+        report.stop,
+        report.iterations.len() - 1,
+        report.evaluations,
+        report.elapsed.as_secs_f64() * 1e3,
+        report.start_cost,
+        report.cost,
+        report.cost_unit()
+    );
+    for (n, v) in report.names.iter().zip(&report.params) {
+        println!("  {n} = {v:.6e}");
+    }
+    if fitted.b > 0.0 && fitted.a.is_finite() {
+        println!(
+            "  natural frequency {:.4} Hz ({:.3} rad/s), damping ratio {:.4}",
+            fitted.natural_frequency_hz(),
+            fitted.natural_frequency(),
+            fitted.damping_ratio()
+        );
+    }
+    anyhow::ensure!(
+        fitted.a >= 0.0 && fitted.b > 0.0,
+        "the fit left the physical region ({} = {:.4e}, {} = {:.4e}): not written; check the \
+         log's columns and units, or start closer",
+        report.names[0],
+        fitted.a,
+        report.names[1],
+        fitted.b
+    );
+    let mut differentiator = rig.differentiator;
+    rig = RigConfig::from_params(fitted)?;
+    // The differentiator the fit used, fixed in Hz as its kinematics were, so that
+    // `pendtilt estimate` with this file computes exactly what was fitted.
+    differentiator.cutoff_hz = Some(problem.cutoff_hz());
+    differentiator.cutoff_times_natural = None;
+    rig.differentiator = differentiator;
+    if args.algorithm == Algorithm::Alg3 {
+        let g = report.gains();
+        rig.alg3.k = Some(g.k);
+        rig.alg3.l = Some(g.l);
+        rig.alg3.m = Some(g.m);
+        rig.alg3.n = Some(g.n);
+    }
+    rig.validate()?;
+    rig.save(&args.output)
+        .with_context(|| format!("writing {}", args.output.display()))?;
+    if !quiet {
+        eprintln!("wrote {}", args.output.display());
+    }
+    Ok(())
 }

@@ -1,0 +1,547 @@
+//! Offline parameter fitting (paper section IV-B, C): the paper's Newton's method on the
+//! Eq (23) / Eq (29) cost, and Levenberg-Marquardt with an analytic Jacobian.
+//!
+//! - Eq (23): `F(P) = RMS(theta_est(P) - theta_true)`, with a true angle
+//!   ([`Target::Truth`]).
+//! - Eq (29): `F(P) = RMS(d/dt theta_est(P) - G)`, against the gyro ([`Target::Gyro`]);
+//!   `d/dt theta_est` is the difference of consecutive estimates over their time step,
+//!   compared with the mean of the two gyro samples.
+//! - Parameters: a, b for alg1 (Eq 20) and alg2 (Eq 21); K, L, M, N for alg3 (Eq 30).
+//!
+//! Methods:
+//! - [`Method::Newton`]: Eqs (24)-(28) with the finite differences of MODEL.md section 3
+//!   (step h, difference dp, tolerances and iteration limit in
+//!   [`pendtilt_core::supervision::NewtonSettings`]), one logged [`Iteration`] per step; the
+//!   iteration itself is [`pendtilt_core::supervision::newton::newton_iteration`], the same
+//!   code the live supervisor runs.
+//! - [`Method::Lm`]: Levenberg-Marquardt (beyond the paper) on the sum of squared
+//!   residuals, with the analytic Jacobian of Eq (20)/(21)/(30), normal equations
+//!   accumulated in one pass into nalgebra 4x4 fixed matrices ([`lm`]). The
+//!   `levenberg-marquardt` crate was not used: its current release depends on nalgebra
+//!   0.34 (we are on 0.35), and it wants the whole residual vector and Jacobian (100,000 x 4)
+//!   materialised and QR-factorised every iteration.
+//!
+//! Fitting is fast because the kinematics are cached: see [`problem`]. The live
+//! counterparts (sliding window Newton, RLS) are in [`pendtilt_core::supervision`].
+//!
+//! Before fitting, the cost's sensitivity is checked ([`sensitivity`]): a log in which a
+//! 100 % change of the parameters (along the least sensitive direction) changes the
+//! estimate by less than [`FitSettings::min_sensitivity`] is reported as
+//! [`FitError::Unidentifiable`] instead of returning a number.
+pub mod lm;
+pub mod problem;
+
+use std::time::{Duration, Instant};
+
+use nalgebra::{Matrix4, Vector4};
+use pendtilt_core::estimators::equations::Alg3Gains;
+use pendtilt_core::supervision::newton::{converged, newton_iteration, NewtonError};
+use pendtilt_core::supervision::{NewtonSettings, Objective};
+use pendtilt_core::{PendulumParams, Sample};
+
+pub use lm::LmSettings;
+pub use problem::{KinematicsSettings, Problem};
+
+/// Which estimator's parameters are fitted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Algorithm {
+    /// Eq (20): a, b.
+    Alg1,
+    /// Eq (21): a, b.
+    Alg2,
+    /// Eq (30): K, L, M, N.
+    Alg3,
+}
+
+impl Algorithm {
+    /// The names of the fitted parameters.
+    pub fn names(self) -> &'static [&'static str] {
+        match self {
+            Algorithm::Alg1 | Algorithm::Alg2 => &["a", "b"],
+            Algorithm::Alg3 => &["K", "L", "M", "N"],
+        }
+    }
+
+    /// Which of the four internal parameters move.
+    fn active(self) -> [bool; 4] {
+        match self {
+            Algorithm::Alg1 | Algorithm::Alg2 => [true, true, false, false],
+            Algorithm::Alg3 => [true; 4],
+        }
+    }
+}
+
+/// What the estimate is compared with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Target {
+    /// The true angle (`theta` column), Eq (23).
+    Truth,
+    /// The gyro, Eq (29).
+    Gyro,
+}
+
+/// Which optimiser.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Method {
+    /// The paper's Newton's method, Eqs (24)-(28).
+    Newton,
+    /// Levenberg-Marquardt with the analytic Jacobian.
+    Lm,
+}
+
+/// Why a fit failed.
+#[derive(Debug, thiserror::Error)]
+pub enum FitError {
+    /// A start value that the model cannot take.
+    #[error("invalid start value {name} = {value}: {why}")]
+    InvalidStart {
+        /// The parameter.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// The rule it breaks.
+        why: &'static str,
+    },
+    /// The log lacks a column the fit needs.
+    #[error("the log has no usable `{0}` column, which this fit needs")]
+    MissingColumn(&'static str),
+    /// Not enough usable samples.
+    #[error("only {have} usable samples after the settling time; a fit needs at least {need}")]
+    TooFewSamples {
+        /// Usable residuals.
+        have: usize,
+        /// Needed.
+        need: usize,
+    },
+    /// The cost is flat: the log does not determine the parameters.
+    #[error(
+        "the parameters are not identifiable from this log: changing them by 100 % along \
+         the least sensitive direction ({direction}) changes the estimate by only \
+         {sensitivity:.3e} {unit} RMS (threshold {threshold:.1e}); the log needs more \
+         motion"
+    )]
+    Unidentifiable {
+        /// RMS change of the estimate (or of its rate) per 100 % parameter change.
+        sensitivity: f64,
+        /// The threshold.
+        threshold: f64,
+        /// rad or rad/s.
+        unit: &'static str,
+        /// The least sensitive direction, as relative parameter changes.
+        direction: String,
+    },
+    /// The cost is not finite at the start.
+    #[error("the cost is not finite at the start values")]
+    NonFiniteCost,
+    /// A setting that cannot be used.
+    #[error("bad setting: {0}")]
+    BadSettings(String),
+}
+
+/// Everything a fit is told.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitSettings {
+    /// Which parameters. Default alg2.
+    pub algorithm: Algorithm,
+    /// Against what. Default the true angle.
+    pub target: Target,
+    /// Which optimiser. Default Newton.
+    pub method: Method,
+    /// Start a, b (alg1, alg2; also the differentiator cutoff). Default: the MODEL.md rig.
+    pub start: PendulumParams<f64>,
+    /// Start K, L, M, N for alg3. Default (None): K = a, L = b, M = -b, N = 0.
+    pub start_gains: Option<Alg3Gains<f64>>,
+    /// How the kinematics are computed.
+    pub kinematics: KinematicsSettings,
+    /// Newton's h, dp (absolute), tolerances, iteration limit. Default h = 1, dp = 1e-6,
+    /// ftol 1e-10, xtol 1e-8, 100 iterations.
+    pub newton: NewtonSettings<f64>,
+    /// What Newton minimises. Default the paper's RMS.
+    pub objective: Objective,
+    /// Levenberg-Marquardt settings.
+    pub lm: LmSettings,
+    /// Smallest RMS change of the estimate for a 100 % parameter change below which the
+    /// log is reported as unidentifiable: rad for the truth target, rad/s for the gyro.
+    /// Default None: 1e-3 rad, 1e-2 rad/s.
+    pub min_sensitivity: Option<f64>,
+}
+
+impl Default for FitSettings {
+    fn default() -> Self {
+        Self {
+            algorithm: Algorithm::Alg2,
+            target: Target::Truth,
+            method: Method::Newton,
+            start: PendulumParams::default(),
+            start_gains: None,
+            kinematics: KinematicsSettings::default(),
+            newton: NewtonSettings::default(),
+            objective: Objective::Rms,
+            lm: LmSettings::default(),
+            min_sensitivity: None,
+        }
+    }
+}
+
+impl FitSettings {
+    /// The start as the four internal parameters, checked: a and b (K and L) must be
+    /// finite and > 0, M and N finite.
+    pub fn start_vector(&self) -> Result<Vector4<f64>, FitError> {
+        let pos = "must be a finite number > 0";
+        let check = |name, value: f64, positive: bool| {
+            if !value.is_finite() || (positive && value <= 0.0) {
+                Err(FitError::InvalidStart {
+                    name,
+                    value,
+                    why: if positive { pos } else { "must be finite" },
+                })
+            } else {
+                Ok(())
+            }
+        };
+        match self.algorithm {
+            Algorithm::Alg1 | Algorithm::Alg2 => {
+                check("a", self.start.a, true)?;
+                check("b", self.start.b, true)?;
+                Ok(Vector4::new(self.start.a, self.start.b, 0.0, 0.0))
+            }
+            Algorithm::Alg3 => {
+                check("b", self.start.b, true)?;
+                let g = self
+                    .start_gains
+                    .unwrap_or_else(|| Alg3Gains::from_params(&self.start));
+                check("K", g.k, true)?;
+                check("L", g.l, true)?;
+                check("M", g.m, false)?;
+                check("N", g.n, false)?;
+                Ok(Vector4::new(g.k, g.l, g.m, g.n))
+            }
+        }
+    }
+
+    fn threshold(&self) -> f64 {
+        self.min_sensitivity.unwrap_or(match self.target {
+            Target::Truth => 1e-3,
+            Target::Gyro => 1e-2,
+        })
+    }
+}
+
+/// One logged iteration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Iteration {
+    /// 1-based iteration number (0 is the start).
+    pub n: usize,
+    /// The parameters after it (a, b or K, L, M, N).
+    pub params: Vec<f64>,
+    /// The RMS cost (Eq 23 or 29) after it.
+    pub cost: f64,
+    /// Norm of the gradient used (Newton: finite-difference F'; LM: J'r / n).
+    pub gradient_norm: f64,
+    /// Newton: the factor that multiplied the step (h, halved as needed). LM: the damping
+    /// lambda.
+    pub step: f64,
+    /// Cost evaluations (passes over the log) in this iteration.
+    pub evaluations: usize,
+}
+
+/// Why the iterations stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// The change of cost or of the parameters met the tolerances.
+    Converged,
+    /// No step lowered the cost: a minimum to within the finite differences.
+    NoDescent,
+    /// The iteration limit was reached first.
+    IterationLimit,
+}
+
+/// The result of a fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitReport {
+    /// Which parameters.
+    pub algorithm: Algorithm,
+    /// Against what.
+    pub target: Target,
+    /// Which optimiser.
+    pub method: Method,
+    /// Parameter names.
+    pub names: Vec<&'static str>,
+    /// The start values.
+    pub start: Vec<f64>,
+    /// The fitted values.
+    pub params: Vec<f64>,
+    /// RMS cost at the start (rad or rad/s).
+    pub start_cost: f64,
+    /// RMS cost at the fitted values.
+    pub cost: f64,
+    /// Every iteration.
+    pub iterations: Vec<Iteration>,
+    /// Total cost evaluations (passes over the log), including the sensitivity check.
+    pub evaluations: usize,
+    /// Why it stopped.
+    pub stop: Stop,
+    /// Residuals in the cost.
+    pub samples: usize,
+    /// The sensitivity found by the identifiability check.
+    pub sensitivity: f64,
+    /// Differentiator cutoff used [Hz].
+    pub cutoff_hz: f64,
+    /// Wall time of the iterations (without computing the kinematics).
+    pub elapsed: Duration,
+}
+
+impl FitReport {
+    /// The fitted pendulum (alg1, alg2: a, b; alg3: a = K, b = L), c = 0.
+    pub fn pendulum_params(&self) -> PendulumParams<f64> {
+        PendulumParams {
+            a: self.params[0],
+            b: self.params[1],
+            c: 0.0,
+        }
+    }
+
+    /// The fitted gains (alg3), or the Eq (21)-equivalent gains of a, b.
+    pub fn gains(&self) -> Alg3Gains<f64> {
+        match self.algorithm {
+            Algorithm::Alg3 => Alg3Gains {
+                k: self.params[0],
+                l: self.params[1],
+                m: self.params[2],
+                n: self.params[3],
+            },
+            _ => Alg3Gains::from_params(&self.pendulum_params()),
+        }
+    }
+
+    /// Unit of the cost: rad (truth) or rad/s (gyro).
+    pub fn cost_unit(&self) -> &'static str {
+        match self.target {
+            Target::Truth => "rad",
+            Target::Gyro => "rad/s",
+        }
+    }
+}
+
+/// Computes the kinematics of a log once: see [`Problem::new`].
+pub fn prepare(
+    samples: &[Sample<f64>],
+    truth: Option<&[f64]>,
+    settings: &FitSettings,
+) -> Result<Problem, FitError> {
+    settings.start_vector()?;
+    Problem::new(
+        samples,
+        truth,
+        settings.algorithm,
+        settings.target,
+        &settings.start,
+        &settings.kinematics,
+    )
+}
+
+/// The identifiability check: the RMS change of the estimate (truth) or of its rate
+/// (gyro) when the parameters change by 100 % of their start size along the least
+/// sensitive direction: `sqrt(lambda_min(D J'J D / n))`, D = diag(|p0|) (N scaled like K).
+/// Returns it with that direction.
+pub fn sensitivity(problem: &Problem, p0: &Vector4<f64>, active: [bool; 4]) -> (f64, Vec<f64>) {
+    let (jtj, _, _) = problem.normal_equations(p0);
+    let scale = [p0[0].abs(), p0[1].abs(), p0[2].abs(), p0[0].abs()];
+    let idx: Vec<usize> = (0..4).filter(|&j| active[j]).collect();
+    let m = idx.len();
+    let mut s = nalgebra::DMatrix::<f64>::zeros(m, m);
+    for (a, &i) in idx.iter().enumerate() {
+        for (b, &j) in idx.iter().enumerate() {
+            s[(a, b)] = jtj[(i, j)] * scale[i] * scale[j] / problem.len() as f64;
+        }
+    }
+    let eig = s.symmetric_eigen();
+    let (k, &lmin) = eig
+        .eigenvalues
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .unwrap_or((0, &0.0));
+    let dir = if m > 0 {
+        eig.eigenvectors.column(k).iter().copied().collect()
+    } else {
+        Vec::new()
+    };
+    (lmin.max(0.0).sqrt(), dir)
+}
+
+/// Fits the parameters of `problem` as `settings` say; `on_iteration` sees every
+/// iteration as it is made (iteration 0 is the start).
+pub fn fit(
+    problem: &Problem,
+    settings: &FitSettings,
+    mut on_iteration: impl FnMut(&Iteration),
+) -> Result<FitReport, FitError> {
+    if problem.algorithm() != settings.algorithm || problem.target() != settings.target {
+        return Err(FitError::BadSettings(
+            "the problem was prepared for another algorithm or target".into(),
+        ));
+    }
+    let p0 = settings.start_vector()?;
+    let active = settings.algorithm.active();
+    let n_active = settings.algorithm.names().len();
+    let started = Instant::now();
+    let (sens, dir) = sensitivity(problem, &p0, active);
+    let threshold = settings.threshold();
+    let unit = match settings.target {
+        Target::Truth => "rad",
+        Target::Gyro => "rad/s",
+    };
+    if !(sens >= threshold) {
+        let names = settings.algorithm.names();
+        let direction = names
+            .iter()
+            .zip(&dir)
+            .map(|(n, d)| format!("{n} {d:+.2}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        return Err(FitError::Unidentifiable {
+            sensitivity: sens,
+            threshold,
+            unit,
+            direction,
+        });
+    }
+    let start_cost = problem.cost(&p0, Objective::Rms);
+    if !start_cost.is_finite() {
+        return Err(FitError::NonFiniteCost);
+    }
+    let take = |p: &Vector4<f64>| p.iter().take(n_active).copied().collect::<Vec<f64>>();
+    let it0 = Iteration {
+        n: 0,
+        params: take(&p0),
+        cost: start_cost,
+        gradient_norm: f64::NAN,
+        step: f64::NAN,
+        evaluations: 2,
+    };
+    on_iteration(&it0);
+    let mut iterations = vec![it0];
+    let mut evaluations = 2usize;
+    let (p, stop) = match settings.method {
+        Method::Newton => {
+            let s = &settings.newton;
+            pendtilt_core::supervision::newton::check_settings(s).map_err(|_| {
+                FitError::BadSettings("Newton h and dp must be finite and > 0".into())
+            })?;
+            let objective = settings.objective;
+            let mut cost = |p: &Vector4<f64>| problem.cost(p, objective);
+            let mut p = p0;
+            let mut f = cost(&p);
+            evaluations += 1;
+            let mut stop = Stop::IterationLimit;
+            for n in 1..=s.max_iterations {
+                let it = match newton_iteration(&mut cost, &p, f, &active, s) {
+                    Ok(it) => it,
+                    Err(NewtonError::FlatCost) => {
+                        return Err(FitError::Unidentifiable {
+                            sensitivity: sens,
+                            threshold,
+                            unit,
+                            direction: "Newton's finite-difference Hessian is singular".into(),
+                        })
+                    }
+                    Err(NewtonError::NonFiniteCost) => return Err(FitError::NonFiniteCost),
+                    Err(NewtonError::BadSettings) => {
+                        return Err(FitError::BadSettings("Newton settings".into()))
+                    }
+                };
+                evaluations += it.evaluations;
+                let rec = Iteration {
+                    n,
+                    params: take(&it.params),
+                    cost: problem.cost(&it.params, Objective::Rms),
+                    gradient_norm: it.gradient.norm(),
+                    step: it.step_scale,
+                    evaluations: it.evaluations,
+                };
+                on_iteration(&rec);
+                iterations.push(rec);
+                if it.stalled {
+                    stop = Stop::NoDescent;
+                    break;
+                }
+                let done = converged(&p, &it.params, f, it.cost, s);
+                p = it.params;
+                f = it.cost;
+                if done {
+                    stop = Stop::Converged;
+                    break;
+                }
+            }
+            (p, stop)
+        }
+        Method::Lm => {
+            let out = lm::levenberg_marquardt(problem, &p0, &active, &settings.lm, |it| {
+                let rec = Iteration {
+                    n: it.n,
+                    params: take(&it.params),
+                    cost: it.rms,
+                    gradient_norm: it.gradient_norm,
+                    step: it.lambda,
+                    evaluations: it.evaluations,
+                };
+                on_iteration(&rec);
+                iterations.push(rec);
+            })?;
+            evaluations += out.evaluations;
+            (out.params, out.stop)
+        }
+    };
+    let elapsed = started.elapsed();
+    Ok(FitReport {
+        algorithm: settings.algorithm,
+        target: settings.target,
+        method: settings.method,
+        names: settings.algorithm.names().to_vec(),
+        start: take(&p0),
+        params: take(&p),
+        start_cost,
+        cost: problem.cost(&p, Objective::Rms),
+        iterations,
+        evaluations,
+        stop,
+        samples: problem.len(),
+        sensitivity: sens,
+        cutoff_hz: problem.cutoff_hz(),
+        elapsed,
+    })
+}
+
+/// [`prepare`] then [`fit`].
+pub fn fit_log(
+    samples: &[Sample<f64>],
+    truth: Option<&[f64]>,
+    settings: &FitSettings,
+    on_iteration: impl FnMut(&Iteration),
+) -> Result<FitReport, FitError> {
+    let problem = prepare(samples, truth, settings)?;
+    fit(&problem, settings, on_iteration)
+}
+
+/// Solves `(A + shift) x = b` on the active block with Cholesky (inactive: x = 0).
+pub(crate) fn solve_active(
+    a: &Matrix4<f64>,
+    b: &Vector4<f64>,
+    active: &[bool; 4],
+) -> Option<Vector4<f64>> {
+    let mut m = *a;
+    let mut r = *b;
+    for j in 0..4 {
+        if !active[j] {
+            for k in 0..4 {
+                m[(j, k)] = 0.0;
+                m[(k, j)] = 0.0;
+            }
+            m[(j, j)] = 1.0;
+            r[j] = 0.0;
+        }
+    }
+    let x = m.cholesky()?.solve(&r);
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}

@@ -1,0 +1,339 @@
+//! The fitting problem: cached kinematics and the costs of Eqs (23) and (29).
+//!
+//! # Why fitting is fast
+//! For a fixed differentiator the per-sample kinematics (phi, phi', phi'', G_d, G_k) do
+//! not depend on the parameters being fitted: the cutoff is fixed in Hz from the start
+//! parameters ([`KinematicsSettings::resolved`]), so [`Problem::new`] runs the estimator's
+//! front end once over the log and keeps the terms. Each cost evaluation is then one cheap
+//! pass of the pure Eq (20)/(21)/(30) over the cached arrays, and the analytic Jacobian
+//! for Levenberg-Marquardt is one more multiply per term.
+//!
+//! All three algorithms are one model with four parameters p = (p0, p1, p2, p3):
+//! `theta = phi + asin(p0 x0 + p1 x1 + p2 x2) + p3 G_k`, with
+//! - alg1 (Eq 20): x = (phi', phi'', 0), p = (a, b, 0, 0);
+//! - alg2 (Eq 21): x = (phi', phi'' - G_d, 0), p = (a, b, 0, 0);
+//! - alg3 (Eq 30): x = (phi', phi'', G_d), p = (K, L, M, N).
+use super::{Algorithm, FitError, Target};
+use nalgebra::{Matrix4, Vector4};
+use pendtilt_core::estimators::alg3::{Alg3, Alg3Settings};
+use pendtilt_core::estimators::theta_dd::ThetaDdSource;
+use pendtilt_core::estimators::PhiSource;
+use pendtilt_core::filters::diff::{Cutoff, DiffSettings, SmoothingDifferentiator};
+use pendtilt_core::supervision::Objective;
+use pendtilt_core::{PendulumParams, Sample};
+
+/// How the kinematics are computed from the log.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KinematicsSettings {
+    /// The phi differentiator. A cutoff relative to the natural frequency is fixed in Hz
+    /// from the start parameters. Default: Butterworth at 1.7 f_n (as the estimators).
+    pub differentiator: DiffSettings<f64>,
+    /// Which phi enters the equations. Default [`PhiSource::Raw`].
+    pub phi: PhiSource,
+    /// Where theta'' (G_d) comes from. Default [`ThetaDdSource::Matched`].
+    pub theta_dd: ThetaDdSource<f64>,
+    /// Seconds at the start of the log left out of the cost while the differentiators
+    /// settle. Default 0.5 s.
+    pub skip: f64,
+    /// Pass the target (true angle, or gyro) through the same low-pass as phi, and use
+    /// the low-passed phi, so that both sides of the cost carry the same delay. Then the
+    /// fit identifies the pendulum's own a, b (for a noise-free log: to within a fraction
+    /// of a percent) instead of values bent to make up for the differentiator's delay, and
+    /// the Eq (29) residual is not swamped by the encoder's quantisation steps turned
+    /// into rate. Default true. With false, the cost is exactly the paper's: the
+    /// estimator's output as it runs (phi as in [`KinematicsSettings::phi`]) against the
+    /// raw target.
+    pub matched_target: bool,
+}
+
+impl Default for KinematicsSettings {
+    fn default() -> Self {
+        Self {
+            differentiator: DiffSettings::default(),
+            phi: PhiSource::Raw,
+            theta_dd: ThetaDdSource::Matched,
+            skip: 0.5,
+            matched_target: true,
+        }
+    }
+}
+
+impl KinematicsSettings {
+    /// The same settings with the cutoff fixed in Hz for a pendulum with parameters `p`.
+    pub fn resolved(&self, p: &PendulumParams<f64>) -> Self {
+        Self {
+            differentiator: DiffSettings {
+                response: self.differentiator.response,
+                cutoff: Cutoff::Hz(self.differentiator.cutoff_hz(p)),
+            },
+            ..*self
+        }
+    }
+}
+
+/// The cached data of one fit: per-sample features, target, time steps.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    algorithm: Algorithm,
+    target: Target,
+    /// x0, x1, x2, G_k per sample.
+    x: Vec<[f64; 4]>,
+    /// theta - phi (truth) or G_mid - (phi_k - phi_(k-1)) / dt (gyro).
+    y: Vec<f64>,
+    /// 1 / dt to the previous row (gyro target).
+    inv_dt: Vec<f64>,
+    /// Whether the row enters the cost.
+    used: Vec<bool>,
+    count: usize,
+    cutoff_hz: f64,
+}
+
+/// Minimum number of residuals a fit needs.
+pub const MIN_ROWS: usize = 20;
+
+impl Problem {
+    /// Runs the estimator front end over the log once and caches what the costs need.
+    ///
+    /// `truth` (one value per sample, NaN where missing) is required for
+    /// [`Target::Truth`]; the gyro is required for [`Target::Gyro`] and for alg2/alg3.
+    pub fn new(
+        samples: &[Sample<f64>],
+        truth: Option<&[f64]>,
+        algorithm: Algorithm,
+        target: Target,
+        start: &PendulumParams<f64>,
+        kin: &KinematicsSettings,
+    ) -> Result<Self, FitError> {
+        if !(start.b.is_finite() && start.b > 0.0) {
+            return Err(FitError::InvalidStart {
+                name: "b",
+                value: start.b,
+                why: "b = I_p / (m_p g l_p) must be finite and > 0 (it sets the differentiator's cutoff)",
+            });
+        }
+        let truth = match (target, truth) {
+            (Target::Truth, None) => return Err(FitError::MissingColumn("theta")),
+            (_, t) => t,
+        };
+        if let Some(t) = truth {
+            if t.len() != samples.len() {
+                return Err(FitError::BadSettings(format!(
+                    "{} truth values for {} samples",
+                    t.len(),
+                    samples.len()
+                )));
+            }
+        }
+        let needs_gyro = target == Target::Gyro || algorithm != Algorithm::Alg1;
+        if needs_gyro && !samples.iter().any(|s| s.gyro.is_finite()) {
+            return Err(FitError::MissingColumn("gyro"));
+        }
+        let kin = kin.resolved(start);
+        let cutoff_hz = kin.differentiator.cutoff_hz(start);
+        let mut settings = Alg3Settings::from_params(*start);
+        settings.differentiator = kin.differentiator;
+        settings.phi = if kin.matched_target {
+            PhiSource::Filtered
+        } else {
+            kin.phi
+        };
+        settings.theta_dd = kin.theta_dd;
+        // The target's own low-pass (same response and cutoff as phi's), when matched.
+        let mut target_lp =
+            SmoothingDifferentiator::<f64>::new(kin.differentiator.response, cutoff_hz);
+        let mut t_lp: Option<f64> = None;
+        let mut est = Alg3::<f64>::new(settings);
+        let n = samples.len();
+        let mut p = Self {
+            algorithm,
+            target,
+            x: Vec::with_capacity(n),
+            y: Vec::with_capacity(n),
+            inv_dt: Vec::with_capacity(n),
+            used: Vec::with_capacity(n),
+            count: 0,
+            cutoff_hz,
+        };
+        let t0 = samples.iter().map(|s| s.t).find(|t| t.is_finite());
+        let mut prev: Option<(f64, f64, f64)> = None; // t, phi, gyro of the previous row
+        for (i, s) in samples.iter().enumerate() {
+            let (_, terms) = est.update_with_terms(s);
+            let raw_target = match target {
+                Target::Truth => truth.map_or(f64::NAN, |t| t[i]),
+                Target::Gyro => s.gyro,
+            };
+            // The target through the low-pass (held over missing values).
+            let target_value = if kin.matched_target {
+                if raw_target.is_finite() && s.t.is_finite() {
+                    let dt = t_lp.map_or(1.0, |tp| s.t - tp);
+                    if dt > 0.0 {
+                        t_lp = Some(s.t);
+                        target_lp.update(raw_target, dt).value
+                    } else {
+                        f64::NAN
+                    }
+                } else {
+                    f64::NAN
+                }
+            } else {
+                raw_target
+            };
+            let Some(k) = terms else {
+                continue;
+            };
+            let x = match algorithm {
+                Algorithm::Alg1 => [k.dphi, k.ddphi, 0.0, k.gk],
+                Algorithm::Alg2 => [k.dphi, k.ddphi - k.gd, 0.0, k.gk],
+                Algorithm::Alg3 => [k.dphi, k.ddphi, k.gd, k.gk],
+            };
+            let settled = t0.is_some_and(|t0| s.t - t0 >= kin.skip);
+            let (y, inv_dt, used) = match target {
+                Target::Truth => {
+                    let th = target_value;
+                    (th - k.phi, 0.0, settled && th.is_finite())
+                }
+                Target::Gyro => match prev {
+                    Some((tp, phip, gp)) if target_value.is_finite() && gp.is_finite() => {
+                        let inv = 1.0 / (s.t - tp);
+                        let y = 0.5 * (target_value + gp) - (k.phi - phip) * inv;
+                        (y, inv, settled && y.is_finite() && inv.is_finite())
+                    }
+                    _ => (0.0, 0.0, false),
+                },
+            };
+            prev = Some((s.t, k.phi, target_value));
+            p.x.push(x);
+            p.y.push(y);
+            p.inv_dt.push(inv_dt);
+            p.used.push(used);
+            p.count += usize::from(used);
+        }
+        if p.count < MIN_ROWS {
+            return Err(FitError::TooFewSamples {
+                have: p.count,
+                need: MIN_ROWS,
+            });
+        }
+        Ok(p)
+    }
+
+    /// The algorithm whose parameters are fitted.
+    pub fn algorithm(&self) -> Algorithm {
+        self.algorithm
+    }
+
+    /// The cost's target (true angle or gyro).
+    pub fn target(&self) -> Target {
+        self.target
+    }
+
+    /// Residuals in the cost.
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    /// True when no residual enters the cost (never after a successful [`Problem::new`]).
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// The differentiator cutoff used [Hz].
+    pub fn cutoff_hz(&self) -> f64 {
+        self.cutoff_hz
+    }
+
+    /// Eq (23) (truth) or Eq (29) (gyro) at `p`, as `objective` (RMS is the paper's).
+    /// NaN if a parameter is not finite.
+    pub fn cost(&self, p: &Vector4<f64>, objective: Objective) -> f64 {
+        let mut sum = 0.0;
+        match self.target {
+            Target::Truth => {
+                for ((x, &y), &used) in self.x.iter().zip(&self.y).zip(&self.used) {
+                    if used {
+                        let r = s_of(p, x) - y;
+                        sum += r * r;
+                    }
+                }
+            }
+            Target::Gyro => {
+                let mut s_prev = 0.0;
+                for (((x, &y), &inv), &used) in
+                    self.x.iter().zip(&self.y).zip(&self.inv_dt).zip(&self.used)
+                {
+                    let s = s_of(p, x);
+                    if used {
+                        let r = (s - s_prev) * inv - y;
+                        sum += r * r;
+                    }
+                    s_prev = s;
+                }
+            }
+        }
+        objective.from_sum(sum, self.count)
+    }
+
+    /// One pass for Gauss-Newton / Levenberg-Marquardt: `(J'J, J'r, sum r^2)` at `p`,
+    /// with the analytic Jacobian `ds/dp = (x0 c, x1 c, x2 c, G_k)`, `c = 1 / sqrt(1 - u^2)`
+    /// (0 where the asin argument is clamped).
+    pub fn normal_equations(&self, p: &Vector4<f64>) -> (Matrix4<f64>, Vector4<f64>, f64) {
+        let mut jtj = Matrix4::zeros();
+        let mut jtr = Vector4::zeros();
+        let mut sum = 0.0;
+        let mut add = |j: Vector4<f64>, r: f64| {
+            jtj.syger(1.0, &j, &j, 1.0);
+            jtr += j * r;
+            sum += r * r;
+        };
+        match self.target {
+            Target::Truth => {
+                for ((x, &y), &used) in self.x.iter().zip(&self.y).zip(&self.used) {
+                    if used {
+                        let (s, j) = s_and_grad(p, x);
+                        add(j, s - y);
+                    }
+                }
+            }
+            Target::Gyro => {
+                let mut s_prev = 0.0;
+                let mut j_prev = Vector4::zeros();
+                for (((x, &y), &inv), &used) in
+                    self.x.iter().zip(&self.y).zip(&self.inv_dt).zip(&self.used)
+                {
+                    let (s, j) = s_and_grad(p, x);
+                    if used {
+                        add((j - j_prev) * inv, (s - s_prev) * inv - y);
+                    }
+                    s_prev = s;
+                    j_prev = j;
+                }
+            }
+        }
+        // syger fills the lower triangle only.
+        jtj.fill_upper_triangle_with_lower_triangle();
+        (jtj, jtr, sum)
+    }
+}
+
+/// `asin(u) + p3 G_k`, the parameter-dependent part of theta (clamped like the estimator).
+#[inline(always)]
+fn s_of(p: &Vector4<f64>, x: &[f64; 4]) -> f64 {
+    let u = p[0] * x[0] + p[1] * x[1] + p[2] * x[2];
+    u.clamp(-1.0, 1.0).asin() + p[3] * x[3]
+}
+
+#[inline(always)]
+fn s_and_grad(p: &Vector4<f64>, x: &[f64; 4]) -> (f64, Vector4<f64>) {
+    let u = p[0] * x[0] + p[1] * x[1] + p[2] * x[2];
+    if u.abs() < 1.0 {
+        let c = 1.0 / (1.0 - u * u).sqrt();
+        (
+            u.asin() + p[3] * x[3],
+            Vector4::new(x[0] * c, x[1] * c, x[2] * c, x[3]),
+        )
+    } else {
+        (
+            u.clamp(-1.0, 1.0).asin() + p[3] * x[3],
+            Vector4::new(0.0, 0.0, 0.0, x[3]),
+        )
+    }
+}
