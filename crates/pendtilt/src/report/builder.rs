@@ -42,7 +42,7 @@ pub struct FigureGroup {
     pub title: String,
     /// Series to show, in drawing order (the truth is drawn first, always).
     pub names: Vec<String>,
-    /// Time window [s] shown, or the whole record.
+    /// Time window \[s\] shown, or the whole record.
     pub window: Option<(f64, f64)>,
 }
 
@@ -64,7 +64,7 @@ pub struct ViewMetrics {
 pub struct ReportData {
     /// Report title.
     pub title: String,
-    /// Sample rate [Hz] used by the metrics.
+    /// Sample rate \[Hz\] used by the metrics.
     pub rate_hz: f64,
     /// Number of samples.
     pub samples: usize,
@@ -124,7 +124,7 @@ pub struct Report {
 const UNFILTERED: &str = "unfiltered";
 
 impl Report {
-    /// A report on a log with time column `t` [s] and the true angle.
+    /// A report on a log with time column `t` \[s\] and the true angle.
     ///
     /// Errors: empty series, mismatched lengths, times not strictly increasing.
     pub fn new(title: &str, t: Vec<f64>, truth: Vec<f64>) -> Result<Self, ReportError> {

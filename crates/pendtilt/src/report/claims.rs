@@ -11,21 +11,21 @@ use super::metrics::Metrics;
 /// A metric that claims can compare.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum MetricKind {
-    /// RMS error [deg].
+    /// RMS error \[deg\].
     Rms,
-    /// Largest absolute error [deg].
+    /// Largest absolute error \[deg\].
     MaxAbs,
-    /// |bias| [deg].
+    /// |bias| \[deg\].
     AbsBias,
-    /// Error standard deviation [deg].
+    /// Error standard deviation \[deg\].
     Std,
-    /// Lag [ms].
+    /// Lag \[ms\].
     LagMs,
-    /// Overshoot [%].
+    /// Overshoot \[%\].
     OvershootPct,
-    /// Settling time [s].
+    /// Settling time \[s\].
     SettlingS,
-    /// Share within the tolerance band [%].
+    /// Share within the tolerance band \[%\].
     WithinTolerancePct,
 }
 

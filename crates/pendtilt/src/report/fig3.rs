@@ -86,9 +86,9 @@ pub fn monte_carlo_posterior_variance(
 /// Settings of Fig. 3.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Fig3Config {
-    /// Prediction variance sigma_X [deg^2], held constant as in the paper's figure.
+    /// Prediction variance sigma_X \[deg^2\], held constant as in the paper's figure.
     pub sigma_x: f64,
-    /// Largest measurement variance R [deg^2] on the abscissa.
+    /// Largest measurement variance R \[deg^2\] on the abscissa.
     pub r_max: f64,
     /// Points of the analytic curve.
     pub curve_points: usize,
@@ -147,7 +147,7 @@ impl Fig3Data {
     }
 }
 
-/// Computes Fig. 3: Eq (12) on `curve_points` values of R in [0, r_max], and the
+/// Computes Fig. 3: Eq (12) on `curve_points` values of R in \[0, r_max\], and the
 /// Monte-Carlo check on `mc_points` values of R in (0, r_max].
 pub fn fig3_data(cfg: &Fig3Config) -> Result<Fig3Data, ReportError> {
     if !(cfg.sigma_x.is_finite() && cfg.sigma_x > 0.0 && cfg.r_max.is_finite() && cfg.r_max > 0.0) {

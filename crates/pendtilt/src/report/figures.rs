@@ -58,7 +58,7 @@ pub struct Curve<'a> {
     pub y: &'a [f64],
     /// Line or points.
     pub kind: CurveKind,
-    /// Line width or point radius [px].
+    /// Line width or point radius \[px\].
     pub width: u32,
     /// Half-length of a vertical error bar per point (`Points` only), as many as `x`.
     pub y_err: Option<&'a [f64]>,
@@ -112,9 +112,9 @@ pub struct FigureSpec {
     pub x_label: String,
     /// Ordinate label, with its unit.
     pub y_label: String,
-    /// Width [px] of the PNG (and of the SVG's view box).
+    /// Width \[px\] of the PNG (and of the SVG's view box).
     pub width: u32,
-    /// Height [px].
+    /// Height \[px\].
     pub height: u32,
     /// Fixed ordinate range; `None`: fit the data with a 5% margin.
     pub y_range: Option<(f64, f64)>,
@@ -296,7 +296,7 @@ fn ranges(prepared: &[Prepared], spec: &FigureSpec) -> Option<((f64, f64), (f64,
     Some((xr, yr))
 }
 
-/// Cuts line runs to the ordinate range [y0, y1]: a segment crossing a bound ends (or
+/// Cuts line runs to the ordinate range \[y0, y1\]: a segment crossing a bound ends (or
 /// starts) on it, and the part outside is not drawn (plotters would otherwise flatten
 /// out-of-range points onto the frame, which reads as data).
 fn clip_runs(runs: &[Vec<(f64, f64)>], (y0, y1): (f64, f64)) -> Vec<Vec<(f64, f64)>> {
@@ -522,7 +522,7 @@ pub fn plot_curves(
     })
 }
 
-/// Angles [deg] against time [s]: one line per named series, all on the time axis `t`.
+/// Angles \[deg\] against time \[s\]: one line per named series, all on the time axis `t`.
 ///
 /// The series are drawn in the order given (put the truth first so the estimates draw on
 /// top of it).
@@ -539,7 +539,7 @@ pub fn plot_time_series(
     plot_curves(dir, stem, &spec, &curves, palette)
 }
 
-/// Errors (estimate - truth) [deg] against time [s], one line per named estimate, with a
+/// Errors (estimate - truth) \[deg\] against time \[s\], one line per named estimate, with a
 /// black zero line. Values in degrees.
 ///
 /// Errors: an estimate whose length differs from the truth's, plus those of [`plot_curves`].

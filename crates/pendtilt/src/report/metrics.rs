@@ -38,18 +38,18 @@ impl AngleUnit {
 /// How a step of the true angle is detected, and the band used for settling.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StepConfig {
-    /// Length [s] of the windows at the start and at the end of the record whose means are
+    /// Length \[s\] of the windows at the start and at the end of the record whose means are
     /// the initial and final values of the step.
     pub plateau_s: f64,
-    /// Smallest |final - initial| [deg] that counts as a step.
+    /// Smallest |final - initial| \[deg\] that counts as a step.
     pub min_step_deg: f64,
-    /// The truth must stay within [min(initial, final) - f |S|, max(initial, final) + f |S|]
+    /// The truth must stay within \[min(initial, final) - f |S|, max(initial, final) + f |S|\]
     /// for the record to count as one step (f is this fraction, S the step): this rejects
     /// oscillating and wandering motion, where overshoot means nothing.
     pub envelope_frac: f64,
     /// Settling band as a fraction of |S| (0.02 = 2%).
     pub band_frac: f64,
-    /// Settling band floor [deg]: the band is the larger of `band_frac |S|` and this.
+    /// Settling band floor \[deg\]: the band is the larger of `band_frac |S|` and this.
     pub band_deg: f64,
 }
 
@@ -70,9 +70,9 @@ impl Default for StepConfig {
 pub struct MetricsConfig {
     /// Unit of the estimate and truth slices.
     pub input_unit: AngleUnit,
-    /// Half-width [deg] of the band for [`Metrics::within_tolerance_pct`].
+    /// Half-width \[deg\] of the band for [`Metrics::within_tolerance_pct`].
     pub tolerance_deg: f64,
-    /// Largest lag [s] searched, in both directions, by the cross-correlation.
+    /// Largest lag \[s\] searched, in both directions, by the cross-correlation.
     pub max_lag_s: f64,
     /// Step detection and settling band.
     pub step: StepConfig,
@@ -103,28 +103,28 @@ pub struct Metrics {
     pub non_finite_estimate: usize,
     /// Number of non-finite truth samples (estimate finite), left out.
     pub non_finite_truth: usize,
-    /// Root-mean-square error [deg].
+    /// Root-mean-square error \[deg\].
     pub rms_deg: f64,
-    /// Largest absolute error [deg].
+    /// Largest absolute error \[deg\].
     pub max_abs_deg: f64,
-    /// Mean error (estimate - truth) [deg].
+    /// Mean error (estimate - truth) \[deg\].
     pub bias_deg: f64,
-    /// Standard deviation of the error [deg] (population form, divided by n, so that
+    /// Standard deviation of the error \[deg\] (population form, divided by n, so that
     /// rms^2 = bias^2 + std^2).
     pub std_deg: f64,
-    /// Half-width [deg] of the tolerance band used for `within_tolerance_pct`.
+    /// Half-width \[deg\] of the tolerance band used for `within_tolerance_pct`.
     pub tolerance_deg: f64,
-    /// Share of used samples with |error| <= `tolerance_deg` [%].
+    /// Share of used samples with |error| <= `tolerance_deg` \[%\].
     pub within_tolerance_pct: f64,
-    /// Delay of the estimate behind the truth [ms] (positive: the estimate lags), from the
+    /// Delay of the estimate behind the truth \[ms\] (positive: the estimate lags), from the
     /// peak of the cross-correlation; `None` when it could not be measured (see `notes`).
     pub lag_ms: Option<f64>,
     /// Correlation coefficient at the lag peak (1 = the estimate is a shifted copy).
     pub lag_correlation: Option<f64>,
-    /// Overshoot [% of the step] on a step-like truth, see [`overshoot_pct`]; `None` when the
+    /// Overshoot \[% of the step\] on a step-like truth, see [`overshoot_pct`]; `None` when the
     /// truth is not one step.
     pub overshoot_pct: Option<f64>,
-    /// Settling time [s] after the step's 50% point, see [`settling_time_s`]; `None` when the
+    /// Settling time \[s\] after the step's 50% point, see [`settling_time_s`]; `None` when the
     /// truth is not one step or the estimate does not settle before the record ends.
     pub settling_time_s: Option<f64>,
     /// Why an optional metric is missing, in words.
@@ -237,7 +237,7 @@ fn check_rate(rate_hz: f64) -> Result<(), ReportError> {
     }
 }
 
-/// Mean sample rate [Hz] of a time column: (n - 1) / (t_last - t_first).
+/// Mean sample rate \[Hz\] of a time column: (n - 1) / (t_last - t_first).
 ///
 /// The metrics assume uniform sampling; this is the rate to hand them for a log whose
 /// time column is close to uniform. Errors: fewer than two samples, or times not finite
@@ -260,7 +260,7 @@ pub const WEAK_CORRELATION: f64 = 0.8;
 /// Result of [`lag_by_xcorr`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct LagEstimate {
-    /// Delay of the estimate behind the truth [samples], sub-sample refined.
+    /// Delay of the estimate behind the truth \[samples\], sub-sample refined.
     pub lag_samples: f64,
     /// The same in seconds.
     pub lag_s: f64,
@@ -270,11 +270,11 @@ pub struct LagEstimate {
 
 /// Delay of `estimate` behind `truth` by cross-correlation.
 ///
-/// For every integer lag L in [-W, W] (W = `max_lag_s * rate_hz` rounded, at most n/2 so that
+/// For every integer lag L in \[-W, W\] (W = `max_lag_s * rate_hz` rounded, at most n/2 so that
 /// at least half the record overlaps) it computes the Pearson correlation coefficient of the
-/// pairs (estimate[k], truth[k - L]) where both are finite, over the overlap. The lag with the
+/// pairs (estimate\[k\], truth\[k - L\]) where both are finite, over the overlap. The lag with the
 /// highest coefficient is refined by fitting a parabola through it and its two neighbours:
-/// delta = (r[L-1] - r[L+1]) / (2 (r[L-1] - 2 r[L] + r[L+1])), clamped to +-0.5 sample.
+/// delta = (r\[L-1\] - r\[L+1\]) / (2 (r\[L-1\] - 2 r\[L\] + r\[L+1\])), clamped to +-0.5 sample.
 /// Positive lag: the estimate is late (estimate(t) ~ truth(t - lag)). Means are removed, so a
 /// constant bias does not move the lag.
 ///
@@ -386,7 +386,7 @@ pub struct Step {
     pub size: f64,
     /// First sample at which the truth has covered half the step.
     pub index: usize,
-    /// `index / rate` [s] from the first sample.
+    /// `index / rate` \[s\] from the first sample.
     pub time_s: f64,
 }
 
@@ -396,7 +396,7 @@ pub struct Step {
 /// Definition: the initial and final values are the means of the finite truth samples over
 /// the first and the last `plateau_s`; the step S = final - initial must be at least
 /// `min_step_deg` in size, and every finite truth sample must lie within
-/// [min(initial, final) - envelope_frac |S|, max(initial, final) + envelope_frac |S|]. The
+/// \[min(initial, final) - envelope_frac |S|, max(initial, final) + envelope_frac |S|\]. The
 /// step's time is the first sample at which the truth has covered half of S.
 ///
 /// Errors (`ReportError::NotStepLike`, with the reason) when the record is not one step.
@@ -458,7 +458,7 @@ pub fn detect_step(truth_deg: &[f64], rate_hz: f64, cfg: &StepConfig) -> Result<
     })
 }
 
-/// Overshoot [% of |S|] of an estimate on a step (values in the step's unit).
+/// Overshoot \[% of |S|\] of an estimate on a step (values in the step's unit).
 ///
 /// Definition: over the finite estimate samples from the step's 50% point to the end, the
 /// largest excursion beyond the truth's final value in the direction of the step,
@@ -482,7 +482,7 @@ pub fn settling_band(step: &Step, cfg: &StepConfig) -> f64 {
     (cfg.band_frac * step.size.abs()).max(cfg.band_deg)
 }
 
-/// Settling time [s] of an estimate on a step (values in the step's unit).
+/// Settling time \[s\] of an estimate on a step (values in the step's unit).
 ///
 /// Definition: the time from the step's 50% point to the first finite sample after which the
 /// estimate stays within `band` of the truth's final value until the end of the record
