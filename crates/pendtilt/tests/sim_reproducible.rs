@@ -91,3 +91,55 @@ fn row_count_follows_the_convention() {
         assert_eq!(simulate(&s, 1).unwrap().len(), rows);
     }
 }
+
+#[test]
+fn threaded_writer_matches_row_by_row_formatting() {
+    let s = scooter(2.5);
+    let mut expected = b"t,phi,gyro,ax,ay,theta\n".to_vec();
+    for r in simulate(&s, 9).unwrap() {
+        pendtilt::sim::output::write_row(&mut expected, &r).unwrap();
+    }
+    let mut calls = Vec::new();
+    let mut got = Vec::new();
+    let n = write_log(Simulator::new(&s, 9).unwrap(), &mut got, |d, t| {
+        calls.push((d, t))
+    })
+    .unwrap();
+    assert_eq!(n, 2500);
+    assert_eq!(got, expected);
+    assert_eq!(calls.last(), Some(&(2500, 2500)));
+}
+
+/// A sink that fails after `left` bytes.
+struct Full {
+    left: usize,
+}
+
+impl std::io::Write for Full {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if self.left < buf.len() {
+            return Err(std::io::Error::other("disk full"));
+        }
+        self.left -= buf.len();
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+#[test]
+fn write_errors_stop_the_run_and_are_returned() {
+    // A long run into a sink that fills up after about 100 rows: the error comes back
+    // promptly (the simulating thread stops too) instead of simulating the whole hour.
+    let s = scooter(3600.0);
+    let t = std::time::Instant::now();
+    let e = write_log(
+        Simulator::new(&s, 1).unwrap(),
+        Full { left: 10_000 },
+        |_, _| {},
+    )
+    .unwrap_err();
+    assert_eq!(e.to_string(), "disk full");
+    assert!(t.elapsed().as_secs_f64() < 2.0, "{:?}", t.elapsed());
+}
