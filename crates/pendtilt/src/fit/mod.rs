@@ -162,7 +162,8 @@ pub struct FitSettings {
     pub lm: LmSettings,
     /// Smallest RMS change of the estimate for a 100 % parameter change below which the
     /// log is reported as unidentifiable: rad for the truth target, rad/s for the gyro.
-    /// Default None: 1e-3 rad, 1e-2 rad/s.
+    /// Default None: 1e-6 rad, 1e-5 rad/s. (Measured: a still log gives exactly 0, since the
+    /// encoder reading does not move; the paper's sigmoid gives 8.6e-5 rad for alg2's b.)
     pub min_sensitivity: Option<f64>,
 }
 
@@ -221,8 +222,8 @@ impl FitSettings {
 
     fn threshold(&self) -> f64 {
         self.min_sensitivity.unwrap_or(match self.target {
-            Target::Truth => 1e-3,
-            Target::Gyro => 1e-2,
+            Target::Truth => 1e-6,
+            Target::Gyro => 1e-5,
         })
     }
 }

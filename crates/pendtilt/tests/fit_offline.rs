@@ -1,0 +1,179 @@
+//! Offline fits (Eqs 23-28, and Levenberg-Marquardt) on simulated logs.
+use pendtilt::fit::{fit_log, Algorithm, FitError, FitSettings, Method, Target};
+use pendtilt::sim::motion::{Chirp, Motion};
+use pendtilt::sim::{simulate, Scenario};
+use pendtilt_core::{PendulumParams, Sample};
+
+type Log = (Vec<Sample<f64>>, Vec<f64>);
+
+fn log_of(s: &Scenario) -> Log {
+    let rows = simulate(s, 3).unwrap();
+    (
+        rows.iter().map(|r| r.sample()).collect(),
+        rows.iter().map(|r| r.theta).collect(),
+    )
+}
+
+/// The paper's Fig. 5 sigmoid, 5 s, ideal sensors.
+fn noise_free() -> Log {
+    let mut s = Scenario::named("sigmoid").unwrap();
+    s.sensors = s.sensors.ideal();
+    log_of(&s)
+}
+
+/// An 8 s chirp 0.2 -> 3 Hz with the default (noisy, quantised, biased) sensors and the
+/// scooter's engine vibration (40 Hz and 80 Hz harmonics on P1, 1 mrad angular at 40 Hz).
+fn noisy_vibrating() -> Log {
+    let motion = Motion::Chirp(Chirp {
+        f0: 0.2,
+        f1: 3.0,
+        sweep_time: 8.0,
+        ..Chirp::default()
+    });
+    let mut s = Scenario::with_motion(motion, 8.0);
+    let mut v = Scenario::named("scooter").unwrap().vibration;
+    v.broadband.rms = [0.0, 0.0];
+    s.vibration = v;
+    log_of(&s)
+}
+
+fn settings(alg: Algorithm, target: Target, method: Method) -> FitSettings {
+    let t = PendulumParams::<f64>::default();
+    FitSettings {
+        algorithm: alg,
+        target,
+        method,
+        // 50 % off in both directions.
+        start: PendulumParams {
+            a: 1.5 * t.a,
+            b: 0.5 * t.b,
+            c: 0.0,
+        },
+        ..FitSettings::default()
+    }
+}
+
+fn rel_err(report: &pendtilt::fit::FitReport) -> (f64, f64) {
+    let t = PendulumParams::<f64>::default();
+    let p = report.pendulum_params();
+    ((p.a / t.a - 1.0).abs(), (p.b / t.b - 1.0).abs())
+}
+
+#[test]
+fn noise_free_fit_recovers_a_and_b_within_1_percent() {
+    let (s, th) = noise_free();
+    for target in [Target::Truth, Target::Gyro] {
+        for method in [Method::Newton, Method::Lm] {
+            let set = settings(Algorithm::Alg2, target, method);
+            let mut logged = 0;
+            let r = fit_log(&s, Some(&th), &set, |_| logged += 1).unwrap();
+            let (ea, eb) = rel_err(&r);
+            assert!(ea < 0.01 && eb < 0.01, "{target:?} {method:?}: {r:?}");
+            assert!(r.cost < 0.01 * r.start_cost, "{target:?} {method:?}");
+            // Every iteration was logged (plus the start).
+            assert_eq!(logged, r.iterations.len());
+            assert!(r.iterations.len() >= 2);
+        }
+    }
+}
+
+#[test]
+fn alg3_noise_free_fit_finds_the_eq21_gains() {
+    let (s, th) = noise_free();
+    let r = fit_log(
+        &s,
+        Some(&th),
+        &settings(Algorithm::Alg3, Target::Truth, Method::Lm),
+        |_| {},
+    )
+    .unwrap();
+    let t = PendulumParams::<f64>::default();
+    let g = r.gains();
+    assert!((g.k / t.a - 1.0).abs() < 0.01, "{g:?}");
+    assert!((g.l / t.b - 1.0).abs() < 0.01, "{g:?}");
+    assert!((g.m / -t.b - 1.0).abs() < 0.01, "{g:?}");
+    assert!(g.n.abs() < 1e-4, "{g:?}");
+}
+
+#[test]
+fn noisy_vibrating_fit_recovers_a_and_b_within_5_percent() {
+    let (s, th) = noisy_vibrating();
+    for target in [Target::Truth, Target::Gyro] {
+        for method in [Method::Newton, Method::Lm] {
+            let r = fit_log(
+                &s,
+                Some(&th),
+                &settings(Algorithm::Alg2, target, method),
+                |_| {},
+            )
+            .unwrap();
+            let (ea, eb) = rel_err(&r);
+            assert!(
+                ea < 0.05 && eb < 0.05,
+                "{target:?} {method:?}: {ea} {eb} {r:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn bad_starts_are_clear_errors() {
+    let (s, th) = noise_free();
+    for (a, b) in [
+        (-0.01, 5e-3),
+        (0.0, 5e-3),
+        (f64::NAN, 5e-3),
+        (0.04, -1e-3),
+        (0.04, 0.0),
+        (0.04, f64::NAN),
+    ] {
+        let mut set = settings(Algorithm::Alg2, Target::Truth, Method::Newton);
+        set.start = PendulumParams { a, b, c: 0.0 };
+        let e = fit_log(&s, Some(&th), &set, |_| {}).unwrap_err();
+        assert!(matches!(e, FitError::InvalidStart { .. }), "{a} {b}: {e}");
+        let msg = e.to_string();
+        assert!(msg.contains("invalid start value"), "{msg}");
+        assert!(
+            msg.contains(if a.is_nan() || a <= 0.0 { "a =" } else { "b =" }),
+            "{msg}"
+        );
+    }
+}
+
+#[test]
+fn a_log_without_motion_is_unidentifiable() {
+    let mut sc = Scenario::named("still").unwrap();
+    sc.duration = 2.0;
+    let (s, th) = log_of(&sc);
+    for target in [Target::Truth, Target::Gyro] {
+        for method in [Method::Newton, Method::Lm] {
+            let e = fit_log(
+                &s,
+                Some(&th),
+                &settings(Algorithm::Alg2, target, method),
+                |_| {},
+            )
+            .unwrap_err();
+            assert!(matches!(e, FitError::Unidentifiable { .. }), "{e}");
+            assert!(e.to_string().contains("not identifiable"), "{e}");
+        }
+    }
+}
+
+#[test]
+fn missing_truth_or_gyro_is_named() {
+    let (s, _) = noise_free();
+    let set = settings(Algorithm::Alg2, Target::Truth, Method::Lm);
+    let e = fit_log(&s, None, &set, |_| {}).unwrap_err();
+    assert!(e.to_string().contains("`theta`"), "{e}");
+    let no_gyro: Vec<Sample<f64>> = s
+        .iter()
+        .map(|x| Sample {
+            gyro: f64::NAN,
+            ..*x
+        })
+        .collect();
+    let set = settings(Algorithm::Alg1, Target::Gyro, Method::Lm);
+    let e = fit_log(&no_gyro, None, &set, |_| {}).unwrap_err();
+    assert!(e.to_string().contains("`gyro`"), "{e}");
+}
