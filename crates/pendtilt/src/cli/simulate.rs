@@ -29,10 +29,10 @@ pub struct Args {
     /// Seed of every random part (same seed, same bytes). Default: the TOML's `seed`, else 1.
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
-    /// Length of the run [s].
+    /// Length of the run (s).
     #[arg(long, value_name = "S")]
     pub duration: Option<f64>,
-    /// Sample rate [Hz] (default 1000).
+    /// Sample rate in Hz (default 1000).
     #[arg(long, value_name = "HZ")]
     pub rate: Option<f64>,
     /// Rig, motion, vibration and sensor settings.
@@ -74,46 +74,45 @@ pub struct Settings {
     /// No floor vibration (harmonics, broadband, angular).
     #[arg(long)]
     pub no_vibration: bool,
-    /// Take the pendulum from the [pendulum] table of a rig TOML (physical form).
+    /// Take the pendulum from the `[pendulum]` table of a rig TOML (physical form).
     #[arg(long, value_name = "FILE")]
     pub rig: Option<PathBuf>,
-    /// Pendulum mass m_p [kg].
+    /// Pendulum mass m_p (kg).
     #[arg(long, value_name = "KG")]
     pub mass: Option<f64>,
-    /// Pivot-to-CG distance l_p [m].
+    /// Pivot-to-CG distance l_p (m).
     #[arg(long, value_name = "M")]
     pub length: Option<f64>,
-    /// Inertia about the pivot I_p [kg m^2].
+    /// Inertia about the pivot I_p (kg m^2).
     #[arg(long, value_name = "KG_M2")]
     pub inertia: Option<f64>,
-    /// Pivot friction C [N m s/rad].
+    /// Pivot friction C (N m s/rad).
     #[arg(long, value_name = "NMS")]
     pub damping: Option<f64>,
-    /// Distance l12 from the body's pivot P1 to the pendulum pivot P2 [m].
+    /// Distance l12 from the body's pivot P1 to the pendulum pivot P2 (m).
     #[arg(long, value_name = "M")]
     pub pivot_offset: Option<f64>,
-    /// Size of the body motion [rad] (amplitude, or the angle of `still`).
+    /// Size of the body motion (rad) (amplitude, or the angle of `still`).
     #[arg(long, value_name = "RAD", allow_negative_numbers = true)]
     pub amplitude: Option<f64>,
-    /// Frequency of the `sine` motion [Hz].
+    /// Frequency of the `sine` motion (Hz).
     #[arg(long, value_name = "HZ")]
     pub frequency: Option<f64>,
-    /// Engine fundamental [Hz]: every vibration harmonic keeps its ratio to the first.
+    /// Engine fundamental (Hz): every vibration harmonic keeps its ratio to the first.
     #[arg(long, value_name = "HZ")]
     pub engine_hz: Option<f64>,
     /// Multiply every vibration amplitude (harmonic, broadband, angular) by this.
     #[arg(long, value_name = "X")]
     pub vibration_scale: Option<f64>,
-    /// Accelerometer position relative to P2 in body axes [m], e.g. `--accel-mount 0.02,-0.1`.
+    /// Accelerometer position relative to P2 in body axes (m), e.g. `--accel-mount 0.02,-0.1`.
     #[arg(
         long,
         value_name = "X,Y",
         value_delimiter = ',',
-        num_args = 2,
         allow_negative_numbers = true
     )]
     pub accel_mount: Option<Vec<f64>>,
-    /// Encoder resolution [bits per turn]; 0 = no quantisation.
+    /// Encoder resolution (bits per turn); 0 = no quantisation.
     #[arg(long, value_name = "BITS")]
     pub encoder_bits: Option<u32>,
     /// Set any scenario key, TOML syntax: `--set vibration.broadband.rms=[1.0,2.0]`
@@ -183,7 +182,10 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
         s.vibration.scale(k);
     }
     if let Some(m) = &o.accel_mount {
-        s.sensors.accel.mount = [m[0], m[1]];
+        let &[x, y] = m.as_slice() else {
+            bail!("--accel-mount: give X,Y in metres, e.g. 0.02,-0.1 (got {m:?})");
+        };
+        s.sensors.accel.mount = [x, y];
     }
     if let Some(b) = o.encoder_bits {
         s.sensors.encoder.bits = b;

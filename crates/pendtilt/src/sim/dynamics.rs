@@ -35,8 +35,8 @@ impl Pendulum {
         }
     }
 
-    /// beta'' for state (beta, beta'), specific force `f` at P2 in world axes [m/s^2] and
-    /// body rate `omega` = theta' [rad/s].
+    /// beta'' for state (beta, beta'), specific force `f` at P2 in world axes \[m/s^2\] and
+    /// body rate `omega` = theta' \[rad/s\].
     #[inline]
     pub fn beta_ddot(&self, beta: f64, beta_dot: f64, f: [f64; 2], omega: f64) -> f64 {
         let (s, c) = beta.sin_cos();
@@ -49,7 +49,7 @@ impl Pendulum {
         [y[1], self.beta_ddot(y[0], y[1], f, omega)]
     }
 
-    /// E = I_p phi'^2 / 2 + m_p g l_p (1 - cos(phi - theta)) [J]: conserved when C = 0 and
+    /// E = I_p phi'^2 / 2 + m_p g l_p (1 - cos(phi - theta)) \[J\]: conserved when C = 0 and
     /// the body is held still (MODEL.md section 2).
     pub fn energy(&self, phi: f64, phi_dot: f64, theta: f64) -> f64 {
         let p = &self.params;
@@ -59,7 +59,7 @@ impl Pendulum {
 }
 
 /// Specific force (acceleration minus gravity) at the point `r` of the body, in body axes
-/// [m/s^2]. `r` is measured from P1 in body axes [m], `kin` = (theta, theta', theta''),
+/// \[m/s^2\]. `r` is measured from P1 in body axes \[m\], `kin` = (theta, theta', theta''),
 /// `a_p1` = translational acceleration of P1 in body axes, `(s, c)` = sin, cos of theta.
 ///
 /// A point fixed on a body rotating about P1 accelerates by theta'' (k x r) - theta'^2 r,
@@ -86,7 +86,7 @@ pub fn body_to_world(v: [f64; 2], (s, c): (f64, f64)) -> [f64; 2] {
 }
 
 /// The paper's Eq (18) residual, C phi' + I_p (phi'' - theta'') + m_p g l_p sin(phi - theta)
-/// [N m]: zero along any exact trajectory with l12 = 0 and no translational vibration.
+/// \[N m\]: zero along any exact trajectory with l12 = 0 and no translational vibration.
 pub fn eq18_residual(p: &PhysicalParams<f64>, phi: [f64; 3], theta: f64, theta_ddot: f64) -> f64 {
     p.damping * phi[1]
         + p.inertia * (phi[2] - theta_ddot)

@@ -92,46 +92,46 @@ impl SimError {
 /// The true state behind one log row (not in the CSV; for tests, reports and fits).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Truth {
-    /// Body tilt theta [rad] (prescribed motion plus angular vibration).
+    /// Body tilt theta \[rad\] (prescribed motion plus angular vibration).
     pub theta: f64,
-    /// theta' [rad/s].
+    /// theta' \[rad/s\].
     pub omega: f64,
-    /// theta'' [rad/s^2].
+    /// theta'' \[rad/s^2\].
     pub alpha: f64,
-    /// Pendulum absolute angle beta [rad].
+    /// Pendulum absolute angle beta \[rad\].
     pub beta: f64,
-    /// beta' [rad/s].
+    /// beta' \[rad/s\].
     pub beta_dot: f64,
-    /// beta'' [rad/s^2].
+    /// beta'' \[rad/s^2\].
     pub beta_ddot: f64,
-    /// phi = theta - beta [rad].
+    /// phi = theta - beta \[rad\].
     pub phi: f64,
-    /// phi' [rad/s].
+    /// phi' \[rad/s\].
     pub phi_dot: f64,
-    /// phi'' [rad/s^2].
+    /// phi'' \[rad/s^2\].
     pub phi_ddot: f64,
-    /// Specific force at the pivot P2, body axes [m/s^2].
+    /// Specific force at the pivot P2, body axes \[m/s^2\].
     pub f_pivot: [f64; 2],
-    /// Specific force at the accelerometer, body axes [m/s^2] (before sensor errors).
+    /// Specific force at the accelerometer, body axes \[m/s^2\] (before sensor errors).
     pub accel: [f64; 2],
-    /// Translational acceleration of P1 (vibration), body axes [m/s^2].
+    /// Translational acceleration of P1 (vibration), body axes \[m/s^2\].
     pub a_p1: [f64; 2],
 }
 
 /// One log row: the CSV columns of MODEL.md section 5 and the truth behind them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimRow {
-    /// t_k = k / rate [s].
+    /// t_k = k / rate \[s\].
     pub t: f64,
-    /// Encoder reading [rad].
+    /// Encoder reading \[rad\].
     pub phi: f64,
-    /// Gyro reading [rad/s].
+    /// Gyro reading \[rad/s\].
     pub gyro: f64,
-    /// Accelerometer x reading [m/s^2].
+    /// Accelerometer x reading \[m/s^2\].
     pub ax: f64,
-    /// Accelerometer y reading [m/s^2].
+    /// Accelerometer y reading \[m/s^2\].
     pub ay: f64,
-    /// Potentiometer reading: the true tilt with its small noise [rad].
+    /// Potentiometer reading: the true tilt with its small noise \[rad\].
     pub theta: f64,
     /// The exact state.
     pub truth: Truth,
@@ -180,7 +180,7 @@ pub struct Simulator {
     rows: u64,
     k: u64,
     y: [f64; 2],
-    /// P2 and the accelerometer, from P1 in body axes [m].
+    /// P2 and the accelerometer, from P1 in body axes \[m\].
     p2: [f64; 2],
     mount: [f64; 2],
     kin: Vec<Kinematics>,

@@ -14,8 +14,8 @@ use super::SimError;
 /// Degrees to radians, for the defaults below.
 const DEG: f64 = std::f64::consts::PI / 180.0;
 
-/// Tilt, tilt rate and tilt acceleration at one instant: theta [rad], theta' [rad/s],
-/// theta'' [rad/s^2].
+/// Tilt, tilt rate and tilt acceleration at one instant: theta \[rad\], theta' \[rad/s\],
+/// theta'' \[rad/s^2\].
 pub type Kinematics = [f64; 3];
 
 /// How the body tilts. Selected in a scenario TOML by `kind = "..."` in the `[motion]` table.
@@ -40,7 +40,7 @@ pub enum Motion {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Still {
-    /// The tilt [rad]. Default 0.
+    /// The tilt \[rad\]. Default 0.
     pub angle: f64,
 }
 
@@ -54,13 +54,13 @@ impl Default for Still {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Sigmoid {
-    /// Total change A [rad]. Default 10 deg = 0.1745 rad.
+    /// Total change A \[rad\]. Default 10 deg = 0.1745 rad.
     pub amplitude: f64,
-    /// Mid-point time t0 [s]. Default 2 s.
+    /// Mid-point time t0 \[s\]. Default 2 s.
     pub t0: f64,
-    /// Time constant tau [s] (10-90 % rise = 4.39 tau). Default 0.2 s.
+    /// Time constant tau \[s\] (10-90 % rise = 4.39 tau). Default 0.2 s.
     pub tau: f64,
-    /// Tilt before the change [rad]. Default 0.
+    /// Tilt before the change \[rad\]. Default 0.
     pub offset: f64,
 }
 
@@ -79,13 +79,13 @@ impl Default for Sigmoid {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Step {
-    /// Step height [rad]. Default 10 deg = 0.1745 rad.
+    /// Step height \[rad\]. Default 10 deg = 0.1745 rad.
     pub amplitude: f64,
-    /// Step time (mid-point) [s]. Default 1 s.
+    /// Step time (mid-point) \[s\]. Default 1 s.
     pub t0: f64,
-    /// Time constant [s]: 10-90 % rise of 4.39 tau = 22 ms. Default 5 ms.
+    /// Time constant \[s\]: 10-90 % rise of 4.39 tau = 22 ms. Default 5 ms.
     pub tau: f64,
-    /// Tilt before the step [rad]. Default 0.
+    /// Tilt before the step \[rad\]. Default 0.
     pub offset: f64,
 }
 
@@ -104,13 +104,13 @@ impl Default for Step {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Sine {
-    /// Amplitude [rad]. Default 10 deg = 0.1745 rad.
+    /// Amplitude \[rad\]. Default 10 deg = 0.1745 rad.
     pub amplitude: f64,
-    /// Frequency [Hz]. Default 0.5 Hz.
+    /// Frequency \[Hz\]. Default 0.5 Hz.
     pub frequency: f64,
-    /// Phase at t = 0 [rad]. Default 0.
+    /// Phase at t = 0 \[rad\]. Default 0.
     pub phase: f64,
-    /// Mean tilt [rad]. Default 0.
+    /// Mean tilt \[rad\]. Default 0.
     pub offset: f64,
 }
 
@@ -130,15 +130,15 @@ impl Default for Sine {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Chirp {
-    /// Amplitude [rad]. Default 5 deg = 0.0873 rad.
+    /// Amplitude \[rad\]. Default 5 deg = 0.0873 rad.
     pub amplitude: f64,
-    /// Start frequency [Hz]. Default 0.1 Hz.
+    /// Start frequency \[Hz\]. Default 0.1 Hz.
     pub f0: f64,
-    /// End frequency [Hz]. Default 5 Hz (past the default pendulum's 2.19 Hz).
+    /// End frequency \[Hz\]. Default 5 Hz (past the default pendulum's 2.19 Hz).
     pub f1: f64,
-    /// Sweep duration [s]. Default 20 s (the chirp scenario's duration).
+    /// Sweep duration \[s\]. Default 20 s (the chirp scenario's duration).
     pub sweep_time: f64,
-    /// Mean tilt [rad]. Default 0.
+    /// Mean tilt \[rad\]. Default 0.
     pub offset: f64,
 }
 
@@ -162,15 +162,15 @@ impl Default for Chirp {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Manoeuvres {
-    /// Soft limit A [rad]. Default 15 deg = 0.2618 rad.
+    /// Soft limit A \[rad\]. Default 15 deg = 0.2618 rad.
     pub amplitude: f64,
-    /// RMS of the signal before limiting [rad]. Default 7 deg = 0.1222 rad.
+    /// RMS of the signal before limiting \[rad\]. Default 7 deg = 0.1222 rad.
     pub rms: f64,
-    /// Frequency band [Hz]. Default [0.05, 0.8] Hz: below 1 Hz, as a ridden scooter.
+    /// Frequency band \[Hz\]. Default \[0.05, 0.8\] Hz: below 1 Hz, as a ridden scooter.
     pub band: [f64; 2],
     /// Number of sinusoids. Default 12.
     pub components: u32,
-    /// Mean tilt [rad]. Default 0.
+    /// Mean tilt \[rad\]. Default 0.
     pub offset: f64,
 }
 
@@ -287,7 +287,7 @@ impl Motion {
         }
     }
 
-    /// Scales the motion's size (`amplitude`, or `angle` for [`Motion::Still`]) to `value` [rad].
+    /// Scales the motion's size (`amplitude`, or `angle` for [`Motion::Still`]) to `value` \[rad\].
     pub fn set_amplitude(&mut self, value: f64) {
         match self {
             Motion::Still(m) => m.angle = value,
@@ -356,17 +356,17 @@ impl Motion {
 /// A [`Motion`] ready to evaluate (random parts drawn).
 #[derive(Debug, Clone, PartialEq)]
 pub enum MotionFn {
-    /// Constant tilt [rad].
+    /// Constant tilt \[rad\].
     Still(f64),
     /// offset + a S((t - t0) / tau).
     Sigmoid {
-        /// Total change [rad].
+        /// Total change \[rad\].
         a: f64,
-        /// Mid-point [s].
+        /// Mid-point \[s\].
         t0: f64,
-        /// Time constant [s].
+        /// Time constant \[s\].
         tau: f64,
-        /// Initial tilt [rad].
+        /// Initial tilt \[rad\].
         offset: f64,
     },
     /// offset + sum of sines, optionally soft-limited by `limit * tanh(. / limit)`.
@@ -375,9 +375,9 @@ pub enum MotionFn {
         sum: SineSum,
         /// The same, for evaluation block by block (boxed: it is large).
         grid: Box<SineGrid>,
-        /// Mean tilt [rad].
+        /// Mean tilt \[rad\].
         offset: f64,
-        /// Soft limit [rad].
+        /// Soft limit \[rad\].
         limit: Option<f64>,
     },
     /// Linear sweep.

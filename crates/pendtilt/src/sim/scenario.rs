@@ -52,17 +52,17 @@ pub const SCENARIO_NAMES: &[&str] = &["still", "sigmoid", "step", "sine", "chirp
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct PendulumTable {
-    /// m_p [kg]. Default 0.05.
+    /// m_p \[kg\]. Default 0.05.
     pub mass: f64,
-    /// l_p, pivot to CG [m]. Default 0.05.
+    /// l_p, pivot to CG \[m\]. Default 0.05.
     pub length: f64,
-    /// I_p about the pivot [kg m^2], at least m_p l_p^2. Default 1.3e-4.
+    /// I_p about the pivot \[kg m^2\], at least m_p l_p^2. Default 1.3e-4.
     pub inertia: f64,
-    /// C [N m s/rad]. Default 1.07e-3.
+    /// C \[N m s/rad\]. Default 1.07e-3.
     pub damping: f64,
-    /// l12 [m]. Default 0.
+    /// l12 \[m\]. Default 0.
     pub pivot_offset: f64,
-    /// g [m/s^2]. Default 9.80665.
+    /// g \[m/s^2\]. Default 9.80665.
     pub gravity: f64,
 }
 
@@ -143,9 +143,9 @@ impl PendulumTable {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
-    /// Length of the run [s]; the log has round(duration * rate) rows.
+    /// Length of the run \[s\]; the log has round(duration * rate) rows.
     pub duration: f64,
-    /// Sample rate [Hz]. Default 1000.
+    /// Sample rate \[Hz\]. Default 1000.
     pub rate: f64,
     /// RK4 steps per sample (the integration step is 1 / (rate * substeps)). Default 2:
     /// on the `scooter` scenario (broadband off, 60 s) the largest error of phi against 32
@@ -254,7 +254,7 @@ impl Scenario {
         (self.duration * self.rate).round() as u64
     }
 
-    /// Integration nodes per second: rate * substeps [Hz].
+    /// Integration nodes per second: rate * substeps \[Hz\].
     pub fn node_rate(&self) -> f64 {
         self.rate * self.substeps as f64
     }

@@ -24,7 +24,7 @@ const G0: f64 = 9.80665;
 pub struct Encoder {
     /// Resolution: 2^bits steps per turn; 0 = no quantisation. Default 12 (0.088 deg).
     pub bits: u32,
-    /// Standard deviation of Gaussian noise added before quantisation [rad]. Default 0.
+    /// Standard deviation of Gaussian noise added before quantisation \[rad\]. Default 0.
     pub noise: f64,
 }
 
@@ -41,14 +41,14 @@ impl Default for Encoder {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Gyro {
-    /// White-noise density [rad/s/sqrt(Hz)]. Default 0.005 deg/s/sqrt(Hz) = 8.73e-5
+    /// White-noise density \[rad/s/sqrt(Hz)\]. Default 0.005 deg/s/sqrt(Hz) = 8.73e-5
     /// (a common MEMS gyro).
     pub noise_density: f64,
-    /// Constant bias [rad/s]. Default 0.5 deg/s = 8.73e-3 rad/s.
+    /// Constant bias \[rad/s\]. Default 0.5 deg/s = 8.73e-3 rad/s.
     pub bias: f64,
-    /// Bias random-walk density [rad/s/sqrt(s)]. Default 1e-4.
+    /// Bias random-walk density \[rad/s/sqrt(s)\]. Default 1e-4.
     pub bias_walk: f64,
-    /// Full scale: readings clamp to +-full_scale [rad/s]; 0 = no saturation.
+    /// Full scale: readings clamp to +-full_scale \[rad/s\]; 0 = no saturation.
     /// Default 500 deg/s = 8.73 rad/s.
     pub full_scale: f64,
 }
@@ -68,15 +68,15 @@ impl Default for Gyro {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Accel {
-    /// White-noise density per axis [m/s^2/sqrt(Hz)]. Default 400 ug/sqrt(Hz) = 3.92e-3.
+    /// White-noise density per axis \[m/s^2/sqrt(Hz)\]. Default 400 ug/sqrt(Hz) = 3.92e-3.
     pub noise_density: f64,
-    /// Constant bias [x, y] [m/s^2]. Default [0.02, -0.03].
+    /// Constant bias \[x, y\] \[m/s^2\]. Default \[0.02, -0.03\].
     pub bias: [f64; 2],
-    /// Full scale: each axis clamps to +-full_scale [m/s^2]; 0 = no saturation.
+    /// Full scale: each axis clamps to +-full_scale \[m/s^2\]; 0 = no saturation.
     /// Default 8 g = 78.45 m/s^2.
     pub full_scale: f64,
-    /// Mount position relative to the pendulum pivot P2, body axes [x, y] [m].
-    /// Default [0, 0]: at P2, where the pendulum feels the same specific force.
+    /// Mount position relative to the pendulum pivot P2, body axes \[x, y\] \[m\].
+    /// Default \[0, 0\]: at P2, where the pendulum feels the same specific force.
     pub mount: [f64; 2],
 }
 
@@ -95,7 +95,7 @@ impl Default for Accel {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Potentiometer {
-    /// Standard deviation of its Gaussian noise [rad]. Default 0.02 deg = 3.49e-4 rad.
+    /// Standard deviation of its Gaussian noise \[rad\]. Default 0.02 deg = 3.49e-4 rad.
     pub noise: f64,
 }
 
@@ -183,28 +183,28 @@ impl Sensors {
 /// What the sensors see at one sample, before their errors.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrueSignals {
-    /// Pendulum angle relative to the body [rad].
+    /// Pendulum angle relative to the body \[rad\].
     pub phi: f64,
-    /// Body rate [rad/s].
+    /// Body rate \[rad/s\].
     pub omega: f64,
-    /// Specific force at the accelerometer, body axes [m/s^2].
+    /// Specific force at the accelerometer, body axes \[m/s^2\].
     pub accel: [f64; 2],
-    /// Body tilt [rad].
+    /// Body tilt \[rad\].
     pub theta: f64,
 }
 
 /// The readings of one sample: `phi`, `gyro`, `ax`, `ay`, `theta` of the log.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Readings {
-    /// Encoder [rad].
+    /// Encoder \[rad\].
     pub phi: f64,
-    /// Gyro [rad/s].
+    /// Gyro \[rad/s\].
     pub gyro: f64,
-    /// Accelerometer x [m/s^2].
+    /// Accelerometer x \[m/s^2\].
     pub ax: f64,
-    /// Accelerometer y [m/s^2].
+    /// Accelerometer y \[m/s^2\].
     pub ay: f64,
-    /// Potentiometer [rad].
+    /// Potentiometer \[rad\].
     pub theta: f64,
 }
 
@@ -244,7 +244,7 @@ fn clamp(x: f64, fs: f64) -> f64 {
 }
 
 impl SensorBank {
-    /// The sensors sampled at `rate` [Hz], with one random stream each (encoder, gyro,
+    /// The sensors sampled at `rate` \[Hz\], with one random stream each (encoder, gyro,
     /// accelerometer, potentiometer).
     pub fn new(s: &Sensors, rate: f64, rng: [ChaCha8Rng; 4]) -> Self {
         let dt = 1.0 / rate;

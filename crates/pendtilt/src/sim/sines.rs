@@ -15,16 +15,16 @@ use std::f64::consts::TAU;
 pub struct Sinusoid {
     /// Amplitude (unit of the quantity it drives).
     pub amp: f64,
-    /// Angular frequency [rad/s].
+    /// Angular frequency \[rad/s\].
     pub omega: f64,
-    /// Phase at t = 0 [rad].
+    /// Phase at t = 0 \[rad\].
     pub phase: f64,
     /// Direction in body axes for vector quantities (unit length); unused for scalars.
     pub dir: [f64; 2],
 }
 
 impl Sinusoid {
-    /// A scalar sinusoid of frequency `hz` [Hz].
+    /// A scalar sinusoid of frequency `hz` \[Hz\].
     pub fn scalar(amp: f64, hz: f64, phase: f64) -> Self {
         Self {
             amp,

@@ -21,14 +21,14 @@ use super::SimError;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Harmonic {
-    /// Frequency [Hz].
+    /// Frequency \[Hz\].
     pub frequency: f64,
-    /// Amplitude (peak) [m/s^2].
+    /// Amplitude (peak) \[m/s^2\].
     pub amplitude: f64,
-    /// Direction in body axes [x, y]; normalised on use. Default [0, 1] (body up).
+    /// Direction in body axes \[x, y\]; normalised on use. Default \[0, 1\] (body up).
     #[serde(default = "up")]
     pub axis: [f64; 2],
-    /// Phase at t = 0 [rad]. Default 0.
+    /// Phase at t = 0 \[rad\]. Default 0.
     #[serde(default)]
     pub phase: f64,
 }
@@ -41,11 +41,11 @@ fn up() -> [f64; 2] {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Broadband {
-    /// RMS on body x and y [m/s^2]; [0, 0] switches it off. Default [0, 0] (the `scooter`
+    /// RMS on body x and y \[m/s^2\]; \[0, 0\] switches it off. Default \[0, 0\] (the `scooter`
     /// scenario sets its own).
     pub rms: [f64; 2],
-    /// Pass band [low, high] [Hz] (2nd-order Butterworth edges; low = 0 means no
-    /// high-pass). high must stay below 0.45 x the node rate. Default [5, 200] Hz.
+    /// Pass band \[low, high\] \[Hz\] (2nd-order Butterworth edges; low = 0 means no
+    /// high-pass). high must stay below 0.45 x the node rate. Default \[5, 200\] Hz.
     pub band: [f64; 2],
 }
 
@@ -59,15 +59,15 @@ impl Default for Broadband {
 }
 
 /// One harmonic of the body's angular vibration, added to theta:
-/// `amplitude * sin(2 pi frequency t + phase)` [rad].
+/// `amplitude * sin(2 pi frequency t + phase)` \[rad\].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AngularHarmonic {
-    /// Frequency [Hz].
+    /// Frequency \[Hz\].
     pub frequency: f64,
-    /// Amplitude [rad].
+    /// Amplitude \[rad\].
     pub amplitude: f64,
-    /// Phase at t = 0 [rad]. Default 0.
+    /// Phase at t = 0 \[rad\]. Default 0.
     #[serde(default)]
     pub phase: f64,
 }
@@ -85,7 +85,7 @@ pub struct Vibration {
 }
 
 impl Vibration {
-    /// Checks every value for a run whose integration nodes are `node_rate` apart [Hz].
+    /// Checks every value for a run whose integration nodes are `node_rate` apart \[Hz\].
     pub fn validate(&self, node_rate: f64) -> Result<(), SimError> {
         for (i, h) in self.harmonics.iter().enumerate() {
             let key = |f: &str| format!("vibration.harmonics[{i}].{f}");
@@ -263,12 +263,12 @@ pub struct VibrationGen {
     harmonics: SineGrid,
     angular: SineGrid,
     broadband: Vec<(usize, NoiseAxis)>,
-    /// Broadband acceleration at the last node [m/s^2], body axes.
+    /// Broadband acceleration at the last node \[m/s^2\], body axes.
     last_node: [f64; 2],
 }
 
 impl VibrationGen {
-    /// Builds the generator for integration nodes at `node_rate` [Hz], warming the broadband
+    /// Builds the generator for integration nodes at `node_rate` \[Hz\], warming the broadband
     /// filters up with draws from `rng` so that t = 0 is already in steady state.
     pub fn new<R: Rng>(v: &Vibration, node_rate: f64, rng: &mut R) -> Self {
         let harmonics = SineGrid::new(&SineSum::new(
