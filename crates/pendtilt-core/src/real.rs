@@ -45,6 +45,12 @@ impl Real for f32 {
     }
 }
 
+/// True when `x > 0`; false for zero, negative and NaN (a time step must pass this).
+#[inline(always)]
+pub(crate) fn is_positive<T: Real>(x: T) -> bool {
+    x > T::zero()
+}
+
 /// Shorthand for [`Real::lit`].
 #[inline(always)]
 pub fn lit<T: Real>(x: f64) -> T {

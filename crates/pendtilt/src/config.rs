@@ -379,6 +379,7 @@ impl RigConfig {
             phi: self.alg2.phi.into(),
             theta_dd: estimators::theta_dd(self.alg2.theta_dd, self.alg2.window),
             pivot_offset: self.alg2.pivot_offset,
+            delay_compensation: self.alg2.delay_compensation,
             ..Alg2Settings::from_params(self.params())
         }
     }

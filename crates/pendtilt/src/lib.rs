@@ -5,9 +5,11 @@
 //! [`pendtilt_core`], re-exported here as [`core`].
 pub use pendtilt_core as core;
 
+pub mod bank;
 pub mod cli;
 pub mod config;
 pub mod fit;
 pub mod io;
+pub mod pipeline;
 pub mod report;
 pub mod sim;

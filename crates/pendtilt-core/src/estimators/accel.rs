@@ -45,7 +45,11 @@ impl<T: Real> Accel<T> {
 impl<T: Real> Estimator<T> for Accel<T> {
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
-        if !s.t.is_finite() || self.t_prev.is_some_and(|tp| !(s.t > tp)) {
+        if !s.t.is_finite()
+            || self
+                .t_prev
+                .is_some_and(|tp| !crate::real::is_positive(s.t - tp))
+        {
             return Estimate {
                 theta: self.last,
                 flags: Flags::BAD_TIME_STEP,

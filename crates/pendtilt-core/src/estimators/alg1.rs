@@ -11,7 +11,7 @@ use crate::{Estimate, Estimator, Flags, PendulumParams, Real, Sample};
 pub struct Alg1Settings<T> {
     /// The pendulum's normalised parameters a, b. Default: the MODEL.md rig.
     pub params: PendulumParams<T>,
-    /// Differentiator for phi' and phi''. Default: Butterworth at 1.7 f_n.
+    /// Differentiator for phi' and phi''. Default: Butterworth at 1.3 f_n.
     pub differentiator: DiffSettings<T>,
     /// Which phi enters the equation. Default [`PhiSource::Raw`].
     pub phi: PhiSource,

@@ -14,7 +14,7 @@ pub struct Alg2Settings<T> {
     /// The pendulum's normalised parameters a, b (and c with `pivot_offset`).
     pub params: PendulumParams<T>,
     /// Differentiator for phi', phi'' (and the gyro when matched). Default: Butterworth at
-    /// 1.7 f_n.
+    /// 1.3 f_n.
     pub differentiator: DiffSettings<T>,
     /// Which phi enters the equation. Default [`PhiSource::Raw`].
     pub phi: PhiSource,
@@ -23,6 +23,14 @@ pub struct Alg2Settings<T> {
     /// Add `c (theta'' cos phi - theta'^2 sin phi)`, c = l12 / g (MODEL.md section 3).
     /// Default false (the paper's Eq 21).
     pub pivot_offset: bool,
+    /// Remove the differentiator's first-order delay from the correction (not in the
+    /// paper): `theta -= tau (phi'_f - G_f)`, `tau` the low-pass's DC delay, `G_f` the gyro
+    /// through the same low-pass. With the raw phi, Eq (21)'s correction arrives `tau`
+    /// late, leaving an error `(1 - H)(phi - theta) ≈ tau (phi - theta)'`; the gyro
+    /// measures theta' directly, so this term can be removed, leaving a third-order
+    /// error. A constant gyro bias shifts the estimate by `tau * bias`. Default false
+    /// (Eq 21 as printed; Algorithm 3's `N G_k` term plays this role when supervised).
+    pub delay_compensation: bool,
 }
 
 impl<T: Real> Default for Alg2Settings<T> {
@@ -40,6 +48,7 @@ impl<T: Real> Alg2Settings<T> {
             phi: PhiSource::default(),
             theta_dd: ThetaDdSource::default(),
             pivot_offset: false,
+            delay_compensation: false,
         }
     }
 }
@@ -85,8 +94,13 @@ impl<T: Real, const W: usize> Estimator<T> for Alg2<T, W> {
                 if r.clamped {
                     flags |= Flags::ASIN_CLAMPED;
                 }
+                let theta = if self.settings.delay_compensation {
+                    r.theta - k.delay * (k.dphi - k.gyro_filtered)
+                } else {
+                    r.theta
+                };
                 Estimate {
-                    theta: self.inv.finish(r.theta),
+                    theta: self.inv.finish(theta),
                     flags,
                 }
             }

@@ -15,7 +15,7 @@ pub struct Alg3Settings<T> {
     pub params: PendulumParams<T>,
     /// K, L, M, N. Default: those that make Eq (30) equal Eq (21).
     pub gains: Alg3Gains<T>,
-    /// Differentiator for phi', phi''. Default: Butterworth at 1.7 f_n.
+    /// Differentiator for phi', phi''. Default: Butterworth at 1.3 f_n.
     pub differentiator: DiffSettings<T>,
     /// Which phi enters the equation. Default [`PhiSource::Raw`].
     pub phi: PhiSource,

@@ -31,6 +31,10 @@ pub(crate) struct Kinematics<T> {
     pub gyro: T,
     /// theta'' [rad/s^2] from the gyro source (0 without a gyro).
     pub theta_dd: T,
+    /// The gyro through the phi low-pass (0 without a gyro) [rad/s].
+    pub gyro_filtered: T,
+    /// DC delay of the phi low-pass [s].
+    pub delay: T,
 }
 
 /// State shared by Algorithms 1-3. `W` is the Eq (22) window capacity.
@@ -43,6 +47,7 @@ pub(crate) struct Inverter<T: Real, const W: usize> {
     phi_prev: T,
     unwrap: T,
     last_gyro: T,
+    delay: T,
     pub last_theta: T,
 }
 
@@ -55,6 +60,7 @@ impl<T: Real, const W: usize> Inverter<T, W> {
     ) -> Self {
         let d = SmoothingDifferentiator::new(diff.response, diff.cutoff_hz(params));
         Self {
+            delay: diff.response.dc_delay(d.cutoff_rad_s()),
             phi_source,
             gyro: theta_dd.map(|s| ThetaDd::new(s, d.clone())),
             phi_diff: d,
@@ -88,7 +94,7 @@ impl<T: Real, const W: usize> Inverter<T, W> {
         let dt = match self.t_prev {
             Some(tp) => {
                 let dt = s.t - tp;
-                if !(dt > T::zero()) {
+                if !crate::real::is_positive(dt) {
                     return Err(Flags::BAD_TIME_STEP);
                 }
                 dt
@@ -124,16 +130,19 @@ impl<T: Real, const W: usize> Inverter<T, W> {
             self.phi_diff.update_at(phi, dt, s.t)
         };
         let mut theta_dd = T::zero();
+        let mut gyro_filtered = T::zero();
         if let Some(g) = self.gyro.as_mut() {
             if s.gyro.is_finite() {
                 self.last_gyro = s.gyro;
                 let (v, init) = g.update(s.t, s.gyro);
                 theta_dd = v;
+                gyro_filtered = g.filtered_rate();
                 if init {
                     flags |= Flags::INITIALISING;
                 }
             } else {
                 theta_dd = g.last();
+                gyro_filtered = g.filtered_rate();
                 flags |= Flags::SAMPLE_MISSING;
             }
         }
@@ -148,6 +157,8 @@ impl<T: Real, const W: usize> Inverter<T, W> {
                 ddphi: d.d2,
                 gyro: self.last_gyro,
                 theta_dd,
+                gyro_filtered,
+                delay: self.delay,
             },
             flags,
         ))

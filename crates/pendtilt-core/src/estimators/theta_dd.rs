@@ -13,7 +13,7 @@ use crate::filters::diff::SmoothingDifferentiator;
 use crate::Real;
 
 /// Where theta'' comes from.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum ThetaDdSource<T> {
     /// Eq (22) over a window of about `span` seconds (rounded to whole samples at the
     /// first time step, at least 1, at most the buffer capacity minus one).
@@ -22,13 +22,9 @@ pub enum ThetaDdSource<T> {
         span: T,
     },
     /// The derivative of the gyro through the phi differentiator (same delay as phi'').
+    /// The default.
+    #[default]
     Matched,
-}
-
-impl<T: Real> Default for ThetaDdSource<T> {
-    fn default() -> Self {
-        ThetaDdSource::Matched
-    }
 }
 
 /// Capacity of the Eq (22) history: 256 samples, a 0.256 s window at 1 kHz.
@@ -47,6 +43,7 @@ pub struct ThetaDd<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
     w: usize,
     t_prev: Option<T>,
     last: T,
+    last_rate: T,
 }
 
 impl<T: Real, const W: usize> ThetaDd<T, W> {
@@ -62,6 +59,7 @@ impl<T: Real, const W: usize> ThetaDd<T, W> {
             w: 0,
             t_prev: None,
             last: T::zero(),
+            last_rate: T::zero(),
         }
     }
 
@@ -73,6 +71,13 @@ impl<T: Real, const W: usize> ThetaDd<T, W> {
         self.w = 0;
         self.t_prev = None;
         self.last = T::zero();
+        self.last_rate = T::zero();
+    }
+
+    /// The gyro rate through the phi differentiator's low-pass [rad/s]: theta' with the
+    /// same delay as phi' (used by the delay compensation of Algorithm 2).
+    pub fn filtered_rate(&self) -> T {
+        self.last_rate
     }
 
     /// The last theta'' [rad/s^2] (held when the gyro is missing).
@@ -88,13 +93,14 @@ impl<T: Real, const W: usize> ThetaDd<T, W> {
             None => T::zero(),
         };
         self.t_prev = Some(t);
+        let d = if self.diff.is_started() {
+            self.diff.update_at(g, dt, t)
+        } else {
+            self.diff.update(g, T::one())
+        };
+        self.last_rate = d.value;
         match self.source {
             ThetaDdSource::Matched => {
-                let d = if self.diff.is_started() {
-                    self.diff.update_at(g, dt, t)
-                } else {
-                    self.diff.update(g, T::one())
-                };
                 self.last = d.d1;
                 (self.last, false)
             }

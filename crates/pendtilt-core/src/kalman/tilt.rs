@@ -93,7 +93,7 @@ impl<T: Real> TiltKalman<T> {
     /// ([`Flags::SAMPLE_MISSING`]).
     pub fn step(&mut self, t: T, gyro: T, measurements: &[(T, T)]) -> Estimate<T> {
         let mut flags = Flags::empty();
-        if !t.is_finite() || self.t_prev.is_some_and(|tp| !(t > tp)) {
+        if !t.is_finite() || self.t_prev.is_some_and(|tp| !crate::real::is_positive(t - tp)) {
             return Estimate {
                 theta: self.angle(),
                 flags: Flags::BAD_TIME_STEP,

@@ -68,7 +68,7 @@ pub enum ThetaDdChoice {
 /// to `alg1`, `alg2` and `alg3` (and theta'' under `theta_dd = "matched"`).
 ///
 /// The cutoff is either fixed (`cutoff_hz`) or relative to the pendulum's natural
-/// frequency (`cutoff_times_natural`, default 1.7); giving both is an error. A higher
+/// frequency (`cutoff_times_natural`, default 1.3); giving both is an error. A higher
 /// cutoff lets more residual vibration through phi''; a lower one delays the estimate
 /// (see [`pendtilt_core::filters::diff`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -79,7 +79,7 @@ pub struct DifferentiatorConfig {
     /// Fixed cutoff \[Hz\], > 0. Default: unset (relative cutoff).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cutoff_hz: Option<f64>,
-    /// Cutoff as a multiple of the natural frequency f_n, > 0. Default: unset, meaning 1.7.
+    /// Cutoff as a multiple of the natural frequency f_n, > 0. Default: unset, meaning 1.3.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cutoff_times_natural: Option<f64>,
 }
@@ -153,6 +153,9 @@ pub struct Alg2Config {
     /// Add the pivot-offset term c (theta'' cos phi - theta'^2 sin phi) to `alg2` itself.
     /// Default false (the paper's Eq 21).
     pub pivot_offset: bool,
+    /// Remove the differentiator's first-order delay with the gyro (not in the paper; see
+    /// `Alg2Settings::delay_compensation`). Default false (Eq 21 as printed).
+    pub delay_compensation: bool,
 }
 
 impl Default for Alg2Config {
@@ -162,6 +165,7 @@ impl Default for Alg2Config {
             theta_dd: ThetaDdChoice::Matched,
             window: DEFAULT_GD_WINDOW,
             pivot_offset: false,
+            delay_compensation: false,
         }
     }
 }
@@ -326,6 +330,7 @@ pub(super) fn key_comment(table: &str, key: &str) -> Option<&'static str> {
         ("alg2" | "alg3", "theta_dd") => "matched | window (Eq 22)",
         ("alg2" | "alg3", "window") => "Eq (22) window [s]",
         ("alg2", "pivot_offset") => "add the l12 term to alg2",
+        ("alg2", "delay_compensation") => "remove the differentiator delay with the gyro",
         ("alg3", "k") => "K, times phi' [s]",
         ("alg3", "l") => "L, times phi'' [s^2]",
         ("alg3", "m") => "M, times G_d [s^2]",

@@ -1,0 +1,123 @@
+//! Where the estimators' defaults come from: RMS error of alg1 and alg2 against the true
+//! tilt on simulated scooter rides, swept over the differentiator's cutoff (as a multiple
+//! of the pendulum's natural frequency), its response, which phi enters the equation, and
+//! where theta'' comes from (Eq 22 window or the matched differentiator).
+//!
+//! `cargo run --release -p pendtilt --example tuning_sweep [SECONDS] [SEEDS]`
+use pendtilt::sim::{simulate, Scenario};
+use pendtilt_core::estimators::alg1::{Alg1, Alg1Settings};
+use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
+use pendtilt_core::estimators::theta_dd::ThetaDdSource;
+use pendtilt_core::estimators::PhiSource;
+use pendtilt_core::filters::diff::{Cutoff, Response};
+use pendtilt_core::Estimator;
+
+fn rms(est: &mut dyn Estimator<f64>, rows: &[pendtilt::sim::SimRow]) -> f64 {
+    let (mut acc, mut n) = (0.0, 0usize);
+    for r in rows {
+        let e = est.update(&r.sample());
+        if r.t >= 1.0 {
+            acc += (e.theta - r.truth.theta).powi(2);
+            n += 1;
+        }
+    }
+    (acc / n as f64).sqrt().to_degrees()
+}
+
+fn main() -> anyhow::Result<()> {
+    let args: Vec<String> = std::env::args().collect();
+    let secs: f64 = args.get(1).map(|s| s.parse()).transpose()?.unwrap_or(60.0);
+    let seeds: u64 = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(2);
+    let mut sc = Scenario::named("scooter")?;
+    sc.duration = secs;
+    if let Some(text) = args.get(3) {
+        // Scenario TOML overrides, e.g. a file written by `pendtilt simulate --print-scenario`.
+        sc = sc.merged(&std::fs::read_to_string(text)?, text)?.0;
+        sc.duration = secs;
+    }
+    let rides: Vec<_> = (1..=seeds)
+        .map(|s| simulate(&sc, s))
+        .collect::<Result<_, _>>()?;
+    let params = sc.physical().normalised();
+    println!(
+        "scooter, {secs} s x {seeds} seeds; pendulum f_n = {:.2} Hz; RMS error [deg] (mean over seeds)",
+        params.natural_frequency_hz()
+    );
+    println!(
+        "{:<17} {:<9} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
+        "response", "phi", "x f_n", "alg1", "alg2 M", "alg2 W10", "alg2 W30", "alg2 W60", "alg2+dc"
+    );
+    for response in [
+        Response::Butterworth,
+        Response::Bessel,
+        Response::CriticallyDamped,
+    ] {
+        for phi in [PhiSource::Raw, PhiSource::Filtered] {
+            for ratio in [0.8, 1.0, 1.3, 1.7, 2.2, 3.0, 5.0, 10.0] {
+                let diff = pendtilt_core::filters::diff::DiffSettings {
+                    response,
+                    cutoff: Cutoff::TimesNatural(ratio),
+                };
+                let mut cols = Vec::new();
+                let s1 = Alg1Settings {
+                    differentiator: diff,
+                    phi,
+                    ..Alg1Settings::from_params(params)
+                };
+                cols.push(
+                    rides
+                        .iter()
+                        .map(|r| rms(&mut Alg1::new(s1), r))
+                        .sum::<f64>()
+                        / seeds as f64,
+                );
+                for src in [
+                    ThetaDdSource::Matched,
+                    ThetaDdSource::Window { span: 0.010 },
+                    ThetaDdSource::Window { span: 0.030 },
+                    ThetaDdSource::Window { span: 0.060 },
+                ] {
+                    let s2 = Alg2Settings {
+                        differentiator: diff,
+                        phi,
+                        theta_dd: src,
+                        ..Alg2Settings::from_params(params)
+                    };
+                    cols.push(
+                        rides
+                            .iter()
+                            .map(|r| rms(&mut Alg2::<f64>::new(s2), r))
+                            .sum::<f64>()
+                            / seeds as f64,
+                    );
+                }
+                let s2 = Alg2Settings {
+                    differentiator: diff,
+                    phi,
+                    delay_compensation: true,
+                    ..Alg2Settings::from_params(params)
+                };
+                cols.push(
+                    rides
+                        .iter()
+                        .map(|r| rms(&mut Alg2::<f64>::new(s2), r))
+                        .sum::<f64>()
+                        / seeds as f64,
+                );
+                println!(
+                    "{:<17} {:<9} {:>6.1} {:>8.4} {:>8.4} {:>8.4} {:>8.4} {:>8.4} {:>8.4}",
+                    format!("{response:?}"),
+                    format!("{phi:?}"),
+                    ratio,
+                    cols[0],
+                    cols[1],
+                    cols[2],
+                    cols[3],
+                    cols[4],
+                    cols[5]
+                );
+            }
+        }
+    }
+    Ok(())
+}

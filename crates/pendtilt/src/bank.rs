@@ -1,0 +1,431 @@
+//! The estimator bank: every estimator `pendtilt estimate` can run, built from the rig
+//! settings and the columns a log has, run side by side one sample at a time.
+//!
+//! Each entry of [`REGISTRY`] names an output column, the inputs it needs, and how to
+//! build it; Kalman outputs name the estimators whose angles they take as measurements.
+//! Adding an estimator is adding an entry. An entry whose inputs the log lacks is skipped
+//! and reported ([`Bank::skipped`]), never a failure.
+use pendtilt_core::estimators::accel::{Accel, AccelSettings};
+use pendtilt_core::estimators::alg1::{Alg1, Alg1Settings};
+use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
+use pendtilt_core::estimators::alg3::{Alg3, Alg3Settings};
+use pendtilt_core::estimators::pendulum::{Pendulum, PendulumSettings};
+use pendtilt_core::kalman::tilt::UNUSABLE;
+use pendtilt_core::kalman::{KalmanSettings, TiltKalman};
+use pendtilt_core::{Estimate, Estimator, Flags, PendulumParams, Sample};
+
+/// The sensors a log provides.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Inputs {
+    /// `phi` (encoder).
+    pub phi: bool,
+    /// `gyro`.
+    pub gyro: bool,
+    /// `ax` and `ay` (accelerometer).
+    pub accel: bool,
+}
+
+impl Inputs {
+    /// All sensors present.
+    pub const ALL: Inputs = Inputs {
+        phi: true,
+        gyro: true,
+        accel: true,
+    };
+
+    fn covers(self, need: Inputs) -> bool {
+        (self.phi || !need.phi) && (self.gyro || !need.gyro) && (self.accel || !need.accel)
+    }
+
+    /// Names of the sensors of `need` this set lacks.
+    pub fn lacking(self, need: Inputs) -> Vec<&'static str> {
+        let mut v = Vec::new();
+        if need.phi && !self.phi {
+            v.push("phi");
+        }
+        if need.gyro && !self.gyro {
+            v.push("gyro");
+        }
+        if need.accel && !self.accel {
+            v.push("ax/ay");
+        }
+        v
+    }
+}
+
+/// Settings of every estimator in the bank (f64, SI).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BankSettings {
+    /// The pendulum (a, b, c).
+    pub params: PendulumParams<f64>,
+    /// `accel` (Eq 1).
+    pub accel: AccelSettings<f64>,
+    /// `alg1` (Eq 20).
+    pub alg1: Alg1Settings<f64>,
+    /// `alg2` (Eqs 21-22); `alg2_offset` is the same with the pivot-offset term on.
+    pub alg2: Alg2Settings<f64>,
+    /// `alg3` (Eq 30) with fixed gains.
+    pub alg3: Alg3Settings<f64>,
+    /// Every `kf_*` output.
+    pub kalman: KalmanSettings<f64>,
+}
+
+impl BankSettings {
+    /// Defaults for a pendulum with parameters `params`.
+    pub fn from_params(params: PendulumParams<f64>) -> Self {
+        Self {
+            params,
+            accel: AccelSettings::default(),
+            alg1: Alg1Settings::from_params(params),
+            alg2: Alg2Settings::from_params(params),
+            alg3: Alg3Settings::from_params(params),
+            kalman: KalmanSettings::default(),
+        }
+    }
+}
+
+/// How an output is computed.
+pub enum Kind {
+    /// A streaming estimator built from the settings.
+    Direct(fn(&BankSettings) -> Box<dyn Estimator<f64> + Send>),
+    /// The angle+bias Kalman filter fed by other outputs, each `(name, r)` with `r` read
+    /// from the settings.
+    Kalman(&'static [(&'static str, fn(&KalmanSettings<f64>) -> f64)]),
+}
+
+/// One estimator the bank knows.
+pub struct Entry {
+    /// Output column name (MODEL.md section 5).
+    pub name: &'static str,
+    /// The sensors it needs.
+    pub needs: Inputs,
+    /// How it is built.
+    pub kind: Kind,
+    /// One line for `--help` and reports.
+    pub about: &'static str,
+}
+
+const PHI: Inputs = Inputs {
+    phi: true,
+    gyro: false,
+    accel: false,
+};
+const PHI_GYRO: Inputs = Inputs {
+    phi: true,
+    gyro: true,
+    accel: false,
+};
+const ACCEL_GYRO: Inputs = Inputs {
+    phi: false,
+    gyro: true,
+    accel: true,
+};
+
+fn r_accel(k: &KalmanSettings<f64>) -> f64 {
+    k.r_accel
+}
+fn r_pendulum(k: &KalmanSettings<f64>) -> f64 {
+    k.r_pendulum
+}
+
+/// Every estimator, in output column order.
+pub static REGISTRY: &[Entry] = &[
+    Entry {
+        name: "accel",
+        needs: Inputs {
+            phi: false,
+            gyro: false,
+            accel: true,
+        },
+        kind: Kind::Direct(|s| Box::new(Accel::new(s.accel))),
+        about: "accelerometer, Eq (1)",
+    },
+    Entry {
+        name: "pendulum",
+        needs: PHI,
+        kind: Kind::Direct(|_| Box::new(Pendulum::new(PendulumSettings {}))),
+        about: "raw pendulum angle",
+    },
+    Entry {
+        name: "alg1",
+        needs: PHI,
+        kind: Kind::Direct(|s| Box::new(Alg1::new(s.alg1))),
+        about: "Algorithm 1, Eq (20)",
+    },
+    Entry {
+        name: "alg2",
+        needs: PHI_GYRO,
+        kind: Kind::Direct(|s| Box::new(Alg2::<f64>::new(s.alg2))),
+        about: "Algorithm 2, Eqs (21)-(22)",
+    },
+    Entry {
+        name: "alg2_offset",
+        needs: PHI_GYRO,
+        kind: Kind::Direct(|s| {
+            Box::new(Alg2::<f64>::new(Alg2Settings {
+                pivot_offset: true,
+                ..s.alg2
+            }))
+        }),
+        about: "Algorithm 2 with the pivot-offset term (not in the paper)",
+    },
+    Entry {
+        name: "alg2_dc",
+        needs: PHI_GYRO,
+        kind: Kind::Direct(|s| {
+            Box::new(Alg2::<f64>::new(Alg2Settings {
+                delay_compensation: true,
+                ..s.alg2
+            }))
+        }),
+        about: "Algorithm 2 with the differentiator's delay removed by the gyro (not in the paper)",
+    },
+    Entry {
+        name: "alg3",
+        needs: PHI_GYRO,
+        kind: Kind::Direct(|s| Box::new(Alg3::<f64>::new(s.alg3))),
+        about: "Algorithm 3's Eq (30) with the configured K, L, M, N",
+    },
+    Entry {
+        name: "kf_accel",
+        needs: ACCEL_GYRO,
+        kind: Kind::Kalman(&[("accel", r_accel)]),
+        about: "Kalman filter fed by the accelerometer (the classic filter)",
+    },
+    Entry {
+        name: "kf_alg1",
+        needs: PHI_GYRO,
+        kind: Kind::Kalman(&[("alg1", r_pendulum)]),
+        about: "Kalman filter fed by Algorithm 1",
+    },
+    Entry {
+        name: "kf_alg2",
+        needs: PHI_GYRO,
+        kind: Kind::Kalman(&[("alg2", r_pendulum)]),
+        about: "Kalman filter fed by Algorithm 2",
+    },
+    Entry {
+        name: "kf_alg3",
+        needs: PHI_GYRO,
+        kind: Kind::Kalman(&[("alg3", r_pendulum)]),
+        about: "Kalman filter fed by Algorithm 3",
+    },
+    Entry {
+        name: "kf_fused",
+        needs: Inputs::ALL,
+        kind: Kind::Kalman(&[("accel", r_accel), ("alg2", r_pendulum)]),
+        about: "Kalman filter fed by the accelerometer and Algorithm 2 in turn",
+    },
+];
+
+enum Slot {
+    Direct(Box<dyn Estimator<f64> + Send>),
+    Kalman {
+        kf: TiltKalman<f64>,
+        sources: Vec<(usize, f64)>,
+    },
+}
+
+/// An estimator that was not run, and why.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Skipped {
+    /// Its name.
+    pub name: &'static str,
+    /// The sensors the log lacks.
+    pub lacking: Vec<&'static str>,
+}
+
+/// The estimators that a log's inputs allow, run side by side.
+pub struct Bank {
+    names: Vec<&'static str>,
+    slots: Vec<Slot>,
+    skipped: Vec<Skipped>,
+    measurements: Vec<(f64, f64)>,
+}
+
+impl std::fmt::Debug for Bank {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Bank")
+            .field("names", &self.names)
+            .field("skipped", &self.skipped)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Bank {
+    /// Every registry entry whose inputs are in `inputs` (and, if `only` is given, whose
+    /// name is in it). Errors on a name in `only` that the registry does not know.
+    pub fn new(
+        settings: &BankSettings,
+        inputs: Inputs,
+        only: Option<&[String]>,
+    ) -> Result<Self, String> {
+        if let Some(only) = only {
+            for n in only {
+                if !REGISTRY.iter().any(|e| e.name == n) {
+                    let known: Vec<_> = REGISTRY.iter().map(|e| e.name).collect();
+                    return Err(format!(
+                        "unknown estimator `{n}` (known: {})",
+                        known.join(", ")
+                    ));
+                }
+            }
+        }
+        let wanted = |name: &str| only.is_none_or(|o| o.iter().any(|n| n == name));
+        let mut bank = Bank {
+            names: Vec::new(),
+            slots: Vec::new(),
+            skipped: Vec::new(),
+            measurements: Vec::with_capacity(4),
+        };
+        for e in REGISTRY {
+            if !wanted(e.name) {
+                continue;
+            }
+            if !inputs.covers(e.needs) {
+                bank.skipped.push(Skipped {
+                    name: e.name,
+                    lacking: inputs.lacking(e.needs),
+                });
+                continue;
+            }
+            let slot = match &e.kind {
+                Kind::Direct(build) => Slot::Direct(build(settings)),
+                Kind::Kalman(sources) => {
+                    let mut idx = Vec::new();
+                    for (src, r) in sources.iter() {
+                        // A source not otherwise requested is added (hidden outputs
+                        // would complicate the one-row contract; an extra column is clear).
+                        let i = match bank.names.iter().position(|n| n == src) {
+                            Some(i) => i,
+                            None => {
+                                return Err(format!(
+                                    "`{}` needs `{src}`: request it too (or drop --only)",
+                                    e.name
+                                ))
+                            }
+                        };
+                        idx.push((i, r(&settings.kalman)));
+                    }
+                    Slot::Kalman {
+                        kf: TiltKalman::new(settings.kalman),
+                        sources: idx,
+                    }
+                }
+            };
+            bank.names.push(e.name);
+            bank.slots.push(slot);
+        }
+        Ok(bank)
+    }
+
+    /// The output names, in column order.
+    pub fn names(&self) -> &[&'static str] {
+        &self.names
+    }
+
+    /// The estimators not run, with the sensors they lacked.
+    pub fn skipped(&self) -> &[Skipped] {
+        &self.skipped
+    }
+
+    /// Runs every estimator on `sample`; `out` gets one estimate per name.
+    pub fn update(&mut self, sample: &Sample<f64>, out: &mut Vec<Estimate<f64>>) {
+        out.clear();
+        for slot in &mut self.slots {
+            let e = match slot {
+                Slot::Direct(est) => est.update(sample),
+                Slot::Kalman { kf, sources } => {
+                    self.measurements.clear();
+                    for &(i, r) in sources.iter() {
+                        let m = out[i];
+                        let z = if m.flags.intersects(UNUSABLE) {
+                            f64::NAN
+                        } else {
+                            m.theta
+                        };
+                        self.measurements.push((z, r));
+                    }
+                    kf.step(sample.t, sample.gyro, &self.measurements)
+                }
+            };
+            out.push(e);
+        }
+    }
+
+    /// Forgets all history.
+    pub fn reset(&mut self) {
+        for slot in &mut self.slots {
+            match slot {
+                Slot::Direct(e) => e.reset(),
+                Slot::Kalman { kf, .. } => kf.reset(),
+            }
+        }
+    }
+}
+
+/// Flags of one estimate, for tests and summaries.
+pub fn any_flag(estimates: &[Estimate<f64>], flag: Flags) -> bool {
+    estimates.iter().any(|e| e.flags.contains(flag))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn skips_what_the_inputs_do_not_allow() {
+        let s = BankSettings::from_params(PendulumParams::default());
+        let b = Bank::new(
+            &s,
+            Inputs {
+                phi: true,
+                gyro: false,
+                accel: false,
+            },
+            None,
+        )
+        .unwrap();
+        assert_eq!(b.names(), &["pendulum", "alg1"]);
+        let sk: Vec<_> = b.skipped().iter().map(|s| s.name).collect();
+        assert!(sk.contains(&"alg2") && sk.contains(&"kf_accel") && sk.contains(&"accel"));
+        let alg2 = b.skipped().iter().find(|s| s.name == "alg2").unwrap();
+        assert_eq!(alg2.lacking, vec!["gyro"]);
+    }
+
+    #[test]
+    fn all_inputs_run_everything_and_kalman_follows_its_source() {
+        let s = BankSettings::from_params(PendulumParams::default());
+        let mut b = Bank::new(&s, Inputs::ALL, None).unwrap();
+        assert_eq!(b.names().len(), REGISTRY.len());
+        let mut out = Vec::new();
+        // Body still at 0.1 rad: every estimator converges there.
+        for k in 0..3000 {
+            let t = k as f64 * 1e-3;
+            let s = Sample {
+                t,
+                phi: 0.1,
+                gyro: 0.0,
+                ax: 9.80665 * 0.1f64.sin(),
+                ay: 9.80665 * 0.1f64.cos(),
+            };
+            b.update(&s, &mut out);
+        }
+        for (n, e) in b.names().iter().zip(&out) {
+            assert!((e.theta - 0.1).abs() < 1e-6, "{n}: {}", e.theta);
+        }
+    }
+
+    #[test]
+    fn unknown_or_orphan_names_are_errors() {
+        let s = BankSettings::from_params(PendulumParams::default());
+        let only = vec!["alg9".to_string()];
+        assert!(Bank::new(&s, Inputs::ALL, Some(&only))
+            .unwrap_err()
+            .contains("alg9"));
+        let only = vec!["kf_alg2".to_string()];
+        assert!(Bank::new(&s, Inputs::ALL, Some(&only))
+            .unwrap_err()
+            .contains("alg2"));
+    }
+}
