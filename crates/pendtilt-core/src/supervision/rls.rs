@@ -53,6 +53,7 @@ pub struct Rls<T: Real, const N: usize> {
     active: [bool; N],
     params: SVector<T, N>,
     p: SMatrix<T, N, N>,
+    updates: u32,
 }
 
 impl<T: Real, const N: usize> Rls<T, N> {
@@ -63,6 +64,7 @@ impl<T: Real, const N: usize> Rls<T, N> {
             active,
             params,
             p: SMatrix::zeros(),
+            updates: 0,
         };
         r.reset_covariance();
         r
@@ -115,10 +117,13 @@ impl<T: Real, const N: usize> Rls<T, N> {
         }
         let gain = pz / denom;
         self.params += gain * err;
-        // P = (P - g (P z)') / lambda, kept symmetric.
+        // P = (P - g (P z)') / lambda, re-symmetrised every 64 updates against rounding.
         self.p -= gain * pz.transpose();
-        let p_sym = (self.p + self.p.transpose()) * T::lit(0.5);
-        self.p = p_sym;
+        self.updates = self.updates.wrapping_add(1);
+        if self.updates % 64 == 0 {
+            let p_sym = (self.p + self.p.transpose()) * T::lit(0.5);
+            self.p = p_sym;
+        }
         if self.p.trace() < self.settings.max_trace {
             self.p /= self.settings.forgetting;
         }

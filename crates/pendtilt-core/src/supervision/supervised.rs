@@ -404,13 +404,19 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
         } else {
             (s.gyro + prev.gyro) * half - (phi_or_rate - prev.phi) * inv_dt
         };
-        self.ring.push(x, y, inv_dt, true);
         self.since_refit += 1;
-        match sup.method {
-            Method::Rls => self.rls_step(&prev.x, &x, y, inv_dt),
-            Method::Newton => {}
-        }
-        if self.ring.len < sup.window {
+        // RLS needs no window: only Newton fills the ring.
+        let filled = match sup.method {
+            Method::Rls => {
+                self.rls_step(&prev.x, &x, y, inv_dt);
+                self.seen > sup.warmup + sup.window
+            }
+            Method::Newton => {
+                self.ring.push(x, y, inv_dt, true);
+                self.ring.len >= sup.window
+            }
+        };
+        if !filled {
             flags |= SupervisionFlags::WARMING_UP;
         } else if self.since_refit >= sup.refit_interval {
             self.since_refit = 0;
