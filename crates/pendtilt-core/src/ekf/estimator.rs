@@ -2,7 +2,7 @@
 //! samples, encoder wrap-around and restarts. [`super::Ekf`] and [`super::Ukf`] are this
 //! over the EKF and the UKF.
 use super::filter::StateFilter;
-use super::measurement::{Accelerometer, Encoder, Gyro, ScalarMeasurement};
+use super::measurement::{Accelerometer, Encoder, Gyro};
 use super::model::{Cov, PendulumProcess, State, ALPHA, BIAS, DPHI, OMEGA, PHI, THETA};
 use super::settings::ModelSettings;
 use crate::{Estimate, Estimator, Flags, Real, Sample};
@@ -24,6 +24,8 @@ pub struct ModelBased<T: Real, F> {
     model: PendulumProcess<T>,
     accel: Accelerometer<T>,
     r_phi: T,
+    q_step: T,
+    q: Cov<T>,
     filter: Option<F>,
     t_prev: Option<T>,
     last_theta: T,
@@ -44,6 +46,8 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
             model: settings.process_model(),
             accel,
             r_phi: settings.sensors.encoder_variance().max(T::lit(1e-14)),
+            q_step: T::zero(),
+            q: Cov::<T>::zeros(),
             settings,
             filter: None,
             t_prev: None,
@@ -145,9 +149,6 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
             return self.hold(Flags::INITIALISING | Flags::SAMPLE_MISSING);
         }
         let r_gyro = self.gyro_variance(dt);
-        let Some(filter) = self.filter.as_mut() else {
-            return self.hold(Flags::INITIALISING);
-        };
         // Predict, split into steps no longer than max_step.
         let ratio = (dt / self.settings.max_step).ceil().to_f64();
         let n = if ratio.is_finite() && ratio >= 1.0 {
@@ -156,15 +157,22 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
             1
         };
         let h = dt / T::lit(n as f64);
+        if h != self.q_step {
+            self.q = self.model.q(h);
+            self.q_step = h;
+        }
+        let Some(filter) = self.filter.as_mut() else {
+            return self.hold(Flags::INITIALISING);
+        };
         let mut ok = true;
         for _ in 0..n {
-            ok &= filter.predict(&self.model, h);
+            ok &= filter.predict(&self.model, h, &self.q);
         }
         self.t_prev = Some(s.t);
         // Gyro: theta' + bias.
         if s.gyro.is_finite() {
             if filter
-                .update_linear(&Gyro { r: r_gyro }.h(), s.gyro, r_gyro)
+                .update_unit(&Gyro::<T>::INDICES, s.gyro, r_gyro)
                 .is_err()
             {
                 flags |= Flags::MEASUREMENT_SKIPPED;
@@ -179,8 +187,10 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
             if (z - s.phi).abs() > T::lit(1e-9) {
                 flags |= Flags::ENCODER_WRAPPED;
             }
-            let enc = Encoder { r: self.r_phi };
-            if filter.update_linear(&enc.h(), z, enc.r).is_err() {
+            if filter
+                .update_unit(&Encoder::<T>::INDICES, z, self.r_phi)
+                .is_err()
+            {
                 flags |= Flags::MEASUREMENT_SKIPPED;
             }
         } else {

@@ -5,45 +5,54 @@ use super::filter::StateFilter;
 use super::measurement::Accelerometer;
 use super::model::N;
 use super::model::{Cov, PendulumProcess, State};
-use super::update::{scalar_update, Rejected};
+use super::update::{scalar_update, unit_update, Rejected};
 use crate::Real;
 
-/// The columns `k` where row `i` of the pendulum Jacobian may be non-zero: the theta
-/// chain is upper triangular, the phi chain depends on everything but the bias, the bias
-/// only on itself (see [`super::model::PendulumProcess::jacobian`]).
-#[inline(always)]
-fn support(i: usize) -> core::ops::Range<usize> {
-    match i {
-        0..=2 => i..3,
-        3 | 4 => 0..5,
-        _ => 5..6,
-    }
-}
-
-/// `F P F^T` for a Jacobian `F` with the zero pattern of [`support`], computed on the
-/// upper triangle and mirrored: about 40 % of the dense products' multiplications, and
-/// an exactly symmetric result.
+/// `F P F^T` for the pendulum Jacobian's zero pattern (see
+/// [`super::model::PendulumProcess::jacobian`]): the theta chain (rows 0-2) depends only on
+/// itself, the phi chain (rows 3-4) on everything but the bias, the bias (row 5) only on
+/// itself. The upper triangle is mirrored, so the result is exactly symmetric. About 40 %
+/// of the dense products' multiplications.
 #[inline]
 pub fn propagate<T: Real>(f: &Cov<T>, p: &Cov<T>) -> Cov<T> {
-    let mut m = Cov::<T>::zeros(); // F P
+    let mut fa = [[T::zero(); N]; N];
+    let mut pa = [[T::zero(); N]; N];
     for i in 0..N {
         for j in 0..N {
-            let mut acc = T::zero();
-            for k in support(i) {
-                acc += f[(i, k)] * p[(k, j)];
-            }
-            m[(i, j)] = acc;
+            fa[i][j] = f[(i, j)];
+            pa[i][j] = p[(i, j)];
         }
     }
+    // m = F P, row by row.
+    let mut m = [[T::zero(); N]; N];
+    for j in 0..N {
+        m[0][j] = fa[0][0] * pa[0][j] + fa[0][1] * pa[1][j] + fa[0][2] * pa[2][j];
+        m[1][j] = fa[1][1] * pa[1][j] + fa[1][2] * pa[2][j];
+        m[2][j] = fa[2][2] * pa[2][j];
+        for i in 3..5 {
+            m[i][j] = fa[i][0] * pa[0][j]
+                + fa[i][1] * pa[1][j]
+                + fa[i][2] * pa[2][j]
+                + fa[i][3] * pa[3][j]
+                + fa[i][4] * pa[4][j];
+        }
+        m[5][j] = fa[5][5] * pa[5][j];
+    }
+    // out = m F^T, upper triangle, mirrored.
     let mut out = Cov::<T>::zeros();
     for i in 0..N {
+        let r = &m[i];
+        let row = [
+            r[0] * fa[0][0] + r[1] * fa[0][1] + r[2] * fa[0][2],
+            r[1] * fa[1][1] + r[2] * fa[1][2],
+            r[2] * fa[2][2],
+            r[0] * fa[3][0] + r[1] * fa[3][1] + r[2] * fa[3][2] + r[3] * fa[3][3] + r[4] * fa[3][4],
+            r[0] * fa[4][0] + r[1] * fa[4][1] + r[2] * fa[4][2] + r[3] * fa[4][3] + r[4] * fa[4][4],
+            r[5] * fa[5][5],
+        ];
         for j in i..N {
-            let mut acc = T::zero();
-            for k in support(j) {
-                acc += m[(i, k)] * f[(j, k)];
-            }
-            out[(i, j)] = acc;
-            out[(j, i)] = acc;
+            out[(i, j)] = row[j];
+            out[(j, i)] = row[j];
         }
     }
     out
@@ -78,11 +87,16 @@ impl<T: Real> StateFilter<T> for ExtendedKalman<T> {
     /// `x = f(x)`, `P = F P F^T + Q` on the upper triangle, mirrored (exactly symmetric).
     /// The products skip the Jacobian's structural zeros ([`propagate`]).
     #[inline]
-    fn predict(&mut self, model: &PendulumProcess<T>, dt: T) -> bool {
+    fn predict(&mut self, model: &PendulumProcess<T>, dt: T, q: &Cov<T>) -> bool {
         let (x, f) = model.step_with_jacobian(&self.x, dt);
         self.x = x;
-        self.p = propagate(&f, &self.p) + model.q(dt);
+        self.p = propagate(&f, &self.p) + q;
         true
+    }
+
+    #[inline]
+    fn update_unit(&mut self, idx: &[usize], z: T, r: T) -> Result<(), Rejected> {
+        unit_update(&mut self.x, &mut self.p, idx, z, r).map(|_| ())
     }
 
     #[inline]

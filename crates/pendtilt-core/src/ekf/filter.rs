@@ -16,11 +16,16 @@ pub trait StateFilter<T: Real> {
     fn covariance(&self) -> &Cov<T>;
     /// Shifts the estimate by `dx` (used to keep angles within a turn); `P` is unchanged.
     fn shift(&mut self, dx: &State<T>);
-    /// Predicts over `dt` seconds. `false` if the covariance could not be propagated (the
-    /// state is then left as it was).
-    fn predict(&mut self, model: &PendulumProcess<T>, dt: T) -> bool;
+    /// Predicts over `dt` seconds with process noise `q` (`model.q(dt)`, passed in so that
+    /// it is computed once per distinct step). `false` if the covariance could not be
+    /// propagated (the state is then left as it was).
+    fn predict(&mut self, model: &PendulumProcess<T>, dt: T, q: &Cov<T>) -> bool;
     /// Applies `z = h . x + v`, `v ~ N(0, r)`.
     fn update_linear(&mut self, h: &State<T>, z: T, r: T) -> Result<(), Rejected>;
+    /// Applies `z = sum of x[i] for i in idx + v`, `v ~ N(0, r)` (the encoder, the gyro):
+    /// the same as [`Self::update_linear`] with a row of ones at `idx`, without the
+    /// multiplications.
+    fn update_unit(&mut self, idx: &[usize], z: T, r: T) -> Result<(), Rejected>;
     /// Applies an accelerometer reading `[f_x, f_y]`.
     fn update_accel(&mut self, m: &Accelerometer<T>, z: [T; 2]) -> Result<(), Rejected>;
 }

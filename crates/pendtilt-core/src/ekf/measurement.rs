@@ -25,6 +25,11 @@ pub struct Encoder<T> {
     pub r: T,
 }
 
+impl<T> Encoder<T> {
+    /// The state it reads: `h` is one at these indices, zero elsewhere.
+    pub const INDICES: [usize; 1] = [PHI];
+}
+
 impl<T: Real> ScalarMeasurement<T> for Encoder<T> {
     #[inline]
     fn h(&self) -> State<T> {
@@ -43,6 +48,11 @@ impl<T: Real> ScalarMeasurement<T> for Encoder<T> {
 pub struct Gyro<T> {
     /// Variance of one sample [(rad/s)^2]: `density^2 / dt` for a white-noise density.
     pub r: T,
+}
+
+impl<T> Gyro<T> {
+    /// The states it reads: `h` is one at these indices, zero elsewhere.
+    pub const INDICES: [usize; 2] = [OMEGA, BIAS];
 }
 
 impl<T: Real> ScalarMeasurement<T> for Gyro<T> {

@@ -8,7 +8,7 @@
 use super::filter::StateFilter;
 use super::measurement::Accelerometer;
 use super::model::{Cov, PendulumProcess, State, N};
-use super::update::{scalar_update, symmetrise, Rejected};
+use super::update::{scalar_update, symmetrise, unit_update, Rejected};
 use crate::Real;
 use nalgebra::{Cholesky, Matrix2, SMatrix, Vector2};
 
@@ -52,7 +52,7 @@ impl<T: Real> StateFilter<T> for UnscentedKalman<T> {
         self.x += dx;
     }
 
-    fn predict(&mut self, model: &PendulumProcess<T>, dt: T) -> bool {
+    fn predict(&mut self, model: &PendulumProcess<T>, dt: T, q: &Cov<T>) -> bool {
         let Some(s) = self.spread() else {
             return false;
         };
@@ -65,7 +65,7 @@ impl<T: Real> StateFilter<T> for UnscentedKalman<T> {
             pts[2 * i + 1] = model.step(&(self.x - c), dt);
             mean += (pts[2 * i] + pts[2 * i + 1]) * w;
         }
-        let mut p = model.q(dt);
+        let mut p = *q;
         for y in &pts {
             let d = y - mean;
             p += d * d.transpose() * w;
@@ -79,6 +79,10 @@ impl<T: Real> StateFilter<T> for UnscentedKalman<T> {
     fn update_linear(&mut self, h: &State<T>, z: T, r: T) -> Result<(), Rejected> {
         let y = z - h.dot(&self.x);
         scalar_update(&mut self.x, &mut self.p, h, y, r).map(|_| ())
+    }
+
+    fn update_unit(&mut self, idx: &[usize], z: T, r: T) -> Result<(), Rejected> {
+        unit_update(&mut self.x, &mut self.p, idx, z, r).map(|_| ())
     }
 
     fn update_accel(&mut self, m: &Accelerometer<T>, z: [T; 2]) -> Result<(), Rejected> {

@@ -48,6 +48,48 @@ pub fn scalar_update<T: Real>(
     Ok(s)
 }
 
+/// [`scalar_update`] for a row of ones at the indices `idx` (and zeros elsewhere): `P h`
+/// is a sum of columns and `h . x` a sum of states. Indices out of range are ignored.
+#[inline]
+pub fn unit_update<T: Real>(
+    x: &mut State<T>,
+    p: &mut Cov<T>,
+    idx: &[usize],
+    z: T,
+    r: T,
+) -> Result<T, Rejected> {
+    let mut v = State::<T>::zeros();
+    let mut hx = T::zero();
+    for &i in idx.iter().filter(|&&i| i < N) {
+        v += p.column(i);
+        hx += x[i];
+    }
+    let y = z - hx;
+    if !(y.is_finite() && r.is_finite()) {
+        return Err(Rejected::NotFinite);
+    }
+    let mut s = r;
+    for &i in idx.iter().filter(|&&i| i < N) {
+        s += v[i];
+    }
+    if !s.is_finite() {
+        return Err(Rejected::NotFinite);
+    }
+    if s <= T::zero() {
+        return Err(Rejected::NotPositive);
+    }
+    let k = v / s;
+    *x += k * y;
+    for i in 0..N {
+        for j in i..N {
+            let val = p[(i, j)] - k[i] * v[j] - v[i] * k[j] + s * k[i] * k[j];
+            p[(i, j)] = val;
+            p[(j, i)] = val;
+        }
+    }
+    Ok(s)
+}
+
 /// `(P + P^T) / 2`.
 #[inline]
 pub fn symmetrise<T: Real>(p: &mut Cov<T>) {
@@ -81,6 +123,20 @@ mod tests {
         assert!((p - p_ref).abs().max() < 1e-12);
         assert!((x - k * 0.5).abs().max() < 1e-15);
         assert_eq!(p, p.transpose());
+    }
+
+    #[test]
+    fn unit_update_equals_the_general_one() {
+        let a = Cov::<f64>::from_fn(|i, j| ((i * 7 + j * 3) % 5) as f64 * 0.1 + 0.01 * i as f64);
+        let p0 = a * a.transpose() + Cov::<f64>::identity() * 0.1;
+        let x0 = State::<f64>::from([0.1, 0.2, 0.3, 0.4, 0.5, 0.6]);
+        let h = State::<f64>::from([0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
+        let (mut x1, mut p1) = (x0, p0);
+        let (mut x2, mut p2) = (x0, p0);
+        scalar_update(&mut x1, &mut p1, &h, 0.9 - h.dot(&x0), 0.2).unwrap();
+        unit_update(&mut x2, &mut p2, &[1, 5], 0.9, 0.2).unwrap();
+        assert!((x1 - x2).abs().max() < 1e-15);
+        assert!((p1 - p2).abs().max() < 1e-15);
     }
 
     #[test]
