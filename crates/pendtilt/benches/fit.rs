@@ -101,12 +101,14 @@ fn live(c: &mut Criterion) {
         ("newton_window1000_every2000", LiveMethod::Newton, 2000),
         ("newton_window1000_every250", LiveMethod::Newton, 250),
     ] {
-        let mut set = SupervisedAlg3Settings::<f64>::default();
-        set.alg3 = Alg3Settings::from_params(PendulumParams {
-            a: 1.5 * t.a,
-            b: 1.5 * t.b,
-            c: 0.0,
-        });
+        let mut set = SupervisedAlg3Settings::<f64> {
+            alg3: Alg3Settings::from_params(PendulumParams {
+                a: 1.5 * t.a,
+                b: 1.5 * t.b,
+                c: 0.0,
+            }),
+            ..SupervisedAlg3Settings::default()
+        };
         set.alg3.differentiator.cutoff = Cutoff::Hz(1.7 * t.natural_frequency_hz());
         set.supervisor.method = method;
         set.supervisor.refit_interval = interval;

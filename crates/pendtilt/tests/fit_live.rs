@@ -39,8 +39,10 @@ fn supervised(method: Method) -> SupervisedAlg3<f64, 1024> {
         b: 1.5 * t.b,
         c: 0.0,
     };
-    let mut set = SupervisedAlg3Settings::<f64>::default();
-    set.alg3 = Alg3Settings::from_params(start);
+    let mut set = SupervisedAlg3Settings::<f64> {
+        alg3: Alg3Settings::from_params(start),
+        ..SupervisedAlg3Settings::default()
+    };
     set.alg3.differentiator.cutoff = Cutoff::Hz(1.7 * t.natural_frequency_hz());
     set.supervisor.method = method;
     set.supervisor.window = 1000;
@@ -147,8 +149,10 @@ fn f32_rls_supervisor_runs_and_converges_roughly() {
         b: 1.5 * t.b,
         c: 0.0,
     };
-    let mut set = SupervisedAlg3Settings::<f32>::default();
-    set.alg3 = Alg3Settings::from_params(start);
+    let mut set = SupervisedAlg3Settings::<f32> {
+        alg3: Alg3Settings::from_params(start),
+        ..SupervisedAlg3Settings::default()
+    };
     set.alg3.differentiator.cutoff = Cutoff::Hz(1.7 * t.natural_frequency_hz());
     set.supervisor.method = Method::Rls;
     set.supervisor.refit_interval = 250;

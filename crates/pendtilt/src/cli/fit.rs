@@ -32,10 +32,10 @@ pub struct Args {
     #[arg(long, short = 'p')]
     pub params: Option<PathBuf>,
     /// Start a [s] (overrides the rig file).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub a: Option<f64>,
     /// Start b [s^2] (overrides the rig file).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub b: Option<f64>,
     /// Newton's step factor h (Eq 24).
     #[arg(long, default_value_t = 1.0)]

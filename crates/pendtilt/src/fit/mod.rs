@@ -393,7 +393,7 @@ pub fn fit(
         Target::Truth => "rad",
         Target::Gyro => "rad/s",
     };
-    if !(sens >= threshold) {
+    if sens.is_nan() || sens < threshold {
         let names = settings.algorithm.names();
         let direction = names
             .iter()
