@@ -84,13 +84,19 @@ impl BankSettings {
     }
 }
 
+/// Picks a measurement variance R [rad^2] from the Kalman settings.
+pub type RSelector = fn(&KalmanSettings<f64>) -> f64;
+
+/// A Kalman measurement source: the output it reads and the variance it is given.
+pub type KalmanSource = (&'static str, RSelector);
+
 /// How an output is computed.
 pub enum Kind {
     /// A streaming estimator built from the settings.
     Direct(fn(&BankSettings) -> Box<dyn Estimator<f64> + Send>),
     /// The angle+bias Kalman filter fed by other outputs, each `(name, r)` with `r` read
     /// from the settings.
-    Kalman(&'static [(&'static str, fn(&KalmanSettings<f64>) -> f64)]),
+    Kalman(&'static [KalmanSource]),
 }
 
 /// One estimator the bank knows.
