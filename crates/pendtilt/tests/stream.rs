@@ -1,0 +1,202 @@
+//! `pendtilt stream` (issue 6, item 3): log lines fed slowly through a pipe; every estimate
+//! line must come out before the next input line is sent.
+//!
+//! No timing is assumed beyond a generous per-line timeout (10 s): the test waits for each
+//! output line, so a slow machine only makes it slower, and a tool that buffers its output
+//! fails it deterministically (the line never comes while its input is held back).
+use std::io::{BufRead, BufReader, Write};
+use std::process::{Command, Stdio};
+use std::sync::mpsc;
+use std::time::Duration;
+
+use pendtilt::sim::{simulate, Scenario};
+
+const TIMEOUT: Duration = Duration::from_secs(10);
+
+struct Child {
+    child: std::process::Child,
+    stdin: Option<std::process::ChildStdin>,
+    lines: mpsc::Receiver<String>,
+}
+
+impl Child {
+    fn spawn(args: &[&str]) -> Self {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+            .arg("stream")
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let stdout = child.stdout.take().unwrap();
+        let (tx, lines) = mpsc::channel();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stdout).lines() {
+                let Ok(line) = line else { break };
+                if tx.send(line).is_err() {
+                    break;
+                }
+            }
+        });
+        let stdin = child.stdin.take();
+        Self {
+            child,
+            stdin,
+            lines,
+        }
+    }
+
+    fn send(&mut self, line: &str) {
+        let stdin = self.stdin.as_mut().unwrap();
+        stdin.write_all(line.as_bytes()).unwrap();
+        stdin.write_all(b"\n").unwrap();
+        stdin.flush().unwrap();
+    }
+
+    fn next_line(&self, what: &str) -> String {
+        match self.lines.recv_timeout(TIMEOUT) {
+            Ok(l) => l,
+            Err(e) => panic!("no output line for {what} within {TIMEOUT:?}: {e}"),
+        }
+    }
+
+    /// Closes stdin, waits for the exit; returns (status, stderr, remaining stdout lines).
+    fn finish(mut self) -> (std::process::ExitStatus, String, Vec<String>) {
+        drop(self.stdin.take());
+        let mut stderr = String::new();
+        use std::io::Read;
+        self.child
+            .stderr
+            .take()
+            .unwrap()
+            .read_to_string(&mut stderr)
+            .unwrap();
+        let status = self.child.wait().unwrap();
+        let rest: Vec<String> = self.lines.try_iter().collect();
+        (status, stderr, rest)
+    }
+}
+
+fn sim_lines(n_secs: f64) -> Vec<String> {
+    let mut s = Scenario::named("scooter").unwrap();
+    s.duration = n_secs;
+    simulate(&s, 3)
+        .unwrap()
+        .iter()
+        .map(|r| format!("{},{},{},{},{},{}", r.t, r.phi, r.gyro, r.ax, r.ay, r.theta))
+        .collect()
+}
+
+#[test]
+fn every_estimate_line_arrives_before_the_next_input_line() {
+    let data = sim_lines(0.06);
+    let mut c = Child::spawn(&["--flags", "-q"]);
+    c.send("t,phi,gyro,ax,ay,theta");
+    // The output header comes as soon as the input header is in.
+    let header = c.next_line("the header");
+    assert!(header.starts_with("t,accel,pendulum,alg1,alg2"), "{header}");
+    assert!(
+        header.contains("theta") && header.contains("alg2_flags"),
+        "{header}"
+    );
+    let ncol = header.split(',').count();
+    for (k, line) in data.iter().enumerate() {
+        c.send(line);
+        // Slow feed: nothing more is sent until this sample's estimate is out.
+        let out = c.next_line(&format!("input row {k}"));
+        let fields: Vec<&str> = out.split(',').collect();
+        assert_eq!(fields.len(), ncol, "{out}");
+        let t_in: f64 = line.split(',').next().unwrap().parse().unwrap();
+        let t_out: f64 = fields[0].parse().unwrap();
+        assert_eq!(t_out, t_in, "row {k}: estimate for another sample");
+        // Nothing else is pending: exactly one line per input line.
+        assert!(
+            c.lines.try_recv().is_err(),
+            "more than one line for row {k}"
+        );
+        if k % 20 == 0 {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+    let (status, stderr, rest) = c.finish();
+    assert!(status.success(), "{stderr}");
+    assert!(rest.is_empty(), "{rest:?}");
+}
+
+#[test]
+fn stream_matches_estimate_on_the_same_log() {
+    let data = sim_lines(0.5);
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("ride.csv");
+    let out = dir.path().join("est.csv");
+    let mut text = String::from("t,phi,gyro,ax,ay,theta\n");
+    for l in &data {
+        text.push_str(l);
+        text.push('\n');
+    }
+    std::fs::write(&log, &text).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+        .args(["estimate", "-q", "--flags", "-o"])
+        .arg(&out)
+        .arg(&log)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut c = Child::spawn(&["--flags", "-q"]);
+    c.stdin
+        .as_mut()
+        .unwrap()
+        .write_all(text.as_bytes())
+        .unwrap();
+    let mut got = vec![c.next_line("the header")];
+    for k in 0..data.len() {
+        got.push(c.next_line(&format!("row {k}")));
+    }
+    let (status, stderr, rest) = c.finish();
+    assert!(status.success(), "{stderr}");
+    assert!(rest.is_empty());
+    let want: Vec<String> = std::fs::read_to_string(&out)
+        .unwrap()
+        .lines()
+        .map(str::to_string)
+        .collect();
+    assert_eq!(got, want);
+}
+
+#[test]
+fn a_bad_line_stops_with_its_line_number_after_the_good_ones_are_out() {
+    let mut c = Child::spawn(&["--only", "pendulum", "-q"]);
+    c.send("t,phi");
+    assert_eq!(c.next_line("the header"), "t,pendulum");
+    c.send("0,0.1");
+    let l = c.next_line("row 0");
+    let t: f64 = l.split(',').next().unwrap().parse().unwrap();
+    assert_eq!(t, 0.0, "{l}");
+    c.send("0.001,abc");
+    let (status, stderr, rest) = c.finish();
+    assert!(!status.success());
+    assert_ne!(status.code(), Some(101), "{stderr}");
+    assert!(stderr.contains("<stdin>:3"), "{stderr}");
+    assert!(rest.is_empty(), "{rest:?}");
+}
+
+#[test]
+fn missing_and_wrapped_samples_stream_flagged() {
+    let mut c = Child::spawn(&["--only", "pendulum,alg1", "--flags", "-q"]);
+    c.send("t,phi");
+    assert_eq!(
+        c.next_line("the header"),
+        "t,pendulum,alg1,pendulum_flags,alg1_flags"
+    );
+    c.send("0,0.1");
+    c.next_line("row 0");
+    c.send("0.001,nan");
+    let l = c.next_line("row 1");
+    assert!(l.ends_with("sample_missing,sample_missing"), "{l}");
+    c.send(&format!("0.002,{}", 0.1 + std::f64::consts::TAU));
+    let l = c.next_line("row 2");
+    assert!(l.contains("encoder_wrapped"), "{l}");
+    let (status, stderr, _) = c.finish();
+    assert!(status.success(), "{stderr}");
+}
