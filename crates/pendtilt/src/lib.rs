@@ -10,6 +10,7 @@ pub mod cli;
 pub mod config;
 pub mod fit;
 pub mod io;
+pub mod peers;
 pub mod pipeline;
 pub mod report;
 pub mod sim;

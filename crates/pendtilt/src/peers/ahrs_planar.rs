@@ -1,0 +1,224 @@
+//! Planar use of the `ahrs` crate's IMU filters (gyro + accelerometer, no magnetometer).
+//!
+//! The tilt plane is the sensor's y-z plane and the tilt axis its x axis: the body's
+//! `(ax, ay)` go to the sensor's `(y, z)`, the gyro to `x`. A rotation `theta` about x
+//! then reads `(0, g sin theta, g cos theta)`, exactly MODEL.md section 1's
+//! `(ax, ay) = (g sin theta, g cos theta)` at rest, and the tilt is the quaternion's roll.
+//! The filters are started at the accelerometer angle of the first sample and their
+//! sample period follows each sample's actual step.
+use ahrs::Ahrs;
+use nalgebra_ahrs::{UnitQuaternion, Vector3};
+use pendtilt_core::estimators::equations::accel_angle;
+use pendtilt_core::{Estimate, Estimator, Flags, Sample};
+
+/// The part of an `ahrs` filter the planar wrapper needs.
+pub trait PlanarAhrs: Ahrs<f64> {
+    /// Sets the step of the next update [s].
+    fn set_period(&mut self, dt: f64);
+    /// The orientation.
+    fn attitude(&self) -> UnitQuaternion<f64>;
+}
+
+impl PlanarAhrs for ahrs::Madgwick<f64> {
+    fn set_period(&mut self, dt: f64) {
+        *self.sample_period_mut() = dt;
+    }
+    fn attitude(&self) -> UnitQuaternion<f64> {
+        self.quat()
+    }
+}
+
+impl PlanarAhrs for ahrs::Mahony<f64> {
+    fn set_period(&mut self, dt: f64) {
+        *self.sample_period_mut() = dt;
+    }
+    fn attitude(&self) -> UnitQuaternion<f64> {
+        self.quat()
+    }
+}
+
+/// The quaternion of a rotation `theta` about the sensor's x axis.
+pub fn tilt_quaternion(theta: f64) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_euler_angles(theta, 0.0, 0.0)
+}
+
+/// The tilt of an orientation: its roll about the sensor's x axis.
+pub fn tilt_of(q: &UnitQuaternion<f64>) -> f64 {
+    q.euler_angles().0
+}
+
+/// An `ahrs` filter run in the tilt plane as an [`Estimator`]. `make(theta0)` builds the
+/// filter started at `theta0`.
+#[derive(Debug, Clone)]
+pub struct Planar<F> {
+    make: fn(f64, &[f64; 2]) -> F,
+    gains: [f64; 2],
+    filter: Option<F>,
+    t_prev: Option<f64>,
+    last: f64,
+    last_gyro: f64,
+}
+
+impl<F: PlanarAhrs> Planar<F> {
+    /// A wrapper building its filter with `make(theta0, gains)` on the first usable sample.
+    pub fn new(make: fn(f64, &[f64; 2]) -> F, gains: [f64; 2]) -> Self {
+        Self {
+            make,
+            gains,
+            filter: None,
+            t_prev: None,
+            last: f64::NAN,
+            last_gyro: 0.0,
+        }
+    }
+
+    /// The gains it was built with.
+    pub fn gains(&self) -> [f64; 2] {
+        self.gains
+    }
+}
+
+impl<F: PlanarAhrs> Estimator<f64> for Planar<F> {
+    fn update(&mut self, s: &Sample<f64>) -> Estimate<f64> {
+        if !s.t.is_finite() || self.t_prev.is_some_and(|tp| s.t <= tp) {
+            return Estimate {
+                theta: self.last,
+                flags: Flags::BAD_TIME_STEP,
+            };
+        }
+        let mut flags = Flags::empty();
+        let gyro = if s.gyro.is_finite() {
+            self.last_gyro = s.gyro;
+            s.gyro
+        } else {
+            flags |= Flags::SAMPLE_MISSING;
+            self.last_gyro
+        };
+        let accel_ok = s.ax.is_finite() && s.ay.is_finite() && (s.ax != 0.0 || s.ay != 0.0);
+        let Some(tp) = self.t_prev else {
+            if !accel_ok {
+                return Estimate {
+                    theta: f64::NAN,
+                    flags: flags | Flags::INITIALISING | Flags::SAMPLE_MISSING,
+                };
+            }
+            let th = accel_angle(s.ax, s.ay);
+            self.filter = Some((self.make)(th, &self.gains));
+            self.t_prev = Some(s.t);
+            self.last = th;
+            return Estimate {
+                theta: th,
+                flags: flags | Flags::INITIALISING,
+            };
+        };
+        let Some(f) = self.filter.as_mut() else {
+            return Estimate {
+                theta: self.last,
+                flags: Flags::INITIALISING,
+            };
+        };
+        f.set_period(s.t - tp);
+        self.t_prev = Some(s.t);
+        let g = Vector3::new(gyro, 0.0, 0.0);
+        if accel_ok {
+            let a = Vector3::new(0.0, s.ax, s.ay);
+            if f.update_imu(&g, &a).is_err() {
+                flags |= Flags::MEASUREMENT_SKIPPED;
+            }
+        } else {
+            f.update_gyro(&g);
+            flags |= Flags::MEASUREMENT_SKIPPED;
+        }
+        let th = tilt_of(&f.attitude());
+        if th.is_finite() {
+            self.last = th;
+        } else {
+            // Never seen with finite input; start again rather than output NaN forever.
+            self.filter = Some((self.make)(self.last, &self.gains));
+        }
+        Estimate {
+            theta: self.last,
+            flags,
+        }
+    }
+
+    fn reset(&mut self) {
+        self.filter = None;
+        self.t_prev = None;
+        self.last = f64::NAN;
+        self.last_gyro = 0.0;
+    }
+}
+
+/// Gain of [`madgwick`] (`beta` [rad/s]) found by the gain search
+/// ([`super::tune::search_peer_gains`], 20 golden steps in [1e-4, 100]) on the simulated
+/// scooter ride (60 s, seed 1, l12 = 0.2 m): 1.18, RMS error 1.15 deg. Small gains let
+/// the 0.5 deg/s gyro bias, which Madgwick's IMU filter does not estimate, pull the tilt
+/// away (0.003 gave 38 deg).
+pub const MADGWICK_BETA: f64 = 1.18;
+/// Gains of [`mahony`] (`kp` [1/s], `ki` [1/s^2]) found by the same search: kp = 0.45
+/// (RMS error 3.0 deg); no ki in [1e-6 kp, kp] did better than ki = 0.
+pub const MAHONY_GAINS: [f64; 2] = [0.45, 0.0];
+
+/// Madgwick's filter from the `ahrs` crate, gain `beta`, in the tilt plane
+/// (column `madgwick`).
+pub fn madgwick(beta: f64) -> Planar<ahrs::Madgwick<f64>> {
+    Planar::new(
+        |th, g| ahrs::Madgwick::new_with_quat(1e-3, g[0], tilt_quaternion(th)),
+        [beta, 0.0],
+    )
+}
+
+/// Mahony's filter from the `ahrs` crate, gains `kp`, `ki`, in the tilt plane
+/// (column `mahony`).
+pub fn mahony(kp: f64, ki: f64) -> Planar<ahrs::Mahony<f64>> {
+    Planar::new(
+        |th, g| ahrs::Mahony::new_with_quat(1e-3, g[0], g[1], tilt_quaternion(th)),
+        [kp, ki],
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn s(t: f64, gyro: f64, th: f64) -> Sample<f64> {
+        Sample {
+            t,
+            phi: f64::NAN,
+            gyro,
+            ax: 9.81 * th.sin(),
+            ay: 9.81 * th.cos(),
+        }
+    }
+
+    #[test]
+    fn quaternion_tilt_round_trip() {
+        for th in [-1.0, -0.2, 0.0, 0.3, 1.2] {
+            assert!((tilt_of(&tilt_quaternion(th)) - th).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn both_follow_the_gyro_sign_and_settle_on_the_accelerometer() {
+        for mut e in [
+            Box::new(madgwick(0.05)) as Box<dyn Estimator<f64>>,
+            // ki / kp sets how fast Mahony's integral unwinds: 0.1 /s here.
+            Box::new(mahony(1.0, 0.1)),
+        ] {
+            // Rotate at +0.5 rad/s for 1 s with a consistent accelerometer: +0.5 rad.
+            e.update(&s(0.0, 0.5, 0.0));
+            let mut last = 0.0;
+            for k in 1..=1000 {
+                let t = k as f64 * 1e-3;
+                last = e.update(&s(t, 0.5, 0.5 * t)).theta;
+            }
+            assert!((last - 0.5).abs() < 5e-3, "{last}");
+            // Then held at 0.2 by the accelerometer with a still gyro: converges there.
+            for k in 1001..=60_000 {
+                last = e.update(&s(k as f64 * 1e-3, 0.0, 0.2)).theta;
+            }
+            assert!((last - 0.2).abs() < 1e-3, "{last}");
+        }
+    }
+}

@@ -1,0 +1,127 @@
+//! The estimators beyond the paper, ready to run beside it: the model-based filters of
+//! [`pendtilt_core::ekf`], Algorithm 2 with the pivot-offset term, and the peers users
+//! would pick instead of a pendulum (Madgwick and Mahony from the `ahrs` crate, a
+//! complementary filter), each built by name from the rig and the sensors' noise figures.
+//!
+//! | column | estimator | inputs |
+//! |---|---|---|
+//! | `ekf` | [`pendtilt_core::ekf::Ekf`], pendulum dynamics with l12 | phi, gyro |
+//! | `ukf` | [`pendtilt_core::ekf::Ukf`], the same model, unscented | phi, gyro |
+//! | `alg2_offset` | [`Alg2`] with [`Alg2Settings::pivot_offset`] | phi, gyro |
+//! | `madgwick` | [`ahrs_planar::madgwick`], beta = [`ahrs_planar::MADGWICK_BETA`] | gyro, ax, ay |
+//! | `mahony` | [`ahrs_planar::mahony`], kp, ki = [`ahrs_planar::MAHONY_GAINS`] | gyro, ax, ay |
+//! | `complementary` | [`Complementary`], tau = 0.75 s, 5 Hz accelerometer prefilter | gyro, ax, ay |
+//!
+//! The peers' gains are the best ones a small search found on the simulated scooter ride
+//! ([`tune::search_peer_gains`]); [`tune::fit_process_noise`] fits the EKF's process noise
+//! on any log with a true angle.
+pub mod ahrs_planar;
+pub mod tune;
+
+use pendtilt_core::ekf::{Ekf, Environment, ModelSettings, SensorNoise, Ukf};
+use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
+use pendtilt_core::estimators::complementary::{Complementary, ComplementarySettings};
+use pendtilt_core::{Estimator, PendulumParams, PhysicalParams};
+
+/// The columns this module provides, in report order.
+pub const COLUMNS: [&str; 6] = [
+    "ekf",
+    "ukf",
+    "alg2_offset",
+    "madgwick",
+    "mahony",
+    "complementary",
+];
+
+/// A boxed streaming estimator over `f64`.
+pub type BoxedEstimator = Box<dyn Estimator<f64> + Send>;
+
+/// Everything the estimators of this module are built from besides the rig.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PeerSettings {
+    /// The sensors' noise figures (EKF/UKF measurement noise).
+    pub sensors: SensorNoise<f64>,
+    /// The environment the EKF/UKF process noise is derived from.
+    pub environment: Environment<f64>,
+    /// Madgwick's beta [rad/s]. Default [`ahrs_planar::MADGWICK_BETA`].
+    pub madgwick_beta: f64,
+    /// Mahony's kp [1/s] and ki [1/s^2]. Default [`ahrs_planar::MAHONY_GAINS`].
+    pub mahony: [f64; 2],
+    /// The complementary filter. Default [`ComplementarySettings::default`].
+    pub complementary: ComplementarySettings<f64>,
+}
+
+impl Default for PeerSettings {
+    fn default() -> Self {
+        Self {
+            sensors: SensorNoise::default(),
+            environment: Environment::default(),
+            madgwick_beta: ahrs_planar::MADGWICK_BETA,
+            mahony: ahrs_planar::MAHONY_GAINS,
+            complementary: ComplementarySettings::default(),
+        }
+    }
+}
+
+/// EKF/UKF settings for normalised parameters `params`, gravity `gravity` and `peer`.
+pub fn model_settings(
+    params: &PendulumParams<f64>,
+    gravity: f64,
+    peer: &PeerSettings,
+) -> ModelSettings<f64> {
+    ModelSettings::derived(*params, gravity, peer.sensors, &peer.environment)
+}
+
+/// Builds the estimator of column `name` (one of [`COLUMNS`]) for normalised parameters
+/// `params` under gravity `gravity`; `None` for an unknown name.
+pub fn build(
+    name: &str,
+    params: &PendulumParams<f64>,
+    gravity: f64,
+    peer: &PeerSettings,
+) -> Option<BoxedEstimator> {
+    Some(match name {
+        "ekf" => Box::new(Ekf::new(model_settings(params, gravity, peer))),
+        "ukf" => Box::new(Ukf::new(model_settings(params, gravity, peer))),
+        "alg2_offset" => Box::new(Alg2::<f64>::new(Alg2Settings {
+            pivot_offset: true,
+            ..Alg2Settings::from_params(*params)
+        })),
+        "madgwick" => Box::new(ahrs_planar::madgwick(peer.madgwick_beta)),
+        "mahony" => Box::new(ahrs_planar::mahony(peer.mahony[0], peer.mahony[1])),
+        "complementary" => Box::new(Complementary::new(peer.complementary)),
+        _ => return None,
+    })
+}
+
+/// [`build`] from the rig's physical parameters.
+pub fn build_physical(
+    name: &str,
+    rig: &PhysicalParams<f64>,
+    peer: &PeerSettings,
+) -> Option<BoxedEstimator> {
+    build(name, &rig.normalised(), rig.gravity, peer)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_column_builds_and_unknown_names_do_not() {
+        let rig = PhysicalParams::<f64>::default();
+        for name in COLUMNS {
+            let mut e = build_physical(name, &rig, &PeerSettings::default()).unwrap();
+            let s = pendtilt_core::Sample {
+                t: 0.0,
+                phi: 0.1,
+                gyro: 0.0,
+                ax: 9.81 * 0.1f64.sin(),
+                ay: 9.81 * 0.1f64.cos(),
+            };
+            let est = e.update(&s);
+            assert!((est.theta - 0.1).abs() < 1e-9, "{name}: {}", est.theta);
+        }
+        assert!(build_physical("alg9", &rig, &PeerSettings::default()).is_none());
+    }
+}

@@ -1,0 +1,88 @@
+//! The model-based filters on bad input: no panic, the flags say what happened, and the
+//! estimate recovers.
+use pendtilt::core::ekf::{Ekf, ModelSettings, Ukf};
+use pendtilt::core::{Estimator, Flags, Sample};
+
+fn s(t: f64, phi: f64, gyro: f64) -> Sample<f64> {
+    Sample {
+        t,
+        phi,
+        gyro,
+        ax: f64::NAN,
+        ay: f64::NAN,
+    }
+}
+
+fn check(e: &mut dyn Estimator<f64>) {
+    // Nothing usable yet: NaN, initialising.
+    let r = e.update(&s(0.0, f64::NAN, 0.0));
+    assert!(r.theta.is_nan() && r.flags.contains(Flags::INITIALISING));
+    // The first phi starts the filter at theta = phi.
+    let r = e.update(&s(0.001, 0.1, 0.0));
+    assert_eq!(r.theta, 0.1);
+    for k in 2..1000 {
+        e.update(&s(k as f64 * 1e-3, 0.1, 0.0));
+    }
+    // Time going backwards or repeated: held, flagged.
+    let held = e.update(&s(1.0, 0.1, 0.0));
+    let r = e.update(&s(0.5, 0.1, 0.0));
+    assert!(r.flags.contains(Flags::BAD_TIME_STEP) && r.theta == held.theta);
+    let r = e.update(&s(f64::NAN, 0.1, 0.0));
+    assert!(r.flags.contains(Flags::BAD_TIME_STEP));
+    // Missing encoder and gyro: predicted, flagged.
+    let r = e.update(&s(1.001, f64::NAN, f64::NAN));
+    assert!(r.flags.contains(Flags::SAMPLE_MISSING) && r.theta.is_finite());
+    // Absurd but finite readings: no panic, finite or flagged, and the filter comes back.
+    for (k, v) in [1e300, -1e300, 1e30, 0.0].iter().enumerate() {
+        let r = e.update(&s(1.002 + k as f64 * 1e-3, *v, *v));
+        assert!(r.theta.is_finite() || r.flags.contains(Flags::INITIALISING));
+    }
+    // A gap longer than max_gap restarts at the next phi.
+    let r = e.update(&s(10.0, 0.2, 0.0));
+    assert!(r.flags.contains(Flags::INITIALISING) && r.theta == 0.2);
+    let mut last = 0.0;
+    for k in 1..3000 {
+        last = e.update(&s(10.0 + k as f64 * 1e-3, 0.2, 0.0)).theta;
+    }
+    assert!((last - 0.2).abs() < 1e-3, "{last}");
+    // An encoder wrapping through +-pi is unwrapped (the pendulum hangs at pi here).
+    let pi = std::f64::consts::PI;
+    let mut t = 20.0;
+    e.update(&s(t, pi - 0.001, 0.0));
+    let mut wrapped = false;
+    for k in 0..200 {
+        t += 1e-3;
+        let phi = if k % 2 == 0 { -pi + 0.001 } else { pi - 0.001 };
+        let r = e.update(&s(t, phi, 0.0));
+        wrapped |= r.flags.contains(Flags::ENCODER_WRAPPED);
+        assert!(r.theta.is_finite() && r.theta.abs() <= pi);
+    }
+    assert!(wrapped);
+}
+
+#[test]
+fn ekf_survives_bad_input() {
+    check(&mut Ekf::<f64>::new(ModelSettings::default()));
+}
+
+#[test]
+fn ukf_survives_bad_input() {
+    check(&mut Ukf::<f64>::new(ModelSettings::default()));
+}
+
+#[test]
+fn f32_ekf_tracks_a_still_pendulum() {
+    let mut e = Ekf::<f32>::new(ModelSettings::default());
+    let mut last = 0.0f32;
+    for k in 0..5000 {
+        let smp = Sample {
+            t: k as f32 * 1e-3,
+            phi: 0.3,
+            gyro: 0.01,
+            ax: f32::NAN,
+            ay: f32::NAN,
+        };
+        last = e.update(&smp).theta;
+    }
+    assert!((last - 0.3).abs() < 2e-3, "{last}");
+}
