@@ -31,10 +31,10 @@ pub struct Args {
     /// MODEL.md rig.
     #[arg(long, short = 'p')]
     pub params: Option<PathBuf>,
-    /// Start a [s] (overrides the rig file).
+    /// Start a (s) (overrides the rig file).
     #[arg(long, allow_negative_numbers = true)]
     pub a: Option<f64>,
-    /// Start b [s^2] (overrides the rig file).
+    /// Start b (s^2) (overrides the rig file).
     #[arg(long, allow_negative_numbers = true)]
     pub b: Option<f64>,
     /// Newton's step factor h (Eq 24).

@@ -305,7 +305,7 @@ pub struct FitReport {
     pub samples: usize,
     /// The sensitivity found by the identifiability check.
     pub sensitivity: f64,
-    /// Differentiator cutoff used [Hz].
+    /// Differentiator cutoff used \[Hz\].
     pub cutoff_hz: f64,
     /// Wall time of the iterations (without computing the kinematics).
     pub elapsed: Duration,

@@ -237,7 +237,7 @@ impl Problem {
         self.count == 0
     }
 
-    /// The differentiator cutoff used [Hz].
+    /// The differentiator cutoff used \[Hz\].
     pub fn cutoff_hz(&self) -> f64 {
         self.cutoff_hz
     }
