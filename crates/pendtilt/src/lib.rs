@@ -8,6 +8,7 @@ pub use pendtilt_core as core;
 pub mod bank;
 pub mod cli;
 pub mod config;
+pub mod experiment;
 pub mod fit;
 pub mod io;
 pub mod peers;

@@ -1,10 +1,177 @@
-//! `pendtilt report`.
+//! `pendtilt report LOG.csv --params RIG.toml --out DIR`: metrics (unfiltered and after the
+//! paper's 20 Hz FIR), figures, Markdown, JSON and one HTML page for a log with a true angle.
+use std::path::PathBuf;
+
+use anyhow::Context;
+
+use crate::config::RigConfig;
+use crate::experiment::claims::{self as paper, DifferentiatorInfo};
+use crate::experiment::estimate::{alg2_delay_compensated, run_estimators};
+use crate::experiment::progress::{Progress, CHUNK};
+use crate::experiment::standard::standard_report;
+use crate::experiment::Ride;
+use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions};
+use crate::pipeline;
+use crate::report::markdown::{claims_markdown, metrics_markdown};
+
+use super::estimate::rig_bank_settings;
+use super::reproduce::Bars;
 
 /// Options of `pendtilt report`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// The sensor log (CSV, MODEL.md section 5); it must have the true angle `theta`.
+    pub log: PathBuf,
+    /// The rig file (TOML). Without it the MODEL.md default rig is used, and said so.
+    #[arg(long, short = 'p')]
+    pub params: Option<PathBuf>,
+    /// Directory to write into (created): index.html, report.md, report.json, figures.
+    #[arg(long, short = 'o')]
+    pub out: PathBuf,
+    /// Other column names, e.g. `phi=enc_angle,gyro=gz,theta=pot`.
+    #[arg(long, default_value = "")]
+    pub map: ColumnMap,
+    /// Angular columns in degrees: alone, every one (phi, gyro, theta); or a list like
+    /// `phi,theta`.
+    #[arg(long, num_args = 0..=1, default_missing_value = "all")]
+    pub deg: Option<DegreeColumns>,
+    /// Title of the report (default: the log's file name).
+    #[arg(long)]
+    pub title: Option<String>,
+    /// No progress bars and no notes on standard error.
+    #[arg(long, short = 'q')]
+    pub quiet: bool,
+}
+
+/// Reads a whole log with a true angle into memory (rows without `theta` get NaN).
+pub fn read_log(
+    path: &std::path::Path,
+    options: ReaderOptions,
+    progress: &dyn Progress,
+) -> anyhow::Result<(Ride, crate::bank::Inputs)> {
+    let mut log = LogReader::open(path, options)?;
+    anyhow::ensure!(
+        log.columns().has(Column::Theta),
+        "{}: the log has no `theta` column (the true angle): a report compares the \
+         estimates with it (map another name with --map theta=NAME)",
+        log.file()
+    );
+    let inputs = pipeline::inputs_of(&log);
+    let mut ride = Ride {
+        label: log.file().to_string(),
+        t: Vec::new(),
+        samples: Vec::new(),
+        theta: Vec::new(),
+        theta_dd: Vec::new(),
+    };
+    progress.stage(&format!("reading {}", log.file()), 0);
+    while let Some(rec) = log.next_record()? {
+        for w in log.drain_warnings() {
+            progress.message(&format!("warning: {w}"));
+        }
+        ride.t.push(rec.sample.t);
+        ride.samples.push(rec.sample);
+        ride.theta.push(rec.theta.unwrap_or(f64::NAN));
+        if ride.t.len() as u64 % CHUNK == 0 {
+            progress.advance(CHUNK);
+        }
+    }
+    for w in log.drain_warnings() {
+        progress.message(&format!("warning: {w}"));
+    }
+    if log.summary().total_warnings() > 0 {
+        progress.message(&log.summary().to_string());
+    }
+    anyhow::ensure!(ride.len() >= 2, "{}: fewer than two data rows", log.file());
+    Ok((ride, inputs))
+}
 
 /// Runs `pendtilt report`.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("pendtilt report is not built yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let bars = Bars::new(args.quiet);
+    let result = report(&args, &bars);
+    bars.finish();
+    result
+}
+
+fn report(args: &Args, bars: &Bars) -> anyhow::Result<()> {
+    let rig = match &args.params {
+        Some(p) => RigConfig::load(p)?,
+        None => {
+            bars.message("note: no --params: using the default rig of MODEL.md section 5");
+            RigConfig::default()
+        }
+    };
+    let settings = rig_bank_settings(&rig);
+    let options = ReaderOptions {
+        map: args.map.clone(),
+        degrees: args.deg.unwrap_or_default(),
+        ..ReaderOptions::default()
+    };
+    let (ride, inputs) = read_log(&args.log, options, bars)?;
+    let extras = if inputs.phi && inputs.gyro {
+        vec![alg2_delay_compensated(&settings)]
+    } else {
+        Vec::new()
+    };
+    let series = run_estimators(&ride, &settings, inputs, extras, bars)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", ride.label))?;
+    anyhow::ensure!(
+        !series.is_empty(),
+        "{}: no estimator can run on this log's columns",
+        ride.label
+    );
+    bars.stage("metrics and figures", 0);
+    let title = args.title.clone().unwrap_or_else(|| {
+        args.log
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| ride.label.clone())
+    });
+    let label = ride.label.clone();
+    let (mut report, _) = standard_report(&title, ride.t, ride.theta, series)
+        .with_context(|| format!("{label}: cannot build the report"))?;
+    // The paper's claims, on this log's metrics (claim 4's overshoot only on a step).
+    let pooled_names_probe = report.compute()?;
+    let view = pooled_names_probe
+        .views
+        .iter()
+        .find(|v| v.view == pooled_names_probe.claims_view)
+        .unwrap_or(&pooled_names_probe.views[0]);
+    let diff = settings.alg2.differentiator;
+    let cutoff_hz = diff.cutoff_hz(&settings.params);
+    let info = DifferentiatorInfo {
+        cutoff_hz,
+        delay_ms: diff
+            .response
+            .dc_delay(2.0 * std::f64::consts::PI * cutoff_hz)
+            * 1e3,
+        natural_hz: settings.params.natural_frequency_hz(),
+    };
+    for c in paper::paper_claims(&view.metrics, false, &info) {
+        report = report.claim(c);
+    }
+    if view.metrics.iter().any(|m| m.name == paper_dc()) {
+        report = report.claim(paper::delay_compensation_claim(&view.metrics));
+    }
+    let out = report
+        .write(&args.out)
+        .with_context(|| format!("cannot write the report into {}", args.out.display()))?;
+    bars.finish();
+    for v in &out.data.views {
+        println!("Metrics ({}):\n{}", v.view, metrics_markdown(&v.metrics));
+    }
+    if !out.data.claims.is_empty() {
+        println!(
+            "Claims ({}):\n{}",
+            out.data.claims_view,
+            claims_markdown(&out.data.claims)
+        );
+    }
+    println!("wrote {}", out.html.display());
+    Ok(())
+}
+
+fn paper_dc() -> &'static str {
+    crate::experiment::estimate::ALG2_DELAY_COMPENSATED
 }

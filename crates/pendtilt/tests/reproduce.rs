@@ -1,0 +1,242 @@
+//! `pendtilt reproduce` in-process on short rides: files, page references, and a claims
+//! table that is computed from the run.
+use std::path::Path;
+
+use pendtilt::bank::Inputs;
+use pendtilt::experiment::claims::{paper_claims, DifferentiatorInfo};
+use pendtilt::experiment::estimate::run_estimators;
+use pendtilt::experiment::standard::{standard_report, FIR_VIEW};
+use pendtilt::experiment::{reproduce, simulate_ride, Calibration, NoProgress, ReproduceConfig};
+use pendtilt::report::claims::{fmt_sig, MetricKind};
+use pendtilt::report::html::referenced_paths;
+use pendtilt::sim::vibration::Vibration;
+
+/// Width and height from a PNG header.
+fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG", "{} is not a PNG", path.display());
+    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    (be(16), be(20))
+}
+
+fn short() -> ReproduceConfig {
+    let mut cfg = ReproduceConfig::with_durations(8.0, 8.0);
+    cfg.sigmoid.duration = 4.0;
+    cfg
+}
+
+#[test]
+fn reproduce_end_to_end_on_a_short_ride() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = reproduce(&short(), dir.path(), &NoProgress).unwrap();
+
+    // the files
+    for p in [&out.index, &out.markdown, &out.json] {
+        assert!(std::fs::metadata(p).unwrap().len() > 100, "{}", p.display());
+    }
+    for sub in ["scooter", "sigmoid"] {
+        for f in ["index.html", "report.md", "report.json"] {
+            assert!(dir.path().join(sub).join(f).is_file(), "{sub}/{f}");
+        }
+    }
+    let figures: Vec<_> = out
+        .scooter
+        .figures
+        .iter()
+        .chain(&out.sigmoid.figures)
+        .collect();
+    assert!(figures.len() > 20, "only {} figures", figures.len());
+    for f in &figures {
+        assert!(
+            std::fs::metadata(&f.svg).unwrap().len() > 1000,
+            "{}",
+            f.svg.display()
+        );
+        assert!(
+            std::fs::metadata(&f.png).unwrap().len() > 1000,
+            "{}",
+            f.png.display()
+        );
+        assert_eq!(png_size(&f.png), (f.width, f.height), "{}", f.png.display());
+        assert!(
+            f.width >= 600 && f.height >= 300,
+            "{} too small",
+            f.png.display()
+        );
+    }
+    for stem in [
+        "est_alg1",
+        "est_alg2_error",
+        "kalman_accel_vs_pendulum",
+        "fig3_kalman_variance",
+    ] {
+        assert!(
+            dir.path()
+                .join("scooter")
+                .join(format!("{stem}.png"))
+                .is_file(),
+            "{stem}"
+        );
+    }
+    assert!(dir.path().join("sigmoid/fig5_alg1_sigmoid.png").is_file());
+
+    // every page references only files that exist, and the top page shows figures
+    for page in ["index.html", "scooter/index.html", "sigmoid/index.html"] {
+        let path = dir.path().join(page);
+        let html = std::fs::read_to_string(&path).unwrap();
+        let refs = referenced_paths(&html);
+        assert!(!refs.is_empty(), "{page} references nothing");
+        let base = path.parent().unwrap();
+        for r in refs {
+            assert!(base.join(&r).is_file(), "{page} references missing {r}");
+        }
+    }
+    let top = std::fs::read_to_string(&out.index).unwrap();
+    assert!(top.contains("scooter/est_alg2.png") && top.contains("sigmoid/fig5_alg1_sigmoid.png"));
+
+    // the claims table is computed from the metrics of this run
+    assert_eq!(out.claims.len(), 6);
+    assert_eq!(out.claims_view, FIR_VIEW);
+    let scooter_json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out.scooter.json).unwrap()).unwrap();
+    let fir = scooter_json["views"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|v| v["view"] == FIR_VIEW)
+        .unwrap();
+    let rms_of = |name: &str| {
+        fir["metrics"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["name"] == name)
+            .unwrap()["rms_deg"]
+            .as_f64()
+            .unwrap()
+    };
+    let (alg1, alg2) = (rms_of("alg1"), rms_of("alg2"));
+    let c3 = &out.claims[2];
+    assert!(c3.claim.starts_with("3."));
+    assert!(
+        c3.measured.contains(&format!("alg2 {} deg", fmt_sig(alg2)))
+            && c3.measured.contains(&format!("alg1 {} deg", fmt_sig(alg1))),
+        "{}",
+        c3.measured
+    );
+    assert_eq!(c3.holds, alg2 < alg1);
+    let (pend, accel) = (rms_of("pendulum"), rms_of("accel"));
+    assert_eq!(out.claims[0].holds, pend < accel);
+    // claim 4's overshoot comes from the sigmoid ride
+    let lag = |n: &str| {
+        out.pooled
+            .iter()
+            .find(|m| m.name == n)
+            .and_then(|m| MetricKind::LagMs.value(m))
+    };
+    let over = |n: &str| {
+        out.pooled
+            .iter()
+            .find(|m| m.name == n)
+            .and_then(|m| MetricKind::OvershootPct.value(m))
+    };
+    let expected4 = match (
+        lag("alg3"),
+        lag("alg2"),
+        over("alg3 (sigmoid)"),
+        over("alg2 (sigmoid)"),
+    ) {
+        (Some(l3), Some(l2), Some(o3), Some(o2)) => l3 < l2 && o3 > o2,
+        _ => false,
+    };
+    assert_eq!(out.claims[3].holds, expected4, "{:?}", out.claims[3]);
+    // claims.json holds the same table
+    let claims_json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out.json).unwrap()).unwrap();
+    let rows = claims_json["claims"].as_array().unwrap();
+    assert_eq!(rows.len(), out.claims.len());
+    for (row, c) in rows.iter().zip(&out.claims) {
+        assert_eq!(row["holds"].as_bool(), Some(c.holds));
+        assert_eq!(row["measured"].as_str(), Some(c.measured.as_str()));
+    }
+    // and the Markdown shows it
+    let md = std::fs::read_to_string(&out.markdown).unwrap();
+    assert!(
+        md.contains(&out.claims[2].measured.replace('|', "\\|"))
+            || md.contains(&out.claims[2].measured)
+    );
+}
+
+/// The Newton fit finds a, b on a ride with the engine off; with the engine running b comes
+/// out biased low (the vibration in phi'' is noise in its regressor), which is why
+/// `reproduce` calibrates with the engine off and reports the other fit beside it.
+#[test]
+fn calibration_fits_the_true_parameters_with_the_engine_off() {
+    let cfg = short();
+    let mut sc = cfg.scooter.clone();
+    sc.duration = 8.0;
+    let truth = sc.physical().normalised();
+    let vibrating = simulate_ride("engine on", &sc, 2, &NoProgress).unwrap();
+    sc.vibration = Vibration::default();
+    let quiet = simulate_ride("engine off", &sc, 2, &NoProgress).unwrap();
+    let c: Calibration = pendtilt::experiment::calibrate(&quiet, truth, &NoProgress);
+    assert!(c.params_fitted && c.gains_fitted, "{:?}", c.notes);
+    assert!(
+        (c.params.a / truth.a - 1.0).abs() < 0.01,
+        "a {} vs {}",
+        c.params.a,
+        truth.a
+    );
+    assert!(
+        (c.params.b / truth.b - 1.0).abs() < 0.01,
+        "b {} vs {}",
+        c.params.b,
+        truth.b
+    );
+    assert!(c.notes[0].contains("Newton") && c.notes[1].contains("K = "));
+    let shaken = pendtilt::experiment::calibrate::fit_ab(&vibrating, &truth).unwrap();
+    let b = shaken.pendulum_params().b;
+    assert!(b < 0.9 * truth.b, "b {b} vs {} with the engine on", truth.b);
+}
+
+/// The verdict of claim 1 follows the data: with the engine off (no vibration) the
+/// accelerometer is no longer worse than the pendulum.
+#[test]
+fn claim_verdict_changes_with_the_vibration() {
+    let cfg = short();
+    let verdict = |vibration: Option<Vibration>| {
+        let mut sc = cfg.scooter.clone();
+        sc.duration = 6.0;
+        if let Some(v) = vibration {
+            sc.vibration = v;
+        }
+        let ride = simulate_ride("ride", &sc, 5, &NoProgress).unwrap();
+        let settings = pendtilt::bank::BankSettings::from_params(sc.physical().normalised());
+        let series =
+            run_estimators(&ride, &settings, Inputs::ALL, Vec::new(), &NoProgress).unwrap();
+        let (report, has_fir) =
+            standard_report("t", ride.t.clone(), ride.theta.clone(), series).unwrap();
+        assert!(has_fir);
+        let data = report.compute().unwrap();
+        let view = data.views.iter().find(|v| v.view == FIR_VIEW).unwrap();
+        let info = DifferentiatorInfo {
+            cutoff_hz: 3.0,
+            delay_ms: 100.0,
+            natural_hz: 2.0,
+        };
+        let claims = paper_claims(&view.metrics, false, &info);
+        let c = claims[0].evaluate(&view.metrics);
+        let get = |n: &str| view.metrics.iter().find(|m| m.name == n).unwrap().rms_deg;
+        (c.holds, get("pendulum"), get("accel"))
+    };
+    let (with_engine, p1, a1) = verdict(None);
+    let (engine_off, p0, a0) = verdict(Some(Vibration::default()));
+    assert!(
+        with_engine,
+        "pendulum {p1} vs accel {a1} deg with the engine on"
+    );
+    assert!(
+        !engine_off,
+        "pendulum {p0} vs accel {a0} deg with the engine off"
+    );
+}
