@@ -81,6 +81,16 @@ impl<T: Real> Estimator<T> for Accel<T> {
             }
             (None, _) => (s.ax, s.ay),
         };
+        if !(ax.is_finite() && ay.is_finite()) {
+            // An input near the type's largest value overflowed the low-pass (found by
+            // fuzzing in f32 with 3e38): restart it on the next sample, hold the angle.
+            self.lx.reset();
+            self.ly.reset();
+            return Estimate {
+                theta: self.last,
+                flags: flags | Flags::SATURATED | Flags::SAMPLE_MISSING,
+            };
+        }
         self.t_prev = Some(s.t);
         self.last = accel_angle(ax, ay);
         Estimate {
@@ -91,5 +101,36 @@ impl<T: Real> Estimator<T> for Accel<T> {
 
     fn reset(&mut self) {
         *self = Self::new(self.settings);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prefilter_overflow_holds_flags_and_recovers() {
+        let mut a = Accel::<f32>::new(AccelSettings {
+            prefilter_hz: Some(5.0),
+            full_scale: None,
+        });
+        let s = |t: f32, ax: f32, ay: f32| Sample {
+            t,
+            phi: f32::NAN,
+            gyro: f32::NAN,
+            ax,
+            ay,
+        };
+        // The filter starts at rest on 3e38; the next step's 1.95 y overflows.
+        let first = a.update(&s(0.0, 3e38, 9.8)).theta;
+        assert!(first.is_finite());
+        let e = a.update(&s(0.001, 0.0, 9.8));
+        assert_eq!(e.theta, first);
+        assert!(e.flags.contains(Flags::SATURATED | Flags::SAMPLE_MISSING));
+        // The next ordinary samples give ordinary angles again.
+        for k in 3..50 {
+            let e = a.update(&s(k as f32 * 1e-3, 0.0, 9.8));
+            assert!(e.theta.abs() < 1e-6, "{k}: {e:?}");
+        }
     }
 }

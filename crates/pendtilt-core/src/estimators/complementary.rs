@@ -72,10 +72,17 @@ impl<T: Real> Complementary<T> {
         if !(s.ax.is_finite() && s.ay.is_finite()) {
             return None;
         }
-        Some(match self.settings.accel_prefilter_hz {
+        let a = match self.settings.accel_prefilter_hz {
             Some(_) => accel_angle(self.lx.update(s.ax, dt), self.ly.update(s.ay, dt)),
             None => accel_angle(s.ax, s.ay),
-        })
+        };
+        if !a.is_finite() {
+            // The prefilter overflowed on an input near the type's largest value: restart it.
+            self.lx.reset();
+            self.ly.reset();
+            return None;
+        }
+        Some(a)
     }
 }
 
@@ -115,7 +122,13 @@ impl<T: Real> Estimator<T> for Complementary<T> {
         };
         let dt = s.t - tp;
         self.t_prev = Some(s.t);
-        let predicted = self.theta + gyro * dt;
+        let mut predicted = self.theta + gyro * dt;
+        if !predicted.is_finite() {
+            // A rate near the type's largest value over a long step overflows (found by
+            // fuzzing): do not integrate it, keep the angle, flag the gyro.
+            flags |= Flags::SATURATED;
+            predicted = self.theta;
+        }
         self.theta = match self.accel(s, dt) {
             Some(a) => {
                 let tau = self.settings.time_constant.max(T::zero());
@@ -202,5 +215,25 @@ mod tests {
         assert!((e.theta - 0.2).abs() < 1e-12);
         let e2 = c.update(&sample(0.1, 0.0, 0.0));
         assert!(e2.flags.contains(Flags::BAD_TIME_STEP) && e2.theta == e.theta);
+    }
+
+    #[test]
+    fn overflowing_gyro_step_is_not_integrated() {
+        let mut c = Complementary::<f32>::new(ComplementarySettings::default());
+        let s = |t: f32, gyro: f32| Sample {
+            t,
+            phi: 0.0,
+            gyro,
+            ax: 0.0,
+            ay: 9.8,
+        };
+        c.update(&s(0.0, 0.0));
+        let e = c.update(&s(1e6, 3e38));
+        assert!(
+            e.theta.is_finite() && e.flags.contains(Flags::SATURATED),
+            "{e:?}"
+        );
+        let e = c.update(&s(1e6 + 1.0, 0.0));
+        assert!(e.theta.is_finite(), "{e:?}");
     }
 }

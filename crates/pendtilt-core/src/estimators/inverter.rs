@@ -101,7 +101,7 @@ impl<T: Real, const W: usize> Inverter<T, W> {
             }
             None => T::zero(),
         };
-        if !s.phi.is_finite() {
+        if !s.phi.is_finite() || s.phi.abs() >= T::lit(super::pendulum::PHI_LIMIT) {
             let f = Flags::SAMPLE_MISSING
                 | if first {
                     Flags::INITIALISING

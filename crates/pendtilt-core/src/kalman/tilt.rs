@@ -93,7 +93,11 @@ impl<T: Real> TiltKalman<T> {
     /// ([`Flags::SAMPLE_MISSING`]).
     pub fn step(&mut self, t: T, gyro: T, measurements: &[(T, T)]) -> Estimate<T> {
         let mut flags = Flags::empty();
-        if !t.is_finite() || self.t_prev.is_some_and(|tp| !crate::real::is_positive(t - tp)) {
+        if !t.is_finite()
+            || self
+                .t_prev
+                .is_some_and(|tp| !crate::real::is_positive(t - tp))
+        {
             return Estimate {
                 theta: self.angle(),
                 flags: Flags::BAD_TIME_STEP,
@@ -128,6 +132,7 @@ impl<T: Real> TiltKalman<T> {
         }
         let dt = t - self.t_prev.unwrap_or(t);
         self.t_prev = Some(t);
+        let (x_prev, p_prev) = (self.kf.x, self.kf.p);
         self.kf.predict(&self.process.transition(dt, &u));
         for &(z, r) in measurements {
             let ok = z.is_finite()
@@ -138,6 +143,13 @@ impl<T: Real> TiltKalman<T> {
             if !ok {
                 flags |= Flags::MEASUREMENT_SKIPPED;
             }
+        }
+        if !(self.kf.x.iter().all(|v| v.is_finite()) && self.kf.p.iter().all(|v| v.is_finite())) {
+            // A rate or step near the type's largest value overflowed the prediction (found
+            // by fuzzing): drop this sample, keep the previous state, flag it.
+            self.kf.x = x_prev;
+            self.kf.p = p_prev;
+            flags |= Flags::SATURATED | Flags::SAMPLE_MISSING;
         }
         Estimate {
             theta: self.angle(),
@@ -345,5 +357,16 @@ mod tests {
         assert!((e.theta - 0.01).abs() < 1e-12, "pure gyro prediction");
         let e = kf.step(0.01, 1.0, &[(0.0, 0.03)]);
         assert!(e.flags.contains(Flags::BAD_TIME_STEP));
+    }
+
+    #[test]
+    fn overflowing_prediction_keeps_the_state_and_flags() {
+        let mut kf = TiltKalman::<f32>::new(KalmanSettings::default());
+        kf.step(0.0, 0.0, &[(0.1, 0.03)]);
+        let e = kf.step(1e6, 3e38, &[(0.1, 0.03)]);
+        assert_eq!(e.theta, 0.1);
+        assert!(e.flags.contains(Flags::SATURATED), "{e:?}");
+        let e = kf.step(1e6 + 1.0, 0.0, &[(0.1, 0.03)]);
+        assert!(e.theta.is_finite() && e.flags.is_empty(), "{e:?}");
     }
 }
