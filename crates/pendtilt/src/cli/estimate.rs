@@ -125,5 +125,9 @@ pub fn rig_bank_settings(rig: &RigConfig) -> BankSettings {
         alg2: rig.alg2_settings(),
         alg3: rig.alg3_settings(),
         kalman: rig.kalman_settings(),
+        gravity: rig
+            .physical()
+            .map_or(pendtilt_core::params::STANDARD_GRAVITY, |p| p.gravity),
+        peers: crate::peers::PeerSettings::default(),
     }
 }
