@@ -214,8 +214,13 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
             dx[PHI] = d;
             filter.shift(&dx);
         }
-        let finite = filter.state().iter().all(|v| v.is_finite())
-            && filter.covariance().iter().all(|v| v.is_finite());
+        // A NaN or infinity anywhere in the state or on P's diagonal makes the sum
+        // non-finite (off-diagonal terms reach the diagonal at the next step).
+        let x = filter.state();
+        let p = filter.covariance();
+        let finite = (0..x.len())
+            .fold(T::zero(), |acc, i| acc + x[i] + p[(i, i)])
+            .is_finite();
         if !ok || !finite {
             // Start again at the next sample with a phi.
             self.filter = None;

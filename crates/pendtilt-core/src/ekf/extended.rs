@@ -1,6 +1,7 @@
 //! The extended Kalman filter over the pendulum state: the state goes through the nonlinear
 //! process model, the covariance through its analytic Jacobian; measurements are applied
-//! one scalar at a time in Joseph form ([`super::update::scalar_update`]).
+//! one scalar at a time, `P - v v^T / s` kept exactly symmetric
+//! ([`super::update::scalar_update`]).
 use super::filter::StateFilter;
 use super::measurement::Accelerometer;
 use super::model::N;

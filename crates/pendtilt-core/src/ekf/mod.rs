@@ -8,7 +8,7 @@
 //!   Jacobian, exact process-noise integrals.
 //! - [`measurement`]: the encoder (phi), the gyro (theta' + bias) and the optional
 //!   accelerometer (specific force at a point of the body) with its own noise.
-//! - [`update`]: the scalar measurement update in Joseph form (P stays symmetric positive
+//! - [`update`]: the scalar measurement update, symmetric by construction (P stays symmetric positive
 //!   definite).
 //! - [`filter`]: the [`StateFilter`] interface; [`extended`] ([`ExtendedKalman`]) and [`unscented`]
 //!   ([`UnscentedKalman`]) implement it on nalgebra fixed-size matrices.

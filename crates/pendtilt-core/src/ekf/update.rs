@@ -1,4 +1,4 @@
-//! The scalar measurement update both filters share, in Joseph form.
+//! The scalar measurement update both filters share, in symmetric rank-one form.
 use super::model::{Cov, State, N};
 use crate::Real;
 
@@ -13,10 +13,13 @@ pub enum Rejected {
 
 /// Applies one scalar measurement with row `h`, innovation `y = z - h(x)` and variance `r`.
 ///
-/// Gain `k = P h / s`, `s = h P h + r`. The covariance is updated in Joseph form,
-/// `P = (I - k h) P (I - k h)^T + r k k^T`, which for one scalar row and `v = P h` is
-/// `P - k v^T - v k^T + s k k^T`: it costs O(N^2) and is computed on the upper triangle
-/// and mirrored, so `P` stays exactly symmetric. Returns the innovation variance `s`.
+/// Gain `k = P h / s`, `s = h P h + r`, `v = P h`. The covariance becomes
+/// `P - v v^T / s`, computed on the upper triangle and mirrored, so `P` stays exactly
+/// symmetric; for this (optimal) gain it equals Joseph's form
+/// `(I - k h) P (I - k h)^T + r k k^T = P - k v^T - v k^T + s k k^T`, at a quarter of the
+/// multiplications (Joseph's form guards against a suboptimal gain, which this code never
+/// applies). Positive definiteness is checked over a one-hour run by the
+/// `ekf_covariance` test of the std crate. Returns the innovation variance `s`.
 #[inline]
 pub fn scalar_update<T: Real>(
     x: &mut State<T>,
@@ -38,13 +41,7 @@ pub fn scalar_update<T: Real>(
     }
     let k = v / s;
     *x += k * y;
-    for i in 0..N {
-        for j in i..N {
-            let val = p[(i, j)] - k[i] * v[j] - v[i] * k[j] + s * k[i] * k[j];
-            p[(i, j)] = val;
-            p[(j, i)] = val;
-        }
-    }
+    rank_one_downdate(p, &k, &v);
     Ok(s)
 }
 
@@ -80,14 +77,21 @@ pub fn unit_update<T: Real>(
     }
     let k = v / s;
     *x += k * y;
-    for i in 0..N {
-        for j in i..N {
-            let val = p[(i, j)] - k[i] * v[j] - v[i] * k[j] + s * k[i] * k[j];
+    rank_one_downdate(p, &k, &v);
+    Ok(s)
+}
+
+/// `P - k v^T` (with `k = v / s`, that is `P - v v^T / s`) on the upper triangle, mirrored:
+/// exactly symmetric, one multiplication per entry.
+#[inline]
+fn rank_one_downdate<T: Real>(p: &mut Cov<T>, k: &State<T>, v: &State<T>) {
+    for j in 0..N {
+        for i in 0..=j {
+            let val = p[(i, j)] - k[i] * v[j];
             p[(i, j)] = val;
             p[(j, i)] = val;
         }
     }
-    Ok(s)
 }
 
 /// `(P + P^T) / 2`.
