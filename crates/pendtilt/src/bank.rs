@@ -468,7 +468,10 @@ mod tests {
             b.update(&s, &mut out);
         }
         for (n, e) in b.names().iter().zip(&out) {
-            assert!((e.theta - 0.1).abs() < 1e-3, "{n}: {}", e.theta);
+            // Madgwick's gradient step is normalised, so at rest it chatters within about
+            // 2 beta dt (2.4 mrad at beta = 1.18, 1 kHz); everything else settles far closer.
+            let tol = if *n == "madgwick" { 3e-3 } else { 1e-4 };
+            assert!((e.theta - 0.1).abs() < tol, "{n}: {}", e.theta);
         }
     }
 
