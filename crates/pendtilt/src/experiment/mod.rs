@@ -265,10 +265,7 @@ pub fn reproduce(
         let started = Instant::now();
         progress.stage(&format!("metrics and figures of {label}"), 0);
         let title = match which {
-            "scooter" => format!(
-                "Scooter floorboard, engine running: {:.0} s test ride",
-                ride.duration()
-            ),
+            "scooter" => format!("Scooter, engine running ({:.0} s)", ride.duration()),
             _ => "Sigmoid (the paper's Fig. 5)".to_string(),
         };
         let alg1 = series

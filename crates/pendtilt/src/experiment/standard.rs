@@ -55,7 +55,7 @@ pub fn standard_report(
     if kalman.len() >= 2 {
         report = report.figure_group(FigureGroup {
             stem: "kalman_accel_vs_pendulum".into(),
-            title: format!("{title}: Kalman filter fed by the accelerometer vs by the pendulum"),
+            title: "Kalman filter fed by the accelerometer vs by the pendulum".to_string(),
             names: kalman,
             window: None,
         });
