@@ -60,6 +60,22 @@ pub fn standard_report(
             window: None,
         });
     }
+    if names
+        .iter()
+        .any(|n| ["madgwick", "mahony", "complementary"].contains(&n.as_str()))
+    {
+        let peers = crate::peers::PeerSettings::default();
+        report = report.note(&format!(
+            "Peers: madgwick (beta = {}), mahony (kp = {}, ki = {}) and complementary (tau = {} s) \
+             run with the best gains a golden-section search found on the simulated scooter ride \
+             (pendtilt::peers::tune::search_peer_gains); ekf and ukf with process and measurement \
+             noise derived from the rig and the sensors' noise figures.",
+            peers.madgwick_beta,
+            peers.mahony[0],
+            peers.mahony[1],
+            peers.complementary.time_constant
+        ));
+    }
     let has_fir = match fir_view(rate) {
         Some(f) => {
             report = report
