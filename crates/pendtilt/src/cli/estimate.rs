@@ -3,11 +3,8 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 
-use crate::bank::{Bank, BankSettings};
-use crate::config::RigConfig;
-use crate::io::{
-    ColumnMap, DegreeColumns, EstimatesWriter, LogReader, ReaderOptions, WriterOptions,
-};
+use super::options::BankOptions;
+use crate::io::{Column, EstimatesWriter, LogReader};
 use crate::pipeline;
 
 /// Options of `pendtilt estimate`.
@@ -15,81 +12,23 @@ use crate::pipeline;
 pub struct Args {
     /// The sensor log (CSV, MODEL.md section 5).
     pub log: PathBuf,
-    /// The rig file (TOML). Without it the MODEL.md default rig is used, and said so.
-    #[arg(long, short = 'p')]
-    pub params: Option<PathBuf>,
     /// Where to write the estimates (CSV); `-` for standard output.
     #[arg(long, short = 'o')]
     pub output: PathBuf,
-    /// Other column names, e.g. `phi=enc_angle,gyro=gz`.
-    #[arg(long, default_value = "")]
-    pub map: ColumnMap,
-    /// Angular columns in degrees: alone, every one (phi, gyro, theta); or a list like
-    /// `phi,theta`.
-    #[arg(long, num_args = 0..=1, default_missing_value = "all")]
-    pub deg: Option<DegreeColumns>,
-    /// Write the estimates (and theta) in degrees.
-    #[arg(long)]
-    pub out_deg: bool,
-    /// Add a `<name>_flags` column per estimator.
-    #[arg(long)]
-    pub flags: bool,
-    /// Run only these estimators (comma-separated).
-    #[arg(long, value_delimiter = ',')]
-    pub only: Option<Vec<String>>,
-    /// Print nothing but errors.
-    #[arg(long, short = 'q')]
-    pub quiet: bool,
+    /// Rig, column mapping, estimator choice and output form.
+    #[command(flatten)]
+    pub bank: BankOptions,
 }
 
 /// Runs `pendtilt estimate`.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let rig = match &args.params {
-        Some(p) => RigConfig::load(p)?,
-        None => {
-            if !args.quiet {
-                eprintln!("note: no --params: using the default rig of MODEL.md section 5");
-            }
-            RigConfig::default()
-        }
-    };
-    let settings = rig_bank_settings(&rig);
-    let options = ReaderOptions {
-        map: args.map.clone(),
-        degrees: args.deg.unwrap_or_default(),
-        ..ReaderOptions::default()
-    };
-    let mut log = LogReader::open(&args.log, options)?;
-    if !args.quiet {
-        eprintln!("{}: {}", log.file(), log.columns());
-    }
-    let mut bank = Bank::new(&settings, pipeline::inputs_of(&log), args.only.as_deref())
-        .map_err(anyhow::Error::msg)?;
-    if !args.quiet {
-        for s in bank.skipped() {
-            eprintln!(
-                "skipped {}: the log has no {}",
-                s.name,
-                s.lacking.join(", ")
-            );
-        }
-    }
-    anyhow::ensure!(
-        !bank.names().is_empty(),
-        "{}: no estimator can run on this log's columns",
-        log.file()
-    );
-    let with_theta = log.columns().has(crate::io::Column::Theta);
-    let wopts = WriterOptions {
-        flags: args.flags,
-        degrees: args.out_deg,
-    };
-    let quiet = args.quiet;
-    let warn = |w: &crate::io::LogWarning| {
-        if !quiet {
-            eprintln!("warning: {w}");
-        }
-    };
+    let opts = &args.bank;
+    let rig = opts.rig()?;
+    let mut log = LogReader::open(&args.log, opts.reader_options())?;
+    let mut bank = opts.bank(&rig, &log)?;
+    let with_theta = log.columns().has(Column::Theta);
+    let wopts = opts.writer_options();
+    let warn = |w: &crate::io::LogWarning| opts.warn(w);
     let summary = if args.output.as_os_str() == "-" {
         let mut w =
             EstimatesWriter::new(std::io::stdout().lock(), bank.names(), with_theta, wopts)?;
@@ -99,7 +38,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .with_context(|| format!("cannot create {}", args.output.display()))?;
         pipeline::run(&mut log, &mut bank, Some(&mut w), false, warn, |_, _| {})?
     };
-    if !args.quiet {
+    if !opts.quiet {
         eprintln!(
             "{} rows -> {} ({} estimators)",
             summary.rows,
@@ -114,20 +53,4 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     Ok(())
-}
-
-/// The bank settings a rig file gives: every table of it.
-pub fn rig_bank_settings(rig: &RigConfig) -> BankSettings {
-    BankSettings {
-        params: rig.params(),
-        accel: rig.accel_settings(),
-        alg1: rig.alg1_settings(),
-        alg2: rig.alg2_settings(),
-        alg3: rig.alg3_settings(),
-        kalman: rig.kalman_settings(),
-        gravity: rig
-            .physical()
-            .map_or(pendtilt_core::params::STANDARD_GRAVITY, |p| p.gravity),
-        peers: crate::peers::PeerSettings::default(),
-    }
 }

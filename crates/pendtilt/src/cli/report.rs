@@ -14,7 +14,7 @@ use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions};
 use crate::pipeline;
 use crate::report::markdown::{claims_markdown, metrics_markdown};
 
-use super::estimate::rig_bank_settings;
+use super::options::rig_bank_settings;
 use super::reproduce::Bars;
 
 /// Options of `pendtilt report`.

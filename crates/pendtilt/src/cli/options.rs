@@ -1,0 +1,119 @@
+//! What `estimate` and `stream` share: the rig, how the log is read, which estimators run,
+//! how the estimates are written, and the notices about all of that.
+use std::io::BufRead;
+use std::path::PathBuf;
+
+use crate::bank::{Bank, BankSettings};
+use crate::config::RigConfig;
+use crate::io::{ColumnMap, DegreeColumns, LogReader, LogWarning, ReaderOptions, WriterOptions};
+use crate::pipeline;
+
+/// Options common to the commands that run the estimator bank over a log.
+#[derive(Debug, Clone, clap::Args)]
+pub struct BankOptions {
+    /// The rig file (TOML). Without it the MODEL.md default rig is used, and said so.
+    #[arg(long, short = 'p')]
+    pub params: Option<PathBuf>,
+    /// Other column names, e.g. `phi=enc_angle,gyro=gz`.
+    #[arg(long, default_value = "")]
+    pub map: ColumnMap,
+    /// Angular columns in degrees: alone, every one (phi, gyro, theta); or a list like
+    /// `phi,theta`.
+    #[arg(long, num_args = 0..=1, default_missing_value = "all")]
+    pub deg: Option<DegreeColumns>,
+    /// Write the estimates (and theta) in degrees.
+    #[arg(long)]
+    pub out_deg: bool,
+    /// Add a `<name>_flags` column per estimator.
+    #[arg(long)]
+    pub flags: bool,
+    /// Run only these estimators (comma-separated).
+    #[arg(long, value_delimiter = ',')]
+    pub only: Option<Vec<String>>,
+    /// Print nothing but errors on standard error.
+    #[arg(long, short = 'q')]
+    pub quiet: bool,
+}
+
+impl BankOptions {
+    /// The rig file, or the default rig with a notice.
+    pub fn rig(&self) -> anyhow::Result<RigConfig> {
+        Ok(match &self.params {
+            Some(p) => RigConfig::load(p)?,
+            None => {
+                self.notice("note: no --params: using the default rig of MODEL.md section 5");
+                RigConfig::default()
+            }
+        })
+    }
+
+    /// How the log is read (`--map`, `--deg`).
+    pub fn reader_options(&self) -> ReaderOptions {
+        ReaderOptions {
+            map: self.map.clone(),
+            degrees: self.deg.unwrap_or_default(),
+            ..ReaderOptions::default()
+        }
+    }
+
+    /// How the estimates are written (`--flags`, `--out-deg`).
+    pub fn writer_options(&self) -> WriterOptions {
+        WriterOptions {
+            flags: self.flags,
+            degrees: self.out_deg,
+        }
+    }
+
+    /// The bank for `log`'s columns: reports the columns and the skipped estimators, and
+    /// errors when nothing can run.
+    pub fn bank<R: BufRead>(&self, rig: &RigConfig, log: &LogReader<R>) -> anyhow::Result<Bank> {
+        self.notice(&format!("{}: {}", log.file(), log.columns()));
+        let bank = Bank::new(
+            &rig_bank_settings(rig),
+            pipeline::inputs_of(log),
+            self.only.as_deref(),
+        )
+        .map_err(anyhow::Error::msg)?;
+        for s in bank.skipped() {
+            self.notice(&format!(
+                "skipped {}: the log has no {}",
+                s.name,
+                s.lacking.join(", ")
+            ));
+        }
+        anyhow::ensure!(
+            !bank.names().is_empty(),
+            "{}: no estimator can run on this log's columns",
+            log.file()
+        );
+        Ok(bank)
+    }
+
+    /// Prints a reader warning unless quiet.
+    pub fn warn(&self, w: &LogWarning) {
+        self.notice(&format!("warning: {w}"));
+    }
+
+    /// Prints `text` on standard error unless quiet.
+    pub fn notice(&self, text: &str) {
+        if !self.quiet {
+            eprintln!("{text}");
+        }
+    }
+}
+
+/// The bank settings a rig file gives: every table of it.
+pub fn rig_bank_settings(rig: &RigConfig) -> BankSettings {
+    BankSettings {
+        params: rig.params(),
+        accel: rig.accel_settings(),
+        alg1: rig.alg1_settings(),
+        alg2: rig.alg2_settings(),
+        alg3: rig.alg3_settings(),
+        kalman: rig.kalman_settings(),
+        gravity: rig
+            .physical()
+            .map_or(pendtilt_core::params::STANDARD_GRAVITY, |p| p.gravity),
+        peers: crate::peers::PeerSettings::default(),
+    }
+}
