@@ -6,7 +6,7 @@
 //! Algorithms 1-3 invert the pendulum's dynamics: `theta - phi ≈ a phi' + b phi''`. The
 //! pendulum is a mechanical second-order low-pass (natural frequency `f_n`), and the
 //! inversion undoes it, so any residual vibration in phi above `f_n` comes back amplified by
-//! roughly `b (2 pi f)^2`: at 30 Hz with the default rig, 35 times. A raw second difference
+//! roughly `b (2 pi f)^2`: at 30 Hz with the default rig, 188 times. A raw second difference
 //! of phi at 1 kHz is therefore useless under vibration. The differentiator low-passes phi
 //! with cutoff `f_c` before differentiating:
 //! - the higher `f_c`, the less delay (the DC group delay is `c1 / (c0 w_c)`, e.g. about
