@@ -1,5 +1,6 @@
 //! The machinery Algorithms 1-3 share: time-step checks, encoder unwrapping, the phi
 //! differentiator, theta'' from the gyro, and hold-on-missing.
+use super::encoder::{is_reading, wrap_angle, Unwrapper};
 use super::theta_dd::{ThetaDd, ThetaDdSource};
 use crate::filters::diff::{DiffSettings, SmoothingDifferentiator};
 use crate::{Flags, PendulumParams, Real, Sample};
@@ -44,8 +45,7 @@ pub(crate) struct Inverter<T: Real, const W: usize> {
     phi_diff: SmoothingDifferentiator<T>,
     gyro: Option<ThetaDd<T, W>>,
     t_prev: Option<T>,
-    phi_prev: T,
-    unwrap: T,
+    encoder: Unwrapper<T>,
     last_gyro: T,
     delay: T,
     pub last_theta: T,
@@ -65,8 +65,7 @@ impl<T: Real, const W: usize> Inverter<T, W> {
             gyro: theta_dd.map(|s| ThetaDd::new(s, d.clone())),
             phi_diff: d,
             t_prev: None,
-            phi_prev: T::zero(),
-            unwrap: T::zero(),
+            encoder: Unwrapper::new(),
             last_gyro: T::zero(),
             last_theta: T::nan(),
         }
@@ -78,7 +77,7 @@ impl<T: Real, const W: usize> Inverter<T, W> {
             g.reset();
         }
         self.t_prev = None;
-        self.unwrap = T::zero();
+        self.encoder = Unwrapper::new();
         self.last_gyro = T::zero();
         self.last_theta = T::nan();
     }
@@ -101,7 +100,7 @@ impl<T: Real, const W: usize> Inverter<T, W> {
             }
             None => T::zero(),
         };
-        if !s.phi.is_finite() || s.phi.abs() >= T::lit(super::pendulum::PHI_LIMIT) {
+        if !is_reading(s.phi) {
             let f = Flags::SAMPLE_MISSING
                 | if first {
                     Flags::INITIALISING
@@ -110,18 +109,10 @@ impl<T: Real, const W: usize> Inverter<T, W> {
                 };
             return Err(f);
         }
-        // Encoder wrap-around: keep consecutive readings within half a turn.
-        let mut phi = s.phi + self.unwrap;
-        if !first {
-            let jump = phi - self.phi_prev;
-            if jump.abs() > T::pi() {
-                let turns = (jump / T::two_pi()).round();
-                self.unwrap -= turns * T::two_pi();
-                phi -= turns * T::two_pi();
-                flags |= Flags::ENCODER_WRAPPED;
-            }
+        let (phi, wrapped) = self.encoder.unwrap(s.phi);
+        if wrapped {
+            flags |= Flags::ENCODER_WRAPPED;
         }
-        self.phi_prev = phi;
         self.t_prev = Some(s.t);
         let d = if first {
             flags |= Flags::INITIALISING;
@@ -167,11 +158,7 @@ impl<T: Real, const W: usize> Inverter<T, W> {
     /// Wraps an unwrapped estimate back into (-pi, pi] and remembers it.
     #[inline]
     pub fn finish(&mut self, theta: T) -> T {
-        let th = if theta.abs() > T::pi() {
-            theta.sin().atan2(theta.cos())
-        } else {
-            theta
-        };
+        let th = wrap_angle(theta);
         self.last_theta = th;
         th
     }

@@ -22,9 +22,11 @@ pub mod alg1;
 pub mod alg2;
 pub mod alg3;
 pub mod complementary;
+mod encoder;
 pub mod equations;
 mod inverter;
 pub mod pendulum;
 pub mod theta_dd;
 
+pub use encoder::PHI_LIMIT;
 pub use inverter::PhiSource;

@@ -1,11 +1,7 @@
 //! The raw pendulum: theta = phi. At rest the pendulum hangs vertical, so its angle to the
 //! body is the tilt; in motion it lags and overshoots (the paper's Figs 7-8).
+use super::encoder::{is_reading, wrap_angle, Unwrapper};
 use crate::{Estimate, Estimator, Flags, Real, Sample};
-
-/// Largest encoder reading taken as an angle \[rad\] (about 1600 turns): beyond it (or not
-/// finite) the sample is missing. A reading near the type's largest value would otherwise
-/// break the wrap-around unwrapping (found by fuzzing in f32 with 3e38).
-pub const PHI_LIMIT: f64 = 1e4;
 
 /// Settings of [`Pendulum`]: none yet; kept for the common estimator shape.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -15,8 +11,7 @@ pub struct PendulumSettings {}
 #[derive(Debug, Clone)]
 pub struct Pendulum<T: Real> {
     last: T,
-    unwrap: T,
-    prev: Option<T>,
+    encoder: Unwrapper<T>,
     t_prev: Option<T>,
 }
 
@@ -25,8 +20,7 @@ impl<T: Real> Pendulum<T> {
     pub fn new(_settings: PendulumSettings) -> Self {
         Self {
             last: T::nan(),
-            unwrap: T::zero(),
-            prev: None,
+            encoder: Unwrapper::new(),
             t_prev: None,
         }
     }
@@ -45,30 +39,20 @@ impl<T: Real> Estimator<T> for Pendulum<T> {
                 flags: Flags::BAD_TIME_STEP,
             };
         }
-        if !s.phi.is_finite() || s.phi.abs() >= T::lit(PHI_LIMIT) {
+        if !is_reading(s.phi) {
             return Estimate {
                 theta: self.last,
                 flags: Flags::SAMPLE_MISSING,
             };
         }
         self.t_prev = Some(s.t);
-        let mut flags = Flags::empty();
-        let mut phi = s.phi + self.unwrap;
-        if let Some(p) = self.prev {
-            let jump = phi - p;
-            if jump.abs() > T::pi() {
-                let turns = (jump / T::two_pi()).round() * T::two_pi();
-                self.unwrap -= turns;
-                phi -= turns;
-                flags |= Flags::ENCODER_WRAPPED;
-            }
-        }
-        self.prev = Some(phi);
-        let theta = if phi.abs() > T::pi() {
-            phi.sin().atan2(phi.cos())
+        let (phi, wrapped) = self.encoder.unwrap(s.phi);
+        let flags = if wrapped {
+            Flags::ENCODER_WRAPPED
         } else {
-            phi
+            Flags::empty()
         };
+        let theta = wrap_angle(phi);
         self.last = theta;
         Estimate { theta, flags }
     }
