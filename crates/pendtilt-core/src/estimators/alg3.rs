@@ -62,6 +62,9 @@ pub struct Alg3Terms<T> {
     pub gd: T,
     /// G_k, the gyro [rad/s].
     pub gk: T,
+    /// The gyro through the phi low-pass (same delay as phi', phi'') [rad/s]: the
+    /// supervisor's matched cost uses it instead of running a low-pass of its own.
+    pub gk_filtered: T,
 }
 
 impl<T: Real, const W: usize> Alg3<T, W> {
@@ -116,6 +119,7 @@ impl<T: Real, const W: usize> Alg3<T, W> {
                     ddphi: k.ddphi,
                     gd: k.theta_dd,
                     gk: k.gyro,
+                    gk_filtered: k.gyro_filtered,
                 };
                 (
                     Estimate {

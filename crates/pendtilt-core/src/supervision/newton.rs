@@ -97,6 +97,26 @@ pub fn check_settings<T: Real>(s: &NewtonSettings<T>) -> Result<(), NewtonError>
     }
 }
 
+/// The finite differences that Eqs (25)-(28) are made of, at a point P:
+/// `first[j] = F(P + dP_j) - F(P)` and
+/// `second[(j, k)] = F(P + dP_j + dP_k) - F(P + dP_j) - F(P + dP_k) + F(P)`.
+///
+/// [`newton_iteration`] computes them from cost values, as the paper does. A caller that
+/// can accumulate the differences directly (per sample, before summing) gets the same
+/// numbers without the cancellation of subtracting nearly equal costs: in `f32` the second
+/// difference of a cost is about `dp^2` (1e-8 for dp = 1e-4) of the cost, below the type's
+/// resolution, so from cost values it is rounding noise. See
+/// [`super::supervised`] for the one that does.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CostDifferences<T: Real, const N: usize> {
+    /// `F(P + dP_j) - F(P)`.
+    pub first: SVector<T, N>,
+    /// The second differences (symmetric; only entries of active pairs are read).
+    pub second: SMatrix<T, N, N>,
+    /// Cost evaluations (or passes over the data) the differences took.
+    pub evaluations: usize,
+}
+
 /// One iteration of Newton's method, Eqs (24)-(28), on `cost` from `p` (whose cost `f0`
 /// the caller already has). Only the parameters with `active[j]` true move; the others
 /// keep their values (their gradient is zero and their Hessian row is the identity).
@@ -126,16 +146,17 @@ pub fn newton_iteration<T: Real, const N: usize>(
             }
         }
     }
-    // Eq (25): the forward-difference gradient.
-    let mut g = SVector::<T, N>::zeros();
+    let mut d = CostDifferences {
+        first: SVector::<T, N>::zeros(),
+        second: SMatrix::<T, N, N>::zeros(),
+        evaluations: 0,
+    };
     for j in 0..N {
         if active[j] {
-            g[j] = (fj[j] - f0) / dp;
+            d.first[j] = fj[j] - f0;
         }
     }
-    // Eqs (26), (28): the second difference with dP_jk = dP_j + dP_k.
-    let mut hess = SMatrix::<T, N, N>::identity();
-    let dp2 = dp * dp;
+    // Eq (28): F(P + dP_jk) with dP_jk = dP_j + dP_k.
     for j in 0..N {
         if !active[j] {
             continue;
@@ -152,9 +173,71 @@ pub fn newton_iteration<T: Real, const N: usize>(
             if !fjk.is_finite() {
                 return Err(NewtonError::NonFiniteCost);
             }
-            let v = (fjk - fj[j] - fj[k] + f0) / dp2;
-            hess[(j, k)] = v;
-            hess[(k, j)] = v;
+            let v = fjk - fj[j] - fj[k] + f0;
+            d.second[(j, k)] = v;
+            d.second[(k, j)] = v;
+        }
+    }
+    d.evaluations = evaluations;
+    newton_step(
+        &d,
+        &mut |q: &SVector<T, N>| {
+            let fq = cost(q);
+            (fq - f0, fq)
+        },
+        p,
+        f0,
+        active,
+        s,
+    )
+}
+
+/// Eqs (24)-(28) from differences the caller computed ([`CostDifferences`]): the gradient
+/// `first / dp`, the Hessian `second / dp^2`, the regularised Newton step and its
+/// halvings. `change(q)` returns `(F(q) - F(p), F(q))`; a step is taken when the change is
+/// negative (a caller that computes the change directly decides on its sign without the
+/// cancellation of comparing two nearly equal costs).
+pub fn newton_step<T: Real, const N: usize>(
+    d: &CostDifferences<T, N>,
+    change: &mut impl FnMut(&SVector<T, N>) -> (T, T),
+    p: &SVector<T, N>,
+    f0: T,
+    active: &[bool; N],
+    s: &NewtonSettings<T>,
+) -> Result<NewtonIteration<T, N>, NewtonError> {
+    check_settings(s)?;
+    if !f0.is_finite() {
+        return Err(NewtonError::NonFiniteCost);
+    }
+    let dp = s.dp;
+    let mut evaluations = d.evaluations;
+    // Eq (25): the forward-difference gradient.
+    let mut g = SVector::<T, N>::zeros();
+    for j in 0..N {
+        if active[j] {
+            if !d.first[j].is_finite() {
+                return Err(NewtonError::NonFiniteCost);
+            }
+            g[j] = d.first[j] / dp;
+        }
+    }
+    // Eqs (26), (28): the second difference with dP_jk = dP_j + dP_k.
+    let mut hess = SMatrix::<T, N, N>::identity();
+    let dp2 = dp * dp;
+    for j in 0..N {
+        if !active[j] {
+            continue;
+        }
+        for k in j..N {
+            if !active[k] {
+                continue;
+            }
+            let v = d.second[(j, k)];
+            if !v.is_finite() {
+                return Err(NewtonError::NonFiniteCost);
+            }
+            hess[(j, k)] = v / dp2;
+            hess[(k, j)] = v / dp2;
         }
     }
     // Solve F'' s = F' (Cholesky), shifting F'' by mu I until it is positive definite.
@@ -198,9 +281,9 @@ pub fn newton_iteration<T: Real, const N: usize>(
     let half = T::lit(0.5);
     for _ in 0..=s.max_halvings {
         let q = *p - step * t;
-        let fq = cost(&q);
+        let (dq, fq) = change(&q);
         evaluations += 1;
-        if fq.is_finite() && fq < f0 {
+        if dq.is_finite() && fq.is_finite() && dq < T::zero() {
             return Ok(NewtonIteration {
                 params: q,
                 cost: fq,
