@@ -5,6 +5,7 @@ use super::filter::StateFilter;
 use super::measurement::{Accelerometer, Encoder, Gyro};
 use super::model::{Cov, PendulumProcess, State, ALPHA, BIAS, DPHI, OMEGA, PHI, THETA};
 use super::settings::ModelSettings;
+use super::update::{Gate, Rejected};
 use crate::{Estimate, Estimator, Flags, Real, Sample};
 
 /// Upper bound on the integration steps one sample interval is split into.
@@ -18,6 +19,18 @@ const MAX_SUBSTEPS: usize = 10_000;
 /// filter at `theta = phi` (the pendulum at rest), `theta' = gyro`; after a gap longer
 /// than [`ModelSettings::max_gap`], or if the filter ever becomes non-finite, it starts
 /// again the same way.
+///
+/// Each measurement goes through the innovation gate ([`ModelSettings::innovation_gate`]):
+/// an outlier is skipped and the sample flagged [`Flags::MEASUREMENT_SKIPPED`]. After
+/// [`ModelSettings::reacquire_after`] consecutive rejections of one measurement the
+/// filter re-acquires it: for an innovation `y` it adds `v v^T` to the covariance with
+/// - encoder: `v = y` on theta and on phi together, a tilt step that leaves the pendulum
+///   where it hangs (an encoder re-zero reads exactly so; inflating phi and phi' apart,
+///   a pendulum swing, sent the nonlinear model spinning after a 2.5 rad step),
+/// - gyro: `v = y` on theta', and separately `v = y` on the bias (a rate or an offset),
+/// - accelerometer: `v = |y| / g` on theta,
+///
+/// then applies the measurement without the gate.
 #[derive(Debug, Clone)]
 pub struct ModelBased<T: Real, F> {
     settings: ModelSettings<T>,
@@ -29,6 +42,40 @@ pub struct ModelBased<T: Real, F> {
     filter: Option<F>,
     t_prev: Option<T>,
     last_theta: T,
+    runs: Runs,
+}
+
+/// Where one measurement stands with the innovation gate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Lock {
+    /// Gated; the count of consecutive rejections so far.
+    Tracking(u32),
+    /// Applied without the gate for this many more samples: after a gap (the prediction
+    /// coasted with theta'' held at its last value, vibration and all, and its
+    /// covariance is too small) or a re-acquisition (the prediction was wrong).
+    Open(u32),
+}
+
+impl Default for Lock {
+    fn default() -> Self {
+        Lock::Tracking(0)
+    }
+}
+
+/// The gate state of each measurement.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+struct Runs {
+    phi: Lock,
+    gyro: Lock,
+    accel: Lock,
+}
+
+/// What one gated measurement did.
+enum Gated {
+    /// Applied, maybe after re-acquisition.
+    Applied,
+    /// Rejected by the gate, or not usable.
+    Skipped,
 }
 
 impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
@@ -52,6 +99,7 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
             filter: None,
             t_prev: None,
             last_theta: T::nan(),
+            runs: Runs::default(),
         }
     }
 
@@ -105,11 +153,54 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
         p[(DPHI, DPHI)] = T::lit(0.01);
         p[(BIAS, BIAS)] = b0 * b0 + T::lit(1e-12);
         self.filter = Some(F::start(x, p));
+        self.runs = Runs::default();
         self.t_prev = Some(s.t);
         self.last_theta = s.phi;
         Estimate {
             theta: s.phi,
             flags: Flags::INITIALISING,
+        }
+    }
+
+    /// Applies one measurement through `gate` ([`Lock`]). After
+    /// [`ModelSettings::reacquire_after`] consecutive rejections, `v v^T` is added to the
+    /// covariance for each `v` of `inflation` and the gate is held open for as many
+    /// samples (as after a gap).
+    fn gated(
+        filter: &mut F,
+        settings: &ModelSettings<T>,
+        gate: Gate<T>,
+        lock: &mut Lock,
+        inflation: impl FnOnce(&F) -> [State<T>; 2],
+        apply: impl FnOnce(&mut F, Gate<T>) -> Result<(), Rejected>,
+    ) -> Gated {
+        let n = settings.reacquire_after.max(1);
+        let gate = match *lock {
+            Lock::Tracking(run) if run >= n => {
+                for v in &inflation(filter) {
+                    filter.inflate(v);
+                }
+                *lock = Lock::Open(n);
+                Gate::off()
+            }
+            Lock::Tracking(_) => gate,
+            Lock::Open(_) => Gate::off(),
+        };
+        match apply(filter, gate) {
+            Ok(()) => {
+                *lock = match *lock {
+                    Lock::Open(k) if k > 1 => Lock::Open(k - 1),
+                    _ => Lock::Tracking(0),
+                };
+                Gated::Applied
+            }
+            Err(Rejected::Outlier) => {
+                if let Lock::Tracking(run) = lock {
+                    *run += 1;
+                }
+                Gated::Skipped
+            }
+            Err(_) => Gated::Skipped,
         }
     }
 
@@ -169,39 +260,90 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
             ok &= filter.predict(&self.model, h, &self.q);
         }
         self.t_prev = Some(s.t);
+        let st = &self.settings;
+        let gate = Gate {
+            threshold: st.innovation_gate,
+            floor: T::zero(),
+        };
         // Gyro: theta' + bias.
         if s.gyro.is_finite() {
-            if filter
-                .update_unit(&Gyro::<T>::INDICES, s.gyro, r_gyro)
-                .is_err()
-            {
+            let g = s.gyro;
+            let done = Self::gated(
+                filter,
+                st,
+                Gate {
+                    floor: st.gyro_vibration * st.gyro_vibration,
+                    ..gate
+                },
+                &mut self.runs.gyro,
+                |f| {
+                    let y = g - f.state()[OMEGA] - f.state()[BIAS];
+                    let mut rate = State::<T>::zeros();
+                    rate[OMEGA] = y;
+                    let mut offset = State::<T>::zeros();
+                    offset[BIAS] = y;
+                    [rate, offset]
+                },
+                |f, gate| f.update_unit(&Gyro::<T>::INDICES, g, r_gyro, gate),
+            );
+            if let Gated::Skipped = done {
                 flags |= Flags::MEASUREMENT_SKIPPED;
             }
         } else {
+            self.runs.gyro = Lock::Open(st.reacquire_after.max(1));
             flags |= Flags::SAMPLE_MISSING | Flags::MEASUREMENT_SKIPPED;
         }
         // Encoder: phi, taken within half a turn of the prediction.
         if s.phi.is_finite() {
             let pred = filter.state()[PHI];
-            let z = pred + wrap(s.phi - pred);
+            let y = wrap(s.phi - pred);
+            let z = pred + y;
             if (z - s.phi).abs() > T::lit(1e-9) {
                 flags |= Flags::ENCODER_WRAPPED;
             }
-            if filter
-                .update_unit(&Encoder::<T>::INDICES, z, self.r_phi)
-                .is_err()
-            {
+            let done = Self::gated(
+                filter,
+                st,
+                gate,
+                &mut self.runs.phi,
+                |_| {
+                    let mut tilt = State::<T>::zeros();
+                    tilt[THETA] = y;
+                    tilt[PHI] = y;
+                    [tilt, State::<T>::zeros()]
+                },
+                |f, gate| f.update_unit(&Encoder::<T>::INDICES, z, self.r_phi, gate),
+            );
+            if let Gated::Skipped = done {
                 flags |= Flags::MEASUREMENT_SKIPPED;
             }
         } else {
+            self.runs.phi = Lock::Open(st.reacquire_after.max(1));
             flags |= Flags::SAMPLE_MISSING | Flags::MEASUREMENT_SKIPPED;
         }
-        if self.settings.use_accel {
+        if st.use_accel {
             if s.ax.is_finite() && s.ay.is_finite() {
-                if filter.update_accel(&self.accel, [s.ax, s.ay]).is_err() {
+                let acc = &self.accel;
+                let za = [s.ax, s.ay];
+                let done = Self::gated(
+                    filter,
+                    st,
+                    gate,
+                    &mut self.runs.accel,
+                    |f| {
+                        let p = acc.predict(f.state());
+                        let (ex, ey) = (za[0] - p[0], za[1] - p[1]);
+                        let mut tilt = State::<T>::zeros();
+                        tilt[THETA] = (ex * ex + ey * ey).sqrt() / acc.gravity;
+                        [tilt, State::<T>::zeros()]
+                    },
+                    |f, gate| f.update_accel(acc, za, gate),
+                );
+                if let Gated::Skipped = done {
                     flags |= Flags::MEASUREMENT_SKIPPED;
                 }
             } else {
+                self.runs.accel = Lock::Open(st.reacquire_after.max(1));
                 flags |= Flags::MEASUREMENT_SKIPPED;
             }
         }
@@ -235,5 +377,75 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
         self.filter = None;
         self.t_prev = None;
         self.last_theta = T::nan();
+        self.runs = Runs::default();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ekf::ExtendedKalman;
+
+    fn s(k: usize, phi: f64) -> Sample<f64> {
+        Sample {
+            t: k as f64 * 1e-3,
+            phi,
+            gyro: 0.0,
+            ax: f64::NAN,
+            ay: f64::NAN,
+        }
+    }
+
+    fn skipped(e: &mut ModelBased<f64, ExtendedKalman<f64>>, k: usize, phi: f64) -> bool {
+        e.update(&s(k, phi))
+            .flags
+            .contains(Flags::MEASUREMENT_SKIPPED)
+    }
+
+    #[test]
+    fn a_step_is_skipped_reacquire_after_times_then_followed() {
+        let st = ModelSettings {
+            reacquire_after: 5,
+            ..ModelSettings::<f64>::default()
+        };
+        let mut e = ModelBased::<f64, ExtendedKalman<f64>>::new(st);
+        for k in 0..2000 {
+            e.update(&s(k, 0.1));
+        }
+        // A glitch shorter than reacquire_after: skipped, the estimate untouched.
+        let before = e.state().unwrap()[THETA];
+        assert!((2000..2004).all(|k| skipped(&mut e, k, 0.4)));
+        assert!((e.state().unwrap()[THETA] - before).abs() < 1e-6);
+        assert!(!skipped(&mut e, 2004, 0.1));
+        // A step that stays: five rejections, then re-acquired and never rejected again.
+        let flags: [bool; 10] = core::array::from_fn(|i| skipped(&mut e, 2005 + i, 0.4));
+        assert_eq!(
+            flags,
+            [true, true, true, true, true, false, false, false, false, false]
+        );
+        let mut theta = 0.0;
+        for k in 2015..3000 {
+            let o = e.update(&s(k, 0.4));
+            assert!(!o.flags.contains(Flags::MEASUREMENT_SKIPPED), "sample {k}");
+            theta = o.theta;
+        }
+        assert!((theta - 0.4).abs() < 1e-3, "{theta}");
+    }
+
+    #[test]
+    fn the_reading_after_a_gap_is_taken_ungated() {
+        let mut e = ModelBased::<f64, ExtendedKalman<f64>>::new(ModelSettings::default());
+        for k in 0..2000 {
+            e.update(&s(k, 0.1));
+        }
+        assert!(skipped(&mut e, 2000, f64::NAN));
+        // Far outside the gate, but the first reading after a gap.
+        assert!(!skipped(&mut e, 2001, 0.2));
+        // Without the gap it is an outlier.
+        let mut f = ModelBased::<f64, ExtendedKalman<f64>>::new(ModelSettings::default());
+        for k in 0..2001 {
+            f.update(&s(k, 0.1));
+        }
+        assert!(skipped(&mut f, 2001, 0.2));
     }
 }

@@ -6,7 +6,7 @@ use super::filter::StateFilter;
 use super::measurement::Accelerometer;
 use super::model::N;
 use super::model::{Cov, PendulumProcess, State};
-use super::update::{scalar_update, unit_update, Rejected};
+use super::update::{add_outer, scalar_update, unit_update, Gate, Rejected};
 use crate::Real;
 
 /// `F P F^T` for the pendulum Jacobian's zero pattern (see
@@ -96,24 +96,34 @@ impl<T: Real> StateFilter<T> for ExtendedKalman<T> {
     }
 
     #[inline]
-    fn update_unit(&mut self, idx: &[usize], z: T, r: T) -> Result<(), Rejected> {
-        unit_update(&mut self.x, &mut self.p, idx, z, r).map(|_| ())
+    fn update_unit(&mut self, idx: &[usize], z: T, r: T, gate: Gate<T>) -> Result<(), Rejected> {
+        unit_update(&mut self.x, &mut self.p, idx, z, r, gate).map(|_| ())
     }
 
     #[inline]
-    fn update_linear(&mut self, h: &State<T>, z: T, r: T) -> Result<(), Rejected> {
+    fn update_linear(&mut self, h: &State<T>, z: T, r: T, gate: Gate<T>) -> Result<(), Rejected> {
         let y = z - h.dot(&self.x);
-        scalar_update(&mut self.x, &mut self.p, h, y, r).map(|_| ())
+        scalar_update(&mut self.x, &mut self.p, h, y, r, gate).map(|_| ())
     }
 
-    /// The two axes in turn, each linearised at the current estimate.
-    fn update_accel(&mut self, m: &Accelerometer<T>, z: [T; 2]) -> Result<(), Rejected> {
+    /// The two axes in turn, each linearised at the current estimate and gated on its
+    /// own; a rejected axis stops there (the first may have been applied).
+    fn update_accel(
+        &mut self,
+        m: &Accelerometer<T>,
+        z: [T; 2],
+        gate: Gate<T>,
+    ) -> Result<(), Rejected> {
         for (axis, &za) in z.iter().enumerate() {
             let pred = m.predict(&self.x)[axis];
             let h = m.jacobian(&self.x)[axis];
-            scalar_update(&mut self.x, &mut self.p, &h, za - pred, m.r)?;
+            scalar_update(&mut self.x, &mut self.p, &h, za - pred, m.r, gate)?;
         }
         Ok(())
+    }
+
+    fn inflate(&mut self, v: &State<T>) {
+        add_outer(&mut self.p, v);
     }
 }
 

@@ -8,7 +8,7 @@
 use super::filter::StateFilter;
 use super::measurement::Accelerometer;
 use super::model::{Cov, PendulumProcess, State, N};
-use super::update::{scalar_update, symmetrise, unit_update, Rejected};
+use super::update::{add_outer, scalar_update, symmetrise, unit_update, Gate, Rejected};
 use crate::Real;
 use nalgebra::{Cholesky, Matrix2, SMatrix, Vector2};
 
@@ -76,16 +76,27 @@ impl<T: Real> StateFilter<T> for UnscentedKalman<T> {
         true
     }
 
-    fn update_linear(&mut self, h: &State<T>, z: T, r: T) -> Result<(), Rejected> {
+    fn update_linear(&mut self, h: &State<T>, z: T, r: T, gate: Gate<T>) -> Result<(), Rejected> {
         let y = z - h.dot(&self.x);
-        scalar_update(&mut self.x, &mut self.p, h, y, r).map(|_| ())
+        scalar_update(&mut self.x, &mut self.p, h, y, r, gate).map(|_| ())
     }
 
-    fn update_unit(&mut self, idx: &[usize], z: T, r: T) -> Result<(), Rejected> {
-        unit_update(&mut self.x, &mut self.p, idx, z, r).map(|_| ())
+    fn update_unit(&mut self, idx: &[usize], z: T, r: T, gate: Gate<T>) -> Result<(), Rejected> {
+        unit_update(&mut self.x, &mut self.p, idx, z, r, gate).map(|_| ())
     }
 
-    fn update_accel(&mut self, m: &Accelerometer<T>, z: [T; 2]) -> Result<(), Rejected> {
+    fn inflate(&mut self, v: &State<T>) {
+        add_outer(&mut self.p, v);
+    }
+
+    /// Both axes at once through the sigma points; each axis is gated on its own variance
+    /// (as the EKF's sequential scalar updates are).
+    fn update_accel(
+        &mut self,
+        m: &Accelerometer<T>,
+        z: [T; 2],
+        gate: Gate<T>,
+    ) -> Result<(), Rejected> {
         if !(z[0].is_finite() && z[1].is_finite() && m.r.is_finite()) {
             return Err(Rejected::NotFinite);
         }
@@ -111,9 +122,12 @@ impl<T: Real> StateFilter<T> for UnscentedKalman<T> {
             pzz += dz * dz.transpose() * w;
             pxz += (x - self.x) * dz.transpose() * w;
         }
+        let innov = Vector2::new(z[0], z[1]) - zm;
+        if (0..2).any(|i| gate.rejects(innov[i], pzz[(i, i)])) {
+            return Err(Rejected::Outlier);
+        }
         let inv = pzz.try_inverse().ok_or(Rejected::NotPositive)?;
         let k = pxz * inv;
-        let innov = Vector2::new(z[0], z[1]) - zm;
         let x = self.x + k * innov;
         let mut p = self.p - k * pzz * k.transpose();
         symmetrise(&mut p);

@@ -9,6 +9,37 @@ pub enum Rejected {
     NotFinite,
     /// The innovation variance was not positive.
     NotPositive,
+    /// The normalised innovation squared `y^2 / s` was above the gate: an outlier.
+    Outlier,
+}
+
+/// The innovation gate of one measurement: `y` is an outlier if
+/// `y^2 > threshold (s + floor)`, `s` the innovation variance the filter predicts and
+/// `floor` a variance the filter does not model but the measurement carries (the gyro's
+/// angular vibration). For a consistent filter and `floor = 0`, `y^2 / s` is chi-square
+/// with one degree of freedom.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gate<T> {
+    /// Threshold on `y^2 / (s + floor)`; infinity turns the gate off.
+    pub threshold: T,
+    /// Variance added to `s` for the test only [measurement unit squared].
+    pub floor: T,
+}
+
+impl<T: Real> Gate<T> {
+    /// No gate: every finite innovation is applied.
+    pub fn off() -> Self {
+        Self {
+            threshold: T::lit(f64::INFINITY),
+            floor: T::zero(),
+        }
+    }
+
+    /// Whether innovation `y` with predicted variance `s` is an outlier.
+    #[inline]
+    pub fn rejects(&self, y: T, s: T) -> bool {
+        y * y > self.threshold * (s + self.floor)
+    }
 }
 
 /// Applies one scalar measurement with row `h`, innovation `y = z - h(x)` and variance `r`.
@@ -20,6 +51,9 @@ pub enum Rejected {
 /// multiplications (Joseph's form guards against a suboptimal gain, which this code never
 /// applies). Positive definiteness is checked over a one-hour run by the
 /// `ekf_covariance` test of the std crate. Returns the innovation variance `s`.
+///
+/// An innovation the [`Gate`] rejects changes nothing and returns [`Rejected::Outlier`];
+/// the test reuses `s`, so it costs a multiply-add and a comparison.
 #[inline]
 pub fn scalar_update<T: Real>(
     x: &mut State<T>,
@@ -27,6 +61,7 @@ pub fn scalar_update<T: Real>(
     h: &State<T>,
     y: T,
     r: T,
+    gate: Gate<T>,
 ) -> Result<T, Rejected> {
     if !(y.is_finite() && r.is_finite()) {
         return Err(Rejected::NotFinite);
@@ -38,6 +73,9 @@ pub fn scalar_update<T: Real>(
     }
     if s <= T::zero() {
         return Err(Rejected::NotPositive);
+    }
+    if gate.rejects(y, s) {
+        return Err(Rejected::Outlier);
     }
     let k = v / s;
     *x += k * y;
@@ -54,6 +92,7 @@ pub fn unit_update<T: Real>(
     idx: &[usize],
     z: T,
     r: T,
+    gate: Gate<T>,
 ) -> Result<T, Rejected> {
     let mut v = State::<T>::zeros();
     let mut hx = T::zero();
@@ -75,6 +114,9 @@ pub fn unit_update<T: Real>(
     if s <= T::zero() {
         return Err(Rejected::NotPositive);
     }
+    if gate.rejects(y, s) {
+        return Err(Rejected::Outlier);
+    }
     let k = v / s;
     *x += k * y;
     rank_one_downdate(p, &k, &v);
@@ -88,6 +130,18 @@ fn rank_one_downdate<T: Real>(p: &mut Cov<T>, k: &State<T>, v: &State<T>) {
     for j in 0..N {
         for i in 0..=j {
             let val = p[(i, j)] - k[i] * v[j];
+            p[(i, j)] = val;
+            p[(j, i)] = val;
+        }
+    }
+}
+
+/// `P + v v^T` on the upper triangle, mirrored: the covariance grows along `v` only.
+#[inline]
+pub fn add_outer<T: Real>(p: &mut Cov<T>, v: &State<T>) {
+    for j in 0..N {
+        for i in 0..=j {
+            let val = p[(i, j)] + v[i] * v[j];
             p[(i, j)] = val;
             p[(j, i)] = val;
         }
@@ -119,7 +173,7 @@ mod tests {
         let h = State::<f64>::from([0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
         let mut x = State::<f64>::zeros();
         let mut p = p0;
-        let s = scalar_update(&mut x, &mut p, &h, 0.5, 0.2).unwrap();
+        let s = scalar_update(&mut x, &mut p, &h, 0.5, 0.2, Gate::off()).unwrap();
         let s_ref = (h.transpose() * p0 * h)[0] + 0.2;
         assert!((s - s_ref).abs() < 1e-12);
         let k = p0 * h / s_ref;
@@ -137,8 +191,8 @@ mod tests {
         let h = State::<f64>::from([0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
         let (mut x1, mut p1) = (x0, p0);
         let (mut x2, mut p2) = (x0, p0);
-        scalar_update(&mut x1, &mut p1, &h, 0.9 - h.dot(&x0), 0.2).unwrap();
-        unit_update(&mut x2, &mut p2, &[1, 5], 0.9, 0.2).unwrap();
+        scalar_update(&mut x1, &mut p1, &h, 0.9 - h.dot(&x0), 0.2, Gate::off()).unwrap();
+        unit_update(&mut x2, &mut p2, &[1, 5], 0.9, 0.2, Gate::off()).unwrap();
         assert!((x1 - x2).abs().max() < 1e-15);
         assert!((p1 - p2).abs().max() < 1e-15);
     }
@@ -149,14 +203,42 @@ mod tests {
         let mut p = Cov::<f64>::identity();
         let h = State::<f64>::from([1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
         assert_eq!(
-            scalar_update(&mut x, &mut p, &h, f64::NAN, 1.0),
+            scalar_update(&mut x, &mut p, &h, f64::NAN, 1.0, Gate::off()),
             Err(Rejected::NotFinite)
         );
         p = Cov::<f64>::zeros();
         assert_eq!(
-            scalar_update(&mut x, &mut p, &h, 1.0, 0.0),
+            scalar_update(&mut x, &mut p, &h, 1.0, 0.0, Gate::off()),
             Err(Rejected::NotPositive)
         );
         assert_eq!(x, State::<f64>::zeros());
+    }
+
+    #[test]
+    fn the_gate_rejects_exactly_beyond_its_threshold() {
+        // P = I, h = e0, r = 1: s = 2, floor 2, so y^2 / (s + floor) crosses 25 at
+        // y = 10.
+        let h = State::<f64>::from([1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let y_edge = 10.0;
+        let g = Gate {
+            threshold: 25.0,
+            floor: 2.0,
+        };
+        for (y, accepted) in [(y_edge * 0.999, true), (y_edge * 1.001, false)] {
+            let mut x = State::<f64>::zeros();
+            let mut p = Cov::<f64>::identity();
+            let r = scalar_update(&mut x, &mut p, &h, y, 1.0, g);
+            assert_eq!(r.is_ok(), accepted, "y = {y}");
+            let mut x2 = State::<f64>::zeros();
+            let mut p2 = Cov::<f64>::identity();
+            let r2 = unit_update(&mut x2, &mut p2, &[0], y, 1.0, g);
+            assert_eq!(r2.is_ok(), accepted, "unit, y = {y}");
+            if !accepted {
+                // A rejected update leaves the filter as it was.
+                assert_eq!(r, Err(Rejected::Outlier));
+                assert_eq!((x, p), (State::zeros(), Cov::identity()));
+                assert_eq!((x2, p2), (State::zeros(), Cov::identity()));
+            }
+        }
     }
 }
