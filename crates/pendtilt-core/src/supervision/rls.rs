@@ -53,7 +53,7 @@ pub struct Rls<T: Real, const N: usize> {
     active: [bool; N],
     params: SVector<T, N>,
     p: SMatrix<T, N, N>,
-    updates: u32,
+    inv_forgetting: T,
 }
 
 impl<T: Real, const N: usize> Rls<T, N> {
@@ -64,7 +64,7 @@ impl<T: Real, const N: usize> Rls<T, N> {
             active,
             params,
             p: SMatrix::zeros(),
-            updates: 0,
+            inv_forgetting: T::one() / settings.forgetting,
         };
         r.reset_covariance();
         r
@@ -115,17 +115,27 @@ impl<T: Real, const N: usize> Rls<T, N> {
         {
             return Some(err);
         }
-        let gain = pz / denom;
-        self.params += gain * err;
-        // P = (P - g (P z)') / lambda, re-symmetrised every 64 updates against rounding.
-        self.p -= gain * pz.transpose();
-        self.updates = self.updates.wrapping_add(1);
-        if self.updates % 64 == 0 {
-            let p_sym = (self.p + self.p.transpose()) * T::lit(0.5);
-            self.p = p_sym;
+        let inv = T::one() / denom;
+        self.params += pz * (err * inv);
+        // P = (P - (P z)(P z)' / denom) / lambda. P stays symmetric: update the upper
+        // triangle and mirror it (half the work, and no drift to re-symmetrise). No
+        // forgetting while trace(P) exceeds max_trace (wind-up guard).
+        let mut trace = T::zero();
+        for j in 0..N {
+            trace += self.p[(j, j)] - pz[j] * pz[j] * inv;
         }
-        if self.p.trace() < self.settings.max_trace {
-            self.p /= self.settings.forgetting;
+        let f = if trace < self.settings.max_trace {
+            self.inv_forgetting
+        } else {
+            T::one()
+        };
+        for k in 0..N {
+            let c = pz[k] * inv;
+            for j in 0..=k {
+                let v = (self.p[(j, k)] - pz[j] * c) * f;
+                self.p[(j, k)] = v;
+                self.p[(k, j)] = v;
+            }
         }
         Some(err)
     }
