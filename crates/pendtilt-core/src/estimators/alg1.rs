@@ -38,7 +38,7 @@ impl<T: Real> Alg1Settings<T> {
 #[derive(Debug, Clone)]
 pub struct Alg1<T: Real> {
     settings: Alg1Settings<T>,
-    inv: Inverter<T, 1>,
+    inv: Inverter<T, 1, 1>,
 }
 
 impl<T: Real> Alg1<T> {

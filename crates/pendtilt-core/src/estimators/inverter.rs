@@ -38,12 +38,16 @@ pub(crate) struct Kinematics<T> {
     pub delay: T,
 }
 
-/// State shared by Algorithms 1-3. `W` is the Eq (22) window capacity.
+/// State shared by Algorithms 1-3. `W` is the Eq (22) window capacity; `C` the number of
+/// differentiated signals: 1 (phi) for Algorithm 1, 2 (phi and the gyro) with a gyro.
 #[derive(Debug, Clone)]
-pub(crate) struct Inverter<T: Real, const W: usize> {
+pub(crate) struct Inverter<T: Real, const W: usize, const C: usize = 2> {
     phi_source: PhiSource,
-    phi_diff: SmoothingDifferentiator<T>,
+    // Signal 0 is phi, signal 1 the gyro: one discretisation, one step check, and both
+    // carry the same delay by construction.
+    diff: SmoothingDifferentiator<T, C>,
     gyro: Option<ThetaDd<T, W>>,
+    gyro_seen: bool,
     t_prev: Option<T>,
     encoder: Unwrapper<T>,
     last_gyro: T,
@@ -51,7 +55,7 @@ pub(crate) struct Inverter<T: Real, const W: usize> {
     pub last_theta: T,
 }
 
-impl<T: Real, const W: usize> Inverter<T, W> {
+impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
     pub fn new(
         params: &PendulumParams<T>,
         diff: &DiffSettings<T>,
@@ -62,8 +66,9 @@ impl<T: Real, const W: usize> Inverter<T, W> {
         Self {
             delay: diff.response.dc_delay(d.cutoff_rad_s()),
             phi_source,
-            gyro: theta_dd.map(|s| ThetaDd::new(s, d.clone())),
-            phi_diff: d,
+            gyro: theta_dd.map(ThetaDd::new),
+            gyro_seen: false,
+            diff: d,
             t_prev: None,
             encoder: Unwrapper::new(),
             last_gyro: T::zero(),
@@ -72,10 +77,11 @@ impl<T: Real, const W: usize> Inverter<T, W> {
     }
 
     pub fn reset(&mut self) {
-        self.phi_diff.reset();
+        self.diff.reset();
         if let Some(g) = self.gyro.as_mut() {
             g.reset();
         }
+        self.gyro_seen = false;
         self.t_prev = None;
         self.encoder = Unwrapper::new();
         self.last_gyro = T::zero();
@@ -114,26 +120,38 @@ impl<T: Real, const W: usize> Inverter<T, W> {
             flags |= Flags::ENCODER_WRAPPED;
         }
         self.t_prev = Some(s.t);
-        let d = if first {
+        // A missing gyro sample is held (zero-order hold) so the two signals stay in step.
+        let gyro_ok = self.gyro.is_some() && s.gyro.is_finite();
+        if gyro_ok {
+            self.last_gyro = s.gyro;
+            if !self.gyro_seen && !first {
+                // The gyro starts later than phi: start its signal at rest on it.
+                self.diff.restart_signal(1, s.gyro);
+            }
+            self.gyro_seen = true;
+        }
+        let mut u = [self.last_gyro; C];
+        u[0] = phi;
+        if first {
             flags |= Flags::INITIALISING;
-            self.phi_diff.update(phi, T::one())
+            self.diff.start_all(u);
         } else {
-            self.phi_diff.update_at(phi, dt, s.t)
-        };
+            self.diff.update_all(u, dt, s.t);
+        }
+        let d = self.diff.signal(0);
         let mut theta_dd = T::zero();
         let mut gyro_filtered = T::zero();
         if let Some(g) = self.gyro.as_mut() {
-            if s.gyro.is_finite() {
-                self.last_gyro = s.gyro;
-                let (v, init) = g.update(s.t, s.gyro);
+            let gd = self.diff.signal(1);
+            gyro_filtered = gd.value;
+            if gyro_ok {
+                let (v, init) = g.update(s.t, s.gyro, &gd);
                 theta_dd = v;
-                gyro_filtered = g.filtered_rate();
                 if init {
                     flags |= Flags::INITIALISING;
                 }
             } else {
                 theta_dd = g.last();
-                gyro_filtered = g.filtered_rate();
                 flags |= Flags::SAMPLE_MISSING;
             }
         }

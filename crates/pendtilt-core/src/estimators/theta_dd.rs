@@ -9,7 +9,7 @@
 //!   engine angular vibration this measured about half the error of the best Eq (22)
 //!   window (MODEL.md section 3).
 use super::equations::windowed_rate;
-use crate::filters::diff::SmoothingDifferentiator;
+use crate::filters::diff::Derivatives;
 use crate::Real;
 
 /// Where theta'' comes from.
@@ -31,10 +31,13 @@ pub enum ThetaDdSource<T> {
 pub const DEFAULT_WINDOW_CAPACITY: usize = 256;
 
 /// Streaming theta'' from gyro samples. `W` bounds the Eq (22) window (no allocation).
+///
+/// The matched source needs no state of its own: it is the derivative output of the gyro
+/// signal of the [`Inverter`](super::inverter)'s two-signal differentiator, handed in on
+/// each update. The window source keeps the gyro history.
 #[derive(Debug, Clone)]
 pub struct ThetaDd<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
     source: ThetaDdSource<T>,
-    diff: SmoothingDifferentiator<T>,
     // Eq (22) history ring: times and gyro values.
     times: [T; W],
     rates: [T; W],
@@ -43,15 +46,13 @@ pub struct ThetaDd<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
     w: usize,
     t_prev: Option<T>,
     last: T,
-    last_rate: T,
 }
 
 impl<T: Real, const W: usize> ThetaDd<T, W> {
-    /// A new source; `diff` is a fresh copy of the phi differentiator (used when matched).
-    pub fn new(source: ThetaDdSource<T>, diff: SmoothingDifferentiator<T>) -> Self {
+    /// A new source.
+    pub fn new(source: ThetaDdSource<T>) -> Self {
         Self {
             source,
-            diff,
             times: [T::zero(); W],
             rates: [T::zero(); W],
             head: 0,
@@ -59,25 +60,16 @@ impl<T: Real, const W: usize> ThetaDd<T, W> {
             w: 0,
             t_prev: None,
             last: T::zero(),
-            last_rate: T::zero(),
         }
     }
 
     /// Forgets all history.
     pub fn reset(&mut self) {
-        self.diff.reset();
         self.len = 0;
         self.head = 0;
         self.w = 0;
         self.t_prev = None;
         self.last = T::zero();
-        self.last_rate = T::zero();
-    }
-
-    /// The gyro rate through the phi differentiator's low-pass [rad/s]: theta' with the
-    /// same delay as phi' (used by the delay compensation of Algorithm 2).
-    pub fn filtered_rate(&self) -> T {
-        self.last_rate
     }
 
     /// The last theta'' [rad/s^2] (held when the gyro is missing).
@@ -85,73 +77,70 @@ impl<T: Real, const W: usize> ThetaDd<T, W> {
         self.last
     }
 
-    /// Takes the gyro sample `g` at time `t` (finite, after the previous one) and returns
+    /// Takes the gyro sample `g` at time `t` (finite, after the previous one) and the gyro
+    /// through the phi differentiator, `matched`, and returns
     /// `(theta'', still_initialising)`.
-    pub fn update(&mut self, t: T, g: T) -> (T, bool) {
+    #[inline]
+    pub fn update(&mut self, t: T, g: T, matched: &Derivatives<T>) -> (T, bool) {
+        match self.source {
+            ThetaDdSource::Matched => {
+                self.last = matched.d1;
+                (self.last, false)
+            }
+            ThetaDdSource::Window { span } => self.window(t, g, span),
+        }
+    }
+
+    fn window(&mut self, t: T, g: T, span: T) -> (T, bool) {
         let dt = match self.t_prev {
             Some(tp) => t - tp,
             None => T::zero(),
         };
         self.t_prev = Some(t);
-        let d = if self.diff.is_started() {
-            self.diff.update_at(g, dt, t)
-        } else {
-            self.diff.update(g, T::one())
-        };
-        self.last_rate = d.value;
-        match self.source {
-            ThetaDdSource::Matched => {
-                self.last = d.d1;
-                (self.last, false)
-            }
-            ThetaDdSource::Window { span } => {
-                if W < 2 {
-                    return (T::zero(), true);
-                }
-                if self.w == 0 && dt > T::zero() {
-                    let n = (span / dt).round().to_f64();
-                    self.w = if n.is_finite() && n >= 1.0 {
-                        (n as usize).min(W - 1)
-                    } else {
-                        1
-                    };
-                }
-                // Push (t, g).
-                self.times[self.head] = t;
-                self.rates[self.head] = g;
-                self.head = (self.head + 1) % W;
-                if self.len < W {
-                    self.len += 1;
-                }
-                let want = self.w.max(1);
-                let back = want.min(self.len - 1);
-                if back == 0 {
-                    self.last = T::zero();
-                    return (self.last, true);
-                }
-                let old = (self.head + W - 1 - back) % W;
-                self.last = windowed_rate(g, t, self.rates[old], self.times[old]);
-                (self.last, back < want || self.w == 0)
-            }
+        if W < 2 {
+            return (T::zero(), true);
         }
+        if self.w == 0 && dt > T::zero() {
+            let n = (span / dt).round().to_f64();
+            self.w = if n.is_finite() && n >= 1.0 {
+                (n as usize).min(W - 1)
+            } else {
+                1
+            };
+        }
+        // Push (t, g).
+        self.times[self.head] = t;
+        self.rates[self.head] = g;
+        self.head = (self.head + 1) % W;
+        if self.len < W {
+            self.len += 1;
+        }
+        let want = self.w.max(1);
+        let back = want.min(self.len - 1);
+        if back == 0 {
+            self.last = T::zero();
+            return (self.last, true);
+        }
+        let old = (self.head + W - 1 - back) % W;
+        self.last = windowed_rate(g, t, self.rates[old], self.times[old]);
+        (self.last, back < want || self.w == 0)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::filters::diff::Response;
+    use crate::filters::diff::{Response, SmoothingDifferentiator};
 
     #[test]
     fn window_gives_eq22_on_a_ramp_of_rate() {
         // G = 2 t → theta'' = 2 once the window (10 samples at 1 kHz) has filled.
-        let d = SmoothingDifferentiator::new(Response::Butterworth, 3.0);
-        let mut s = ThetaDd::<f64, 32>::new(ThetaDdSource::Window { span: 0.010 }, d);
+        let mut s = ThetaDd::<f64, 32>::new(ThetaDdSource::Window { span: 0.010 });
         let mut init_count = 0;
         let mut last = 0.0;
         for k in 0..100 {
             let t = k as f64 * 1e-3;
-            let (v, init) = s.update(t, 2.0 * t + 0.5);
+            let (v, init) = s.update(t, 2.0 * t + 0.5, &Derivatives::default());
             if init {
                 init_count += 1;
             }
@@ -163,12 +152,13 @@ mod tests {
 
     #[test]
     fn matched_differentiates_the_gyro() {
-        let d = SmoothingDifferentiator::new(Response::Butterworth, 3.0);
-        let mut s = ThetaDd::<f64, 4>::new(ThetaDdSource::Matched, d);
+        let mut d = SmoothingDifferentiator::<f64>::new(Response::Butterworth, 3.0);
+        let mut s = ThetaDd::<f64, 4>::new(ThetaDdSource::Matched);
         let mut last = 0.0;
         for k in 0..10_000 {
             let t = k as f64 * 1e-3;
-            last = s.update(t, -0.7 * t).0;
+            let g = -0.7 * t;
+            last = s.update(t, g, &d.update(g, 1e-3)).0;
         }
         assert!((last + 0.7).abs() < 1e-9);
     }

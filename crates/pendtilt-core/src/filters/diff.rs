@@ -30,7 +30,7 @@
 //! input ([`crate::linalg`]); the matrices are recomputed only when the step changes.
 use crate::linalg::{discretise, first_order_hold_inputs};
 use crate::{PendulumParams, Real};
-use nalgebra::{Matrix4, Vector4};
+use nalgebra::{Matrix4, RowSVector, SMatrix, Vector4};
 
 /// The shape of the 4th-order low-pass. All are normalised to -3 dB at the cutoff.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -132,8 +132,13 @@ pub struct Derivatives<T> {
 }
 
 /// A 4th-order low-pass with exact derivative outputs. See the module documentation.
+///
+/// `C` signals sampled at the same instants share one discretisation (the matrices depend
+/// on the step only): Algorithms 2 and 3 run phi and the gyro through one `C = 2` filter,
+/// so both carry the same delay and the step is checked once. `C = 1` (the default) has
+/// the scalar API ([`Self::update`], [`Self::output`]).
 #[derive(Debug, Clone)]
-pub struct SmoothingDifferentiator<T: Real> {
+pub struct SmoothingDifferentiator<T: Real, const C: usize = 1> {
     w: T,
     a: Matrix4<T>,
     b: Vector4<T>,
@@ -142,9 +147,9 @@ pub struct SmoothingDifferentiator<T: Real> {
     e: Matrix4<T>,
     b0: Vector4<T>,
     b1: Vector4<T>,
-    // State z = [y, y'/w, y''/w^2, y'''/w^3] and the previous input.
-    z: Vector4<T>,
-    u_prev: T,
+    // One column per signal, z = [y, y'/w, y''/w^2, y'''/w^3]; and the previous inputs.
+    z: SMatrix<T, 4, C>,
+    u_prev: RowSVector<T, C>,
     started: bool,
 }
 
@@ -156,7 +161,7 @@ const STEP_TOLERANCE: f64 = 1e-9;
 /// step, and do not trigger a recomputation.
 const TIME_ULPS: f64 = 4.0;
 
-impl<T: Real> SmoothingDifferentiator<T> {
+impl<T: Real, const C: usize> SmoothingDifferentiator<T, C> {
     /// A differentiator with the given response and cutoff [Hz]. A cutoff that is not
     /// finite and positive is replaced by 1 Hz (never a panic); check before if it matters.
     pub fn new(response: Response, cutoff_hz: T) -> Self {
@@ -183,8 +188,8 @@ impl<T: Real> SmoothingDifferentiator<T> {
             e: Matrix4::identity(),
             b0: Vector4::zeros(),
             b1: Vector4::zeros(),
-            z: Vector4::zeros(),
-            u_prev: T::zero(),
+            z: SMatrix::zeros(),
+            u_prev: RowSVector::zeros(),
             started: false,
         }
     }
@@ -194,14 +199,7 @@ impl<T: Real> SmoothingDifferentiator<T> {
         self.w
     }
 
-    /// Starts (or restarts) at rest on `u`: value `u`, derivatives zero.
-    pub fn start(&mut self, u: T) {
-        self.z = Vector4::new(u, T::zero(), T::zero(), T::zero());
-        self.u_prev = u;
-        self.started = true;
-    }
-
-    /// True once [`Self::start`] or [`Self::update`] has seen an input.
+    /// True once the filter has seen an input.
     pub fn is_started(&self) -> bool {
         self.started
     }
@@ -209,7 +207,84 @@ impl<T: Real> SmoothingDifferentiator<T> {
     /// Forgets the state.
     pub fn reset(&mut self) {
         self.started = false;
-        self.z = Vector4::zeros();
+        self.z = SMatrix::zeros();
+    }
+
+    /// Starts (or restarts) every signal at rest on its input: values `u`, derivatives zero.
+    pub fn start_all(&mut self, u: [T; C]) {
+        for (i, &v) in u.iter().enumerate() {
+            self.restart_signal(i, v);
+        }
+        self.started = true;
+    }
+
+    /// Restarts signal `i` alone at rest on `u` (a signal that begins later than the
+    /// others). An index out of range is ignored.
+    pub fn restart_signal(&mut self, i: usize, u: T) {
+        if i < C {
+            self.z
+                .set_column(i, &Vector4::new(u, T::zero(), T::zero(), T::zero()));
+            self.u_prev[i] = u;
+        }
+    }
+
+    /// Advances every signal by `dt` seconds to the new inputs `u`, for samples stamped `t`
+    /// (step changes within the rounding of `t` reuse the cached discretisation; pass 0
+    /// without time stamps). The first call starts at rest on `u`. Inputs must be finite
+    /// and `dt > 0` (the estimators check both); a step that cannot be discretised leaves
+    /// the state unchanged.
+    #[inline]
+    pub fn update_all(&mut self, u: [T; C], dt: T, t: T) {
+        if !self.started {
+            self.start_all(u);
+            return;
+        }
+        let tol =
+            T::lit(STEP_TOLERANCE) * self.step + T::lit(TIME_ULPS) * T::default_epsilon() * t.abs();
+        if (dt - self.step).abs() > tol && !self.rediscretise(dt) {
+            return;
+        }
+        let u = RowSVector::from_row_slice(&u);
+        self.z = self.e * self.z + self.b0 * self.u_prev + self.b1 * u;
+        self.u_prev = u;
+    }
+
+    /// The current outputs of signal `i` (zeros for an index out of range).
+    #[inline]
+    pub fn signal(&self, i: usize) -> Derivatives<T> {
+        if i >= C {
+            return Derivatives::default();
+        }
+        Derivatives {
+            value: self.z[(0, i)],
+            d1: self.z[(1, i)] * self.w,
+            d2: self.z[(2, i)] * self.w * self.w,
+        }
+    }
+
+    // Rare (the step changed): out of line, so the per-sample path stays small enough to
+    // inline.
+    #[cold]
+    #[inline(never)]
+    fn rediscretise(&mut self, dt: T) -> bool {
+        match discretise(&self.a, dt) {
+            Some(d) => {
+                let (b0, b1) = first_order_hold_inputs(&d, &self.b, dt);
+                self.e = d.e;
+                self.b0 = b0;
+                self.b1 = b1;
+                self.step = dt;
+                true
+            }
+            None => false,
+        }
+    }
+}
+
+impl<T: Real> SmoothingDifferentiator<T, 1> {
+    /// Starts (or restarts) at rest on `u`: value `u`, derivatives zero.
+    pub fn start(&mut self, u: T) {
+        self.start_all([u]);
     }
 
     /// Advances by `dt` seconds to the new input `u` and returns the outputs. The first call
@@ -224,42 +299,14 @@ impl<T: Real> SmoothingDifferentiator<T> {
     /// itself reuse the cached discretisation (this keeps f32 at its nominal cost).
     #[inline]
     pub fn update_at(&mut self, u: T, dt: T, t: T) -> Derivatives<T> {
-        if !self.started {
-            self.start(u);
-            return self.output();
-        }
-        let tol =
-            T::lit(STEP_TOLERANCE) * self.step + T::lit(TIME_ULPS) * T::default_epsilon() * t.abs();
-        if (dt - self.step).abs() > tol && !self.rediscretise(dt) {
-            return self.output();
-        }
-        self.z = self.e * self.z + self.b0 * self.u_prev + self.b1 * u;
-        self.u_prev = u;
+        self.update_all([u], dt, t);
         self.output()
     }
 
     /// The current outputs.
     #[inline]
     pub fn output(&self) -> Derivatives<T> {
-        Derivatives {
-            value: self.z[0],
-            d1: self.z[1] * self.w,
-            d2: self.z[2] * self.w * self.w,
-        }
-    }
-
-    fn rediscretise(&mut self, dt: T) -> bool {
-        match discretise(&self.a, dt) {
-            Some(d) => {
-                let (b0, b1) = first_order_hold_inputs(&d, &self.b, dt);
-                self.e = d.e;
-                self.b0 = b0;
-                self.b1 = b1;
-                self.step = dt;
-                true
-            }
-            None => false,
-        }
+        self.signal(0)
     }
 }
 
@@ -381,5 +428,36 @@ mod tests {
             worst = worst.max((a.d2 - b.d2 as f64).abs());
         }
         assert!(worst < 1e-3, "worst {worst}");
+    }
+
+    #[test]
+    fn two_signals_match_two_single_filters_and_a_late_signal_starts_at_rest() {
+        let mut pair = SmoothingDifferentiator::<f64, 2>::new(Response::Butterworth, 3.0);
+        let mut a = SmoothingDifferentiator::<f64>::new(Response::Butterworth, 3.0);
+        let mut b = SmoothingDifferentiator::<f64>::new(Response::Butterworth, 3.0);
+        let mut t = 0.0f64;
+        for k in 0..3000 {
+            let dt = if k % 5 == 0 { 1.2e-3 } else { 1e-3 };
+            t += dt;
+            let (u, v) = ((2.0 * t).sin(), 0.3 * t * t);
+            if k == 0 {
+                // Signal 1 has no input yet: it joins later.
+                pair.update_all([u, 0.0], dt, t);
+                a.update(u, dt);
+                continue;
+            }
+            if k == 1 {
+                pair.restart_signal(1, v);
+                b.start(v);
+            }
+            pair.update_all([u, v], dt, t);
+            let (x, y) = (a.update(u, dt), b.update(v, dt));
+            assert!((pair.signal(0).d2 - x.d2).abs() < 1e-9, "k {k}");
+            assert!((pair.signal(1).d1 - y.d1).abs() < 1e-9, "k {k}");
+            assert!((pair.signal(1).value - y.value).abs() < 1e-12, "k {k}");
+        }
+        // Late start at rest: no step transient, so the parabola's d2 is 0.6 at the end.
+        assert!((pair.signal(1).d2 - 0.6).abs() < 1e-6);
+        assert_eq!(pair.signal(2), Derivatives::default());
     }
 }
