@@ -7,11 +7,12 @@
 //! and reported ([`Bank::skipped`]), never a failure.
 use pendtilt_core::ekf::{Ekf, Ukf};
 use pendtilt_core::estimators::accel::{Accel, AccelSettings};
-use pendtilt_core::estimators::alg1::{Alg1, Alg1Settings};
-use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
-use pendtilt_core::estimators::alg3::{Alg3, Alg3Settings};
+use pendtilt_core::estimators::alg1::Alg1Settings;
+use pendtilt_core::estimators::alg2::Alg2Settings;
+use pendtilt_core::estimators::alg3::Alg3Settings;
 use pendtilt_core::estimators::complementary::Complementary;
 use pendtilt_core::estimators::pendulum::{Pendulum, PendulumSettings};
+use pendtilt_core::estimators::shared::{Equation, FrontEndSettings, SharedFrontEnd};
 use pendtilt_core::kalman::tilt::UNUSABLE;
 use pendtilt_core::kalman::{KalmanSettings, TiltKalman};
 use pendtilt_core::params::STANDARD_GRAVITY;
@@ -101,10 +102,17 @@ pub type RSelector = fn(&KalmanSettings<f64>) -> f64;
 /// A Kalman measurement source: the output it reads and the variance it is given.
 pub type KalmanSource = (&'static str, RSelector);
 
+/// A front end and the inversion equation evaluated on it.
+pub type InversionSpec = (FrontEndSettings<f64>, Equation<f64>);
+
 /// How an output is computed.
 pub enum Kind {
     /// A streaming estimator built from the settings.
     Direct(fn(&BankSettings) -> Box<dyn Estimator<f64> + Send>),
+    /// One of Algorithms 1-3: an equation on a front end. Consecutive entries whose front
+    /// ends are equal share one ([`SharedFrontEnd`]): one differentiator per sample for
+    /// all of them, each output the same as its stand-alone estimator's.
+    Inversion(fn(&BankSettings) -> InversionSpec),
     /// The angle+bias Kalman filter fed by other outputs, each `(name, r)` with `r` read
     /// from the settings.
     Kalman(&'static [KalmanSource]),
@@ -166,41 +174,50 @@ pub static REGISTRY: &[Entry] = &[
     Entry {
         name: "alg1",
         needs: PHI,
-        kind: Kind::Direct(|s| Box::new(Alg1::new(s.alg1))),
+        kind: Kind::Inversion(|s| {
+            // Algorithm 1 ignores theta'': take Algorithm 2's source so they can share.
+            let fe = FrontEndSettings {
+                theta_dd: s.alg2.theta_dd,
+                ..s.alg1.front_end()
+            };
+            (fe, Equation::Alg1(s.alg1.params))
+        }),
         about: "Algorithm 1, Eq (20)",
     },
     Entry {
         name: "alg2",
         needs: PHI_GYRO,
-        kind: Kind::Direct(|s| Box::new(Alg2::<f64>::new(s.alg2))),
+        kind: Kind::Inversion(|s| (s.alg2.front_end(), s.alg2.equation())),
         about: "Algorithm 2, Eqs (21)-(22)",
     },
     Entry {
         name: "alg2_offset",
         needs: PHI_GYRO,
-        kind: Kind::Direct(|s| {
-            Box::new(Alg2::<f64>::new(Alg2Settings {
+        kind: Kind::Inversion(|s| {
+            let a = Alg2Settings {
                 pivot_offset: true,
                 ..s.alg2
-            }))
+            };
+            (a.front_end(), a.equation())
         }),
         about: "Algorithm 2 with the pivot-offset term (not in the paper)",
     },
     Entry {
         name: "alg2_dc",
         needs: PHI_GYRO,
-        kind: Kind::Direct(|s| {
-            Box::new(Alg2::<f64>::new(Alg2Settings {
+        kind: Kind::Inversion(|s| {
+            let a = Alg2Settings {
                 delay_compensation: true,
                 ..s.alg2
-            }))
+            };
+            (a.front_end(), a.equation())
         }),
         about: "Algorithm 2 with the differentiator's delay removed by the gyro (not in the paper)",
     },
     Entry {
         name: "alg3",
         needs: PHI_GYRO,
-        kind: Kind::Direct(|s| Box::new(Alg3::<f64>::new(s.alg3))),
+        kind: Kind::Inversion(|s| (s.alg3.front_end(), Equation::Alg3(s.alg3.gains))),
         about: "Algorithm 3's Eq (30) with the configured K, L, M, N",
     },
     Entry {
@@ -275,6 +292,8 @@ pub static REGISTRY: &[Entry] = &[
 
 enum Slot {
     Direct(Box<dyn Estimator<f64> + Send>),
+    /// Several consecutive outputs from one front end.
+    Shared(Box<SharedFrontEnd<f64>>),
     Kalman {
         kf: TiltKalman<f64>,
         sources: Vec<(usize, f64)>,
@@ -296,6 +315,7 @@ pub struct Bank {
     slots: Vec<Slot>,
     skipped: Vec<Skipped>,
     measurements: Vec<(f64, f64)>,
+    blank: Estimate<f64>,
 }
 
 impl std::fmt::Debug for Bank {
@@ -332,6 +352,10 @@ impl Bank {
             slots: Vec::new(),
             skipped: Vec::new(),
             measurements: Vec::with_capacity(4),
+            blank: Estimate {
+                theta: f64::NAN,
+                flags: Flags::SAMPLE_MISSING,
+            },
         };
         for e in REGISTRY {
             if !wanted(e.name) {
@@ -346,6 +370,19 @@ impl Bank {
             }
             let slot = match &e.kind {
                 Kind::Direct(build) => Slot::Direct(build(settings)),
+                Kind::Inversion(build) => {
+                    let (fe, eq) = build(settings);
+                    if let Some(Slot::Shared(front)) = bank.slots.last_mut() {
+                        if *front.settings() == fe && front.push(eq) {
+                            bank.names.push(e.name);
+                            continue;
+                        }
+                    }
+                    match SharedFrontEnd::new(&fe, &[eq]) {
+                        Some(front) => Slot::Shared(Box::new(front)),
+                        None => return Err(format!("`{}`: cannot build its front end", e.name)),
+                    }
+                }
                 Kind::Kalman(sources) => {
                     let mut idx = Vec::new();
                     for (src, r) in sources.iter() {
@@ -390,6 +427,13 @@ impl Bank {
         for slot in &mut self.slots {
             let e = match slot {
                 Slot::Direct(est) => est.update(sample),
+                Slot::Shared(front) => {
+                    let n = front.equations().len();
+                    let start = out.len();
+                    out.resize(start + n, self.blank);
+                    front.update(sample, &mut out[start..]);
+                    continue;
+                }
                 Slot::Kalman { kf, sources } => {
                     self.measurements.clear();
                     for &(i, r) in sources.iter() {
@@ -413,6 +457,7 @@ impl Bank {
         for slot in &mut self.slots {
             match slot {
                 Slot::Direct(e) => e.reset(),
+                Slot::Shared(f) => f.reset(),
                 Slot::Kalman { kf, .. } => kf.reset(),
             }
         }
@@ -486,5 +531,78 @@ mod tests {
         assert!(Bank::new(&s, Inputs::ALL, Some(&only))
             .unwrap_err()
             .contains("alg2"));
+    }
+
+    /// Algorithms 1-3 in the bank share a front end; each output must equal its
+    /// stand-alone estimator's, also when Algorithm 1's differentiator differs (then it
+    /// gets a front end of its own).
+    #[test]
+    fn shared_front_end_outputs_equal_the_stand_alone_estimators() {
+        use pendtilt_core::estimators::alg1::Alg1;
+        use pendtilt_core::estimators::alg2::Alg2;
+        use pendtilt_core::estimators::alg3::Alg3;
+        use pendtilt_core::filters::diff::Cutoff;
+        let p = PendulumParams {
+            c: 0.02,
+            ..Default::default()
+        };
+        for alg1_cutoff in [None, Some(4.0)] {
+            let mut s = BankSettings::from_params(p);
+            if let Some(f) = alg1_cutoff {
+                s.alg1.differentiator.cutoff = Cutoff::Hz(f);
+            }
+            s.alg3.gains.n = 0.003;
+            let mut b = Bank::new(&s, Inputs::ALL, None).unwrap();
+            let shared = b
+                .slots
+                .iter()
+                .filter(|x| matches!(x, Slot::Shared(_)))
+                .count();
+            assert_eq!(shared, if alg1_cutoff.is_some() { 2 } else { 1 });
+            let mut alone: Vec<(&str, Box<dyn Estimator<f64>>)> = vec![
+                ("alg1", Box::new(Alg1::new(s.alg1))),
+                ("alg2", Box::new(Alg2::<f64>::new(s.alg2))),
+                (
+                    "alg2_offset",
+                    Box::new(Alg2::<f64>::new(Alg2Settings {
+                        pivot_offset: true,
+                        ..s.alg2
+                    })),
+                ),
+                (
+                    "alg2_dc",
+                    Box::new(Alg2::<f64>::new(Alg2Settings {
+                        delay_compensation: true,
+                        ..s.alg2
+                    })),
+                ),
+                ("alg3", Box::new(Alg3::<f64>::new(s.alg3))),
+            ];
+            let col = |n: &str| b.names().iter().position(|x| *x == n).unwrap();
+            let cols: Vec<usize> = alone.iter().map(|(n, _)| col(n)).collect();
+            let mut out = Vec::new();
+            for k in 0..5000 {
+                let t = k as f64 * 1e-3;
+                let th = 0.2 * (0.9 * t).sin() + 0.005 * (180.0 * t).sin();
+                let smp = Sample {
+                    t,
+                    phi: if k == 700 { f64::NAN } else { 0.95 * th },
+                    gyro: if k == 900 {
+                        f64::NAN
+                    } else {
+                        0.18 * (0.9 * t).cos()
+                    },
+                    ax: 9.8 * th.sin(),
+                    ay: 9.8 * th.cos(),
+                };
+                b.update(&smp, &mut out);
+                assert_eq!(out.len(), b.names().len());
+                for ((n, e), &c) in alone.iter_mut().zip(&cols) {
+                    let want = e.update(&smp);
+                    assert_eq!(out[c].flags, want.flags, "{n} at {t}");
+                    assert!((out[c].theta - want.theta).abs() < 1e-12, "{n} at {t}");
+                }
+            }
+        }
     }
 }

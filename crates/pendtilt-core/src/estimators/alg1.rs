@@ -1,10 +1,11 @@
 //! Algorithm 1, pendulum only: Eq (20), `theta = phi + asin(a phi' + b phi'')` (sign
 //! corrected; see [`super::equations`]). It neglects the body's angular acceleration, so it
 //! errs where theta'' is large (the paper's Fig 5).
-use super::equations;
 use super::inverter::{Inverter, PhiSource};
+use super::shared::{Equation, FrontEndSettings};
+use super::theta_dd::ThetaDdSource;
 use crate::filters::diff::DiffSettings;
-use crate::{Estimate, Estimator, Flags, PendulumParams, Real, Sample};
+use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 
 /// Settings of [`Alg1`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -24,6 +25,16 @@ impl<T: Real> Default for Alg1Settings<T> {
 }
 
 impl<T: Real> Alg1Settings<T> {
+    /// The front end these settings describe (theta'' unused by Algorithm 1: default).
+    pub fn front_end(&self) -> FrontEndSettings<T> {
+        FrontEndSettings {
+            params: self.params,
+            differentiator: self.differentiator,
+            phi: self.phi,
+            theta_dd: ThetaDdSource::default(),
+        }
+    }
+
     /// Default settings for a pendulum with parameters `params`.
     pub fn from_params(params: PendulumParams<T>) -> Self {
         Self {
@@ -64,22 +75,7 @@ impl<T: Real> Alg1<T> {
 impl<T: Real> Estimator<T> for Alg1<T> {
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
-        match self.inv.step(s) {
-            Ok((k, mut flags)) => {
-                let r = equations::alg1(&self.settings.params, k.phi, k.dphi, k.ddphi);
-                if r.clamped {
-                    flags |= Flags::ASIN_CLAMPED;
-                }
-                Estimate {
-                    theta: self.inv.finish(r.theta),
-                    flags,
-                }
-            }
-            Err(flags) => Estimate {
-                theta: self.inv.last_theta,
-                flags,
-            },
-        }
+        self.inv.run(s, &Equation::Alg1(self.settings.params)).0
     }
 
     fn reset(&mut self) {

@@ -2,11 +2,11 @@
 //! with theta'' = `G_d` from the gyro (Eq 22, or the matched differentiator; see
 //! [`super::theta_dd`]). Optionally with the pivot-offset term the paper dropped
 //! ([`Alg2Settings::pivot_offset`], output `alg2_offset`).
-use super::equations;
 use super::inverter::{Inverter, PhiSource};
+use super::shared::{Equation, FrontEndSettings};
 use super::theta_dd::{ThetaDdSource, DEFAULT_WINDOW_CAPACITY};
 use crate::filters::diff::DiffSettings;
-use crate::{Estimate, Estimator, Flags, PendulumParams, Real, Sample};
+use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 
 /// Settings of [`Alg2`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,6 +40,25 @@ impl<T: Real> Default for Alg2Settings<T> {
 }
 
 impl<T: Real> Alg2Settings<T> {
+    /// The front end these settings describe.
+    pub fn front_end(&self) -> FrontEndSettings<T> {
+        FrontEndSettings {
+            params: self.params,
+            differentiator: self.differentiator,
+            phi: self.phi,
+            theta_dd: self.theta_dd,
+        }
+    }
+
+    /// The equation these settings describe.
+    pub fn equation(&self) -> Equation<T> {
+        Equation::Alg2 {
+            params: self.params,
+            pivot_offset: self.pivot_offset,
+            delay_compensation: self.delay_compensation,
+        }
+    }
+
     /// Default settings for a pendulum with parameters `params`.
     pub fn from_params(params: PendulumParams<T>) -> Self {
         Self {
@@ -83,32 +102,7 @@ impl<T: Real, const W: usize> Alg2<T, W> {
 impl<T: Real, const W: usize> Estimator<T> for Alg2<T, W> {
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
-        match self.inv.step(s) {
-            Ok((k, mut flags)) => {
-                let p = &self.settings.params;
-                let r = if self.settings.pivot_offset {
-                    equations::alg2_offset(p, k.phi, k.dphi, k.ddphi, k.gyro, k.theta_dd)
-                } else {
-                    equations::alg2(p, k.phi, k.dphi, k.ddphi, k.theta_dd)
-                };
-                if r.clamped {
-                    flags |= Flags::ASIN_CLAMPED;
-                }
-                let theta = if self.settings.delay_compensation {
-                    r.theta - k.delay * (k.dphi - k.gyro_filtered)
-                } else {
-                    r.theta
-                };
-                Estimate {
-                    theta: self.inv.finish(theta),
-                    flags,
-                }
-            }
-            Err(flags) => Estimate {
-                theta: self.inv.last_theta,
-                flags,
-            },
-        }
+        self.inv.run(s, &self.settings.equation()).0
     }
 
     fn reset(&mut self) {

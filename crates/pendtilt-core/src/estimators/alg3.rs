@@ -2,11 +2,12 @@
 //! `theta = phi + asin(K phi' + L phi'' + M G_d) + N G_k` (sign corrected). With K = a,
 //! L = b, M = -b, N = 0 it equals [`super::alg2`]. The gains can be changed between
 //! samples with [`Alg3::set_gains`]: that is what live supervision (Eq 29) drives.
-use super::equations::{self, Alg3Gains};
+use super::equations::Alg3Gains;
 use super::inverter::{Inverter, PhiSource};
+use super::shared::{Equation, FrontEndSettings};
 use super::theta_dd::{ThetaDdSource, DEFAULT_WINDOW_CAPACITY};
 use crate::filters::diff::DiffSettings;
-use crate::{Estimate, Estimator, Flags, PendulumParams, Real, Sample};
+use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 
 /// Settings of [`Alg3`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,6 +31,16 @@ impl<T: Real> Default for Alg3Settings<T> {
 }
 
 impl<T: Real> Alg3Settings<T> {
+    /// The front end these settings describe.
+    pub fn front_end(&self) -> FrontEndSettings<T> {
+        FrontEndSettings {
+            params: self.params,
+            differentiator: self.differentiator,
+            phi: self.phi,
+            theta_dd: self.theta_dd,
+        }
+    }
+
     /// Default settings for a pendulum with parameters `params` (gains K=a, L=b, M=-b, N=0).
     pub fn from_params(params: PendulumParams<T>) -> Self {
         Self {
@@ -100,43 +111,16 @@ impl<T: Real, const W: usize> Alg3<T, W> {
     /// Like [`Estimator::update`], also returning the terms of Eq (30) (None when held).
     #[inline]
     pub fn update_with_terms(&mut self, s: &Sample<T>) -> (Estimate<T>, Option<Alg3Terms<T>>) {
-        match self.inv.step(s) {
-            Ok((k, mut flags)) => {
-                let r = equations::alg3(
-                    &self.settings.gains,
-                    k.phi,
-                    k.dphi,
-                    k.ddphi,
-                    k.theta_dd,
-                    k.gyro,
-                );
-                if r.clamped {
-                    flags |= Flags::ASIN_CLAMPED;
-                }
-                let terms = Alg3Terms {
-                    phi: k.phi,
-                    dphi: k.dphi,
-                    ddphi: k.ddphi,
-                    gd: k.theta_dd,
-                    gk: k.gyro,
-                    gk_filtered: k.gyro_filtered,
-                };
-                (
-                    Estimate {
-                        theta: self.inv.finish(r.theta),
-                        flags,
-                    },
-                    Some(terms),
-                )
-            }
-            Err(flags) => (
-                Estimate {
-                    theta: self.inv.last_theta,
-                    flags,
-                },
-                None,
-            ),
-        }
+        let (e, k) = self.inv.run(s, &Equation::Alg3(self.settings.gains));
+        let terms = k.map(|k| Alg3Terms {
+            phi: k.phi,
+            dphi: k.dphi,
+            ddphi: k.ddphi,
+            gd: k.theta_dd,
+            gk: k.gyro,
+            gk_filtered: k.gyro_filtered,
+        });
+        (e, terms)
     }
 }
 

@@ -1,9 +1,11 @@
-//! The machinery Algorithms 1-3 share: time-step checks, encoder unwrapping, the phi
-//! differentiator, theta'' from the gyro, and hold-on-missing.
-use super::encoder::{is_reading, wrap_angle, Unwrapper};
+//! The front end Algorithms 1-3 share: time-step checks, encoder unwrapping, the phi (and
+//! gyro) differentiator, theta'' from the gyro, and hold-on-missing. Its output,
+//! [`Kinematics`], is what every inversion equation ([`super::shared::Equation`]) reads.
+use super::encoder::{is_reading, Unwrapper};
+use super::shared::Equation;
 use super::theta_dd::{ThetaDd, ThetaDdSource};
 use crate::filters::diff::{DiffSettings, SmoothingDifferentiator};
-use crate::{Flags, PendulumParams, Real, Sample};
+use crate::{Estimate, Flags, PendulumParams, Real, Sample};
 
 /// Which phi enters `theta = phi + asin(...)`.
 ///
@@ -22,11 +24,14 @@ pub enum PhiSource {
     Filtered,
 }
 
-/// What the inverter hands an algorithm for one sample.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Kinematics<T> {
+/// What the front end hands an inversion equation for one sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Kinematics<T> {
+    /// The phi that enters `theta = phi + asin(...)` ([`PhiSource`]) [rad].
     pub phi: T,
+    /// phi' through the differentiator [rad/s].
     pub dphi: T,
+    /// phi'' through the differentiator [rad/s^2].
     pub ddphi: T,
     /// Gyro rate (last good one if missing), theta' [rad/s].
     pub gyro: T,
@@ -36,6 +41,9 @@ pub(crate) struct Kinematics<T> {
     pub gyro_filtered: T,
     /// DC delay of the phi low-pass [s].
     pub delay: T,
+    /// Flags of the gyro path alone (missing gyro sample, Eq (22) window filling): the
+    /// algorithms that read the gyro add them, Algorithm 1 does not.
+    pub gyro_flags: Flags,
 }
 
 /// State shared by Algorithms 1-3. `W` is the Eq (22) window capacity; `C` the number of
@@ -52,7 +60,7 @@ pub(crate) struct Inverter<T: Real, const W: usize, const C: usize = 2> {
     encoder: Unwrapper<T>,
     last_gyro: T,
     delay: T,
-    pub last_theta: T,
+    last_theta: T,
 }
 
 impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
@@ -88,7 +96,9 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
         self.last_theta = T::nan();
     }
 
-    /// Processes the sample; `Err(flags)` means "hold the previous estimate".
+    /// Processes the sample; `Err(flags)` means "hold the previous estimate". The flags
+    /// returned with the kinematics are those of the phi path ([`Kinematics::gyro_flags`]
+    /// has the gyro's).
     #[inline]
     pub fn step(&mut self, s: &Sample<T>) -> Result<(Kinematics<T>, Flags), Flags> {
         let mut flags = Flags::empty();
@@ -141,6 +151,7 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
         let d = self.diff.signal(0);
         let mut theta_dd = T::zero();
         let mut gyro_filtered = T::zero();
+        let mut gyro_flags = Flags::empty();
         if let Some(g) = self.gyro.as_mut() {
             let gd = self.diff.signal(1);
             gyro_filtered = gd.value;
@@ -148,11 +159,11 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
                 let (v, init) = g.update(s.t, s.gyro, &gd);
                 theta_dd = v;
                 if init {
-                    flags |= Flags::INITIALISING;
+                    gyro_flags |= Flags::INITIALISING;
                 }
             } else {
                 theta_dd = g.last();
-                flags |= Flags::SAMPLE_MISSING;
+                gyro_flags |= Flags::SAMPLE_MISSING;
             }
         }
         let phi_used = match self.phi_source {
@@ -168,16 +179,29 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
                 theta_dd,
                 gyro_filtered,
                 delay: self.delay,
+                gyro_flags,
             },
             flags,
         ))
     }
 
-    /// Wraps an unwrapped estimate back into (-pi, pi] and remembers it.
+    /// One sample through the front end and `eq`: the estimate (held on a bad sample)
+    /// and, when the sample was usable, its kinematics.
     #[inline]
-    pub fn finish(&mut self, theta: T) -> T {
-        let th = wrap_angle(theta);
-        self.last_theta = th;
-        th
+    pub fn run(&mut self, s: &Sample<T>, eq: &Equation<T>) -> (Estimate<T>, Option<Kinematics<T>>) {
+        match self.step(s) {
+            Ok((k, phi_flags)) => {
+                let (theta, flags) = eq.estimate(&k, phi_flags);
+                self.last_theta = theta;
+                (Estimate { theta, flags }, Some(k))
+            }
+            Err(flags) => (
+                Estimate {
+                    theta: self.last_theta,
+                    flags,
+                },
+                None,
+            ),
+        }
     }
 }

@@ -11,7 +11,8 @@
 //! | [`alg3`] | `alg3` | Eq (30), sign corrected | phi, gyro |
 //!
 //! The equations themselves, free of any state, are in [`equations`] so that they can be
-//! checked against hand computations and reused by fitting code.
+//! checked against hand computations and reused by fitting code. Algorithms 1-3 are each
+//! "front end + equation"; [`shared`] runs several equations on one front end.
 //!
 //! Common behaviour: a sample whose time does not increase is flagged
 //! [`crate::Flags::BAD_TIME_STEP`] and the previous estimate is returned; a sample whose
@@ -26,7 +27,8 @@ mod encoder;
 pub mod equations;
 mod inverter;
 pub mod pendulum;
+pub mod shared;
 pub mod theta_dd;
 
 pub use encoder::PHI_LIMIT;
-pub use inverter::PhiSource;
+pub use inverter::{Kinematics, PhiSource};
