@@ -9,11 +9,10 @@
 //! value is `NaN`. One row per call; buffered; [`EstimatesWriter::flush`] pushes the rows
 //! out (for live streaming, after every row).
 use std::fs::File;
-use std::io::{self, Write};
+use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
 use pendtilt_core::{Estimate, Flags};
-use serde::ser::{Serialize, SerializeSeq, Serializer};
 
 /// Options of the estimates writer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -27,7 +26,9 @@ pub struct WriterOptions {
 /// Streaming CSV writer of estimates.
 #[derive(Debug)]
 pub struct EstimatesWriter<W: Write> {
-    out: csv::Writer<W>,
+    out: BufWriter<W>,
+    // The row being formatted: one `write_all` per row.
+    line: Vec<u8>,
     names: Vec<String>,
     with_theta: bool,
     options: WriterOptions,
@@ -53,13 +54,6 @@ impl EstimatesWriter<File> {
 
 fn invalid(message: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidInput, message)
-}
-
-fn csv_to_io(e: csv::Error) -> io::Error {
-    match e.into_kind() {
-        csv::ErrorKind::Io(e) => e,
-        other => io::Error::other(format!("{other:?}")),
-    }
 }
 
 impl<W: Write> EstimatesWriter<W> {
@@ -102,15 +96,13 @@ impl<W: Write> EstimatesWriter<W> {
             }
         }
         // Every field is a number, a checked name or a flag list (letters, `_`, `|`): none
-        // needs quoting, so the per-field quoting scan is skipped.
-        let mut out = csv::WriterBuilder::new()
-            .has_headers(false)
-            .quote_style(csv::QuoteStyle::Never)
-            .buffer_capacity(1 << 16)
-            .from_writer(out);
-        out.write_record(&header).map_err(csv_to_io)?;
+        // needs quoting, so rows are formatted straight into bytes.
+        let mut out = BufWriter::with_capacity(1 << 16, out);
+        out.write_all(header.join(",").as_bytes())?;
+        out.write_all(b"\n")?;
         Ok(Self {
             out,
+            line: Vec::with_capacity(64 * header.len()),
             flag_text: vec![String::new(); names.len()],
             flag_last: vec![Flags::empty(); names.len()],
             names,
@@ -159,18 +151,26 @@ impl<W: Write> EstimatesWriter<W> {
                 }
             }
         }
-        let row = Row {
-            t,
-            estimates,
-            theta: self.with_theta.then(|| theta.unwrap_or(f64::NAN)),
-            flags: if self.options.flags {
-                &self.flag_text
-            } else {
-                &[]
-            },
-            scale,
-        };
-        self.out.serialize(row).map_err(csv_to_io)
+        self.line.clear();
+        let mut number = zmij::Buffer::new();
+        push_number(&mut self.line, &mut number, t);
+        for e in estimates {
+            self.line.push(b',');
+            push_number(&mut self.line, &mut number, e.theta * scale);
+        }
+        if self.with_theta {
+            self.line.push(b',');
+            let th = theta.unwrap_or(f64::NAN);
+            push_number(&mut self.line, &mut number, th * scale);
+        }
+        if self.options.flags {
+            for f in &self.flag_text {
+                self.line.push(b',');
+                self.line.extend_from_slice(f.as_bytes());
+            }
+        }
+        self.line.push(b'\n');
+        self.out.write_all(&self.line)
     }
 
     /// Pushes the buffered rows to the underlying writer and flushes it.
@@ -190,30 +190,18 @@ fn write_flags(text: &mut String, flags: Flags) {
     let _ = write!(text, "{}", flags.names());
 }
 
-/// One output row, serialised as a sequence of fields (numbers through `ryu`).
-struct Row<'a> {
-    t: f64,
-    estimates: &'a [Estimate<f64>],
-    theta: Option<f64>,
-    flags: &'a [String],
-    scale: f64,
-}
-
-impl Serialize for Row<'_> {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let n = 1 + self.estimates.len() + usize::from(self.theta.is_some()) + self.flags.len();
-        let mut seq = s.serialize_seq(Some(n))?;
-        seq.serialize_element(&self.t)?;
-        for e in self.estimates {
-            seq.serialize_element(&(e.theta * self.scale))?;
-        }
-        if let Some(theta) = self.theta {
-            seq.serialize_element(&(theta * self.scale))?;
-        }
-        for f in self.flags {
-            seq.serialize_element(f.as_str())?;
-        }
-        seq.end()
+/// Appends `x` in the shortest form that reads back to the same `f64` (`NaN`, `inf` and
+/// `-inf` for the others, as the log reader accepts them).
+#[inline]
+fn push_number(line: &mut Vec<u8>, buf: &mut zmij::Buffer, x: f64) {
+    if x.is_finite() {
+        line.extend_from_slice(buf.format_finite(x).as_bytes());
+    } else if x.is_nan() {
+        line.extend_from_slice(b"NaN");
+    } else if x > 0.0 {
+        line.extend_from_slice(b"inf");
+    } else {
+        line.extend_from_slice(b"-inf");
     }
 }
 
