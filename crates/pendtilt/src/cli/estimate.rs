@@ -32,11 +32,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let summary = if args.output.as_os_str() == "-" {
         let mut w =
             EstimatesWriter::new(std::io::stdout().lock(), bank.names(), with_theta, wopts)?;
-        pipeline::run(&mut log, &mut bank, Some(&mut w), false, warn, |_, _| {})?
+        pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), warn, |_, _| {})?
     } else {
         let mut w = EstimatesWriter::create(&args.output, bank.names(), with_theta, wopts)
             .with_context(|| format!("cannot create {}", args.output.display()))?;
-        pipeline::run(&mut log, &mut bank, Some(&mut w), false, warn, |_, _| {})?
+        pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), warn, |_, _| {})?
     };
     if !opts.quiet {
         eprintln!(
