@@ -258,3 +258,85 @@ pub fn error_table(errors: &[(String, ErrorStats)]) -> String {
     }
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bank::BankSettings;
+    use crate::io::{ReaderOptions, WriterOptions};
+    use pendtilt_core::PendulumParams;
+    use std::io::Cursor;
+
+    /// A log of `rows` rows (more than two batches), with a bad cell at `bad` if given.
+    fn log(rows: usize, bad: Option<usize>) -> Vec<u8> {
+        let mut s = String::from("t,phi,gyro,ax,ay,theta\n");
+        for k in 0..rows {
+            let t = k as f64 * 1e-3;
+            let th = 0.2 * (1.7 * t).sin();
+            if Some(k) == bad {
+                s.push_str(&format!("{t},abc,0,0,9.8,{th}\n"));
+            } else {
+                s.push_str(&format!(
+                    "{t},{},{},{},{},{th}\n",
+                    0.9 * th,
+                    0.34 * (1.7 * t).cos(),
+                    9.8 * th.sin(),
+                    9.8 * th.cos()
+                ));
+            }
+        }
+        s.into_bytes()
+    }
+
+    /// Output bytes, rows and the error text of one pass, threaded or not.
+    fn pass(input: &[u8], parallel: bool) -> (Vec<u8>, u64, Option<String>, Option<f64>) {
+        let mut r = LogReader::new(
+            Cursor::new(input.to_vec()),
+            "mem.csv",
+            ReaderOptions::default(),
+        )
+        .unwrap();
+        let s = BankSettings::from_params(PendulumParams::default());
+        let mut bank = Bank::new(&s, inputs_of(&r), None).unwrap();
+        let mut w =
+            EstimatesWriter::new(Vec::new(), bank.names(), true, WriterOptions::default()).unwrap();
+        let mut seen = 0;
+        let res = if parallel {
+            run_parallel(&mut r, &mut bank, Some(&mut w), |_| {}, |n, _| seen = n)
+        } else {
+            run(
+                &mut r,
+                &mut bank,
+                Some(&mut w),
+                false,
+                |_| {},
+                |n, _| seen = n,
+            )
+        };
+        let (err, rms) = match res {
+            Ok(p) => (None, Some(p.errors.unwrap()[2].1.rms())),
+            Err(e) => (Some(e.to_string()), None),
+        };
+        (w.into_inner().unwrap(), seen, err, rms)
+    }
+
+    #[test]
+    fn the_parallel_pass_gives_the_same_rows_errors_and_statistics() {
+        let good = log(3 * BATCH_ROWS + 17, None);
+        let (a, b) = (pass(&good, false), pass(&good, true));
+        assert_eq!(a.1, 3 * BATCH_ROWS as u64 + 17);
+        assert_eq!(a.0, b.0);
+        assert_eq!((a.1, a.2.clone(), a.3), (b.1, b.2, b.3));
+        assert!(a.2.is_none() && a.3.unwrap().is_finite());
+
+        // A bad cell in the third batch: the rows before it are written, then the error.
+        let bad = log(3 * BATCH_ROWS, Some(2 * BATCH_ROWS + 5));
+        let (a, b) = (pass(&bad, false), pass(&bad, true));
+        assert_eq!(a.0, b.0);
+        assert_eq!(a.1, 2 * BATCH_ROWS as u64 + 5);
+        assert_eq!(a.1, b.1);
+        let msg = a.2.unwrap();
+        assert_eq!(Some(msg.clone()), b.2);
+        assert!(msg.contains("mem.csv") && msg.contains("abc"), "{msg}");
+    }
+}
