@@ -52,8 +52,9 @@ fn supervised(method: Method) -> SupervisedAlg3<f64, 1024> {
 }
 
 /// Runs 10 s at the rig's damping then 10 s at twice it; returns the gains every 0.5 s.
-/// Measured: K is within 10 % of 2a from 5.0 s (Newton, window 1 s, refit every 0.25 s) and
-/// 8.5 s (RLS, forgetting 0.9995) after the step on.
+/// Measured: K is within 10 % of 2a from 6.5 s (Newton, window 1 s, refit every 0.25 s,
+/// trust region 0.1 per refit; 5.0 s without it) and 9.0 s (RLS, forgetting 0.9995)
+/// after the step on.
 fn run(method: Method) -> Vec<(f64, Alg3Gains<f64>)> {
     let mut log = chirp(1.0, 0.0);
     log.extend(chirp(2.0, 10.0));
@@ -134,6 +135,12 @@ fn bad_settings_are_refused() {
         Some(SettingsError::Gains)
     );
     let mut set = SupervisedAlg3Settings::<f64>::default();
+    set.supervisor.max_step = f64::NAN;
+    assert_eq!(
+        SupervisedAlg3::<f64, 1024>::new(set).err(),
+        Some(SettingsError::MaxStep)
+    );
+    let mut set = SupervisedAlg3Settings::<f64>::default();
     set.supervisor.rls.forgetting = 1.5;
     assert_eq!(
         SupervisedAlg3::<f64, 1024>::new(set).err(),
@@ -177,4 +184,78 @@ fn f32_rls_supervisor_runs_and_converges_roughly() {
     let g = e.gains();
     assert!((g.k / t.a - 1.0).abs() < 0.25, "{g:?}");
     assert!((g.l / t.b - 1.0).abs() < 0.25, "{g:?}");
+}
+
+/// `reps` 10 s chirps back to back from `t_offset`, damping times `damping_scale`.
+fn chirps(damping_scale: f64, t_offset: f64, reps: usize) -> Vec<Sample<f64>> {
+    (0..reps)
+        .flat_map(|k| chirp(damping_scale, t_offset + 10.0 * k as f64))
+        .collect()
+}
+
+/// Quartiles of K / `k_ref` over the gains sampled in (t0, t1).
+fn k_quartiles(trace: &[(f64, Alg3Gains<f64>)], t0: f64, t1: f64, k_ref: f64) -> [f64; 3] {
+    let mut v: Vec<f64> = trace
+        .iter()
+        .filter(|(t, _)| *t > t0 && *t < t1)
+        .map(|(_, g)| g.k / k_ref)
+        .collect();
+    v.sort_by(f64::total_cmp);
+    [v[v.len() / 4], v[v.len() / 2], v[3 * v.len() / 4]]
+}
+
+/// The documented live defaults (`SupervisorSettings::default()`: Newton on the RMS of
+/// Eq 29, window 1000, one iteration every 2000 samples, trust region 0.1; the
+/// estimator's default differentiator at 1.3 f_n) from a start 50 % off, on 60 s of
+/// repeated 0.2-3 Hz chirps at the rig's damping, then 60 s at twice it.
+///
+/// Measured: K / a quartiles 1.29 / 1.38 / 1.43 over 30-60 s, K / 2a 1.23 / 1.26 / 1.29
+/// over 90-120 s. The defaults stay bounded and follow the doubling (median ratio 1.82)
+/// but K settles 25-40 % high, so they do NOT meet issue 4's "within 10 %"; the tuned
+/// settings of the tests above (1.7 f_n, mean square, refit every 250) do. Without the
+/// trust region (`max_step` = inf) the same run sent K to -5 and +14 times a.
+#[test]
+fn default_settings_stay_bounded_from_50_percent_off_and_follow_a_damping_step() {
+    let t = PendulumParams::<f64>::default();
+    let start = PendulumParams {
+        a: 1.5 * t.a,
+        b: 1.5 * t.b,
+        c: 0.0,
+    };
+    let set = SupervisedAlg3Settings::<f64> {
+        alg3: Alg3Settings::from_params(start),
+        ..SupervisedAlg3Settings::default()
+    };
+    assert_eq!(set.supervisor.objective, Objective::Rms);
+    assert_eq!(set.supervisor.refit_interval, 2000);
+    let mut e = SupervisedAlg3::<f64, 1024>::new(set).unwrap();
+    let mut log = chirps(1.0, 0.0, 6);
+    log.extend(chirps(2.0, 60.0, 6));
+    let mut trace = Vec::new();
+    for (k, s) in log.iter().enumerate() {
+        e.update_supervised(s);
+        if k % 500 == 499 {
+            trace.push((s.t, e.gains()));
+        }
+    }
+    let before = k_quartiles(&trace, 30.0, 60.0, t.a);
+    let after = k_quartiles(&trace, 90.0, 120.0, t.a);
+    eprintln!("defaults: K / a quartiles {before:.3?} (30-60 s), {after:.3?} (90-120 s)");
+    // Bounded: every sampled K from 30 s on within a factor 2 of the truth.
+    for (ts, g) in trace.iter().filter(|(ts, _)| *ts > 30.0) {
+        let truth = if *ts < 60.0 { t.a } else { 2.0 * t.a };
+        assert!(
+            (0.5..2.0).contains(&(g.k / truth)),
+            "t = {ts}: K / K_true = {}",
+            g.k / truth
+        );
+    }
+    // Near the truth (within the measured bias, +-50 %), and the doubling is followed.
+    assert!(before[0] > 0.5 && before[2] < 1.5, "{before:?}");
+    assert!(after[0] > 1.0 && after[2] < 3.0, "{after:?}");
+    let ratio = after[1] / before[1];
+    assert!(
+        (1.6..2.4).contains(&ratio),
+        "K after / before the step: {ratio}"
+    );
 }
