@@ -33,6 +33,9 @@
 //! # prefilter_hz = 5.0  # low-pass on ax, ay before atan2 [Hz]; default off
 //! # full_scale = 78.5   # accelerometer full scale [m/s^2]; default unknown
 //!
+//! [gyro]                # the rate gyro (alg2, alg3 and every kf_*)
+//! # full_scale = 8.73   # gyro full scale [rad/s]; default unknown
+//!
 //! [alg1]                # Eq (20)
 //! phi = "raw"           # or "filtered"
 //!
@@ -74,7 +77,7 @@ use std::path::Path;
 mod estimators;
 
 pub use estimators::{
-    AccelConfig, Alg1Config, Alg2Config, Alg3Config, DifferentiatorConfig, PhiChoice,
+    AccelConfig, Alg1Config, Alg2Config, Alg3Config, DifferentiatorConfig, GyroConfig, PhiChoice,
     ResponseChoice, ThetaDdChoice, DEFAULT_GD_WINDOW,
 };
 
@@ -268,6 +271,8 @@ pub struct RigConfig {
     pub differentiator: DifferentiatorConfig,
     /// The `[accel]` table (Eq 1).
     pub accel: AccelConfig,
+    /// The `[gyro]` table (the rate gyro's full scale).
+    pub gyro: GyroConfig,
     /// The `[alg1]` table (Eq 20).
     pub alg1: Alg1Config,
     /// The `[alg2]` table (Eqs 21-22).
@@ -350,6 +355,7 @@ impl RigConfig {
             r_pendulum: k.r_pendulum,
             p0_angle: k.p0_angle,
             p0_bias: k.p0_bias,
+            gyro_full_scale: self.gyro.full_scale,
         }
     }
 
@@ -380,6 +386,7 @@ impl RigConfig {
             theta_dd: estimators::theta_dd(self.alg2.theta_dd, self.alg2.window),
             pivot_offset: self.alg2.pivot_offset,
             delay_compensation: self.alg2.delay_compensation,
+            gyro_full_scale: self.gyro.full_scale,
             ..Alg2Settings::from_params(self.params())
         }
     }
@@ -393,6 +400,7 @@ impl RigConfig {
             differentiator: self.diff_settings(),
             phi: self.alg3.phi.into(),
             theta_dd: estimators::theta_dd(self.alg3.theta_dd, self.alg3.window),
+            gyro_full_scale: self.gyro.full_scale,
             ..Alg3Settings::from_params(params)
         }
     }
@@ -425,6 +433,7 @@ impl RigConfig {
             kalman: self.kalman,
             differentiator: self.differentiator,
             accel: self.accel,
+            gyro: self.gyro,
             alg1: self.alg1,
             alg2: self.alg2,
             alg3: self.alg3,
@@ -489,11 +498,12 @@ fn key_comment(table: &str, key: &str) -> Option<&'static str> {
     })
 }
 
-const TABLES: [&str; 7] = [
+const TABLES: [&str; 8] = [
     "pendulum",
     "kalman",
     "differentiator",
     "accel",
+    "gyro",
     "alg1",
     "alg2",
     "alg3",
@@ -552,6 +562,7 @@ struct RawFile {
     kalman: KalmanConfig,
     differentiator: DifferentiatorConfig,
     accel: AccelConfig,
+    gyro: GyroConfig,
     alg1: Alg1Config,
     alg2: Alg2Config,
     alg3: Alg3Config,
@@ -892,6 +903,7 @@ impl<'a> Parser<'a> {
             kalman: self.section("kalman")?,
             differentiator: self.section("differentiator")?,
             accel: self.section("accel")?,
+            gyro: self.section("gyro")?,
             alg1: self.section("alg1")?,
             alg2: self.section("alg2")?,
             alg3: self.section("alg3")?,

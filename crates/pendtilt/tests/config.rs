@@ -338,6 +338,7 @@ fn estimator_tables_map_onto_core_settings() {
     let text = "[pendulum]\na = 0.04\nb = 0.005\n\
         [differentiator]\nresponse = \"bessel\"\ncutoff_hz = 3\n\
         [accel]\nprefilter_hz = 5.0\nfull_scale = 78.5\n\
+        [gyro]\nfull_scale = 8.7\n\
         [alg1]\nphi = \"filtered\"\n\
         [alg2]\ntheta_dd = \"window\"\nwindow = 0.03\npivot_offset = true\n\
         [alg3]\nk = 0.1\nn = 0.002\n\
@@ -359,6 +360,10 @@ fn estimator_tables_map_onto_core_settings() {
     assert_eq!((g.k, g.l, g.m, g.n), (0.1, 0.005, -0.005, 0.002));
     assert_eq!(cfg.alg3_settings().theta_dd, ThetaDdSource::Matched);
     assert_eq!(cfg.kalman_settings().r_pendulum, 0.002);
+    // The gyro's full scale reaches every estimator that reads the gyro.
+    assert_eq!(s2.gyro_full_scale, Some(8.7));
+    assert_eq!(cfg.alg3_settings().gyro_full_scale, Some(8.7));
+    assert_eq!(cfg.kalman_settings().gyro_full_scale, Some(8.7));
     // And the whole file round-trips.
     let back = RigConfig::from_toml_str(&cfg.to_toml_string(), "again.toml").unwrap();
     assert_eq!(back, cfg, "{}", cfg.to_toml_string());
@@ -436,6 +441,15 @@ fn estimator_table_errors_name_the_key() {
         Some(2),
         "> 0",
     );
+    impossible(
+        "[gyro]\n\nfull_scale = 0\n",
+        "gyro.full_scale",
+        Some(3),
+        "> 0 [rad/s]",
+    );
+    let e = err("[gyro]\nrange = 8.7\n");
+    assert!(matches!(*e.kind, ConfigErrorKind::UnknownKey { .. }), "{e}");
+    assert!(e.to_string().contains("full_scale"), "{e}");
 }
 
 mod never_panics {

@@ -32,6 +32,7 @@ impl<T: Real> Alg1Settings<T> {
             differentiator: self.differentiator,
             phi: self.phi,
             theta_dd: ThetaDdSource::default(),
+            gyro_full_scale: None,
         }
     }
 
@@ -56,12 +57,7 @@ impl<T: Real> Alg1<T> {
     /// A new estimator.
     pub fn new(settings: Alg1Settings<T>) -> Self {
         Self {
-            inv: Inverter::new(
-                &settings.params,
-                &settings.differentiator,
-                settings.phi,
-                None,
-            ),
+            inv: Inverter::new(&settings.front_end(), false),
             settings,
         }
     }

@@ -20,6 +20,11 @@ pub struct Alg2Settings<T> {
     pub phi: PhiSource,
     /// Where theta'' comes from. Default [`ThetaDdSource::Matched`].
     pub theta_dd: ThetaDdSource<T>,
+    /// Gyro full scale [rad/s]: a reading at or beyond it is flagged
+    /// [`Flags::SATURATED`](crate::Flags::SATURATED); it is still used as the rate (the
+    /// closest bound to the truth), but theta'' is held at its last good value rather than
+    /// read off the clipped plateau as zero. Default `None` (unknown: no check).
+    pub gyro_full_scale: Option<T>,
     /// Add `c (theta'' cos phi - theta'^2 sin phi)`, c = l12 / g (MODEL.md section 3).
     /// Default false (the paper's Eq 21).
     pub pivot_offset: bool,
@@ -47,6 +52,7 @@ impl<T: Real> Alg2Settings<T> {
             differentiator: self.differentiator,
             phi: self.phi,
             theta_dd: self.theta_dd,
+            gyro_full_scale: self.gyro_full_scale,
         }
     }
 
@@ -66,6 +72,7 @@ impl<T: Real> Alg2Settings<T> {
             differentiator: DiffSettings::default(),
             phi: PhiSource::default(),
             theta_dd: ThetaDdSource::default(),
+            gyro_full_scale: None,
             pivot_offset: false,
             delay_compensation: false,
         }
@@ -83,12 +90,7 @@ impl<T: Real, const W: usize> Alg2<T, W> {
     /// A new estimator.
     pub fn new(settings: Alg2Settings<T>) -> Self {
         Self {
-            inv: Inverter::new(
-                &settings.params,
-                &settings.differentiator,
-                settings.phi,
-                Some(settings.theta_dd),
-            ),
+            inv: Inverter::new(&settings.front_end(), true),
             settings,
         }
     }

@@ -22,6 +22,11 @@ pub struct Alg3Settings<T> {
     pub phi: PhiSource,
     /// Where G_d comes from. Default [`ThetaDdSource::Matched`].
     pub theta_dd: ThetaDdSource<T>,
+    /// Gyro full scale [rad/s]: a reading at or beyond it is flagged
+    /// [`Flags::SATURATED`](crate::Flags::SATURATED); it is still used as the rate (the
+    /// closest bound to the truth), but theta'' is held at its last good value rather than
+    /// read off the clipped plateau as zero. Default `None` (unknown: no check).
+    pub gyro_full_scale: Option<T>,
 }
 
 impl<T: Real> Default for Alg3Settings<T> {
@@ -38,6 +43,7 @@ impl<T: Real> Alg3Settings<T> {
             differentiator: self.differentiator,
             phi: self.phi,
             theta_dd: self.theta_dd,
+            gyro_full_scale: self.gyro_full_scale,
         }
     }
 
@@ -49,6 +55,7 @@ impl<T: Real> Alg3Settings<T> {
             differentiator: DiffSettings::default(),
             phi: PhiSource::default(),
             theta_dd: ThetaDdSource::default(),
+            gyro_full_scale: None,
         }
     }
 }
@@ -82,12 +89,7 @@ impl<T: Real, const W: usize> Alg3<T, W> {
     /// A new estimator.
     pub fn new(settings: Alg3Settings<T>) -> Self {
         Self {
-            inv: Inverter::new(
-                &settings.params,
-                &settings.differentiator,
-                settings.phi,
-                Some(settings.theta_dd),
-            ),
+            inv: Inverter::new(&settings.front_end(), true),
             settings,
         }
     }

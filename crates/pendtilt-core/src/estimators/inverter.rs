@@ -3,9 +3,10 @@
 //! [`Kinematics`], is what every inversion equation ([`super::shared::Equation`]) reads.
 use super::encoder::{is_reading, Unwrapper};
 use super::shared::Equation;
-use super::theta_dd::{ThetaDd, ThetaDdSource};
-use crate::filters::diff::{DiffSettings, SmoothingDifferentiator};
-use crate::{Estimate, Flags, PendulumParams, Real, Sample};
+use super::shared::FrontEndSettings;
+use super::theta_dd::ThetaDd;
+use crate::filters::diff::SmoothingDifferentiator;
+use crate::{Estimate, Flags, Real, Sample};
 
 /// Which phi enters `theta = phi + asin(...)`.
 ///
@@ -55,6 +56,7 @@ pub(crate) struct Inverter<T: Real, const W: usize, const C: usize = 2> {
     // carry the same delay by construction.
     diff: SmoothingDifferentiator<T, C>,
     gyro: Option<ThetaDd<T, W>>,
+    gyro_full_scale: Option<T>,
     gyro_seen: bool,
     t_prev: Option<T>,
     encoder: Unwrapper<T>,
@@ -64,17 +66,17 @@ pub(crate) struct Inverter<T: Real, const W: usize, const C: usize = 2> {
 }
 
 impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
-    pub fn new(
-        params: &PendulumParams<T>,
-        diff: &DiffSettings<T>,
-        phi_source: PhiSource,
-        theta_dd: Option<ThetaDdSource<T>>,
-    ) -> Self {
-        let d = SmoothingDifferentiator::new(diff.response, diff.cutoff_hz(params));
+    /// The front end of `settings`; `with_gyro` false for Algorithm 1 (no theta'').
+    pub fn new(settings: &FrontEndSettings<T>, with_gyro: bool) -> Self {
+        let diff = &settings.differentiator;
+        let d = SmoothingDifferentiator::new(diff.response, diff.cutoff_hz(&settings.params));
         Self {
             delay: diff.response.dc_delay(d.cutoff_rad_s()),
-            phi_source,
-            gyro: theta_dd.map(ThetaDd::new),
+            phi_source: settings.phi,
+            gyro: with_gyro.then(|| ThetaDd::new(settings.theta_dd)),
+            gyro_full_scale: settings
+                .gyro_full_scale
+                .filter(|f| crate::real::is_positive(*f)),
             gyro_seen: false,
             diff: d,
             t_prev: None,
@@ -131,8 +133,13 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
         }
         self.t_prev = Some(s.t);
         // A missing gyro sample is held (zero-order hold) so the two signals stay in step.
-        let gyro_ok = self.gyro.is_some() && s.gyro.is_finite();
-        if gyro_ok {
+        // A saturated one still enters as the rate (its sign is right and its size the
+        // closest bound to the truth), but the derivative of its clipped plateau is not
+        // theta'': theta'' is held instead.
+        let reading = self.gyro.is_some() && s.gyro.is_finite();
+        let saturated = reading && self.gyro_full_scale.is_some_and(|fs| s.gyro.abs() >= fs);
+        let gyro_ok = reading && !saturated;
+        if reading {
             self.last_gyro = s.gyro;
             if !self.gyro_seen && !first {
                 // The gyro starts later than phi: start its signal at rest on it.
@@ -163,7 +170,11 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
                 }
             } else {
                 theta_dd = g.last();
-                gyro_flags |= Flags::SAMPLE_MISSING;
+                gyro_flags |= if saturated {
+                    Flags::SATURATED
+                } else {
+                    Flags::SAMPLE_MISSING
+                };
             }
         }
         let phi_used = match self.phi_source {

@@ -97,6 +97,11 @@ pub struct FrontEndSettings<T> {
     pub phi: PhiSource,
     /// Where theta'' comes from. Default [`ThetaDdSource::Matched`].
     pub theta_dd: ThetaDdSource<T>,
+    /// Gyro full scale [rad/s]: a reading at or beyond it is flagged
+    /// [`Flags::SATURATED`](crate::Flags::SATURATED); it is still used as the rate (the
+    /// closest bound to the truth), but theta'' is held at its last good value rather than
+    /// read off the clipped plateau as zero. Default `None` (unknown: no check).
+    pub gyro_full_scale: Option<T>,
 }
 
 impl<T: Real> FrontEndSettings<T> {
@@ -107,6 +112,7 @@ impl<T: Real> FrontEndSettings<T> {
             differentiator: DiffSettings::default(),
             phi: PhiSource::default(),
             theta_dd: ThetaDdSource::default(),
+            gyro_full_scale: None,
         }
     }
 }
@@ -134,12 +140,7 @@ impl<T: Real, const W: usize> SharedFrontEnd<T, W> {
         eqs[..equations.len()].copy_from_slice(equations);
         Some(Self {
             settings: *settings,
-            front: Inverter::new(
-                &settings.params,
-                &settings.differentiator,
-                settings.phi,
-                Some(settings.theta_dd),
-            ),
+            front: Inverter::new(settings, true),
             equations: eqs,
             last: [T::nan(); MAX_EQUATIONS],
             len: equations.len(),

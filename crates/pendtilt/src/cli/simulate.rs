@@ -252,7 +252,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     .with_context(|| format!("cannot write the log {}", log.display()))?;
     bar.finish_and_clear();
 
-    std::fs::write(&rig_path, sim::rig_toml(&scenario.physical())?)
+    std::fs::write(&rig_path, scenario.rig()?.to_toml_string())
         .with_context(|| format!("cannot write the rig TOML {}", rig_path.display()))?;
     std::fs::write(&scen_path, scenario_text)
         .with_context(|| format!("cannot write the scenario TOML {}", scen_path.display()))?;

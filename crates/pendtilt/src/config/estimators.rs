@@ -124,6 +124,17 @@ impl AccelConfig {
     }
 }
 
+/// The `[gyro]` table: the rate gyro that alg2, alg3 and the Kalman filters read.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GyroConfig {
+    /// Gyro full scale \[rad/s\], > 0: readings at or beyond it are flagged `saturated`;
+    /// alg2 and alg3 hold the last good rate, the Kalman filters lean on their
+    /// measurement. Default: unset (unknown).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub full_scale: Option<f64>,
+}
+
 /// The `[alg1]` table: Eq (20).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -296,6 +307,12 @@ pub(super) fn check_estimators(e: &super::RigConfig, issues: &mut Vec<Issue>) {
     );
     positive(
         issues,
+        "gyro.full_scale",
+        e.gyro.full_scale,
+        "the full scale must be > 0 [rad/s] (leave it out when unknown)",
+    );
+    positive(
+        issues,
         "alg2.window",
         Some(e.alg2.window),
         "the Eq (22) window must be > 0 [s]",
@@ -326,6 +343,7 @@ pub(super) fn key_comment(table: &str, key: &str) -> Option<&'static str> {
         ("differentiator", "cutoff_times_natural") => "cutoff / natural frequency",
         ("accel", "prefilter_hz") => "low-pass on ax, ay before atan2 [Hz]",
         ("accel", "full_scale") => "accelerometer full scale [m/s^2]",
+        ("gyro", "full_scale") => "gyro full scale [rad/s]",
         ("alg1" | "alg2" | "alg3", "phi") => "raw | filtered",
         ("alg2" | "alg3", "theta_dd") => "matched | window (Eq 22)",
         ("alg2" | "alg3", "window") => "Eq (22) window [s]",

@@ -249,6 +249,20 @@ impl Scenario {
         self.pendulum.into()
     }
 
+    /// The rig file for this scenario's logs: the pendulum in physical form and the
+    /// sensors' full scales (`[accel]`, `[gyro]`) when they saturate, so that `estimate`
+    /// flags saturated samples.
+    pub fn rig(&self) -> Result<RigConfig, SimError> {
+        let mut rig = RigConfig::from_physical(self.physical()).map_err(|e| SimError::Config {
+            origin: "rig".into(),
+            message: e.to_string(),
+        })?;
+        let fs = |x: f64| (x > 0.0).then_some(x);
+        rig.accel.full_scale = fs(self.sensors.accel.full_scale);
+        rig.gyro.full_scale = fs(self.sensors.gyro.full_scale);
+        Ok(rig)
+    }
+
     /// Number of log rows: round(duration * rate).
     pub fn rows(&self) -> u64 {
         (self.duration * self.rate).round() as u64
