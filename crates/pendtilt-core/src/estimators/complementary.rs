@@ -10,6 +10,7 @@
 //! low-passed before atan2 (atan2 of raw samples rectifies vibration into a bias,
 //! MODEL.md section 4).
 use super::equations::accel_angle;
+use super::input_hold::{InputHold, Step};
 use crate::filters::biquad::LowPass2;
 use crate::{Estimate, Estimator, Flags, Real, Sample};
 
@@ -44,9 +45,8 @@ pub struct Complementary<T: Real> {
     settings: ComplementarySettings<T>,
     lx: LowPass2<T>,
     ly: LowPass2<T>,
-    t_prev: Option<T>,
+    input: InputHold<T>,
     theta: T,
-    last_gyro: T,
 }
 
 impl<T: Real> Complementary<T> {
@@ -57,9 +57,8 @@ impl<T: Real> Complementary<T> {
             settings,
             lx: LowPass2::new(f),
             ly: LowPass2::new(f),
-            t_prev: None,
+            input: InputHold::new(),
             theta: T::nan(),
-            last_gyro: T::zero(),
         }
     }
 
@@ -89,39 +88,32 @@ impl<T: Real> Complementary<T> {
 impl<T: Real> Estimator<T> for Complementary<T> {
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
-        if !s.t.is_finite() || self.t_prev.is_some_and(|tp| s.t <= tp) {
-            return Estimate {
-                theta: self.theta,
-                flags: Flags::BAD_TIME_STEP,
-            };
-        }
-        let mut flags = Flags::empty();
-        let gyro = if s.gyro.is_finite() {
-            self.last_gyro = s.gyro;
-            s.gyro
-        } else {
-            flags |= Flags::SAMPLE_MISSING;
-            self.last_gyro
-        };
-        let Some(tp) = self.t_prev else {
-            // Start on the first accelerometer angle.
-            return match self.accel(s, T::one()) {
-                Some(a) => {
-                    self.theta = a;
-                    self.t_prev = Some(s.t);
-                    Estimate {
-                        theta: a,
-                        flags: flags | Flags::INITIALISING,
-                    }
+        let (dt, gyro, mut flags) = match self.input.begin(s) {
+            Step::BadTime => {
+                return Estimate {
+                    theta: self.theta,
+                    flags: Flags::BAD_TIME_STEP,
                 }
-                None => Estimate {
-                    theta: T::nan(),
-                    flags: flags | Flags::INITIALISING | Flags::SAMPLE_MISSING,
-                },
-            };
+            }
+            // Start on the first accelerometer angle.
+            Step::First { flags, .. } => {
+                return match self.accel(s, T::one()) {
+                    Some(a) => {
+                        self.theta = a;
+                        self.input.started(s.t);
+                        Estimate {
+                            theta: a,
+                            flags: flags | Flags::INITIALISING,
+                        }
+                    }
+                    None => Estimate {
+                        theta: T::nan(),
+                        flags: flags | Flags::INITIALISING | Flags::SAMPLE_MISSING,
+                    },
+                };
+            }
+            Step::Next { dt, gyro, flags } => (dt, gyro, flags),
         };
-        let dt = s.t - tp;
-        self.t_prev = Some(s.t);
         let mut predicted = self.theta + gyro * dt;
         if !predicted.is_finite() {
             // A rate near the type's largest value over a long step overflows (found by

@@ -25,6 +25,7 @@ pub mod alg3;
 pub mod complementary;
 mod encoder;
 pub mod equations;
+pub mod input_hold;
 mod inverter;
 pub mod pendulum;
 pub mod shared;

@@ -9,6 +9,7 @@
 use ahrs::Ahrs;
 use nalgebra_ahrs::{UnitQuaternion, Vector3};
 use pendtilt_core::estimators::equations::accel_angle;
+use pendtilt_core::estimators::input_hold::{InputHold, Step};
 use pendtilt_core::{Estimate, Estimator, Flags, Sample};
 
 /// The part of an `ahrs` filter the planar wrapper needs.
@@ -54,9 +55,8 @@ pub struct Planar<F> {
     make: fn(f64, &[f64; 2]) -> F,
     gains: [f64; 2],
     filter: Option<F>,
-    t_prev: Option<f64>,
+    input: InputHold<f64>,
     last: f64,
-    last_gyro: f64,
 }
 
 impl<F: PlanarAhrs> Planar<F> {
@@ -66,9 +66,8 @@ impl<F: PlanarAhrs> Planar<F> {
             make,
             gains,
             filter: None,
-            t_prev: None,
+            input: InputHold::new(),
             last: f64::NAN,
-            last_gyro: 0.0,
         }
     }
 
@@ -80,36 +79,31 @@ impl<F: PlanarAhrs> Planar<F> {
 
 impl<F: PlanarAhrs> Estimator<f64> for Planar<F> {
     fn update(&mut self, s: &Sample<f64>) -> Estimate<f64> {
-        if !s.t.is_finite() || self.t_prev.is_some_and(|tp| s.t <= tp) {
-            return Estimate {
-                theta: self.last,
-                flags: Flags::BAD_TIME_STEP,
-            };
-        }
-        let mut flags = Flags::empty();
-        let gyro = if s.gyro.is_finite() {
-            self.last_gyro = s.gyro;
-            s.gyro
-        } else {
-            flags |= Flags::SAMPLE_MISSING;
-            self.last_gyro
-        };
         let accel_ok = s.ax.is_finite() && s.ay.is_finite() && (s.ax != 0.0 || s.ay != 0.0);
-        let Some(tp) = self.t_prev else {
-            if !accel_ok {
+        let (dt, gyro, mut flags) = match self.input.begin(s) {
+            Step::BadTime => {
                 return Estimate {
-                    theta: f64::NAN,
-                    flags: flags | Flags::INITIALISING | Flags::SAMPLE_MISSING,
+                    theta: self.last,
+                    flags: Flags::BAD_TIME_STEP,
+                }
+            }
+            Step::First { flags, .. } => {
+                if !accel_ok {
+                    return Estimate {
+                        theta: f64::NAN,
+                        flags: flags | Flags::INITIALISING | Flags::SAMPLE_MISSING,
+                    };
+                }
+                let th = accel_angle(s.ax, s.ay);
+                self.filter = Some((self.make)(th, &self.gains));
+                self.input.started(s.t);
+                self.last = th;
+                return Estimate {
+                    theta: th,
+                    flags: flags | Flags::INITIALISING,
                 };
             }
-            let th = accel_angle(s.ax, s.ay);
-            self.filter = Some((self.make)(th, &self.gains));
-            self.t_prev = Some(s.t);
-            self.last = th;
-            return Estimate {
-                theta: th,
-                flags: flags | Flags::INITIALISING,
-            };
+            Step::Next { dt, gyro, flags } => (dt, gyro, flags),
         };
         let Some(f) = self.filter.as_mut() else {
             return Estimate {
@@ -117,8 +111,7 @@ impl<F: PlanarAhrs> Estimator<f64> for Planar<F> {
                 flags: Flags::INITIALISING,
             };
         };
-        f.set_period(s.t - tp);
-        self.t_prev = Some(s.t);
+        f.set_period(dt);
         let g = Vector3::new(gyro, 0.0, 0.0);
         if accel_ok {
             let a = Vector3::new(0.0, s.ax, s.ay);
@@ -144,9 +137,8 @@ impl<F: PlanarAhrs> Estimator<f64> for Planar<F> {
 
     fn reset(&mut self) {
         self.filter = None;
-        self.t_prev = None;
+        self.input = InputHold::new();
         self.last = f64::NAN;
-        self.last_gyro = 0.0;
     }
 }
 
