@@ -70,14 +70,6 @@ struct Runs {
     accel: Lock,
 }
 
-/// What one gated measurement did.
-enum Gated {
-    /// Applied, maybe after re-acquisition.
-    Applied,
-    /// Rejected by the gate, or not usable.
-    Skipped,
-}
-
 impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
     /// A new estimator.
     pub fn new(settings: ModelSettings<T>) -> Self {
@@ -165,7 +157,8 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
     /// Applies one measurement through `gate` ([`Lock`]). After
     /// [`ModelSettings::reacquire_after`] consecutive rejections, `v v^T` is added to the
     /// covariance for each `v` of `inflation` and the gate is held open for as many
-    /// samples (as after a gap).
+    /// samples (as after a gap). Returns [`Flags::MEASUREMENT_SKIPPED`] if it was not
+    /// applied.
     fn gated(
         filter: &mut F,
         settings: &ModelSettings<T>,
@@ -173,7 +166,7 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
         lock: &mut Lock,
         inflation: impl FnOnce(&F) -> [State<T>; 2],
         apply: impl FnOnce(&mut F, Gate<T>) -> Result<(), Rejected>,
-    ) -> Gated {
+    ) -> Flags {
         let n = settings.reacquire_after.max(1);
         let gate = match *lock {
             Lock::Tracking(run) if run >= n => {
@@ -192,15 +185,15 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
                     Lock::Open(k) if k > 1 => Lock::Open(k - 1),
                     _ => Lock::Tracking(0),
                 };
-                Gated::Applied
+                Flags::empty()
             }
             Err(Rejected::Outlier) => {
                 if let Lock::Tracking(run) = lock {
                     *run += 1;
                 }
-                Gated::Skipped
+                Flags::MEASUREMENT_SKIPPED
             }
-            Err(_) => Gated::Skipped,
+            Err(_) => Flags::MEASUREMENT_SKIPPED,
         }
     }
 
@@ -268,7 +261,7 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
         // Gyro: theta' + bias.
         if s.gyro.is_finite() {
             let g = s.gyro;
-            let done = Self::gated(
+            flags |= Self::gated(
                 filter,
                 st,
                 Gate {
@@ -286,9 +279,6 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
                 },
                 |f, gate| f.update_unit(&Gyro::<T>::INDICES, g, r_gyro, gate),
             );
-            if let Gated::Skipped = done {
-                flags |= Flags::MEASUREMENT_SKIPPED;
-            }
         } else {
             self.runs.gyro = Lock::Open(st.reacquire_after.max(1));
             flags |= Flags::SAMPLE_MISSING | Flags::MEASUREMENT_SKIPPED;
@@ -301,7 +291,7 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
             if (z - s.phi).abs() > T::lit(1e-9) {
                 flags |= Flags::ENCODER_WRAPPED;
             }
-            let done = Self::gated(
+            flags |= Self::gated(
                 filter,
                 st,
                 gate,
@@ -314,9 +304,6 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
                 },
                 |f, gate| f.update_unit(&Encoder::<T>::INDICES, z, self.r_phi, gate),
             );
-            if let Gated::Skipped = done {
-                flags |= Flags::MEASUREMENT_SKIPPED;
-            }
         } else {
             self.runs.phi = Lock::Open(st.reacquire_after.max(1));
             flags |= Flags::SAMPLE_MISSING | Flags::MEASUREMENT_SKIPPED;
@@ -325,7 +312,7 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
             if s.ax.is_finite() && s.ay.is_finite() {
                 let acc = &self.accel;
                 let za = [s.ax, s.ay];
-                let done = Self::gated(
+                flags |= Self::gated(
                     filter,
                     st,
                     gate,
@@ -339,9 +326,6 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
                     },
                     |f, gate| f.update_accel(acc, za, gate),
                 );
-                if let Gated::Skipped = done {
-                    flags |= Flags::MEASUREMENT_SKIPPED;
-                }
             } else {
                 self.runs.accel = Lock::Open(st.reacquire_after.max(1));
                 flags |= Flags::MEASUREMENT_SKIPPED;

@@ -68,19 +68,7 @@ pub fn scalar_update<T: Real>(
     }
     let v = *p * h;
     let s = h.dot(&v) + r;
-    if !s.is_finite() {
-        return Err(Rejected::NotFinite);
-    }
-    if s <= T::zero() {
-        return Err(Rejected::NotPositive);
-    }
-    if gate.rejects(y, s) {
-        return Err(Rejected::Outlier);
-    }
-    let k = v / s;
-    *x += k * y;
-    rank_one_downdate(p, &k, &v);
-    Ok(s)
+    apply_gain(x, p, &v, y, s, gate)
 }
 
 /// [`scalar_update`] for a row of ones at the indices `idx` (and zeros elsewhere): `P h`
@@ -108,6 +96,20 @@ pub fn unit_update<T: Real>(
     for &i in idx.iter().filter(|&&i| i < N) {
         s += v[i];
     }
+    apply_gain(x, p, &v, y, s, gate)
+}
+
+/// The end both updates share: with `v = P h` and `s = h P h + r`, checks `s`, gates `y`
+/// and applies the gain `v / s`.
+#[inline]
+fn apply_gain<T: Real>(
+    x: &mut State<T>,
+    p: &mut Cov<T>,
+    v: &State<T>,
+    y: T,
+    s: T,
+    gate: Gate<T>,
+) -> Result<T, Rejected> {
     if !s.is_finite() {
         return Err(Rejected::NotFinite);
     }
@@ -119,7 +121,7 @@ pub fn unit_update<T: Real>(
     }
     let k = v / s;
     *x += k * y;
-    rank_one_downdate(p, &k, &v);
+    rank_one_downdate(p, &k, v);
     Ok(s)
 }
 
