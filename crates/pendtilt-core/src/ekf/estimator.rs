@@ -159,6 +159,7 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
     /// covariance for each `v` of `inflation` and the gate is held open for as many
     /// samples (as after a gap). Returns [`Flags::MEASUREMENT_SKIPPED`] if it was not
     /// applied.
+    #[inline(always)]
     fn gated(
         filter: &mut F,
         settings: &ModelSettings<T>,
