@@ -1,13 +1,10 @@
 //! `pendtilt estimate` end to end: a small simulated log, the same log with other column
 //! names and in degrees, a log missing the gyro, and bad input.
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
+mod common;
+use common::bin;
 use pendtilt::sim::{simulate, Scenario};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_pendtilt"))
-}
 
 /// Writes a 3 s scooter log as `t,phi,gyro,ax,ay,theta` (or renamed / in degrees).
 fn write_log(path: &Path, names: [&str; 6], degrees: bool, drop_gyro: bool) {

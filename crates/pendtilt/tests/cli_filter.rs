@@ -2,19 +2,11 @@
 
 use pendtilt_core::filters::fir::{design_lowpass, magnitude_response, FirSlice, Window};
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
-fn pendtilt(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pendtilt"))
-        .args(args)
-        .output()
-        .expect("run the pendtilt binary")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+mod common;
+use common::{pendtilt, run_on, s, stderr, write};
 
 /// Asserts a clean failure: exit code 1, an `error:` message, no panic.
 fn assert_error(o: &Output) -> String {
@@ -23,12 +15,6 @@ fn assert_error(o: &Output) -> String {
     assert!(err.starts_with("error: "), "stderr: {err}");
     assert!(!err.contains("panicked"), "stderr: {err}");
     err
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
 }
 
 /// `t,a,label,b` at `rate` Hz: a = slow sine + 80 Hz vibration, b = ramp with noise-like
@@ -100,12 +86,7 @@ fn default_filters_numeric_columns_like_the_core_filter() {
     let (text, t, a, b) = fixture(300, 1000.0);
     let input = write(dir.path(), "in.csv", &text);
     let out = dir.path().join("out.csv");
-    let o = pendtilt(&[
-        "filter",
-        input.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_on("filter", &input, &[], s(&out));
     assert!(o.status.success(), "stderr: {}", stderr(&o));
     assert!(stderr(&o).contains("on: a, b"), "summary: {}", stderr(&o));
 
@@ -142,20 +123,21 @@ fn columns_option_selects_what_is_filtered() {
     let (text, t, _a, b) = fixture(120, 500.0);
     let input = write(dir.path(), "in.csv", &text);
     let out = dir.path().join("out.csv");
-    let o = pendtilt(&[
+    let o = run_on(
         "filter",
-        input.to_str().unwrap(),
-        "--columns",
-        "b",
-        "--order",
-        "10",
-        "--cutoff",
-        "40",
-        "--window",
-        "hann",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+        &input,
+        &[
+            "--columns",
+            "b",
+            "--order",
+            "10",
+            "--cutoff",
+            "40",
+            "--window",
+            "hann",
+        ],
+        s(&out),
+    );
     assert!(o.status.success(), "stderr: {}", stderr(&o));
     let (_, rows) = read_csv(&out);
     assert_eq!(rows.len(), 120);
@@ -173,14 +155,7 @@ fn missing_column_is_an_error_naming_it() {
     let (text, ..) = fixture(50, 1000.0);
     let input = write(dir.path(), "in.csv", &text);
     let out = dir.path().join("out.csv");
-    let o = pendtilt(&[
-        "filter",
-        input.to_str().unwrap(),
-        "--columns",
-        "a,phi_deg",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_on("filter", &input, &["--columns", "a,phi_deg"], s(&out));
     let err = assert_error(&o);
     assert!(err.contains("'phi_deg'"), "{err}");
     assert!(err.contains("in.csv"), "{err}");
@@ -193,23 +168,11 @@ fn missing_time_column_is_an_error() {
     let dir = tempfile::tempdir().unwrap();
     let input = write(dir.path(), "in.csv", "time,a\n0,1\n0.001,2\n");
     let out = dir.path().join("out.csv");
-    let o = pendtilt(&[
-        "filter",
-        input.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_on("filter", &input, &[], s(&out));
     let err = assert_error(&o);
     assert!(err.contains("no time column 't'"), "{err}");
     // ...and --time-column maps it.
-    let o = pendtilt(&[
-        "filter",
-        input.to_str().unwrap(),
-        "--time-column",
-        "time",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_on("filter", &input, &["--time-column", "time"], s(&out));
     assert!(o.status.success(), "stderr: {}", stderr(&o));
     assert_eq!(read_csv(&out).1.len(), 2);
 }
@@ -225,12 +188,7 @@ fn non_numeric_cell_names_line_and_column() {
     lines[6] = cells.join(",");
     let input = write(dir.path(), "bad.csv", &(lines.join("\n") + "\n"));
     let out = dir.path().join("out.csv");
-    let o = pendtilt(&[
-        "filter",
-        input.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_on("filter", &input, &[], s(&out));
     let err = assert_error(&o);
     assert!(err.contains("bad.csv:7:"), "{err}");
     assert!(err.contains("column 'b' (field 4)"), "{err}");
@@ -244,15 +202,7 @@ fn bad_cutoff_is_an_error() {
     let (text, ..) = fixture(60, 1000.0);
     let input = write(dir.path(), "in.csv", &text);
     let out = dir.path().join("out.csv");
-    let run = |cutoff: &str| {
-        pendtilt(&[
-            "filter",
-            input.to_str().unwrap(),
-            &format!("--cutoff={cutoff}"),
-            "-o",
-            out.to_str().unwrap(),
-        ])
-    };
+    let run = |cutoff: &str| run_on("filter", &input, &[&format!("--cutoff={cutoff}")], s(&out));
     let err = assert_error(&run("500"));
     assert!(err.contains("Nyquist"), "{err}");
     assert!(err.contains("500 Hz"), "{err}");
@@ -305,12 +255,7 @@ fn ragged_row_is_an_error_naming_the_line() {
     let dir = tempfile::tempdir().unwrap();
     let input = write(dir.path(), "rag.csv", "t,a,b\n0,1,2\n0.1,1\n0.2,1,2\n");
     let out = dir.path().join("out.csv");
-    let o = pendtilt(&[
-        "filter",
-        input.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_on("filter", &input, &[], s(&out));
     let err = assert_error(&o);
     assert!(err.contains("rag.csv:3:"), "{err}");
     assert!(err.contains("2 fields but the header has 3"), "{err}");
@@ -345,15 +290,12 @@ fn compensate_delay_shifts_by_half_the_order() {
     let (text, t, a, _) = fixture(400, 1000.0);
     let input = write(dir.path(), "in.csv", &text);
     let out = dir.path().join("out.csv");
-    let o = pendtilt(&[
+    let o = run_on(
         "filter",
-        input.to_str().unwrap(),
-        "--compensate-delay",
-        "--columns",
-        "a",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+        &input,
+        &["--compensate-delay", "--columns", "a"],
+        s(&out),
+    );
     assert!(o.status.success(), "stderr: {}", stderr(&o));
     let (_, rows) = read_csv(&out);
     let got = column(&rows, 1);
@@ -370,15 +312,12 @@ fn compensate_delay_shifts_by_half_the_order() {
         assert!((got[k] - g * slow).abs() < 1e-3, "row {k}");
     }
     // An odd order cannot be compensated by whole rows.
-    let o = pendtilt(&[
+    let o = run_on(
         "filter",
-        input.to_str().unwrap(),
-        "--compensate-delay",
-        "--order",
-        "51",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+        &input,
+        &["--compensate-delay", "--order", "51"],
+        s(&out),
+    );
     let err = assert_error(&o);
     assert!(err.contains("even --order"), "{err}");
 }
@@ -393,16 +332,12 @@ fn empty_cell_is_missing_and_the_filter_recovers() {
     }
     let input = write(dir.path(), "in.csv", &text);
     let out = dir.path().join("out.csv");
-    let o = pendtilt(&[
+    let o = run_on(
         "filter",
-        input.to_str().unwrap(),
-        "--order",
-        "4",
-        "--cutoff",
-        "10",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+        &input,
+        &["--order", "4", "--cutoff", "10"],
+        s(&out),
+    );
     assert!(o.status.success(), "stderr: {}", stderr(&o));
     let got = column(&read_csv(&out).1, 1);
     for (k, y) in got.iter().enumerate() {
@@ -419,24 +354,10 @@ fn unknown_window_and_huge_order_are_errors() {
     let dir = tempfile::tempdir().unwrap();
     let (text, ..) = fixture(30, 1000.0);
     let input = write(dir.path(), "in.csv", &text);
-    let o = pendtilt(&[
-        "filter",
-        input.to_str().unwrap(),
-        "--window",
-        "kaiser",
-        "-o",
-        "-",
-    ]);
+    let o = run_on("filter", &input, &["--window", "kaiser"], "-");
     assert_eq!(o.status.code(), Some(2), "clap usage error");
     assert!(stderr(&o).contains("unknown window"), "{}", stderr(&o));
-    let o = pendtilt(&[
-        "filter",
-        input.to_str().unwrap(),
-        "--order",
-        "18446744073709551615",
-        "-o",
-        "-",
-    ]);
+    let o = run_on("filter", &input, &["--order", "18446744073709551615"], "-");
     let err = assert_error(&o);
     assert!(err.contains("larger than the maximum"), "{err}");
 }
@@ -446,12 +367,7 @@ fn refuses_to_overwrite_its_input() {
     let dir = tempfile::tempdir().unwrap();
     let (text, ..) = fixture(30, 1000.0);
     let input = write(dir.path(), "in.csv", &text);
-    let o = pendtilt(&[
-        "filter",
-        input.to_str().unwrap(),
-        "-o",
-        input.to_str().unwrap(),
-    ]);
+    let o = run_on("filter", &input, &[], s(&input));
     let err = assert_error(&o);
     assert!(err.contains("is the input file"), "{err}");
     assert_eq!(std::fs::read_to_string(&input).unwrap(), text);

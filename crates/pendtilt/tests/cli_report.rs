@@ -1,13 +1,10 @@
 //! `pendtilt report` as a command on a small simulated log, and its errors.
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use pendtilt::report::html::referenced_paths;
+mod common;
+use common::bin;
 use pendtilt::sim::{rig_toml, simulate, Scenario};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_pendtilt"))
-}
 
 /// A 4 s scooter log with (or without) the theta column, and its rig file.
 fn write_log(dir: &Path, with_theta: bool) -> (PathBuf, PathBuf) {

@@ -1,18 +1,11 @@
 //! `pendtilt simulate` end to end: log, rig TOML and scenario TOML on disk, reproducible,
 //! and clear errors.
 
-use std::path::Path;
-use std::process::{Command, Output};
-
 use pendtilt::config::RigConfig;
 use pendtilt::core::PhysicalParams;
 
-fn pendtilt(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pendtilt"))
-        .args(args)
-        .output()
-        .expect("run pendtilt")
-}
+mod common;
+use common::{pendtilt, s};
 
 fn ok(args: &[&str]) {
     let out = pendtilt(args);
@@ -21,10 +14,6 @@ fn ok(args: &[&str]) {
         "pendtilt {args:?} failed: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 #[test]

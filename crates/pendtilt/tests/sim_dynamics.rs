@@ -4,45 +4,11 @@
 use pendtilt::sim::motion::{Motion, Sigmoid, Sine, Still};
 use pendtilt::sim::{simulate, Scenario, SimRow, Simulator};
 
-/// A scenario with `motion`, ideal sensors and no vibration.
-fn clean(motion: Motion, duration: f64) -> Scenario {
-    let mut s = Scenario::with_motion(motion, duration);
-    s.sensors = s.sensors.ideal();
-    s
-}
+mod common;
+use common::{fit_sine, ideal};
 
 fn still(angle: f64) -> Motion {
     Motion::Still(Still { angle })
-}
-
-/// Least-squares fit of x = A sin(w t + p) + c; returns (A, p).
-fn fit_sine(rows: &[(f64, f64)], w: f64) -> (f64, f64) {
-    let mut m = [[0.0; 3]; 3];
-    let mut r = [0.0; 3];
-    for &(t, x) in rows {
-        let f = [(w * t).sin(), (w * t).cos(), 1.0];
-        for i in 0..3 {
-            for j in 0..3 {
-                m[i][j] += f[i] * f[j];
-            }
-            r[i] += f[i] * x;
-        }
-    }
-    let det = |m: &[[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det(&m);
-    let solve = |k: usize| {
-        let mut mk = m;
-        for i in 0..3 {
-            mk[i][k] = r[i];
-        }
-        det(&mk) / d
-    };
-    let (a, b) = (solve(0), solve(1));
-    (a.hypot(b), b.atan2(a))
 }
 
 fn wrap(a: f64) -> f64 {
@@ -51,7 +17,7 @@ fn wrap(a: f64) -> f64 {
 
 #[test]
 fn energy_is_conserved_without_friction_and_with_the_body_still() {
-    let mut s = clean(still(0.1), 20.0);
+    let mut s = ideal(still(0.1), 20.0);
     s.pendulum.damping = 0.0;
     let sim = Simulator::new(&s, 1).unwrap().with_initial_state(1.0, 0.5);
     let pend = *sim.pendulum();
@@ -72,7 +38,7 @@ fn energy_is_conserved_without_friction_and_with_the_body_still() {
 #[test]
 fn free_decay_gives_the_natural_frequency_and_damping_ratio() {
     for damping in [1.07e-3, 2.0e-4] {
-        let mut s = clean(still(0.0), 3.0);
+        let mut s = ideal(still(0.0), 3.0);
         s.rate = 10_000.0;
         s.pendulum.damping = damping;
         let p = s.physical();
@@ -121,7 +87,7 @@ fn free_decay_gives_the_natural_frequency_and_damping_ratio() {
 #[test]
 fn static_equilibrium_is_phi_equals_theta() {
     for theta in [-0.4, 0.0, 0.2, 1.0] {
-        let mut s = clean(still(theta), 12.0);
+        let mut s = ideal(still(theta), 12.0);
         s.pendulum.pivot_offset = 0.1;
         let rows: Vec<SimRow> = Simulator::new(&s, 1)
             .unwrap()
@@ -134,14 +100,14 @@ fn static_equilibrium_is_phi_equals_theta() {
         assert!((rows[0].truth.phi - theta).abs() > 0.1);
     }
     // Started hanging still (MODEL.md section 6), it stays: phi = theta from t = 0.
-    let rows = simulate(&clean(still(0.25), 2.0), 1).unwrap();
+    let rows = simulate(&ideal(still(0.25), 2.0), 1).unwrap();
     assert!(rows.iter().all(|r| (r.phi - 0.25).abs() < 1e-15));
 }
 
 #[test]
 fn accelerometer_angle_is_theta_at_rest() {
     for theta in [-1.2, -0.3, 0.0, 0.05, 0.7, 1.4] {
-        let mut s = clean(still(theta), 0.05);
+        let mut s = ideal(still(theta), 0.05);
         s.pendulum.pivot_offset = 0.15;
         s.sensors.accel.mount = [0.02, -0.05];
         for r in simulate(&s, 1).unwrap() {
@@ -173,7 +139,7 @@ fn eq18_residuals(s: &Scenario) -> Vec<f64> {
 
 #[test]
 fn eq18_holds_along_the_trajectory_when_l12_is_zero() {
-    let mut s = clean(Motion::Sigmoid(Sigmoid::default()), 5.0);
+    let mut s = ideal(Motion::Sigmoid(Sigmoid::default()), 5.0);
     s.rate = 2000.0;
     let worst = eq18_residuals(&s)
         .iter()
@@ -243,7 +209,7 @@ fn reference_phi(s: &Scenario, fine: usize) -> Vec<f64> {
 #[test]
 fn trajectory_matches_an_independent_integration_of_the_body_form() {
     for l12 in [0.0, 0.25] {
-        let mut s = clean(
+        let mut s = ideal(
             Motion::Sine(Sine {
                 amplitude: 0.5,
                 frequency: 1.5,
@@ -273,7 +239,7 @@ fn trajectory_matches_an_independent_integration_of_the_body_form() {
 fn pivot_offset_changes_phi_by_the_predicted_amount() {
     let (amp, f, l12) = (0.02, 3.0, 0.2);
     let run = |l12: f64| {
-        let mut s = clean(
+        let mut s = ideal(
             Motion::Sine(Sine {
                 amplitude: amp,
                 frequency: f,
@@ -294,7 +260,7 @@ fn pivot_offset_changes_phi_by_the_predicted_amount() {
         .map(|(a, b)| (a.t, b.truth.phi - a.truth.phi))
         .collect();
     let w = std::f64::consts::TAU * f;
-    let (got_amp, got_phase) = fit_sine(&diff, w);
+    let (got_amp, got_phase, _) = fit_sine(&diff, w);
     // Linearised: delta phi / theta = m l l12 w^2 / (m g l - I w^2 + i C w).
     let mgl = p.mass * p.gravity * p.length;
     let (re, im) = (mgl - p.inertia * w * w, p.damping * w);

@@ -8,40 +8,11 @@ use pendtilt::sim::vibration::{AngularHarmonic, Broadband, Harmonic};
 use pendtilt::sim::{simulate, Scenario};
 use std::f64::consts::{PI, TAU};
 
-fn still_clean(duration: f64) -> Scenario {
-    let mut s = Scenario::with_motion(Motion::Still(Still { angle: 0.0 }), duration);
-    s.sensors = s.sensors.ideal();
-    s
-}
+mod common;
+use common::{fit_sine, ideal};
 
-/// Least-squares fit of x = A sin(w t + p) + c; returns (A, p, c).
-fn fit_sine(rows: &[(f64, f64)], w: f64) -> (f64, f64, f64) {
-    let mut m = [[0.0; 3]; 3];
-    let mut r = [0.0; 3];
-    for &(t, x) in rows {
-        let f = [(w * t).sin(), (w * t).cos(), 1.0];
-        for i in 0..3 {
-            for j in 0..3 {
-                m[i][j] += f[i] * f[j];
-            }
-            r[i] += f[i] * x;
-        }
-    }
-    let det = |m: &[[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det(&m);
-    let solve = |k: usize| {
-        let mut mk = m;
-        for i in 0..3 {
-            mk[i][k] = r[i];
-        }
-        det(&mk) / d
-    };
-    let (a, b, c) = (solve(0), solve(1), solve(2));
-    (a.hypot(b), b.atan2(a), c)
+fn still_clean(duration: f64) -> Scenario {
+    ideal(Motion::Still(Still { angle: 0.0 }), duration)
 }
 
 fn wrap(a: f64) -> f64 {
