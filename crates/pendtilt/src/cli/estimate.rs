@@ -30,8 +30,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let wopts = opts.writer_options();
     let warn = |w: &crate::io::LogWarning| opts.warn(w);
     let summary = if args.output.as_os_str() == "-" {
-        let mut w =
-            EstimatesWriter::new(std::io::stdout().lock(), bank.names(), with_theta, wopts)?;
+        let mut w = EstimatesWriter::new(std::io::stdout(), bank.names(), with_theta, wopts)?;
         pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), warn, |_, _| {})?
     } else {
         let mut w = EstimatesWriter::create(&args.output, bank.names(), with_theta, wopts)
