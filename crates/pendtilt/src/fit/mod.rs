@@ -49,6 +49,7 @@
 //! estimate by less than [`FitSettings::min_sensitivity`] is reported as
 //! [`FitError::Unidentifiable`] instead of returning a number.
 pub mod lm;
+pub mod output;
 pub mod problem;
 
 use std::time::{Duration, Instant};

@@ -1,0 +1,356 @@
+//! Output-error cost (beyond the paper): simulate the pendulum from the true angle with
+//! candidate a, b and compare the simulated encoder reading with the measured one.
+//!
+//! # Why
+//! Eq (23) compares the inverted estimate `phi + asin(a phi' + b (phi'' - theta''))` with the
+//! true angle. On a vibrating body phi'' carries a vibration-driven part that the estimate
+//! amplifies by b w^2; the least-squares fit then shrinks b to keep that part small (an
+//! errors-in-variables bias: measured on the `scooter` scenario, b 40-70 % low). Run the
+//! other way, the vibration is only a small process disturbance of the simulated pendulum
+//! and the fit is unbiased.
+//!
+//! # The model
+//! With beta = theta - phi (the pendulum's absolute angle), the paper's Eq (18) (l12 = 0)
+//! `b phi'' + a phi' + sin(phi - theta) = b theta''` becomes
+//!
+//! ```text
+//! b beta'' = a (theta' - beta') - sin(beta)
+//! ```
+//!
+//! driven only by theta'. theta' is the central difference of the true angle after a
+//! zero-phase (forward-backward) first-order low-pass at [`OutputSettings::smoothing_hz`]
+//! (offline, so no delay). The ODE is integrated with RK4 at the log's own time steps
+//! (theta' linear in between), from beta = theta_0 - phi_0, beta' = 0; the first
+//! [`OutputSettings::skip`] seconds are left out of the cost while that start decays.
+//! The residual is `beta_sim - (theta - phi)`, i.e. `phi_measured - phi_simulated`.
+//!
+//! Minimised over (a, b) by Levenberg-Marquardt with a central finite-difference Jacobian
+//! ([`fit_output`]), or by the paper's Newton (Eqs 24-28) on the RMS of the residual.
+use nalgebra::{Matrix2, Vector2};
+
+use super::problem::MIN_ROWS;
+use super::{FitError, LmSettings, Stop};
+use pendtilt_core::Sample;
+
+/// Settings of the output-error cost.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputSettings {
+    /// Cutoff of the zero-phase low-pass on the true angle before it is differentiated
+    /// \[Hz\]. Default 20 Hz (well above the pendulum's ~2 Hz, well below the encoder's
+    /// quantisation noise turned into rate).
+    pub smoothing_hz: f64,
+    /// Seconds at the start left out of the cost while the simulated pendulum forgets its
+    /// start state. Default 1 s.
+    pub skip: f64,
+}
+
+impl Default for OutputSettings {
+    fn default() -> Self {
+        Self {
+            smoothing_hz: 20.0,
+            skip: 1.0,
+        }
+    }
+}
+
+/// The cached data of an output-error fit.
+#[derive(Debug, Clone)]
+pub struct OutputProblem {
+    /// Time steps to the next row.
+    dt: Vec<f64>,
+    /// theta' (smoothed true angle, central difference).
+    omega: Vec<f64>,
+    /// theta - phi (measured).
+    y: Vec<f64>,
+    used: Vec<bool>,
+    count: usize,
+}
+
+impl OutputProblem {
+    /// Caches theta' and theta - phi. Rows whose t, phi or truth is not finite end the
+    /// usable log there (the simulation cannot cross a gap); a log needs a `theta`.
+    pub fn new(
+        samples: &[Sample<f64>],
+        truth: Option<&[f64]>,
+        s: &OutputSettings,
+    ) -> Result<Self, FitError> {
+        let truth = truth.ok_or(FitError::MissingColumn("theta"))?;
+        if truth.len() != samples.len() {
+            return Err(FitError::BadSettings(format!(
+                "{} truth values for {} samples",
+                truth.len(),
+                samples.len()
+            )));
+        }
+        if !(s.smoothing_hz.is_finite() && s.smoothing_hz > 0.0 && s.skip >= 0.0) {
+            return Err(FitError::BadSettings(
+                "output cost: smoothing_hz must be > 0 and skip >= 0".into(),
+            ));
+        }
+        // The leading run of complete rows with increasing time.
+        let mut n = 0;
+        while n < samples.len() {
+            let ok = samples[n].t.is_finite()
+                && samples[n].phi.is_finite()
+                && truth[n].is_finite()
+                && (n == 0 || samples[n].t > samples[n - 1].t);
+            if !ok {
+                break;
+            }
+            n += 1;
+        }
+        if n < MIN_ROWS {
+            return Err(FitError::TooFewSamples {
+                have: n,
+                need: MIN_ROWS,
+            });
+        }
+        let t: Vec<f64> = samples[..n].iter().map(|x| x.t).collect();
+        // Zero-phase first-order low-pass of the truth (forward then backward).
+        let wc = 2.0 * std::f64::consts::PI * s.smoothing_hz;
+        let mut th: Vec<f64> = truth[..n].to_vec();
+        for k in 1..n {
+            let al = 1.0 - (-wc * (t[k] - t[k - 1])).exp();
+            th[k] = th[k - 1] + al * (th[k] - th[k - 1]);
+        }
+        for k in (0..n - 1).rev() {
+            let al = 1.0 - (-wc * (t[k + 1] - t[k])).exp();
+            th[k] = th[k + 1] + al * (th[k] - th[k + 1]);
+        }
+        let omega: Vec<f64> = (0..n)
+            .map(|k| {
+                let (i, j) = (k.saturating_sub(1), (k + 1).min(n - 1));
+                (th[j] - th[i]) / (t[j] - t[i])
+            })
+            .collect();
+        let dt: Vec<f64> = (0..n)
+            .map(|k| if k + 1 < n { t[k + 1] - t[k] } else { 0.0 })
+            .collect();
+        let y: Vec<f64> = (0..n).map(|k| truth[k] - samples[k].phi).collect();
+        let used: Vec<bool> = t.iter().map(|&tk| tk - t[0] >= s.skip).collect();
+        let count = used.iter().filter(|&&u| u).count();
+        if count < MIN_ROWS {
+            return Err(FitError::TooFewSamples {
+                have: count,
+                need: MIN_ROWS,
+            });
+        }
+        Ok(Self {
+            dt,
+            omega,
+            y,
+            used,
+            count,
+        })
+    }
+
+    /// Residuals in the cost.
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    /// True when no residual enters the cost (never after a successful
+    /// [`OutputProblem::new`]).
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// Simulates beta for (a, b) and writes the used residuals `beta_sim - (theta - phi)`
+    /// into `out` (cleared first). Returns their sum of squares (NaN if a, b are not
+    /// finite and > 0, or the simulation diverges).
+    pub fn residuals(&self, a: f64, b: f64, out: &mut Vec<f64>) -> f64 {
+        out.clear();
+        if !(a.is_finite() && b.is_finite() && a >= 0.0 && b > 0.0) {
+            return f64::NAN;
+        }
+        let inv_b = 1.0 / b;
+        let f = |beta: f64, v: f64, w: f64| (a * (w - v) - beta.sin()) * inv_b;
+        let mut beta = self.y[0];
+        let mut v = 0.0;
+        let mut sum = 0.0;
+        let n = self.y.len();
+        for k in 0..n {
+            if self.used[k] {
+                let r = beta - self.y[k];
+                out.push(r);
+                sum += r * r;
+            }
+            if k + 1 == n {
+                break;
+            }
+            let h = self.dt[k];
+            let (w0, w1) = (self.omega[k], self.omega[k + 1]);
+            let wm = 0.5 * (w0 + w1);
+            let k1b = v;
+            let k1v = f(beta, v, w0);
+            let k2b = v + 0.5 * h * k1v;
+            let k2v = f(beta + 0.5 * h * k1b, k2b, wm);
+            let k3b = v + 0.5 * h * k2v;
+            let k3v = f(beta + 0.5 * h * k2b, k3b, wm);
+            let k4b = v + h * k3v;
+            let k4v = f(beta + h * k3b, k4b, w1);
+            beta += h / 6.0 * (k1b + 2.0 * k2b + 2.0 * k3b + k4b);
+            v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        }
+        if sum.is_finite() {
+            sum
+        } else {
+            f64::NAN
+        }
+    }
+
+    /// RMS of the residual phi_measured - phi_simulated \[rad\].
+    pub fn cost(&self, a: f64, b: f64) -> f64 {
+        let mut r = Vec::with_capacity(self.count);
+        (self.residuals(a, b, &mut r) / self.count as f64).sqrt()
+    }
+
+    /// `(J'J, J'r, sum r^2)` at (a, b), J by central differences (relative step 1e-5).
+    /// Five simulations.
+    pub fn normal_equations(&self, a: f64, b: f64) -> (Matrix2<f64>, Vector2<f64>, f64) {
+        let mut r0 = Vec::with_capacity(self.count);
+        let sum = self.residuals(a, b, &mut r0);
+        let mut cols = [Vec::new(), Vec::new()];
+        let mut rp = Vec::with_capacity(self.count);
+        let mut rm = Vec::with_capacity(self.count);
+        for (j, col) in cols.iter_mut().enumerate() {
+            let p = [a, b];
+            let h = 1e-5 * p[j].abs().max(1e-9);
+            let (mut pp, mut pm) = (p, p);
+            pp[j] += h;
+            pm[j] -= h;
+            let sp = self.residuals(pp[0], pp[1], &mut rp);
+            let sm = self.residuals(pm[0], pm[1], &mut rm);
+            if !(sp.is_finite() && sm.is_finite()) {
+                return (Matrix2::zeros(), Vector2::zeros(), f64::NAN);
+            }
+            *col = rp
+                .iter()
+                .zip(&rm)
+                .map(|(x, y)| (x - y) / (2.0 * h))
+                .collect();
+        }
+        let mut jtj = Matrix2::zeros();
+        let mut jtr = Vector2::zeros();
+        for (k, &r) in r0.iter().enumerate() {
+            let j = Vector2::new(cols[0][k], cols[1][k]);
+            jtj += j * j.transpose();
+            jtr += j * r;
+        }
+        (jtj, jtr, sum)
+    }
+}
+
+/// One iteration of [`fit_output`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputIteration {
+    /// 1-based.
+    pub n: usize,
+    /// (a, b) after it.
+    pub params: Vector2<f64>,
+    /// RMS residual after it \[rad\].
+    pub rms: f64,
+    /// |J'r| / samples before the step.
+    pub gradient_norm: f64,
+    /// Damping of the accepted step.
+    pub lambda: f64,
+    /// Simulations run.
+    pub evaluations: usize,
+}
+
+/// What [`fit_output`] found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputOutcome {
+    /// (a, b).
+    pub params: Vector2<f64>,
+    /// Why it stopped.
+    pub stop: Stop,
+    /// Simulations run.
+    pub evaluations: usize,
+}
+
+/// Levenberg-Marquardt (Marquardt's diagonal scaling) on the output-error cost from
+/// (a0, b0), with the same settings and acceptance rule as [`super::lm`].
+pub fn fit_output(
+    problem: &OutputProblem,
+    a0: f64,
+    b0: f64,
+    s: &LmSettings,
+    mut on_iteration: impl FnMut(&OutputIteration),
+) -> Result<OutputOutcome, FitError> {
+    let ok = |v: f64| v.is_finite() && v > 0.0;
+    if !(ok(s.lambda) && s.decrease > 1.0 && s.increase > 1.0 && s.ftol >= 0.0 && s.xtol >= 0.0) {
+        return Err(FitError::BadSettings(
+            "LM: lambda > 0, decrease and increase > 1, tolerances >= 0".into(),
+        ));
+    }
+    let n = problem.len() as f64;
+    let mut p = Vector2::new(a0, b0);
+    let (mut jtj, mut jtr, mut sum) = problem.normal_equations(a0, b0);
+    let mut evaluations = 5usize;
+    if !sum.is_finite() {
+        return Err(FitError::NonFiniteCost);
+    }
+    let mut lambda = s.lambda;
+    let mut stop = Stop::IterationLimit;
+    let mut scratch = Vec::with_capacity(problem.len());
+    'outer: for it in 1..=s.max_iterations {
+        let mut tries = 0usize;
+        loop {
+            tries += 1;
+            let mut m = jtj;
+            for j in 0..2 {
+                m[(j, j)] += lambda * jtj[(j, j)].max(f64::MIN_POSITIVE);
+            }
+            let step = m
+                .cholesky()
+                .map(|c| c.solve(&(-jtr)))
+                .filter(|x| x.iter().all(|v| v.is_finite()));
+            let q = step.map(|d| p + d);
+            let sum1 = q.map_or(f64::NAN, |q| problem.residuals(q[0], q[1], &mut scratch));
+            evaluations += 1;
+            if let (Some(q), Some(d)) = (q, step) {
+                if sum1.is_finite() && sum1 < sum {
+                    let rel_f = (sum - sum1) / sum;
+                    let small_x = (0..2).all(|j| d[j].abs() <= s.xtol * (p[j].abs() + s.xtol));
+                    let grad = jtr.norm() / n;
+                    p = q;
+                    (jtj, jtr, sum) = problem.normal_equations(p[0], p[1]);
+                    evaluations += 5;
+                    on_iteration(&OutputIteration {
+                        n: it,
+                        params: p,
+                        rms: (sum / n).sqrt(),
+                        gradient_norm: grad,
+                        lambda,
+                        evaluations: tries + 5,
+                    });
+                    lambda = (lambda / s.decrease).max(1e-12);
+                    if rel_f <= s.ftol || small_x {
+                        stop = Stop::Converged;
+                        break 'outer;
+                    }
+                    break;
+                }
+            }
+            lambda *= s.increase;
+            if lambda > 1e16 {
+                stop = Stop::NoDescent;
+                on_iteration(&OutputIteration {
+                    n: it,
+                    params: p,
+                    rms: (sum / n).sqrt(),
+                    gradient_norm: jtr.norm() / n,
+                    lambda,
+                    evaluations: tries,
+                });
+                break 'outer;
+            }
+        }
+    }
+    Ok(OutputOutcome {
+        params: p,
+        stop,
+        evaluations,
+    })
+}
