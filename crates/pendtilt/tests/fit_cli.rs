@@ -98,3 +98,65 @@ fn fit_refuses_a_negative_start_and_a_log_without_truth() {
     let e = fit(&[bare.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]).unwrap_err();
     assert!(e.to_string().contains("`theta`"), "{e}");
 }
+
+/// `--cost output` on a realistic log (8 s chirp, default noisy sensors, the full
+/// `scooter` vibration with broadband floor vibration): within 5 % of a and b.
+#[test]
+fn fit_cost_output_recovers_a_and_b_on_a_vibrating_log() {
+    use pendtilt::sim::motion::{Chirp, Motion};
+    let dir = tempfile::tempdir().unwrap();
+    let motion = Motion::Chirp(Chirp {
+        f0: 0.2,
+        f1: 3.0,
+        sweep_time: 8.0,
+        ..Chirp::default()
+    });
+    let mut s = Scenario::with_motion(motion, 8.0);
+    s.vibration = Scenario::named("scooter").unwrap().vibration;
+    let rows = simulate(&s, 7).unwrap();
+    let log = dir.path().join("vib.csv");
+    let mut f = std::io::BufWriter::new(std::fs::File::create(&log).unwrap());
+    writeln!(f, "t,phi,gyro,ax,ay,theta").unwrap();
+    for r in &rows {
+        writeln!(
+            f,
+            "{},{},{},{},{},{}",
+            r.t, r.phi, r.gyro, r.ax, r.ay, r.theta
+        )
+        .unwrap();
+    }
+    drop(f);
+    let t = PendulumParams::<f64>::default();
+    let out = dir.path().join("rig.toml");
+    fit(&[
+        log.to_str().unwrap(),
+        "--cost",
+        "output",
+        "--method",
+        "lm",
+        "--a",
+        &(1.5 * t.a).to_string(),
+        "--b",
+        &(0.5 * t.b).to_string(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ])
+    .unwrap();
+    let p = RigConfig::load(&out).unwrap().params();
+    assert!((p.a / t.a - 1.0).abs() < 0.05, "{p:?}");
+    assert!((p.b / t.b - 1.0).abs() < 0.05, "{p:?}");
+    // The output cost refuses the gyro target.
+    let e = fit(&[
+        log.to_str().unwrap(),
+        "--cost",
+        "output",
+        "--target",
+        "gyro",
+        "-o",
+        dir.path().join("no.toml").to_str().unwrap(),
+        "-q",
+    ])
+    .unwrap_err();
+    assert!(e.to_string().contains("output-error cost"), "{e}");
+}

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 
 use crate::config::RigConfig;
-use crate::fit::{self, Algorithm, FitSettings, Iteration, Method, Target};
+use crate::fit::{self, Algorithm, Cost, FitSettings, Iteration, Method, Target};
 use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions};
 use pendtilt_core::supervision::Objective;
 
@@ -21,6 +21,15 @@ pub struct Args {
     /// Optimiser: `newton` = the paper's Eqs (24)-(28); `lm` = Levenberg-Marquardt.
     #[arg(long, value_enum, default_value = "newton")]
     pub method: Method,
+    /// Cost: `inverse` = the paper's Eq (23)/(29), the inverted estimate against the
+    /// target; `output` = the pendulum simulated from the true angle against the measured
+    /// phi (truth target, alg1/alg2 only), unbiased on a vibrating body where Eq (23)
+    /// shrinks b.
+    #[arg(long, value_enum, default_value = "inverse")]
+    pub cost: Cost,
+    /// Output cost: cutoff of the zero-phase smoothing of the true angle [Hz].
+    #[arg(long, default_value_t = 20.0)]
+    pub smoothing_hz: f64,
     /// Which parameters: alg1/alg2 fit a, b; alg3 fits K, L, M, N.
     #[arg(long, value_enum, default_value = "alg2")]
     pub algorithm: Algorithm,
@@ -55,7 +64,8 @@ pub struct Args {
     /// Newton minimises the mean square instead of the paper's RMS (same minimiser).
     #[arg(long)]
     pub mean_square: bool,
-    /// Seconds at the start left out while the differentiators settle.
+    /// Seconds at the start left out while the differentiators settle (the output cost
+    /// leaves out at least 1 s while the simulated pendulum forgets its start).
     #[arg(long, default_value_t = 0.5)]
     pub skip: f64,
     /// Compare with the raw target (the paper's cost as printed) instead of the target
@@ -114,6 +124,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         algorithm: args.algorithm,
         target: args.target,
         method: args.method,
+        cost: args.cost,
         start,
         start_gains: (args.algorithm == Algorithm::Alg3 && args.a.is_none() && args.b.is_none())
             .then(|| rig.alg3.gains(&start)),
@@ -133,22 +144,38 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     settings.newton.ftol = args.ftol;
     settings.newton.xtol = args.xtol;
     settings.lm.max_iterations = args.max_iterations;
-    let problem = fit::prepare(&samples, has_theta.then_some(&truth[..]), &settings)?;
+    settings.output.smoothing_hz = args.smoothing_hz;
+    settings.output.skip = args.skip.max(settings.output.skip);
+    let truth_opt = has_theta.then_some(&truth[..]);
+    let problem = match args.cost {
+        Cost::Inverse => Some(fit::prepare(&samples, truth_opt, &settings)?),
+        Cost::Output => None,
+    };
     let unit = match args.target {
         Target::Truth => "rad",
         Target::Gyro => "rad/s",
     };
     let quiet = args.quiet;
     if !quiet {
-        eprintln!(
-            "fitting {} of {:?} by {:?} on {} samples (cost Eq {} in {unit}, differentiator cutoff {:.3} Hz)",
-            args.algorithm.names().join(", "),
-            args.algorithm,
-            args.method,
-            problem.len(),
-            if args.target == Target::Truth { 23 } else { 29 },
-            problem.cutoff_hz(),
-        );
+        match &problem {
+            Some(problem) => eprintln!(
+                "fitting {} of {:?} by {:?} on {} samples (cost Eq {} in {unit}, differentiator cutoff {:.3} Hz)",
+                args.algorithm.names().join(", "),
+                args.algorithm,
+                args.method,
+                problem.len(),
+                if args.target == Target::Truth { 23 } else { 29 },
+                problem.cutoff_hz(),
+            ),
+            None => eprintln!(
+                "fitting {} of {:?} by {:?} (output error: RMS of phi measured - phi simulated \
+                 from the true angle, in rad; truth smoothed at {:.3} Hz)",
+                args.algorithm.names().join(", "),
+                args.algorithm,
+                args.method,
+                args.smoothing_hz,
+            ),
+        }
         let names: Vec<String> = args
             .algorithm
             .names()
@@ -169,7 +196,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "evals"
         );
     }
-    let report = fit::fit(&problem, &settings, |it: &Iteration| {
+    let show = |it: &Iteration| {
         if !quiet {
             let p: Vec<String> = it.params.iter().map(|v| format!("{v:>13.6e}")).collect();
             eprintln!(
@@ -182,7 +209,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 it.evaluations
             );
         }
-    })?;
+    };
+    let report = match &problem {
+        Some(problem) => fit::fit(problem, &settings, show)?,
+        None => fit::fit_output_log(&samples, truth_opt, &settings, show)?,
+    };
     let fitted = report.pendulum_params();
     println!(
         "{:?} after {} iterations ({} passes over the log, {:.1} ms): cost {:.4e} -> {:.4e} {}",
@@ -218,8 +249,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     rig = RigConfig::from_params(fitted)?;
     // The differentiator the fit used, fixed in Hz as its kinematics were, so that
     // `pendtilt estimate` with this file computes exactly what was fitted.
-    differentiator.cutoff_hz = Some(problem.cutoff_hz());
-    differentiator.cutoff_times_natural = None;
+    // (The output cost uses no differentiator: the rig's own settings are kept.)
+    if let Some(problem) = &problem {
+        differentiator.cutoff_hz = Some(problem.cutoff_hz());
+        differentiator.cutoff_times_natural = None;
+    }
     rig.differentiator = differentiator;
     if args.algorithm == Algorithm::Alg3 {
         let g = report.gains();
