@@ -146,6 +146,23 @@ fn fit_cost_output_recovers_a_and_b_on_a_vibrating_log() {
     let p = RigConfig::load(&out).unwrap().params();
     assert!((p.a / t.a - 1.0).abs() < 0.05, "{p:?}");
     assert!((p.b / t.b - 1.0).abs() < 0.05, "{p:?}");
+    // The same driven by the accelerometer columns.
+    let out2 = dir.path().join("rig_accel.toml");
+    fit(&[
+        log.to_str().unwrap(),
+        "--cost",
+        "output",
+        "--accel-drive",
+        "--method",
+        "lm",
+        "-o",
+        out2.to_str().unwrap(),
+        "-q",
+    ])
+    .unwrap();
+    let p2 = RigConfig::load(&out2).unwrap().params();
+    assert!((p2.a / t.a - 1.0).abs() < 0.05, "{p2:?}");
+    assert!((p2.b / t.b - 1.0).abs() < 0.05, "{p2:?}");
     // The output cost refuses the gyro target.
     let e = fit(&[
         log.to_str().unwrap(),

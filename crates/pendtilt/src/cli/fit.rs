@@ -30,6 +30,11 @@ pub struct Args {
     /// Output cost: cutoff of the zero-phase smoothing of the true angle [Hz].
     #[arg(long, default_value_t = 20.0)]
     pub smoothing_hz: f64,
+    /// Output cost: drive the simulated pendulum with the accelerometer's specific force
+    /// (`ax`, `ay`, at the pivot) so that floor vibration is an input, not a disturbance.
+    /// Needed for b within 5 % on a ride like the `scooter` scenario.
+    #[arg(long)]
+    pub accel_drive: bool,
     /// Which parameters: alg1/alg2 fit a, b; alg3 fits K, L, M, N.
     #[arg(long, value_enum, default_value = "alg2")]
     pub algorithm: Algorithm,
@@ -145,6 +150,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     settings.newton.xtol = args.xtol;
     settings.lm.max_iterations = args.max_iterations;
     settings.output.smoothing_hz = args.smoothing_hz;
+    settings.output.accel = args.accel_drive;
+    anyhow::ensure!(
+        !args.accel_drive || args.cost == Cost::Output,
+        "--accel-drive applies to --cost output only"
+    );
     settings.output.skip = args.skip.max(settings.output.skip);
     let truth_opt = has_theta.then_some(&truth[..]);
     let problem = match args.cost {

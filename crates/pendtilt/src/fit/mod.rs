@@ -24,8 +24,9 @@
 //! Costs ([`Cost`]): the paper's inverse cost above (default), or the output error of
 //! [`output`] (the pendulum simulated from the true angle against the measured phi), which
 //! is not biased by vibration: on a chirp with the full `scooter` vibration it recovers a
-//! and b within 2 % where Eq (23) is 4-6 % off, and on the 60 s `scooter` ride b within
-//! 8-13 % where Eq (23) is 53-57 % low (README, parameter fitting).
+//! and b within 2 % where Eq (23) is 4-6 % off; on the 60 s `scooter` ride b within 8-13 %
+//! where Eq (23) is 53-57 % low, and within 1 % when the simulation is driven by the
+//! accelerometer ([`output::OutputSettings::accel`]) (README, parameter fitting).
 //!
 //! Fitting is fast because the kinematics are cached: see [`problem`]. The live
 //! counterparts (sliding window Newton, RLS) are in [`pendtilt_core::supervision`].
