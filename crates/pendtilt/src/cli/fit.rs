@@ -27,7 +27,7 @@ pub struct Args {
     /// shrinks b.
     #[arg(long, value_enum, default_value = "inverse")]
     pub cost: Cost,
-    /// Output cost: cutoff of the zero-phase smoothing of the true angle [Hz].
+    /// Output cost: cutoff of the zero-phase smoothing of the true angle (Hz).
     #[arg(long, default_value_t = 20.0)]
     pub smoothing_hz: f64,
     /// Output cost: drive the simulated pendulum with the accelerometer's specific force
