@@ -129,7 +129,7 @@ impl<T: Real, const W: usize> Alg3<T, W> {
 impl<T: Real, const W: usize> Estimator<T> for Alg3<T, W> {
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
-        self.update_with_terms(s).0
+        self.inv.run(s, &Equation::Alg3(self.settings.gains)).0
     }
 
     fn reset(&mut self) {
