@@ -41,6 +41,8 @@ pub struct ModelBased<T: Real, F> {
     q: Cov<T>,
     filter: Option<F>,
     t_prev: Option<T>,
+    // Time of the last row with an encoder reading.
+    last_phi: Option<T>,
     last_theta: T,
     runs: Runs,
 }
@@ -90,6 +92,7 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
             settings,
             filter: None,
             t_prev: None,
+            last_phi: None,
             last_theta: T::nan(),
             runs: Runs::default(),
         }
@@ -224,8 +227,18 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
         }
         let mut flags = Flags::empty();
         let dt = s.t - self.t_prev.unwrap_or(s.t);
-        if self.filter.is_some() && dt > self.settings.max_gap {
+        // A gap in the rows, or in the encoder's readings (rows whose phi is missing), longer
+        // than max_gap is not bridged: the prediction would extrapolate the last estimated
+        // tilt acceleration, vibration included, for the whole gap.
+        let coasted = s.phi.is_finite()
+            && self
+                .last_phi
+                .is_some_and(|t0| s.t - t0 > self.settings.max_gap);
+        if self.filter.is_some() && (dt > self.settings.max_gap || coasted) {
             self.filter = None;
+        }
+        if s.phi.is_finite() {
+            self.last_phi = Some(s.t);
         }
         if self.filter.is_none() {
             if s.phi.is_finite() {
@@ -361,6 +374,7 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
     fn reset(&mut self) {
         self.filter = None;
         self.t_prev = None;
+        self.last_phi = None;
         self.last_theta = T::nan();
         self.runs = Runs::default();
     }
