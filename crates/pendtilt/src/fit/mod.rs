@@ -477,56 +477,18 @@ pub fn fit(
     let mut evaluations = 2usize;
     let (p, stop) = match settings.method {
         Method::Newton => {
-            let s = &settings.newton;
-            pendtilt_core::supervision::newton::check_settings(s).map_err(|_| {
-                FitError::BadSettings("Newton h and dp must be finite and > 0".into())
-            })?;
             let objective = settings.objective;
-            let mut cost = |p: &Vector4<f64>| problem.cost(p, objective);
-            let mut p = p0;
-            let mut f = cost(&p);
-            evaluations += 1;
-            let mut stop = Stop::IterationLimit;
-            for n in 1..=s.max_iterations {
-                let it = match newton_iteration(&mut cost, &p, f, &active, s) {
-                    Ok(it) => it,
-                    Err(NewtonError::FlatCost) => {
-                        return Err(FitError::Unidentifiable {
-                            sensitivity: sens,
-                            threshold,
-                            unit,
-                            direction: "Newton's finite-difference Hessian is singular".into(),
-                        })
-                    }
-                    Err(NewtonError::NonFiniteCost) => return Err(FitError::NonFiniteCost),
-                    Err(NewtonError::BadSettings) => {
-                        return Err(FitError::BadSettings("Newton settings".into()))
-                    }
-                };
-                evaluations += it.evaluations;
-                let rec = Iteration {
-                    n,
-                    params: take(&it.params),
-                    cost: problem.cost(&it.params, Objective::Rms),
-                    gradient_norm: it.gradient.norm(),
-                    step: it.step_scale,
-                    evaluations: it.evaluations,
-                };
-                on_iteration(&rec);
-                iterations.push(rec);
-                if it.stalled {
-                    stop = Stop::NoDescent;
-                    break;
-                }
-                let done = converged(&p, &it.params, f, it.cost, s);
-                p = it.params;
-                f = it.cost;
-                if done {
-                    stop = Stop::Converged;
-                    break;
-                }
-            }
-            (p, stop)
+            newton_fit(
+                &mut |p: &Vector4<f64>| problem.cost(p, objective),
+                p0,
+                &active,
+                &settings.newton,
+                (sens, threshold, unit),
+                |p| (take(p), problem.cost(p, Objective::Rms)),
+                &mut on_iteration,
+                &mut iterations,
+                &mut evaluations,
+            )?
         }
         Method::Lm => {
             let out = lm::levenberg_marquardt(problem, &p0, &active, &settings.lm, |it| {
@@ -653,60 +615,21 @@ pub fn fit_output_log(
             )
         }
         Method::Newton => {
-            let s = &settings.newton;
-            pendtilt_core::supervision::newton::check_settings(s).map_err(|_| {
-                FitError::BadSettings("Newton h and dp must be finite and > 0".into())
-            })?;
             let objective = settings.objective;
             let mut scratch = Vec::with_capacity(problem.len());
-            let mut cost = |p: &Vector4<f64>| {
-                objective.from_sum(problem.residuals(p[0], p[1], &mut scratch), problem.len())
-            };
-            let active = [true, true, false, false];
-            let mut p = p0;
-            let mut f = cost(&p);
-            evaluations += 1;
-            let mut stop = Stop::IterationLimit;
-            for n in 1..=s.max_iterations {
-                let it = match newton_iteration(&mut cost, &p, f, &active, s) {
-                    Ok(it) => it,
-                    Err(NewtonError::FlatCost) => {
-                        return Err(FitError::Unidentifiable {
-                            sensitivity: sens,
-                            threshold,
-                            unit: "rad",
-                            direction: "Newton's finite-difference Hessian is singular".into(),
-                        })
-                    }
-                    Err(NewtonError::NonFiniteCost) => return Err(FitError::NonFiniteCost),
-                    Err(NewtonError::BadSettings) => {
-                        return Err(FitError::BadSettings("Newton settings".into()))
-                    }
-                };
-                evaluations += it.evaluations;
-                let rec = Iteration {
-                    n,
-                    params: vec![it.params[0], it.params[1]],
-                    cost: problem.cost(it.params[0], it.params[1]),
-                    gradient_norm: it.gradient.norm(),
-                    step: it.step_scale,
-                    evaluations: it.evaluations,
-                };
-                on_iteration(&rec);
-                iterations.push(rec);
-                if it.stalled {
-                    stop = Stop::NoDescent;
-                    break;
-                }
-                let done = converged(&p, &it.params, f, it.cost, s);
-                p = it.params;
-                f = it.cost;
-                if done {
-                    stop = Stop::Converged;
-                    break;
-                }
-            }
-            (p, stop)
+            newton_fit(
+                &mut |p: &Vector4<f64>| {
+                    objective.from_sum(problem.residuals(p[0], p[1], &mut scratch), problem.len())
+                },
+                p0,
+                &[true, true, false, false],
+                &settings.newton,
+                (sens, threshold, "rad"),
+                |p| (vec![p[0], p[1]], problem.cost(p[0], p[1])),
+                &mut on_iteration,
+                &mut iterations,
+                &mut evaluations,
+            )?
         }
     };
     let elapsed = started.elapsed();
@@ -749,4 +672,67 @@ pub(crate) fn solve_active(
     }
     let x = m.cholesky()?.solve(&r);
     x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// The paper's Newton loop (Eqs 24-28) on `cost` from `p0` over the `active` parameters,
+/// shared by the Eq (23) and the output-error fits: one logged [`Iteration`] per step
+/// (its parameters and RMS cost from `record`), evaluations counted, stopping on
+/// convergence, on no descent or at the iteration limit. A singular Hessian is reported
+/// as unidentifiable with `flat` = (sensitivity, threshold, unit).
+#[allow(clippy::too_many_arguments)]
+fn newton_fit(
+    cost: &mut impl FnMut(&Vector4<f64>) -> f64,
+    p0: Vector4<f64>,
+    active: &[bool; 4],
+    s: &NewtonSettings<f64>,
+    flat: (f64, f64, &'static str),
+    mut record: impl FnMut(&Vector4<f64>) -> (Vec<f64>, f64),
+    on_iteration: &mut impl FnMut(&Iteration),
+    iterations: &mut Vec<Iteration>,
+    evaluations: &mut usize,
+) -> Result<(Vector4<f64>, Stop), FitError> {
+    pendtilt_core::supervision::newton::check_settings(s)
+        .map_err(|_| FitError::BadSettings("Newton h and dp must be finite and > 0".into()))?;
+    let mut p = p0;
+    let mut f = cost(&p);
+    *evaluations += 1;
+    for n in 1..=s.max_iterations {
+        let it = match newton_iteration(cost, &p, f, active, s) {
+            Ok(it) => it,
+            Err(NewtonError::FlatCost) => {
+                return Err(FitError::Unidentifiable {
+                    sensitivity: flat.0,
+                    threshold: flat.1,
+                    unit: flat.2,
+                    direction: "Newton's finite-difference Hessian is singular".into(),
+                })
+            }
+            Err(NewtonError::NonFiniteCost) => return Err(FitError::NonFiniteCost),
+            Err(NewtonError::BadSettings) => {
+                return Err(FitError::BadSettings("Newton settings".into()))
+            }
+        };
+        *evaluations += it.evaluations;
+        let (params, rms) = record(&it.params);
+        let rec = Iteration {
+            n,
+            params,
+            cost: rms,
+            gradient_norm: it.gradient.norm(),
+            step: it.step_scale,
+            evaluations: it.evaluations,
+        };
+        on_iteration(&rec);
+        iterations.push(rec);
+        if it.stalled {
+            return Ok((p, Stop::NoDescent));
+        }
+        let done = converged(&p, &it.params, f, it.cost, s);
+        p = it.params;
+        f = it.cost;
+        if done {
+            return Ok((p, Stop::Converged));
+        }
+    }
+    Ok((p, Stop::IterationLimit))
 }
