@@ -175,9 +175,11 @@ pub static REGISTRY: &[Entry] = &[
         name: "alg1",
         needs: PHI,
         kind: Kind::Inversion(|s| {
-            // Algorithm 1 ignores theta'': take Algorithm 2's source so they can share.
+            // Algorithm 1 reads neither theta'' nor the gyro: take Algorithm 2's gyro
+            // settings so they can share a front end.
             let fe = FrontEndSettings {
                 theta_dd: s.alg2.theta_dd,
+                gyro_full_scale: s.alg2.gyro_full_scale,
                 ..s.alg1.front_end()
             };
             (fe, Equation::Alg1(s.alg1.params))
@@ -552,6 +554,9 @@ mod tests {
                 s.alg1.differentiator.cutoff = Cutoff::Hz(f);
             }
             s.alg3.gains.n = 0.003;
+            // As a rig file from `simulate` has it: alg1 must still share.
+            s.alg2.gyro_full_scale = Some(0.15);
+            s.alg3.gyro_full_scale = Some(0.15);
             let mut b = Bank::new(&s, Inputs::ALL, None).unwrap();
             let shared = b
                 .slots
