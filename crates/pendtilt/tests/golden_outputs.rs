@@ -1,0 +1,117 @@
+//! Guards refactors (issue 13): the SHA-256 of `estimate`'s output (every estimator, f64,
+//! with flags) on a fixed set of simulated logs, and of `reproduce`'s metrics JSON, must
+//! equal the digests recorded in `tests/golden/sha256.txt`.
+//!
+//! A deliberate change of an output (a bug fixed) re-records them with
+//! `PENDTILT_BLESS=1 cargo test --release -p pendtilt --test golden_outputs`; the commit
+//! says which output changed and why.
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use common::{pendtilt, s, stderr};
+use sha2::{Digest, Sha256};
+
+const RECORD: &str = "tests/golden/sha256.txt";
+
+/// (name, simulate arguments): short logs of every scenario, fixed seeds.
+const LOGS: [(&str, &[&str]); 5] = [
+    (
+        "scooter",
+        &["--scenario", "scooter", "--duration", "12", "--seed", "3"],
+    ),
+    ("sigmoid", &["--scenario", "sigmoid", "--seed", "5"]),
+    ("step", &["--scenario", "step", "--seed", "7"]),
+    (
+        "chirp",
+        &["--scenario", "chirp", "--duration", "10", "--seed", "11"],
+    ),
+    (
+        "sine_offset",
+        &[
+            "--scenario",
+            "sine",
+            "--duration",
+            "6",
+            "--pivot-offset",
+            "0.05",
+        ],
+    ),
+];
+
+fn digest(path: &Path) -> String {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    format!("{:x}", Sha256::digest(bytes))
+}
+
+fn record_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(RECORD)
+}
+
+fn recorded() -> BTreeMap<String, String> {
+    let text = std::fs::read_to_string(record_path()).unwrap_or_default();
+    text.lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .filter_map(|l| l.split_once("  "))
+        .map(|(h, n)| (n.to_string(), h.to_string()))
+        .collect()
+}
+
+#[test]
+fn outputs_equal_the_recorded_digests() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut now = BTreeMap::new();
+    for (name, args) in LOGS {
+        let log = dir.path().join(format!("{name}.csv"));
+        let mut a = vec!["simulate", "-o", s(&log)];
+        a.extend_from_slice(args);
+        let o = pendtilt(&a);
+        assert!(o.status.success(), "simulate {name}: {}", stderr(&o));
+        let rig = dir.path().join(format!("{name}.rig.toml"));
+        let est = dir.path().join(format!("{name}.est.csv"));
+        let o = pendtilt(&[
+            "estimate",
+            s(&log),
+            "--params",
+            s(&rig),
+            "--flags",
+            "-q",
+            "-o",
+            s(&est),
+        ]);
+        assert!(o.status.success(), "estimate {name}: {}", stderr(&o));
+        now.insert(format!("estimate/{name}"), digest(&est));
+    }
+    let rep = dir.path().join("reproduce");
+    let o = pendtilt(&["reproduce", "--out", s(&rep)]);
+    assert!(o.status.success(), "reproduce: {}", stderr(&o));
+    for part in ["scooter", "sigmoid"] {
+        now.insert(
+            format!("reproduce/{part}/report.json"),
+            digest(&rep.join(part).join("report.json")),
+        );
+    }
+
+    if std::env::var_os("PENDTILT_BLESS").is_some() {
+        let mut text = String::from(
+            "# SHA-256 of outputs that refactors must not change (tests/golden_outputs.rs)\n",
+        );
+        for (n, h) in &now {
+            text.push_str(&format!("{h}  {n}\n"));
+        }
+        std::fs::write(record_path(), text).unwrap();
+        return;
+    }
+    let old = recorded();
+    let changed: Vec<String> = now
+        .iter()
+        .filter(|(n, h)| old.get(*n) != Some(*h))
+        .map(|(n, h)| format!("{n}: now {h}, recorded {:?}", old.get(n)))
+        .collect();
+    assert!(
+        changed.is_empty() && old.len() == now.len(),
+        "outputs changed (re-record with PENDTILT_BLESS=1 only if deliberate):\n{}",
+        changed.join("\n")
+    );
+}
