@@ -369,6 +369,6 @@ fn refuses_to_overwrite_its_input() {
     let input = write(dir.path(), "in.csv", &text);
     let o = run_on("filter", &input, &[], s(&input));
     let err = assert_error(&o);
-    assert!(err.contains("is the input file"), "{err}");
+    assert!(err.contains("is the same file as INPUT"), "{err}");
     assert_eq!(std::fs::read_to_string(&input).unwrap(), text);
 }

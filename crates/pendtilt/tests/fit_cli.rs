@@ -91,12 +91,15 @@ fn fit_refuses_a_negative_start_and_a_log_without_truth() {
         "-q",
     ])
     .unwrap_err();
-    assert!(e.to_string().contains("invalid start value a"), "{e}");
+    // `{:#}`: the whole chain, as the command prints it.
+    let e = format!("{e:#}");
+    assert!(e.contains("invalid start value a"), "{e}");
+    assert!(e.contains("rig.toml was not written"), "{e}");
     assert!(!out.exists());
     let bare = dir.path().join("bare.csv");
     std::fs::write(&bare, "t,phi,gyro\n0,0,0\n0.001,0,0\n").unwrap();
     let e = fit(&[bare.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]).unwrap_err();
-    assert!(e.to_string().contains("`theta`"), "{e}");
+    assert!(format!("{e:#}").contains("`theta`"), "{e:#}");
 }
 
 /// `--cost output` on a realistic log (8 s chirp, default noisy sensors, the full
@@ -175,5 +178,5 @@ fn fit_cost_output_recovers_a_and_b_on_a_vibrating_log() {
         "-q",
     ])
     .unwrap_err();
-    assert!(e.to_string().contains("output-error cost"), "{e}");
+    assert!(format!("{e:#}").contains("output-error cost"), "{e:#}");
 }

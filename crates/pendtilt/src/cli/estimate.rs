@@ -1,9 +1,13 @@
 //! `pendtilt estimate LOG.csv --params RIG.toml -o OUT.csv`.
+use std::fs::File;
+use std::io::BufReader;
 use std::path::PathBuf;
 
 use anyhow::Context;
 
 use super::options::BankOptions;
+use crate::bank::Bank;
+use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::{Column, EstimatesWriter, LogReader};
 use crate::pipeline;
 
@@ -12,7 +16,8 @@ use crate::pipeline;
 pub struct Args {
     /// The sensor log (CSV, MODEL.md section 5).
     pub log: PathBuf,
-    /// Where to write the estimates (CSV); `-` for standard output.
+    /// Where to write the estimates (CSV); `-` for standard output. Written to a temporary
+    /// file and renamed into place only when the whole log was read.
     #[arg(long, short = 'o')]
     pub output: PathBuf,
     /// Rig, column mapping, estimator choice and output form.
@@ -20,23 +25,19 @@ pub struct Args {
     pub bank: BankOptions,
 }
 
-/// Runs `pendtilt estimate`.
+/// Runs `pendtilt estimate`: refuses an output that is an input, writes the estimates to a
+/// temporary file and renames it onto `-o` only when the whole log was read.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let opts = &args.bank;
-    let rig = opts.rig()?;
-    let mut log = LogReader::open(&args.log, opts.reader_options())?;
-    let mut bank = opts.bank(&rig, &log)?;
-    let with_theta = log.columns().has(Column::Theta);
-    let wopts = opts.writer_options();
-    let warn = |w: &crate::io::LogWarning| opts.warn(w);
-    let summary = if args.output.as_os_str() == "-" {
-        let mut w = EstimatesWriter::new(std::io::stdout(), bank.names(), with_theta, wopts)?;
-        pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), warn, |_, _| {})?
-    } else {
-        let mut w = EstimatesWriter::create(&args.output, bank.names(), with_theta, wopts)
-            .with_context(|| format!("cannot create {}", args.output.display()))?;
-        pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), warn, |_, _| {})?
-    };
+    let mut inputs = vec![NamedPath::new("LOG", &args.log)];
+    if let Some(p) = &opts.params {
+        inputs.push(NamedPath::new("--params", p));
+    }
+    output::check_distinct(&inputs, &[NamedPath::new("-o", &args.output)])?;
+    let out = OutputFile::create("-o", &args.output)?;
+    let (log, bank, summary) =
+        estimate_into(&args, &out).with_context(|| output::not_written(&args.output))?;
+    out.commit()?;
     if !opts.quiet {
         eprintln!(
             "{} rows -> {} ({} estimators)",
@@ -52,4 +53,29 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// The log read through the bank into `out` (not yet committed): every row, flushed, or
+/// an error.
+fn estimate_into(
+    args: &Args,
+    out: &OutputFile,
+) -> anyhow::Result<(LogReader<BufReader<File>>, Bank, pipeline::PassSummary)> {
+    let opts = &args.bank;
+    let rig = opts.rig()?;
+    let mut log = LogReader::open(&args.log, opts.reader_options())?;
+    let mut bank = opts.bank(&rig, &log)?;
+    let with_theta = log.columns().has(Column::Theta);
+    let mut w = EstimatesWriter::new(
+        out.writer()?,
+        bank.names(),
+        with_theta,
+        opts.writer_options(),
+    )?;
+    let warn = |w: &crate::io::LogWarning| opts.warn(w);
+    // run_parallel joins its writer thread before it returns: every row is in `w` here.
+    let summary = pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), warn, |_, _| {})?;
+    w.flush()?;
+    drop(w);
+    Ok((log, bank, summary))
 }

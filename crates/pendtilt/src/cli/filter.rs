@@ -25,7 +25,8 @@
 //!   is not a number is an error naming the file, line and column.
 //! - Streaming: the file is read twice (once to check the time column and the cells and
 //!   find the rate, once to filter), and memory holds only the filter histories, not the
-//!   file. Nothing is written unless the first pass succeeds.
+//!   file. The output goes to a temporary file beside it, renamed into place only when the
+//!   second pass succeeded: a failed run leaves an earlier output as it was.
 
 use anyhow::{bail, Context, Result};
 use csv::ByteRecord;
@@ -35,6 +36,8 @@ use std::fmt::Write as _;
 use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
+use crate::io::output::{NamedPath, OutputFile};
 
 /// The largest `--order` accepted. Far beyond any useful low-pass for these logs; the limit
 /// exists so that a typo (an extra zero or three) is an error, not an attempt to allocate
@@ -537,35 +540,22 @@ pub fn scan(input: &Path, opts: &FilterOptions) -> Result<Plan> {
     })
 }
 
-/// Runs `pendtilt filter`: [`scan`], then [`Plan::apply`] into the output file (created
-/// only after the scan succeeded; removed again if writing fails half-way).
+/// Runs `pendtilt filter`: [`scan`], then [`Plan::apply`] into a temporary file renamed
+/// onto the output only when the whole file was filtered; an output that is the input
+/// (also through a link) is refused first.
 pub fn run(args: Args) -> Result<()> {
     let opts = FilterOptions::from(&args);
-    let to_stdout = args.output.as_os_str() == "-";
-    if !to_stdout {
-        if let (Ok(a), Ok(b)) = (args.input.canonicalize(), args.output.canonicalize()) {
-            if a == b {
-                bail!(
-                    "-o {} is the input file: filtering in place would destroy it",
-                    args.output.display()
-                );
-            }
-        }
-    }
-    let plan = scan(&args.input, &opts)?;
-    let written = if to_stdout {
-        plan.apply(std::io::stdout().lock())?
-    } else {
-        let out = File::create(&args.output)
-            .with_context(|| format!("cannot create {}", args.output.display()))?;
-        match plan.apply(std::io::BufWriter::new(out)) {
-            Ok(n) => n,
-            Err(e) => {
-                let _ = std::fs::remove_file(&args.output);
-                return Err(e);
-            }
-        }
-    };
+    crate::io::output::check_distinct(
+        &[NamedPath::new("INPUT", &args.input)],
+        &[NamedPath::new("-o", &args.output)],
+    )?;
+    let plan =
+        scan(&args.input, &opts).with_context(|| crate::io::output::not_written(&args.output))?;
+    let out = OutputFile::create("-o", &args.output)?;
+    let written = plan
+        .apply(std::io::BufWriter::new(out.writer()?))
+        .with_context(|| crate::io::output::not_written(&args.output))?;
+    out.commit()?;
     let delay = plan.output_delay_samples();
     eprintln!(
         "pendtilt filter: {written} rows at {:.6} Hz; {}-tap {} low-pass at {} Hz on: {}; \

@@ -7,6 +7,7 @@ use anyhow::Context;
 
 use crate::config::RigConfig;
 use crate::fit::{self, Algorithm, Cost, FitSettings, Iteration, Method, Target};
+use crate::io::output::{self, NamedPath};
 use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions};
 use pendtilt_core::supervision::Objective;
 
@@ -88,8 +89,25 @@ pub struct Args {
     pub quiet: bool,
 }
 
-/// Runs `pendtilt fit`.
+/// Runs `pendtilt fit`: refuses an output that is an input, fits, and writes the rig file
+/// all at once (an earlier file stays as it was when the fit fails).
 pub fn run(args: Args) -> anyhow::Result<()> {
+    let mut inputs = vec![NamedPath::new("LOG", &args.log)];
+    if let Some(p) = &args.params {
+        inputs.push(NamedPath::new("--params", p));
+    }
+    output::check_distinct(&inputs, &[NamedPath::new("-o", &args.output)])?;
+    let rig = fit_rig(&args).with_context(|| output::not_written(&args.output))?;
+    output::write_atomic("-o", &args.output, rig.to_toml_string().as_bytes())?;
+    if !args.quiet {
+        eprintln!("wrote {}", args.output.display());
+    }
+    Ok(())
+}
+
+/// Reads the log, fits, prints the iterations and the result, and returns the fitted rig.
+/// (Long: it is the command's sequence of steps, each a few lines, in order.)
+fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     let mut rig = match &args.params {
         Some(p) => RigConfig::load(p)?,
         None => RigConfig::default(),
@@ -273,10 +291,5 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         rig.alg3.n = Some(g.n);
     }
     rig.validate()?;
-    rig.save(&args.output)
-        .with_context(|| format!("writing {}", args.output.display()))?;
-    if !quiet {
-        eprintln!("wrote {}", args.output.display());
-    }
-    Ok(())
+    Ok(rig)
 }

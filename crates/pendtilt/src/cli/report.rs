@@ -10,6 +10,7 @@ use crate::experiment::estimate::{alg2_delay_compensated, run_estimators};
 use crate::experiment::progress::{Progress, CHUNK};
 use crate::experiment::standard::standard_report;
 use crate::experiment::Ride;
+use crate::io::output::{self, NamedPath, OutputDir};
 use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions};
 use crate::pipeline;
 use crate::report::markdown::{claims_markdown, metrics_markdown};
@@ -86,15 +87,27 @@ pub fn read_log(
     Ok((ride, inputs))
 }
 
-/// Runs `pendtilt report`.
+/// Runs `pendtilt report`: writes every file into a staging directory beside `-o` and
+/// moves them in only when the whole report was made, after checking that none of them is
+/// the log or the rig file.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let bars = Bars::new(args.quiet);
-    let result = report(&args, &bars);
+    let out = OutputDir::create("-o", &args.out)?;
+    let result = report(&args, out.staging(), &bars);
     bars.finish();
-    result
+    let html = result.with_context(|| output::not_written(&args.out))?;
+    let html = out.final_path(&html);
+    let mut inputs = vec![NamedPath::new("LOG", &args.log)];
+    if let Some(p) = &args.params {
+        inputs.push(NamedPath::new("--params", p));
+    }
+    out.commit(&inputs)?;
+    println!("wrote {}", html.display());
+    Ok(())
 }
 
-fn report(args: &Args, bars: &Bars) -> anyhow::Result<()> {
+/// Makes the report in `dir`; returns the page's path.
+fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<PathBuf> {
     let rig = match &args.params {
         Some(p) => RigConfig::load(p)?,
         None => {
@@ -155,7 +168,7 @@ fn report(args: &Args, bars: &Bars) -> anyhow::Result<()> {
         report = report.claim(paper::delay_compensation_claim(&view.metrics));
     }
     let out = report
-        .write(&args.out)
+        .write(dir)
         .with_context(|| format!("cannot write the report into {}", args.out.display()))?;
     bars.finish();
     for v in &out.data.views {
@@ -168,8 +181,7 @@ fn report(args: &Args, bars: &Bars) -> anyhow::Result<()> {
             claims_markdown(&out.data.claims)
         );
     }
-    println!("wrote {}", out.html.display());
-    Ok(())
+    Ok(out.html)
 }
 
 fn paper_dc() -> &'static str {

@@ -4,9 +4,11 @@ use std::cell::RefCell;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::experiment::{self, Progress, ReproduceConfig};
+use crate::io::output::{self, OutputDir};
 use crate::report::claims::Claim;
 
 /// Options of `pendtilt reproduce`.
@@ -125,9 +127,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     cfg.calibration_seed = args.seed.wrapping_add(1);
     cfg.sigmoid_seed = args.seed.wrapping_add(2);
     let bars = Bars::new(args.quiet);
-    let outcome = experiment::reproduce(&cfg, &args.out, &bars);
+    // Written into a staging directory beside --out, moved in only when complete.
+    let out = OutputDir::create("-o", &args.out)?;
+    let outcome = experiment::reproduce(&cfg, out.staging(), &bars);
     bars.finish();
-    let outcome = outcome?;
+    let outcome = outcome.with_context(|| output::not_written(&args.out))?;
+    let (index, markdown, json) = (
+        out.final_path(&outcome.index),
+        out.final_path(&outcome.markdown),
+        out.final_path(&outcome.json),
+    );
+    out.commit(&[])?;
     println!("Claims ({} metrics):", outcome.claims_view);
     print!("{}", claims_text(&outcome.claims));
     println!();
@@ -140,8 +150,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         t.report.as_secs_f64(),
         started.elapsed().as_secs_f64()
     );
-    println!("wrote {}", outcome.index.display());
-    println!("      {}", outcome.markdown.display());
-    println!("      {}", outcome.json.display());
+    println!("wrote {}", index.display());
+    println!("      {}", markdown.display());
+    println!("      {}", json.display());
     Ok(())
 }

@@ -12,6 +12,7 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::io::output::{self as safe, NamedPath, OutputFile};
 use crate::sim::{self, output, Scenario, Simulator};
 
 /// Seed used when neither `--seed` nor the scenario TOML gives one.
@@ -206,7 +207,40 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
     Ok((s, args.seed.or(file_seed).unwrap_or(DEFAULT_SEED)))
 }
 
-/// Runs `pendtilt simulate`.
+/// Simulates into the (uncommitted) log; returns the number of rows.
+fn write_outputs(
+    scenario: &Scenario,
+    seed: u64,
+    log: &OutputFile,
+    quiet: bool,
+) -> anyhow::Result<u64> {
+    let sim = Simulator::new(scenario, seed)?;
+    let total = sim.total_rows();
+    let bar = if quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+        b.set_style(
+            ProgressStyle::with_template(
+                "simulating {bar:40} {percent:>3}% {human_pos}/{human_len} rows, eta {eta}",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        b
+    };
+    let n = output::write_log(
+        sim,
+        BufWriter::with_capacity(1 << 20, log.writer()?),
+        |done, _| bar.set_position(done),
+    )
+    .with_context(|| format!("cannot write the log {}", log.target().display()))?;
+    bar.finish_and_clear();
+    Ok(n)
+}
+
+/// Runs `pendtilt simulate`: refuses an output that is an input (`--config`, `--rig`) or
+/// another output, and renames the log, rig and scenario files into place only when all
+/// were written.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let (scenario, seed) = resolve(&args)?;
     // Every key is written below, so the base only has to exist.
@@ -223,39 +257,52 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let Some(log) = args.output.clone() else {
         bail!("give -o LOG.csv");
     };
-    let rig_path = args
-        .rig_out
-        .clone()
-        .unwrap_or_else(|| output::rig_path_for(&log));
-    let scen_path = output::scenario_path_for(&log);
-
-    let sim = Simulator::new(&scenario, seed)?;
-    let total = sim.total_rows();
-    let file = std::fs::File::create(&log)
-        .with_context(|| format!("cannot create the log {}", log.display()))?;
-    let bar = if args.quiet || !std::io::stderr().is_terminal() {
-        ProgressBar::hidden()
-    } else {
-        let b = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
-        b.set_style(
-            ProgressStyle::with_template(
-                "simulating {bar:40} {percent:>3}% {human_pos}/{human_len} rows, eta {eta}",
-            )
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        b
+    // On standard output the log has no "beside": the rig file is written only when
+    // --rig-out names it, the scenario file not at all.
+    let to_stdout = safe::is_stdout(&log);
+    let rig_path = match &args.rig_out {
+        Some(p) => Some(p.clone()),
+        None => (!to_stdout).then(|| output::rig_path_for(&log)),
     };
+    let scen_path = (!to_stdout).then(|| output::scenario_path_for(&log));
+    let mut inputs = Vec::new();
+    if let Some(p) = &args.config {
+        inputs.push(NamedPath::new("--config", p));
+    }
+    if let Some(p) = &args.settings.rig {
+        inputs.push(NamedPath::new("--rig", p));
+    }
+    let mut outputs = vec![NamedPath::new("-o", &log)];
+    outputs.extend(rig_path.as_deref().map(|p| NamedPath::new("--rig-out", p)));
+    outputs.extend(
+        scen_path
+            .as_deref()
+            .map(|p| NamedPath::new("the scenario file beside -o", p)),
+    );
+    safe::check_distinct(&inputs, &outputs)?;
+    let files = outputs
+        .iter()
+        .map(|o| OutputFile::create(o.option, o.path))
+        .collect::<Result<Vec<_>, _>>()?;
+    let texts = [scenario.rig()?.to_toml_string(), scenario_text];
     let started = Instant::now();
-    let n = output::write_log(sim, BufWriter::with_capacity(1 << 20, file), |done, _| {
-        bar.set_position(done)
-    })
-    .with_context(|| format!("cannot write the log {}", log.display()))?;
-    bar.finish_and_clear();
-
-    std::fs::write(&rig_path, scenario.rig()?.to_toml_string())
-        .with_context(|| format!("cannot write the rig TOML {}", rig_path.display()))?;
-    std::fs::write(&scen_path, scenario_text)
-        .with_context(|| format!("cannot write the scenario TOML {}", scen_path.display()))?;
+    let n = write_outputs(&scenario, seed, &files[0], args.quiet)
+        .and_then(|n| {
+            for (f, text) in files[1..].iter().zip(&texts) {
+                f.write_all(text.as_bytes())?;
+            }
+            Ok(n)
+        })
+        .with_context(|| {
+            let not: Vec<String> = outputs.iter().map(|o| safe::not_written(o.path)).collect();
+            not.join("; ")
+        })?;
+    // Every file was written: only now do they replace any earlier ones.
+    for f in files {
+        f.commit()?;
+    }
+    let shown = |p: &Option<PathBuf>| p.as_ref().map_or("-".into(), |p| p.display().to_string());
+    let (rig_shown, scen_shown) = (shown(&rig_path), shown(&scen_path));
     if !args.quiet {
         eprintln!(
             "wrote {n} rows ({} s at {} Hz, seed {seed}) to {} in {:.2} s; rig: {}; scenario: {}",
@@ -263,8 +310,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             scenario.rate,
             log.display(),
             started.elapsed().as_secs_f64(),
-            rig_path.display(),
-            scen_path.display()
+            rig_shown,
+            scen_shown
         );
     }
     Ok(())

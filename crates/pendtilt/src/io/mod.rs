@@ -23,6 +23,7 @@ mod columns;
 mod diagnostics;
 mod estimates_writer;
 mod log_reader;
+pub mod output;
 mod split;
 
 pub use columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns, OptionError};
