@@ -372,3 +372,31 @@ fn refuses_to_overwrite_its_input() {
     assert!(err.contains("is the same file as INPUT"), "{err}");
     assert_eq!(std::fs::read_to_string(&input).unwrap(), text);
 }
+
+#[test]
+fn says_how_many_rows_a_missing_sample_spread_to() {
+    let dir = tempfile::tempdir().unwrap();
+    let (text, ..) = fixture(1000, 1000.0);
+    // Column a: one NaN at data row 100 and one empty cell at row 500 (both far from the
+    // end), column b clean. With order 20 each missing sample makes the 21 outputs from
+    // its row on NaN: 2 x 21 = 42 rows.
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    for (row, cell) in [(100, "NaN"), (500, "")] {
+        let mut f: Vec<String> = lines[row + 1].split(',').map(str::to_string).collect();
+        f[1] = cell.to_string();
+        lines[row + 1] = f.join(",");
+    }
+    let input = write(dir.path(), "in.csv", &(lines.join("\n") + "\n"));
+    let out = dir.path().join("out.csv");
+    let o = run_on("filter", &input, &["--order", "20"], s(&out));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("column 'a': 2 missing or NaN cell(s) made 42 output row(s) NaN"),
+        "{err}"
+    );
+    assert!(!err.contains("column 'b'"), "{err}");
+    let (_, rows) = read_csv(&out);
+    let nan_rows = rows.iter().filter(|r| r[1] == "NaN").count();
+    assert_eq!(nan_rows, 42);
+}

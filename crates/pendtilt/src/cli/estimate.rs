@@ -13,12 +13,13 @@ use crate::pipeline;
 
 /// Options of `pendtilt estimate`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = super::help::estimate_after_help())]
 pub struct Args {
     /// The sensor log (CSV, MODEL.md section 5).
     pub log: PathBuf,
     /// Where to write the estimates (CSV); `-` for standard output. Written to a temporary
     /// file and renamed into place only when the whole log was read.
-    #[arg(long, short = 'o')]
+    #[arg(long, short = 'o', visible_alias = "out")]
     pub output: PathBuf,
     /// Rig, column mapping, estimator choice and output form.
     #[command(flatten)]

@@ -50,7 +50,7 @@ pub struct Args {
     /// Input CSV, with a header row and a time column.
     pub input: PathBuf,
     /// Output CSV (`-` for standard output).
-    #[arg(short, long)]
+    #[arg(short, long, visible_alias = "out")]
     pub output: PathBuf,
     /// FIR order; the filter has order + 1 taps and delays by order/2 samples.
     /// The paper's filter is 50.
@@ -177,12 +177,13 @@ impl Plan {
     }
 
     /// Second pass: filters the input into `out` (CSV with the input's header), one row per
-    /// input row. Returns the number of rows written.
+    /// input row. Returns the rows written and, per filtered column, how many missing cells
+    /// went in and how many `NaN` rows came out.
     ///
     /// # Errors
     /// I/O errors, and the input changing between [`scan`] and here (a row that no longer
     /// parses is reported with its line as in the first pass).
-    pub fn apply<W: Write>(&self, out: W) -> Result<u64> {
+    pub fn apply<W: Write>(&self, out: W) -> Result<Applied> {
         let path = self.input.as_path();
         let mut rdr = open_reader(path)?;
         let header = rdr.byte_headers().map_err(|e| csv_error(path, e))?.clone();
@@ -208,12 +209,15 @@ impl Plan {
         let mut out_rec = ByteRecord::new();
         let mut cell = String::new();
         let mut written = 0u64;
+        let mut missing_in = vec![0u64; n_cols];
+        let mut nan_out = vec![0u64; n_cols];
 
         let mut write_row = |wtr: &mut csv::Writer<W>, row: &ByteRecord, y: &[f64]| -> Result<()> {
             out_rec.clear();
             for (i, field) in row.iter().enumerate() {
                 match is_filtered.get(i).copied().flatten() {
                     Some(j) => {
+                        nan_out[j] += u64::from(y[j].is_nan());
                         format_f64(&mut cell, y[j]);
                         out_rec.push_field(cell.as_bytes());
                     }
@@ -233,6 +237,7 @@ impl Plan {
             let line = rec.position().map_or(0, |p| p.line());
             for (j, &i) in self.filtered.iter().enumerate() {
                 x[j] = parse_cell(path, line, &self.names, i, rec.get(i))?;
+                missing_in[j] += u64::from(x[j].is_nan());
             }
             for (j, f) in filters.iter_mut().enumerate() {
                 y[j] = f.update(x[j]);
@@ -263,8 +268,41 @@ impl Plan {
             write_row(&mut wtr, &row, &y)?;
         }
         wtr.flush().context("cannot write the output")?;
-        Ok(written)
+        let columns = self
+            .filtered
+            .iter()
+            .enumerate()
+            .map(|(j, &i)| NanSpread {
+                name: self.names[i].clone(),
+                missing_in: missing_in[j],
+                nan_out: nan_out[j],
+            })
+            .collect();
+        Ok(Applied {
+            rows: written,
+            columns,
+        })
     }
+}
+
+/// What [`Plan::apply`] wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Applied {
+    /// Rows written (one per input row).
+    pub rows: u64,
+    /// Per filtered column, in file order: how far missing samples spread.
+    pub columns: Vec<NanSpread>,
+}
+
+/// How far the missing samples of one filtered column spread through the filter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NanSpread {
+    /// The column's name.
+    pub name: String,
+    /// Empty or `NaN` cells in the input.
+    pub missing_in: u64,
+    /// `NaN` cells in the output (each missing input makes up to order + 1 of them).
+    pub nan_out: u64,
 }
 
 /// Writes `x` into `out` as the shortest text that parses back to the same `f64` (Rust's
@@ -552,14 +590,15 @@ pub fn run(args: Args) -> Result<()> {
     let plan =
         scan(&args.input, &opts).with_context(|| crate::io::output::not_written(&args.output))?;
     let out = OutputFile::create("-o", &args.output)?;
-    let written = plan
+    let applied = plan
         .apply(std::io::BufWriter::new(out.writer()?))
         .with_context(|| crate::io::output::not_written(&args.output))?;
     out.commit()?;
     let delay = plan.output_delay_samples();
     eprintln!(
-        "pendtilt filter: {written} rows at {:.6} Hz; {}-tap {} low-pass at {} Hz on: {}; \
+        "pendtilt filter: {} rows at {:.6} Hz; {}-tap {} low-pass at {} Hz on: {}; \
          passed through: {}; output delay {} samples ({:.3} ms){}",
+        applied.rows,
         plan.rate_hz,
         plan.taps.len(),
         args.window,
@@ -570,5 +609,15 @@ pub fn run(args: Args) -> Result<()> {
         delay / plan.rate_hz * 1e3,
         if plan.shift > 0 { " (compensated)" } else { "" }
     );
+    for c in applied.columns.iter().filter(|c| c.missing_in > 0) {
+        eprintln!(
+            "note: column '{}': {} missing or NaN cell(s) made {} output row(s) NaN (each \
+             spreads to the {} rows the filter spans)",
+            c.name,
+            c.missing_in,
+            c.nan_out,
+            plan.taps.len()
+        );
+    }
     Ok(())
 }

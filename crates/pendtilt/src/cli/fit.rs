@@ -40,17 +40,17 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "alg2")]
     pub algorithm: Algorithm,
     /// Where to write the fitted rig file (TOML).
-    #[arg(long, short = 'o')]
+    #[arg(long, short = 'o', visible_alias = "out")]
     pub output: PathBuf,
     /// Rig file with the start values (and the differentiator settings). Default: the
     /// MODEL.md rig.
     #[arg(long, short = 'p')]
     pub params: Option<PathBuf>,
     /// Start a (s) (overrides the rig file).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, help = super::help::fit_start('a'))]
     pub a: Option<f64>,
     /// Start b (s^2) (overrides the rig file).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, help = super::help::fit_start('b'))]
     pub b: Option<f64>,
     /// Newton's step factor h (Eq 24).
     #[arg(long, default_value_t = 1.0)]
@@ -78,10 +78,12 @@ pub struct Args {
     /// through the same low-pass as phi.
     #[arg(long)]
     pub unmatched: bool,
-    /// Other column names, e.g. `phi=enc_angle,gyro=gz`.
-    #[arg(long, default_value = "")]
+    /// Other column names, e.g. `phi=enc_angle,gyro=gz`. Default: none, the MODEL.md
+    /// names (t, phi, gyro, ax, ay, theta).
+    #[arg(long, default_value = "", hide_default_value = true)]
     pub map: ColumnMap,
-    /// Angular columns in degrees: alone, every one; or a list like `phi,theta`.
+    /// Angular columns in degrees: alone, every one; or a list like `phi,theta`. Default:
+    /// none, all in rad and rad/s.
     #[arg(long, num_args = 0..=1, default_missing_value = "all")]
     pub deg: Option<DegreeColumns>,
     /// Print nothing but errors.

@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 pub mod estimate;
 pub mod filter;
 pub mod fit;
+pub mod help;
 pub mod options;
 pub mod report;
 pub mod reproduce;

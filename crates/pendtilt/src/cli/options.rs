@@ -14,20 +14,22 @@ pub struct BankOptions {
     /// The rig file (TOML). Without it the MODEL.md default rig is used, and said so.
     #[arg(long, short = 'p')]
     pub params: Option<PathBuf>,
-    /// Other column names, e.g. `phi=enc_angle,gyro=gz`.
-    #[arg(long, default_value = "")]
+    /// Other column names, e.g. `phi=enc_angle,gyro=gz`. Default: none, the MODEL.md
+    /// names (t, phi, gyro, ax, ay, theta).
+    #[arg(long, default_value = "", hide_default_value = true)]
     pub map: ColumnMap,
     /// Angular columns in degrees: alone, every one (phi, gyro, theta); or a list like
-    /// `phi,theta`.
+    /// `phi,theta`. Default: none, all in rad and rad/s.
     #[arg(long, num_args = 0..=1, default_missing_value = "all")]
     pub deg: Option<DegreeColumns>,
-    /// Write the estimates (and theta) in degrees.
+    /// Write the estimates (and theta) in degrees. Default: rad.
     #[arg(long)]
     pub out_deg: bool,
     /// Add a `<name>_flags` column per estimator.
     #[arg(long)]
     pub flags: bool,
-    /// Run only these estimators (comma-separated).
+    /// Run only these estimators (comma-separated; the names are listed below). Default:
+    /// every estimator whose columns are in the log.
     #[arg(long, value_delimiter = ',')]
     pub only: Option<Vec<String>>,
     /// Print nothing but errors on standard error.

@@ -1,4 +1,4 @@
-//! `pendtilt report LOG.csv --params RIG.toml --out DIR`: metrics (unfiltered and after the
+//! `pendtilt report LOG.csv --params RIG.toml -o DIR`: metrics (unfiltered and after the
 //! paper's 20 Hz FIR), figures, Markdown, JSON and one HTML page for a log with a true angle.
 use std::path::PathBuf;
 
@@ -27,13 +27,15 @@ pub struct Args {
     #[arg(long, short = 'p')]
     pub params: Option<PathBuf>,
     /// Directory to write into (created): index.html, report.md, report.json, figures.
-    #[arg(long, short = 'o')]
-    pub out: PathBuf,
-    /// Other column names, e.g. `phi=enc_angle,gyro=gz,theta=pot`.
-    #[arg(long, default_value = "")]
+    /// Files already there that the report does not write are left alone.
+    #[arg(long, short = 'o', visible_alias = "out")]
+    pub output: PathBuf,
+    /// Other column names, e.g. `phi=enc_angle,gyro=gz,theta=pot`. Default: none, the
+    /// MODEL.md names (t, phi, gyro, ax, ay, theta).
+    #[arg(long, default_value = "", hide_default_value = true)]
     pub map: ColumnMap,
     /// Angular columns in degrees: alone, every one (phi, gyro, theta); or a list like
-    /// `phi,theta`.
+    /// `phi,theta`. Default: none, all in rad and rad/s.
     #[arg(long, num_args = 0..=1, default_missing_value = "all")]
     pub deg: Option<DegreeColumns>,
     /// Title of the report (default: the log's file name).
@@ -92,10 +94,10 @@ pub fn read_log(
 /// the log or the rig file.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let bars = Bars::new(args.quiet);
-    let out = OutputDir::create("-o", &args.out)?;
+    let out = OutputDir::create("-o", &args.output)?;
     let result = report(&args, out.staging(), &bars);
     bars.finish();
-    let html = result.with_context(|| output::not_written(&args.out))?;
+    let html = result.with_context(|| output::not_written(&args.output))?;
     let html = out.final_path(&html);
     let mut inputs = vec![NamedPath::new("LOG", &args.log)];
     if let Some(p) = &args.params {
@@ -169,7 +171,7 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
     }
     let out = report
         .write(dir)
-        .with_context(|| format!("cannot write the report into {}", args.out.display()))?;
+        .with_context(|| format!("cannot write the report into {}", args.output.display()))?;
     bars.finish();
     for v in &out.data.views {
         println!("Metrics ({}):\n{}", v.view, metrics_markdown(&v.metrics));

@@ -1,4 +1,4 @@
-//! `pendtilt reproduce --out DIR`: the paper's experiment and figures on built-in simulated
+//! `pendtilt reproduce -o DIR`: the paper's experiment and figures on built-in simulated
 //! data (see [`crate::experiment`]), with progress bars and the claims table on stdout.
 use std::cell::RefCell;
 use std::path::PathBuf;
@@ -16,8 +16,8 @@ use crate::report::claims::Claim;
 pub struct Args {
     /// Directory to write into (created): index.html, report.md, claims.json, scooter/,
     /// sigmoid/.
-    #[arg(long, short = 'o')]
-    pub out: PathBuf,
+    #[arg(long, short = 'o', visible_alias = "out")]
+    pub output: PathBuf,
     /// Length of the scooter test ride [s].
     #[arg(long, default_value_t = 60.0)]
     pub duration: f64,
@@ -128,10 +128,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     cfg.sigmoid_seed = args.seed.wrapping_add(2);
     let bars = Bars::new(args.quiet);
     // Written into a staging directory beside --out, moved in only when complete.
-    let out = OutputDir::create("-o", &args.out)?;
+    let out = OutputDir::create("-o", &args.output)?;
     let outcome = experiment::reproduce(&cfg, out.staging(), &bars);
     bars.finish();
-    let outcome = outcome.with_context(|| output::not_written(&args.out))?;
+    let outcome = outcome.with_context(|| output::not_written(&args.output))?;
     let (index, markdown, json) = (
         out.final_path(&outcome.index),
         out.final_path(&outcome.markdown),

@@ -12,6 +12,7 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use super::help;
 use crate::io::output::{self as safe, NamedPath, OutputFile};
 use crate::sim::{self, output, Scenario, Simulator};
 
@@ -22,27 +23,31 @@ pub const DEFAULT_SEED: u64 = 1;
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct Args {
     /// Base scenario: still, sigmoid, step, sine, chirp or scooter (MODEL.md section 6).
+    /// No default: give it or --config.
     #[arg(long, value_name = "NAME")]
     pub scenario: Option<String>,
-    /// Scenario TOML overriding the base key by key (see `pendtilt::sim::scenario`).
+    /// Scenario TOML overriding the base key by key (`pendtilt simulate --print-scenario`
+    /// shows every key). Default: none, the named scenario as it is.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Seed of every random part (same seed, same bytes). Default: the TOML's `seed`, else 1.
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
-    /// Length of the run (s).
-    #[arg(long, value_name = "S")]
+    /// Length of the run (s). Default: the scenario's.
+    #[arg(long, value_name = "S", help = help::duration())]
     pub duration: Option<f64>,
-    /// Sample rate in Hz (default 1000).
-    #[arg(long, value_name = "HZ")]
+    /// Sample rate in Hz. Default: the scenario's.
+    #[arg(long, value_name = "HZ", help = help::rate())]
     pub rate: Option<f64>,
     /// Rig, motion, vibration and sensor settings.
     #[command(flatten)]
     pub settings: Box<Settings>,
-    /// The log to write (CSV of MODEL.md section 5).
+    /// The log to write (CSV of MODEL.md section 5); `-` for standard output (the rig file
+    /// then only with --rig-out). No default: required unless --print-scenario.
     #[arg(
         short,
         long,
+        visible_alias = "out",
         value_name = "LOG.csv",
         required_unless_present = "print_scenario"
     )]
@@ -58,11 +63,11 @@ pub struct Args {
     pub quiet: bool,
 }
 
-/// The options that change one part of the scenario (boxed in [`Args`]: they are many).
+/// The options that change one part of the scenario (boxed in `Args`: they are many).
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct Settings {
-    /// RK4 steps per sample (default 2).
-    #[arg(long, value_name = "N")]
+    /// RK4 steps per sample. Default: the scenario's.
+    #[arg(long, value_name = "N", help = help::substeps())]
     pub substeps: Option<u32>,
     /// Switch off every random sensor error (white noise, gyro bias walk, potentiometer
     /// noise); biases, quantisation and saturation stay. Vibration is not sensor noise: see
@@ -76,33 +81,35 @@ pub struct Settings {
     #[arg(long)]
     pub no_vibration: bool,
     /// Take the pendulum from the `[pendulum]` table of a rig TOML (physical form).
+    /// Default: none, the scenario's pendulum.
     #[arg(long, value_name = "FILE")]
     pub rig: Option<PathBuf>,
-    /// Pendulum mass m_p (kg).
-    #[arg(long, value_name = "KG")]
+    /// Pendulum mass m_p (kg). Default: the scenario's.
+    #[arg(long, value_name = "KG", help = help::pendulum("Pendulum mass m_p (kg)", |p| p.mass))]
     pub mass: Option<f64>,
-    /// Pivot-to-CG distance l_p (m).
-    #[arg(long, value_name = "M")]
+    /// Pivot-to-CG distance l_p (m). Default: the scenario's.
+    #[arg(long, value_name = "M", help = help::pendulum("Pivot-to-CG distance l_p (m)", |p| p.length))]
     pub length: Option<f64>,
-    /// Inertia about the pivot I_p (kg m^2).
-    #[arg(long, value_name = "KG_M2")]
+    /// Inertia about the pivot I_p (kg m^2). Default: the scenario's.
+    #[arg(long, value_name = "KG_M2", help = help::pendulum("Inertia about the pivot I_p (kg m^2)", |p| p.inertia))]
     pub inertia: Option<f64>,
-    /// Pivot friction C (N m s/rad).
-    #[arg(long, value_name = "NMS")]
+    /// Pivot friction C (N m s/rad). Default: the scenario's.
+    #[arg(long, value_name = "NMS", help = help::pendulum("Pivot friction C (N m s/rad)", |p| p.damping))]
     pub damping: Option<f64>,
-    /// Distance l12 from the body's pivot P1 to the pendulum pivot P2 (m).
-    #[arg(long, value_name = "M")]
+    /// Distance l12 from the body's pivot P1 to the pendulum pivot P2 (m). Default: the scenario's.
+    #[arg(long, value_name = "M", help = help::pendulum("Distance l12 from the body's pivot P1 to the pendulum pivot P2 (m)", |p| p.pivot_offset))]
     pub pivot_offset: Option<f64>,
     /// Size of the body motion (rad) (amplitude, or the angle of `still`).
-    #[arg(long, value_name = "RAD", allow_negative_numbers = true)]
+    #[arg(long, value_name = "RAD", allow_negative_numbers = true, help = help::amplitude())]
     pub amplitude: Option<f64>,
     /// Frequency of the `sine` motion (Hz).
-    #[arg(long, value_name = "HZ")]
+    #[arg(long, value_name = "HZ", help = help::frequency())]
     pub frequency: Option<f64>,
     /// Engine fundamental (Hz): every vibration harmonic keeps its ratio to the first.
-    #[arg(long, value_name = "HZ")]
+    #[arg(long, value_name = "HZ", help = help::engine_hz())]
     pub engine_hz: Option<f64>,
     /// Multiply every vibration amplitude (harmonic, broadband, angular) by this.
+    /// Default 1 (the scenario's vibration as it is).
     #[arg(long, value_name = "X")]
     pub vibration_scale: Option<f64>,
     /// Accelerometer position relative to P2 in body axes (m), e.g. `--accel-mount 0.02,-0.1`.
@@ -110,14 +117,15 @@ pub struct Settings {
         long,
         value_name = "X,Y",
         value_delimiter = ',',
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        help = help::accel_mount()
     )]
     pub accel_mount: Option<Vec<f64>>,
     /// Encoder resolution (bits per turn); 0 = no quantisation.
-    #[arg(long, value_name = "BITS")]
+    #[arg(long, value_name = "BITS", help = help::encoder_bits())]
     pub encoder_bits: Option<u32>,
     /// Set any scenario key, TOML syntax: `--set vibration.broadband.rms=[1.0,2.0]`
-    /// (repeatable).
+    /// (repeatable). Default: none.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
 }

@@ -16,6 +16,7 @@ use crate::pipeline;
 
 /// Options of `pendtilt stream`.
 #[derive(Debug, clap::Args)]
+#[command(after_help = super::help::estimate_after_help())]
 pub struct Args {
     /// Rig, column mapping, estimator choice and output form.
     #[command(flatten)]

@@ -112,10 +112,10 @@ pub enum Target {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Cost {
     /// The paper's Eq (23) (or Eq 29 for the gyro target): the inverted estimate against
-    /// the target. Biased on a vibrating body (b comes out low): see [`output`].
+    /// the target. Biased on a vibrating body (b comes out low): see the output cost.
     #[default]
     Inverse,
-    /// Output error ([`output`]): the pendulum simulated from the true angle against the
+    /// Output error (module `fit::output`): the pendulum simulated from the true angle against the
     /// measured phi. Unbiased under vibration; alg1/alg2 (a, b) and the truth target only.
     Output,
 }

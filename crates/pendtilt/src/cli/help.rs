@@ -1,0 +1,191 @@
+//! Help texts made from the code's own tables (the estimator registry, the named
+//! scenarios, the default rig), so that `--help` shows every default and name without a
+//! second copy that could drift.
+use crate::bank::{Inputs, REGISTRY};
+use crate::config::RigConfig;
+use crate::sim::motion::Motion;
+use crate::sim::{Scenario, SCENARIO_NAMES};
+
+/// The input columns and their units (MODEL.md section 5), for `estimate` and `stream`.
+pub const INPUT_UNITS: &str = "Input columns (MODEL.md section 5, SI units): t [s], strictly \
+increasing; phi [rad], the pendulum angle relative to the body (encoder); gyro [rad/s], body \
+rate about the tilt axis, CCW positive; ax, ay [m/s^2], accelerometer specific force in body \
+axes; theta [rad], the true tilt (optional, copied to the output). Angles in degrees: --deg. \
+Other column names: --map. The estimates are written in rad (--out-deg: deg), t in s.";
+
+/// The estimators the bank knows, one line each: name, the columns it needs, what it is.
+pub fn estimator_list() -> String {
+    let width = REGISTRY.iter().map(|e| e.name.len()).max().unwrap_or(0);
+    let mut s = String::from(
+        "Estimators (one output column each; an estimator whose columns are missing is \
+         skipped, and said so; --only picks some):\n",
+    );
+    for e in REGISTRY {
+        let needs = Inputs::default().lacking(e.needs).join(", ");
+        s.push_str(&format!(
+            "  {:width$}  needs {:22} {}\n",
+            e.name,
+            needs,
+            e.about,
+            width = width
+        ));
+    }
+    s
+}
+
+/// What `estimate --help` and `stream --help` print after the options.
+pub fn estimate_after_help() -> String {
+    format!("{}\n{INPUT_UNITS}", estimator_list())
+}
+
+/// `value` for each named scenario, as "X in every scenario" when they all agree, else
+/// "still X, sigmoid Y, ..." (scenarios where `value` is `None` are left out).
+pub fn per_scenario(value: impl Fn(&Scenario) -> Option<String>) -> String {
+    let values: Vec<(&str, String)> = SCENARIO_NAMES
+        .iter()
+        .filter_map(|&n| {
+            let s = Scenario::named(n).ok()?;
+            value(&s).map(|v| (n, v))
+        })
+        .collect();
+    match values.first() {
+        Some((_, first))
+            if values.len() == SCENARIO_NAMES.len() && values.iter().all(|(_, v)| v == first) =>
+        {
+            format!("{first} in every scenario")
+        }
+        _ => values
+            .iter()
+            .map(|(n, v)| format!("{n} {v}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+    }
+}
+
+/// `text`, then the scenario defaults of `value`.
+fn with_scenario_default(text: &str, value: impl Fn(&Scenario) -> Option<String>) -> String {
+    format!("{text} [default: {}]", per_scenario(value))
+}
+
+fn num(x: f64) -> Option<String> {
+    Some(format!("{x}"))
+}
+
+/// `simulate --duration`.
+pub fn duration() -> String {
+    with_scenario_default("Length of the run (s)", |s| num(s.duration))
+}
+
+/// `simulate --rate`.
+pub fn rate() -> String {
+    with_scenario_default("Sample rate (Hz)", |s| num(s.rate))
+}
+
+/// `simulate --substeps`.
+pub fn substeps() -> String {
+    with_scenario_default("RK4 steps per sample", |s| Some(s.substeps.to_string()))
+}
+
+/// `simulate --mass`, `--length`, ...: the scenario's pendulum (the MODEL.md rig).
+pub fn pendulum(text: &str, field: fn(&crate::sim::PendulumTable) -> f64) -> String {
+    with_scenario_default(text, |s| num(field(&s.pendulum)))
+}
+
+/// `simulate --amplitude`: the size of each scenario's motion.
+pub fn amplitude() -> String {
+    with_scenario_default(
+        "Size of the body motion (rad): the amplitude, the angle of `still`, the soft limit \
+         of `scooter`",
+        |s| {
+            let a = match &s.motion {
+                Motion::Still(m) => m.angle,
+                Motion::Sigmoid(m) => m.amplitude,
+                Motion::Step(m) => m.amplitude,
+                Motion::Sine(m) => m.amplitude,
+                Motion::Chirp(m) => m.amplitude,
+                Motion::Manoeuvres(m) => m.amplitude,
+            };
+            Some(format!("{a:.4}"))
+        },
+    )
+}
+
+/// `simulate --frequency`.
+pub fn frequency() -> String {
+    with_scenario_default("Frequency of the `sine` motion (Hz)", |s| match &s.motion {
+        Motion::Sine(m) => num(m.frequency),
+        _ => None,
+    })
+}
+
+/// `simulate --engine-hz`.
+pub fn engine_hz() -> String {
+    with_scenario_default(
+        "Engine fundamental (Hz): every vibration harmonic keeps its ratio to the first; \
+         only for scenarios with engine vibration",
+        |s| s.vibration.harmonics.first().and_then(|h| num(h.frequency)),
+    )
+}
+
+/// `simulate --accel-mount`.
+pub fn accel_mount() -> String {
+    with_scenario_default(
+        "Accelerometer position relative to P2 in body axes (m), e.g. `--accel-mount \
+         0.02,-0.1`",
+        |s| {
+            let [x, y] = s.sensors.accel.mount;
+            Some(format!("{x},{y}"))
+        },
+    )
+}
+
+/// `simulate --encoder-bits`.
+pub fn encoder_bits() -> String {
+    with_scenario_default(
+        "Encoder resolution (bits per turn); 0 = no quantisation",
+        |s| Some(s.sensors.encoder.bits.to_string()),
+    )
+}
+
+/// `fit --a` and `fit --b`: the start value when neither the option nor `--params` gives
+/// one.
+pub fn fit_start(which: char) -> String {
+    let p = RigConfig::default().params();
+    let (v, unit) = if which == 'a' {
+        (p.a, "s")
+    } else {
+        (p.b, "s^2")
+    };
+    format!(
+        "Start {which} ({unit}), overriding the rig file [default: from --params, else the \
+         MODEL.md rig's {v:.6e}]"
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_list_has_every_registered_estimator_with_what_it_needs() {
+        let list = estimator_list();
+        for e in REGISTRY {
+            assert!(list.contains(&format!("  {}", e.name)), "{list}");
+            assert!(list.contains(e.about), "{list}");
+        }
+        assert!(list.contains("needs phi, gyro"), "{list}");
+        assert!(list.contains("needs ax/ay"), "{list}");
+    }
+
+    #[test]
+    fn per_scenario_defaults_name_each_scenario_or_say_every() {
+        let d = duration();
+        for n in SCENARIO_NAMES {
+            let s = Scenario::named(n).unwrap();
+            assert!(d.contains(&format!("{n} {}", s.duration)), "{d}");
+        }
+        assert!(rate().contains("1000 in every scenario"), "{}", rate());
+        // Only the sine has a frequency: one entry, not "every scenario".
+        assert!(frequency().contains("[default: sine "), "{}", frequency());
+    }
+}
