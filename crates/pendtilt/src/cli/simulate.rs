@@ -255,7 +255,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let base = args.scenario.clone().unwrap_or_else(|| "still".into());
     let scenario_text = format!(
         "# Resolved scenario written by `pendtilt simulate`; rerun with\n\
-         # pendtilt simulate --config THIS_FILE -o LOG.csv\nscenario = \"{base}\"\nseed = {seed}\n{}",
+         # pendtilt simulate --config THIS_FILE -o NEW.csv (another log name: the scenario file\n# beside NEW.csv must not be THIS_FILE)\nscenario = \"{base}\"\nseed = {seed}\n{}",
         scenario.to_toml()
     );
     if args.print_scenario {
@@ -285,7 +285,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     outputs.extend(
         scen_path
             .as_deref()
-            .map(|p| NamedPath::new("the scenario file beside -o", p)),
+            .map(|p| NamedPath::new("the scenario file written beside -o,", p)),
     );
     safe::check_distinct(&inputs, &outputs)?;
     let files = outputs
