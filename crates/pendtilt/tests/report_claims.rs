@@ -82,3 +82,40 @@ fn markdown_tables_are_well_formed() {
     assert_eq!(pipes(rows[2]), 5, "{cm}");
     assert!(rows[2].contains("| yes |"));
 }
+
+/// Claim 4 says what was run: with no K, L, M, N given it is "n/a" (Algorithm 3 then is
+/// Algorithm 2), never a failure, and its wording says why; with fitted gains it is judged
+/// and labelled as fitted.
+#[test]
+fn claim_4_is_labelled_by_the_gains_that_were_run() {
+    use pendtilt::experiment::claims::{paper_claims, Alg3Gains, DifferentiatorInfo};
+    let run = [
+        metrics("accel", 2.0),
+        metrics("pendulum", 1.0),
+        metrics("alg1", 0.5),
+        metrics("alg2", 0.4),
+        metrics("alg3", 0.4),
+        metrics("kf_accel", 1.0),
+        metrics("kf_alg2", 0.3),
+    ];
+    let info = DifferentiatorInfo {
+        cutoff_hz: 2.84,
+        delay_ms: 147.0,
+        natural_hz: 2.19,
+    };
+    let none = paper_claims(&run, false, &info, Alg3Gains::Eq21Equivalent);
+    let c = none[3].evaluate(&run);
+    assert!(c.claim.starts_with("4.") && c.claim.contains("no K, L, M, N given"));
+    assert_eq!((c.applicable, c.holds, c.verdict()), (false, false, "n/a"));
+    assert!(
+        c.why.starts_with("Not applicable: no fitted K, L, M, N"),
+        "{}",
+        c.why
+    );
+    assert!(claims_markdown(&[c]).contains("| n/a |"));
+    let fitted = paper_claims(&run, false, &info, Alg3Gains::Fitted)[3].evaluate(&run);
+    assert!(fitted.claim.contains("fitted in this run") && fitted.applicable);
+    assert_eq!(fitted.verdict(), "no");
+    // the other claims are judged as before
+    assert_eq!(none[0].evaluate(&run).verdict(), "yes");
+}

@@ -136,3 +136,119 @@ fn fig3_is_drawn() {
         }
     }
 }
+
+/// 10 s at 100 Hz of a unit sine.
+fn sine_run() -> (Vec<f64>, Vec<f64>) {
+    let t: Vec<f64> = (0..1000).map(|k| k as f64 / 100.0).collect();
+    let y = t.iter().map(|t| (2.0 * t).sin()).collect();
+    (t, y)
+}
+
+/// A start-up transient (50 samples at 50 in the first 0.5 s) does not set the ordinate
+/// range: the range comes from the sine after the first second (by hand: percentiles
+/// about -1 and 1, widened by a quarter of their spread to 1.5 at most, padded 5 %), and the
+/// 50 points cut at the frame are counted and named on the plot.
+#[test]
+fn the_y_range_ignores_a_start_up_transient_and_counts_what_it_cuts() {
+    let dir = tempfile::tempdir().unwrap();
+    let (t, mut y) = sine_run();
+    for v in y.iter_mut().take(50) {
+        *v = 50.0;
+    }
+    let f = plot_time_series(
+        dir.path(),
+        "startup",
+        "start-up",
+        &t,
+        &[("alg2", &y)],
+        &Palette::default(),
+    )
+    .unwrap();
+    let (lo, hi) = f.axes[0].y_range;
+    assert!(lo > -1.3 && lo < -1.0 && hi > 1.0 && hi < 1.8, "{lo} {hi}");
+    let b = f.axes[0].beyond;
+    assert_eq!((b.above, b.below, b.highest), (50, 0, Some(50.0)));
+    let svg = std::fs::read_to_string(&f.svg).unwrap();
+    assert!(
+        svg.contains("50 points beyond the axis: 50 above (max 50.00)"),
+        "the note is missing"
+    );
+    // The same data with the robust range switched off: everything on the plot.
+    let mut spec = FigureSpec::new("all", "time [s]", "angle [deg]");
+    spec.robust = None;
+    let g = plot_curves(
+        dir.path(),
+        "all",
+        &spec,
+        &[Curve::line("alg2", &t, &y)],
+        &Palette::default(),
+    )
+    .unwrap();
+    assert!(g.axes[0].y_range.1 >= 50.0 && g.beyond_total() == 0);
+}
+
+/// One spike of 1000 in a sine is cut at the frame and reported as one point above; the
+/// sine's own peaks are not cut.
+#[test]
+fn a_spike_is_reported_and_a_plain_sine_is_not_cut() {
+    let dir = tempfile::tempdir().unwrap();
+    let (t, y) = sine_run();
+    let p = Palette::default();
+    let f = plot_time_series(dir.path(), "sine", "sine", &t, &[("alg1", &y)], &p).unwrap();
+    assert_eq!(f.beyond_total(), 0, "{:?}", f.axes);
+    let (lo, hi) = f.axes[0].y_range;
+    assert!(lo <= -1.0 && hi >= 1.0);
+    let mut spiky = y.clone();
+    spiky[500] = 1000.0;
+    let g = plot_errors(
+        dir.path(),
+        "spike",
+        "spike",
+        &t,
+        &vec![0.0; t.len()],
+        &[("accel", &spiky)],
+        &p,
+    )
+    .unwrap();
+    assert_eq!(g.axes[0].beyond.above, 1);
+    assert_eq!(g.axes[0].beyond.highest, Some(1000.0));
+    assert!(g.axes[0].y_range.1 < 2.0);
+    let svg = std::fs::read_to_string(&g.svg).unwrap();
+    assert!(svg.contains("1 point beyond the axis: 1 above (max 1000.0)"));
+}
+
+/// Small multiples: one panel per family, each with its own range and title, stacked in
+/// one PNG of 1200 x (3 x 420 + 50).
+#[test]
+fn panels_are_drawn_one_above_the_other() {
+    use pendtilt::report::figures::{plot_panels, Panel};
+    let dir = tempfile::tempdir().unwrap();
+    let (t, y) = sine_run();
+    let big: Vec<f64> = y.iter().map(|v| 100.0 * v).collect();
+    let panels: Vec<Panel> = [("raw", &y), ("Kalman filters", &big), ("peers", &y)]
+        .into_iter()
+        .map(|(title, v)| Panel {
+            spec: FigureSpec::new(title, "time [s]", "angle [deg]"),
+            curves: vec![Curve::line("alg1", &t, v)],
+        })
+        .collect();
+    let f = plot_panels(
+        dir.path(),
+        "panels",
+        "every estimate",
+        (1200, 420),
+        &panels,
+        &Palette::default(),
+    )
+    .unwrap();
+    check(&f, 1200, 3 * 420 + 50, "every estimate");
+    assert_eq!(f.axes.len(), 3);
+    assert!(f.axes[1].y_range.1 > 50.0 && f.axes[0].y_range.1 < 2.0);
+    let svg = std::fs::read_to_string(&f.svg).unwrap();
+    for title in ["raw", "Kalman filters", "peers"] {
+        assert!(
+            svg.contains(&format!("\n{title}\n")),
+            "panel {title} missing"
+        );
+    }
+}

@@ -124,6 +124,20 @@ fn report_writes_every_file_and_the_page_references_only_existing_files() {
         "network reference"
     );
     assert!(html.contains("<style>"));
+    // every metric column shown is defined on the page, with the tolerance of "within tol"
+    for col in &pendtilt::report::markdown::METRIC_COLUMNS[1..] {
+        let dt = format!("<dt>{}</dt><dd>", pendtilt::report::html::escape(col));
+        assert_eq!(
+            html.matches(&dt).count(),
+            2,
+            "{col} not defined under each table"
+        );
+    }
+    assert!(html.contains("|estimate - truth| &lt;= 0.500 deg"));
+    // the overview is one panel per estimator family, not every series overlaid
+    let overview = &out.figures[0];
+    assert!(overview.png.ends_with("angles_all.png"));
+    assert!(overview.axes.len() >= 2, "{:?}", overview.axes);
     assert!(html.contains("Metrics: unfiltered") && html.contains("Metrics: smoothed"));
     assert!(std::fs::read_to_string(&out.markdown)
         .unwrap()

@@ -22,20 +22,30 @@ pub struct Args {
     /// Optimiser: `newton` = the paper's Eqs (24)-(28); `lm` = Levenberg-Marquardt.
     #[arg(long, value_enum, default_value = "newton")]
     pub method: Method,
-    /// Cost: `inverse` = the paper's Eq (23)/(29), the inverted estimate against the
-    /// target; `output` = the pendulum simulated from the true angle against the measured
-    /// phi (truth target, alg1/alg2 only), unbiased on a vibrating body where Eq (23)
-    /// shrinks b.
-    #[arg(long, value_enum, default_value = "inverse")]
+    /// Cost. `auto` (default) = `output` where it applies (truth target, alg1/alg2), else
+    /// `inverse`. `output` = the pendulum simulated from the true angle against the
+    /// measured phi: stays within 5 % of a, b under vibration and noise. `inverse` = the
+    /// paper's Eq (23)/(29), the inverted estimate against the target: BIASED under
+    /// vibration (b 29 % low on the 60 s scooter ride); the only cost for `--target gyro`
+    /// and alg3.
+    #[arg(long, value_enum, default_value = "auto")]
     pub cost: Cost,
     /// Output cost: cutoff of the zero-phase smoothing of the true angle (Hz).
     #[arg(long, default_value_t = 20.0)]
     pub smoothing_hz: f64,
-    /// Output cost: drive the simulated pendulum with the accelerometer's specific force
-    /// (`ax`, `ay`, at the pivot) so that floor vibration is an input, not a disturbance.
-    /// Needed for b within 5 % on a ride like the `scooter` scenario.
-    #[arg(long)]
+    /// Output cost: always drive the simulated pendulum with the accelerometer's specific
+    /// force (`ax`, `ay`, at the pivot) so that floor vibration is an input, not a
+    /// disturbance. Default: on when the log's accelerometer vibrates (high-frequency RMS
+    /// above 0.5 m/s^2), off otherwise.
+    #[arg(long, conflicts_with = "no_accel_drive")]
     pub accel_drive: bool,
+    /// Output cost: never drive the simulated pendulum with the accelerometer.
+    #[arg(long)]
+    pub no_accel_drive: bool,
+    /// Write the rig file even when the fitted pendulum is implausible (damping ratio
+    /// above 2, natural frequency outside the log's band); it is still reported.
+    #[arg(long)]
+    pub accept_implausible: bool,
     /// Which parameters: alg1/alg2 fit a, b; alg3 fits K, L, M, N.
     #[arg(long, value_enum, default_value = "alg2")]
     pub algorithm: Algorithm,
@@ -171,15 +181,30 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     settings.lm.max_iterations = args.max_iterations;
     settings.output.smoothing_hz = args.smoothing_hz;
     settings.output.accel = args.accel_drive;
+    settings.output.auto_accel = !args.no_accel_drive;
+    let cost = args.cost.resolve(args.target, args.algorithm);
     anyhow::ensure!(
-        !args.accel_drive || args.cost == Cost::Output,
-        "--accel-drive applies to --cost output only"
+        !(args.accel_drive || args.no_accel_drive) || cost == Cost::Output,
+        "--accel-drive and --no-accel-drive apply to the output cost only (this fit runs {})",
+        cost.describe()
     );
     settings.output.skip = args.skip.max(settings.output.skip);
+    let span = fit::plausibility::LogSpan::of(samples.iter().map(|s| s.t));
     let truth_opt = has_theta.then_some(&truth[..]);
-    let problem = match args.cost {
-        Cost::Inverse => Some(fit::prepare(&samples, truth_opt, &settings)?),
+    // A slow median step is the usual sign of time in ms: said beside any failure.
+    let hint = match span {
+        Some(s) if s.median_step >= 0.05 => format!(
+            " (the log's median time step is {:.3} s, i.e. {:.2} Hz: if its time column is in \
+             ms, divide it by 1000)",
+            s.median_step,
+            1.0 / s.median_step
+        ),
+        _ => String::new(),
+    };
+    let with_hint = |e: fit::FitError| anyhow::anyhow!("{e}{hint}");
+    let problem = match cost {
         Cost::Output => None,
+        _ => Some(fit::prepare(&samples, truth_opt, &settings).map_err(with_hint)?),
     };
     let unit = match args.target {
         Target::Truth => "rad",
@@ -189,7 +214,8 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     if !quiet {
         match &problem {
             Some(problem) => eprintln!(
-                "fitting {} of {:?} by {:?} on {} samples (cost Eq {} in {unit}, differentiator cutoff {:.3} Hz)",
+                "fitting {} of {:?} by {:?} on {} samples (the paper's inverse cost, Eq {} in \
+                 {unit}, differentiator cutoff {:.3} Hz; biased under vibration)",
                 args.algorithm.names().join(", "),
                 args.algorithm,
                 args.method,
@@ -241,13 +267,26 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
         }
     };
     let report = match &problem {
-        Some(problem) => fit::fit(problem, &settings, show)?,
-        None => fit::fit_output_log(&samples, truth_opt, &settings, show)?,
-    };
+        Some(problem) => fit::fit(problem, &settings, show),
+        None => fit::fit_output_log(&samples, truth_opt, &settings, show),
+    }
+    .map_err(with_hint)?;
+    if !quiet && report.cost_kind == Cost::Output {
+        eprintln!("{}", accel_note(&report));
+    }
     let fitted = report.pendulum_params();
+    // alg3's K, L are gains that may take up the differentiator's delay, not a pendulum.
+    let implausible = match (args.algorithm, span) {
+        (Algorithm::Alg3, _) | (_, None) => Vec::new(),
+        (_, Some(span)) => fit::plausibility::check(&fitted, &span),
+    };
+    let verdict = if implausible.is_empty() {
+        format!("{:?}", report.stop)
+    } else {
+        format!("IMPLAUSIBLE (the optimiser stopped: {:?})", report.stop)
+    };
     println!(
-        "{:?} after {} iterations ({} passes over the log, {:.1} ms): cost {:.4e} -> {:.4e} {}",
-        report.stop,
+        "{verdict} after {} iterations ({} passes over the log, {:.1} ms): cost {:.4e} -> {:.4e} {}",
         report.iterations.len() - 1,
         report.evaluations,
         report.elapsed.as_secs_f64() * 1e3,
@@ -275,6 +314,24 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
         report.names[1],
         fitted.b
     );
+    if !implausible.is_empty() {
+        let why: Vec<String> = implausible.iter().map(|i| format!("  - {i}")).collect();
+        // A non-zero exit, and no rig file: a wrong pendulum written quietly would spoil
+        // every later `estimate`, and scripts read exit codes, not warnings.
+        anyhow::ensure!(
+            args.accept_implausible,
+            "the fitted pendulum is implausible for this log:\n{}\n{} not written; check the \
+             log's units (time in s, angles in rad or --deg) and that it moves the pendulum, \
+             or pass --accept-implausible to write it anyway",
+            why.join("\n"),
+            args.output.display()
+        );
+        eprintln!(
+            "warning: the fitted pendulum is implausible for this log (written anyway, \
+             --accept-implausible):\n{}",
+            why.join("\n")
+        );
+    }
     let mut differentiator = rig.differentiator;
     rig = RigConfig::from_params(fitted)?;
     // The differentiator the fit used, fixed in Hz as its kinematics were, so that
@@ -294,4 +351,21 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     }
     rig.validate()?;
     Ok(rig)
+}
+
+/// One line on how the output cost ran: with or without the accelerometer, and why.
+fn accel_note(report: &fit::FitReport) -> String {
+    let vib = report.vibration_rms.map_or_else(
+        || "no usable ax, ay".to_string(),
+        |v| format!("accelerometer high-frequency RMS {v:.2} m/s^2"),
+    );
+    if report.accel_drive {
+        format!("output cost driven by the accelerometer ({vib}; --no-accel-drive to switch off)")
+    } else {
+        format!(
+            "output cost driven by gravity alone ({vib}, threshold {} m/s^2; --accel-drive to \
+             use it)",
+            fit::output::VIBRATION_RMS
+        )
+    }
 }

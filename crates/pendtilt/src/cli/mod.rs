@@ -29,7 +29,8 @@ pub enum Command {
     Filter(filter::Args),
     /// Simulate the pendulum rig on a moving, vibrating body and write a sensor log.
     Simulate(simulate::Args),
-    /// Fit the pendulum's parameters to a log (Newton, Eqs 23-29, or Levenberg-Marquardt).
+    /// Fit the pendulum's parameters to a log (output error by default, the paper's Eq 23/29
+    /// with --cost inverse; Newton, Eqs 24-28, or Levenberg-Marquardt).
     Fit(fit::Args),
     /// Metrics, figures and an HTML page for a log with a true angle.
     Report(report::Args),

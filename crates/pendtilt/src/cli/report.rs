@@ -163,7 +163,13 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
             * 1e3,
         natural_hz: settings.params.natural_frequency_hz(),
     };
-    for c in paper::paper_claims(&view.metrics, false, &info) {
+    let a3 = &rig.alg3;
+    let gains = if a3.k.is_some() && a3.l.is_some() && a3.m.is_some() && a3.n.is_some() {
+        paper::Alg3Gains::FromRig
+    } else {
+        paper::Alg3Gains::Eq21Equivalent
+    };
+    for c in paper::paper_claims(&view.metrics, false, &info, gains) {
         report = report.claim(c);
     }
     if view.metrics.iter().any(|m| m.name == paper_dc()) {

@@ -101,7 +101,11 @@ pub fn claims_text(claims: &[Claim]) -> String {
     for c in claims {
         s.push_str(&format!(
             "[{}] {}\n      {}\n",
-            if c.holds { "holds" } else { "FAILS" },
+            match c.verdict() {
+                "yes" => "holds",
+                "no" => "FAILS",
+                _ => "n/a",
+            },
             c.claim,
             c.measured
         ));

@@ -1,5 +1,6 @@
-//! Calibration: the paper's Newton fit (Eqs 23-28) of the pendulum's a, b, and of
-//! Algorithm 3's K, L, M, N, on a separate ride with a true angle.
+//! Calibration: the fit of the pendulum's a, b (the paper's Newton, Eqs 24-28, on the
+//! default cost, the output error, which vibration does not bias) and of Algorithm 3's
+//! K, L, M, N (Newton on the paper's Eq 23), on a separate ride with a true angle.
 use pendtilt_core::estimators::equations::Alg3Gains;
 use pendtilt_core::PendulumParams;
 
@@ -67,16 +68,29 @@ pub fn ab_start(true_params: &PendulumParams<f64>) -> PendulumParams<f64> {
     }
 }
 
-/// The paper's Newton fit (Eqs 23-28) of a, b for Algorithm 2 on `ride` (with its true
-/// angle), from [`ab_start`], with the target through the estimator's low-pass, the
-/// estimators' default differentiator (fixed in Hz from the start values).
+/// The paper's Newton fit (Eqs 24-28) of a, b for Algorithm 2 on `ride` (with its true
+/// angle), from [`ab_start`], on the default cost ([`fit::Cost::Auto`]: the output error,
+/// driven by the accelerometer when the ride vibrates). The kinematics settings (the
+/// estimators' default differentiator, target through the estimator's low-pass) apply
+/// when the cost is the paper's Eq (23).
 pub fn fit_ab(ride: &Ride, true_params: &PendulumParams<f64>) -> Result<FitReport, fit::FitError> {
+    fit_ab_with_cost(ride, true_params, fit::Cost::Auto)
+}
+
+/// [`fit_ab`] with another cost (e.g. [`fit::Cost::Inverse`], the paper's Eq 23, to show
+/// its bias under vibration).
+pub fn fit_ab_with_cost(
+    ride: &Ride,
+    true_params: &PendulumParams<f64>,
+    cost: fit::Cost,
+) -> Result<FitReport, fit::FitError> {
     let start = ab_start(true_params);
     let defaults = BankSettings::from_params(*true_params);
     let mut ab = FitSettings {
         algorithm: Algorithm::Alg2,
         target: Target::Truth,
         method: Method::Newton,
+        cost,
         start,
         ..FitSettings::default()
     };
@@ -100,9 +114,9 @@ pub fn describe_ab(r: &FitReport, true_params: &PendulumParams<f64>) -> String {
     )
 }
 
-/// Calibrates on `ride` (which must carry the true angle): first a, b by Newton on
-/// Eq (23) for Algorithm 2 with the target through the estimator's low-pass (this
-/// identifies the pendulum's own a, b), starting 30 % off the truth; then K, L, M, N by
+/// Calibrates on `ride` (which must carry the true angle): first a, b by Newton on the
+/// output error ([`fit_ab`], unbiased under vibration, where Eq (23) shrinks b), starting
+/// 30 % off the truth; then K, L, M, N by
 /// Newton on Eq (23) exactly as printed (Algorithm 3's output as it runs against the raw
 /// truth: the gains are free to take up the differentiator's delay, which is Algorithm 3's
 /// purpose), starting from the Eq (21)-equivalent gains of the fitted a, b.
@@ -116,7 +130,7 @@ pub fn calibrate(
 ) -> Calibration {
     let mut notes = Vec::new();
     progress.stage(
-        &format!("fitting a, b (Newton, Eq 23) on {}", ride.label),
+        &format!("fitting a, b (Newton, output error) on {}", ride.label),
         2,
     );
     let start = ab_start(&true_params);
@@ -124,9 +138,14 @@ pub fn calibrate(
         Ok(r) if r.params.iter().all(|v| v.is_finite() && *v > 0.0) => {
             let p = r.pendulum_params();
             notes.push(format!(
-                "a, b: the paper's Newton's method (Eqs 24-28) on Eq (23) for Algorithm 2 \
-                     over {} ({:.0} s, target through the estimator's low-pass), started 30 % \
-                     off (a = {:.5}, b = {:.5}): {}.",
+                "a, b: the paper's Newton's method (Eqs 24-28) on {}{} for Algorithm 2 \
+                     over {} ({:.0} s), started 30 % off (a = {:.5}, b = {:.5}): {}.",
+                r.cost_kind.describe(),
+                if r.accel_drive {
+                    ", driven by the accelerometer"
+                } else {
+                    ""
+                },
                 ride.label,
                 ride.duration(),
                 start.a,

@@ -45,12 +45,26 @@ pub fn pool(main: &[Metrics], step: Option<&[Metrics]>) -> Vec<Metrics> {
     all
 }
 
+/// Where Algorithm 3's K, L, M, N came from, so that claim 4 says what was run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Alg3Gains {
+    /// Fitted in this run (Newton on Eq 23).
+    Fitted,
+    /// Given in the rig file (e.g. written by `pendtilt fit --algorithm alg3`).
+    FromRig,
+    /// None given: the Eq (21)-equivalent gains K = a, L = b, M = -b, N = 0, with which
+    /// Algorithm 3 is Algorithm 2 without the supervision terms.
+    Eq21Equivalent,
+}
+
 /// The five claims of the paper, numbered as in the issue, on pooled metrics (see [`pool`]):
-/// with `has_step`, claim 4's overshoot is taken from the step ride.
+/// with `has_step`, claim 4's overshoot is taken from the step ride; `gains` says where
+/// Algorithm 3's gains came from (claim 4 is not applicable without them).
 pub fn paper_claims(
     pooled: &[Metrics],
     has_step: bool,
     diff: &DifferentiatorInfo,
+    gains: Alg3Gains,
 ) -> Vec<ClaimSpec> {
     let m = pooled;
     let rms = |n: &str| num(get(m, n, MetricKind::Rms));
@@ -115,7 +129,7 @@ pub fn paper_claims(
                     rms("alg1")
                 ),
             ),
-        ClaimSpec::new("4. Algorithm 3 (Eq 30, fitted K, L, M, N) has less delay than Algorithm 2, with more overshoot")
+        claim4(gains)
             .expect("alg3", MetricKind::LagMs, Expect::Lower, "alg2")
             .expect(&s3, MetricKind::OvershootPct, Expect::Higher, &s2)
             .because(
@@ -161,6 +175,28 @@ pub fn paper_claims(
                 ),
             ),
     ]
+}
+
+/// Claim 4's wording for the gains that were run, marked not applicable without fitted
+/// or given gains.
+fn claim4(gains: Alg3Gains) -> ClaimSpec {
+    let claim = "has less delay than Algorithm 2, with more overshoot";
+    match gains {
+        Alg3Gains::Fitted => ClaimSpec::new(&format!(
+            "4. Algorithm 3 (Eq 30, K, L, M, N fitted in this run) {claim}"
+        )),
+        Alg3Gains::FromRig => ClaimSpec::new(&format!(
+            "4. Algorithm 3 (Eq 30, K, L, M, N from the rig file) {claim}"
+        )),
+        Alg3Gains::Eq21Equivalent => ClaimSpec::new(&format!(
+            "4. Algorithm 3 (Eq 30; no K, L, M, N given, so the Eq (21)-equivalent gains) {claim}"
+        ))
+        .not_applicable(
+            "no fitted K, L, M, N: Algorithm 3 ran with K = a, L = b, M = -b, N = 0, which is \
+             Algorithm 2 without the supervision terms, so it cannot differ from alg2; fit the \
+             gains with `pendtilt fit LOG --algorithm alg3 -o RIG` and pass that rig",
+        ),
+    }
 }
 
 /// The extra row (not a claim of the paper): the delay-compensated Algorithm 2 against

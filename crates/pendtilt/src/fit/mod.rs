@@ -21,9 +21,10 @@
 //!   0.34 (we are on 0.35), and it wants the whole residual vector and Jacobian (100,000 x 4)
 //!   materialised and QR-factorised every iteration.
 //!
-//! Costs ([`Cost`]): the paper's inverse cost above (default), or the output error of
-//! [`output`] (the pendulum simulated from the true angle against the measured phi), which
-//! is not biased by vibration: on a chirp with the full `scooter` vibration it recovers a
+//! Costs ([`Cost`]): the output error of [`output`] (the pendulum simulated from the true
+//! angle against the measured phi; the default, [`Cost::Auto`], for a, b against the true
+//! angle), or the paper's inverse cost above (`--cost inverse`; the only one for the gyro
+//! target and alg3). The output error is not biased by vibration: on a chirp with the full `scooter` vibration it recovers a
 //! and b within 2 % where Eq (23) is 4-6 % off; on the 60 s `scooter` ride b within 8-13 %
 //! where Eq (23) is 53-57 % low, and within 1 % when the simulation is driven by the
 //! accelerometer ([`output::OutputSettings::accel`]) (README, parameter fitting).
@@ -57,6 +58,7 @@
 //! [`FitError::Unidentifiable`] instead of returning a number.
 pub mod lm;
 pub mod output;
+pub mod plausibility;
 pub mod problem;
 
 use std::time::{Duration, Instant};
@@ -108,16 +110,42 @@ pub enum Target {
     Gyro,
 }
 
-/// Which cost is minimised with the true angle.
+/// Which cost is minimised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Cost {
-    /// The paper's Eq (23) (or Eq 29 for the gyro target): the inverted estimate against
-    /// the target. Biased on a vibrating body (b comes out low): see the output cost.
+    /// The default: the output error wherever it applies (truth target, alg1/alg2), else
+    /// the paper's inverse cost (gyro target, alg3), the only one there.
     #[default]
+    Auto,
+    /// The paper's Eq (23) (or Eq 29 for the gyro target): the inverted estimate against
+    /// the target. Biased on a vibrating body (b comes out low, 29 % on the 60 s scooter
+    /// ride).
     Inverse,
-    /// Output error (module `fit::output`): the pendulum simulated from the true angle against the
-    /// measured phi. Unbiased under vibration; alg1/alg2 (a, b) and the truth target only.
+    /// Output error (module fit::output): the pendulum simulated from the true angle
+    /// against the measured phi. Unbiased under vibration; alg1/alg2 (a, b) and the truth
+    /// target only.
     Output,
+}
+
+impl Cost {
+    /// The cost actually run: [`Cost::Auto`] becomes [`Cost::Output`] for a, b against
+    /// the true angle and [`Cost::Inverse`] otherwise; the others stay.
+    pub fn resolve(self, target: Target, algorithm: Algorithm) -> Cost {
+        match self {
+            Cost::Auto if target == Target::Truth && algorithm != Algorithm::Alg3 => Cost::Output,
+            Cost::Auto => Cost::Inverse,
+            c => c,
+        }
+    }
+
+    /// A short description for messages.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Cost::Auto => "auto",
+            Cost::Inverse => "the paper's inverse cost (Eq 23/29; biased under vibration)",
+            Cost::Output => "output error (phi measured - phi simulated from the true angle)",
+        }
+    }
 }
 
 /// Which optimiser.
@@ -187,7 +215,8 @@ pub struct FitSettings {
     pub target: Target,
     /// Which optimiser. Default Newton.
     pub method: Method,
-    /// Which cost. Default [`Cost::Inverse`], the paper's Eq (23) / (29).
+    /// Which cost. Default [`Cost::Auto`]: the output error for a, b against the true
+    /// angle (unbiased under vibration), the paper's Eq (23) / (29) otherwise.
     pub cost: Cost,
     /// Settings of the output-error cost ([`Cost::Output`]).
     pub output: output::OutputSettings,
@@ -219,7 +248,7 @@ impl Default for FitSettings {
             algorithm: Algorithm::Alg2,
             target: Target::Truth,
             method: Method::Newton,
-            cost: Cost::Inverse,
+            cost: Cost::Auto,
             output: output::OutputSettings::default(),
             start: PendulumParams::default(),
             start_gains: None,
@@ -268,13 +297,13 @@ impl FitSettings {
         }
     }
 
-    fn threshold(&self) -> f64 {
-        self.min_sensitivity
-            .unwrap_or(match (self.cost, self.target) {
-                (Cost::Output, _) => 1e-4,
-                (_, Target::Truth) => 1e-6,
-                (_, Target::Gyro) => 1e-5,
-            })
+    /// The identifiability threshold of `cost` (the one actually run).
+    fn threshold(&self, cost: Cost) -> f64 {
+        self.min_sensitivity.unwrap_or(match (cost, self.target) {
+            (Cost::Output, _) => 1e-4,
+            (_, Target::Truth) => 1e-6,
+            (_, Target::Gyro) => 1e-5,
+        })
     }
 }
 
@@ -316,6 +345,14 @@ pub struct FitReport {
     pub target: Target,
     /// Which optimiser.
     pub method: Method,
+    /// The cost run ([`Cost::Inverse`] or [`Cost::Output`], never [`Cost::Auto`]).
+    pub cost_kind: Cost,
+    /// Output cost: whether the simulation was driven by the accelerometer
+    /// ([`output::OutputSettings::accel`], or chosen automatically for a vibrating log).
+    pub accel_drive: bool,
+    /// Output cost: the high-frequency RMS of the accelerometer (m/s^2) that decided the
+    /// automatic accelerometer drive, when the log has `ax`, `ay`.
+    pub vibration_rms: Option<f64>,
     /// Parameter names.
     pub names: Vec<&'static str>,
     /// The start values.
@@ -439,7 +476,7 @@ pub fn fit(
     let n_active = settings.algorithm.names().len();
     let started = Instant::now();
     let (sens, dir) = sensitivity(problem, &p0, active);
-    let threshold = settings.threshold();
+    let threshold = settings.threshold(Cost::Inverse);
     let unit = match settings.target {
         Target::Truth => "rad",
         Target::Gyro => "rad/s",
@@ -512,6 +549,9 @@ pub fn fit(
         algorithm: settings.algorithm,
         target: settings.target,
         method: settings.method,
+        cost_kind: Cost::Inverse,
+        accel_drive: false,
+        vibration_rms: None,
         names: settings.algorithm.names().to_vec(),
         start: take(&p0),
         params: take(&p),
@@ -527,14 +567,15 @@ pub fn fit(
     })
 }
 
-/// [`prepare`] then [`fit`]; with [`Cost::Output`], [`fit_output_log`].
+/// [`prepare`] then [`fit`]; with [`Cost::Output`] (also [`Cost::Auto`] for a, b against
+/// the true angle), [`fit_output_log`].
 pub fn fit_log(
     samples: &[Sample<f64>],
     truth: Option<&[f64]>,
     settings: &FitSettings,
     on_iteration: impl FnMut(&Iteration),
 ) -> Result<FitReport, FitError> {
-    if settings.cost == Cost::Output {
+    if settings.cost.resolve(settings.target, settings.algorithm) == Cost::Output {
         return fit_output_log(samples, truth, settings, on_iteration);
     }
     let problem = prepare(samples, truth, settings)?;
@@ -569,7 +610,7 @@ pub fn fit_output_log(
         1
     };
     let sens = eig.eigenvalues[k].max(0.0).sqrt();
-    let threshold = settings.threshold();
+    let threshold = settings.threshold(Cost::Output);
     if sens.is_nan() || sens < threshold {
         let v = eig.eigenvectors.column(k);
         return Err(FitError::Unidentifiable {
@@ -637,6 +678,9 @@ pub fn fit_output_log(
         algorithm: settings.algorithm,
         target: settings.target,
         method: settings.method,
+        cost_kind: Cost::Output,
+        accel_drive: problem.accel_driven(),
+        vibration_rms: problem.vibration_rms(),
         names: settings.algorithm.names().to_vec(),
         start: vec![p0[0], p0[1]],
         params: vec![p[0], p[1]],

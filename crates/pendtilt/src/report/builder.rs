@@ -19,8 +19,11 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::claims::{Claim, ClaimSpec};
+use super::families::{self};
 use super::fig3::{fig3_data, plot_fig3, Fig3Config, Fig3Data};
-use super::figures::{plot_errors, plot_time_series, FigureFiles};
+use super::figures::{
+    plot_errors, plot_panels, plot_time_series, Curve, FigureFiles, FigureSpec, Panel,
+};
 use super::html::{FigureRef, HtmlPage, MetricsTable};
 use super::markdown::{claims_markdown, metrics_markdown};
 use super::metrics::{
@@ -398,28 +401,35 @@ impl Report {
 
         let mut figures = Vec::new();
         let mut captions = Vec::new();
-        // overview: everything at once
-        let mut all: Vec<(&str, &[f64])> = vec![("theta", &truth_deg)];
-        all.extend(est_deg.iter().map(|(n, v)| (n.as_str(), v.as_slice())));
-        figures.push(plot_time_series(
-            dir,
-            "angles_all",
-            &format!("{}: all estimates and the true angle{suffix}", self.title),
-            &self.t,
-            &all,
-            &self.palette,
-        )?);
-        captions.push("Every estimate against the true angle (theta, black).".to_string());
-        figures.push(plot_errors(
-            dir,
-            "errors_all",
-            &format!("{}: error of every estimate{suffix}", self.title),
+        // overview: small multiples, one panel per estimator family (17 overlaid lines
+        // cannot be told apart)
+        let all: Vec<(&str, &[f64])> = est_deg
+            .iter()
+            .map(|(n, v)| (n.as_str(), v.as_slice()))
+            .collect();
+        let (angles, errors) = family_panels(
+            &self.title,
+            &suffix,
             &self.t,
             &truth_deg,
-            &all[1..],
+            &all,
+            dir,
             &self.palette,
-        )?);
-        captions.push("Error (estimate - truth) of every estimate.".to_string());
+        )?;
+        let n_fam = angles.axes.len();
+        figures.push(angles);
+        captions.push(format!(
+            "Every estimate against the true angle (theta, black), one panel per estimator \
+             family ({n_fam} panels). Ordinate ranges: 0.5-99.5 % of the data after the \
+             first second, widened by a quarter; points beyond are cut at the frame, marked \
+             red and counted on the panel."
+        ));
+        figures.push(errors);
+        captions.push(
+            "Error (estimate - truth) of every estimate, one panel per estimator family, \
+             ranges as above."
+                .to_string(),
+        );
 
         let mut groups = self.groups.clone();
         if self.per_estimator_figures {
@@ -454,7 +464,11 @@ impl Report {
                 &lines,
                 &self.palette,
             )?);
-            captions.push(format!("{} against the true angle.", g.names.join(", ")));
+            captions.push(format!(
+                "{} against the true angle.{}",
+                g.names.join(", "),
+                beyond_caption(figures.last())
+            ));
             figures.push(plot_errors(
                 dir,
                 &format!("{}_error", g.stem),
@@ -464,7 +478,11 @@ impl Report {
                 &lines[1..],
                 &self.palette,
             )?);
-            captions.push(format!("Error of {}.", g.names.join(", ")));
+            captions.push(format!(
+                "Error of {}.{}",
+                g.names.join(", "),
+                beyond_caption(figures.last())
+            ));
         }
         if let Some(d) = &data.fig3 {
             figures.push(plot_fig3(dir, "fig3_kalman_variance", d, &self.palette)?);
@@ -568,6 +586,81 @@ impl Report {
             data,
         })
     }
+}
+
+/// " n points beyond the axis (marked red)." for a figure that cut any, else "".
+fn beyond_caption(f: Option<&FigureFiles>) -> String {
+    match f.map(FigureFiles::beyond_total) {
+        Some(n @ 1..) => format!(
+            " {n} point{} beyond the ordinate axis (start-up or spikes; marked red on the \
+             frame).",
+            if n == 1 { "" } else { "s" }
+        ),
+        _ => String::new(),
+    }
+}
+
+/// The overview figures `angles_all` and `errors_all`: one panel per estimator family
+/// ([`families::Family`]), the truth in every angle panel.
+fn family_panels(
+    title: &str,
+    suffix: &str,
+    t: &[f64],
+    truth: &[f64],
+    series: &[(&str, &[f64])],
+    dir: &Path,
+    palette: &Palette,
+) -> Result<(FigureFiles, FigureFiles), ReportError> {
+    let groups = families::group(series.iter().map(|(n, _)| *n));
+    let find = |n: &str| series.iter().find(|(m, _)| *m == n).map(|(_, v)| *v);
+    let errors: Vec<(&str, Vec<f64>)> = series
+        .iter()
+        .map(|(n, v)| (*n, v.iter().zip(truth).map(|(e, x)| e - x).collect()))
+        .collect();
+    let find_err = |n: &str| {
+        errors
+            .iter()
+            .find(|(m, _)| *m == n)
+            .map(|(_, v)| v.as_slice())
+    };
+    let mut angle_panels = Vec::new();
+    let mut error_panels = Vec::new();
+    for (family, names) in &groups {
+        let mut curves = vec![Curve::line("theta", t, truth)];
+        curves.extend(
+            names
+                .iter()
+                .filter_map(|n| find(n).map(|v| Curve::line(n, t, v))),
+        );
+        angle_panels.push(Panel {
+            spec: FigureSpec::new(family.label(), "time [s]", "angle [deg]"),
+            curves,
+        });
+        error_panels.push(Panel {
+            spec: FigureSpec::new(family.label(), "time [s]", "error [deg]"),
+            curves: names
+                .iter()
+                .filter_map(|n| find_err(n).map(|v| Curve::line(n, t, v)))
+                .collect(),
+        });
+    }
+    let angles = plot_panels(
+        dir,
+        "angles_all",
+        &format!("{title}: every estimate and the true angle{suffix}"),
+        (1200, 420),
+        &angle_panels,
+        palette,
+    )?;
+    let errors = plot_panels(
+        dir,
+        "errors_all",
+        &format!("{title}: error (estimate - truth) of every estimate{suffix}"),
+        (1200, 420),
+        &error_panels,
+        palette,
+    )?;
+    Ok((angles, errors))
 }
 
 /// Named series, in order.

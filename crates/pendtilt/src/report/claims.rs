@@ -102,6 +102,9 @@ pub struct ClaimSpec {
     pub why_holds: Option<String>,
     /// Added to the "why" column when it does not.
     pub why_fails: Option<String>,
+    /// Why the claim does not apply to what was run (then it is shown as "n/a", never as
+    /// holding or failing), if it does not.
+    pub not_applicable: Option<String>,
 }
 
 /// A row of the claims table, computed by [`ClaimSpec::evaluate`].
@@ -111,8 +114,10 @@ pub struct Claim {
     pub claim: String,
     /// The measured numbers behind it.
     pub measured: String,
-    /// Whether every comparison holds.
+    /// Whether every comparison holds (false when not applicable).
     pub holds: bool,
+    /// Whether the claim applies to what was run ([`ClaimSpec::not_applicable`]).
+    pub applicable: bool,
     /// Why it holds or not: the deciding numbers, then the caller's explanation if any.
     pub why: String,
 }
@@ -125,7 +130,14 @@ impl ClaimSpec {
             comparisons: Vec::new(),
             why_holds: None,
             why_fails: None,
+            not_applicable: None,
         }
+    }
+
+    /// Marks the claim as not applicable to what was run, with the reason.
+    pub fn not_applicable(mut self, reason: &str) -> Self {
+        self.not_applicable = Some(reason.to_string());
+        self
     }
 
     /// Adds a comparison: `subject`'s `metric` is `expect` than `reference`'s.
@@ -235,6 +247,9 @@ impl ClaimSpec {
         if let Some(x) = extra.as_deref().filter(|x| !x.trim().is_empty()) {
             why = format!("{why}. {x}");
         }
+        if let Some(r) = &self.not_applicable {
+            why = format!("Not applicable: {r}. (Measured anyway: {why})");
+        }
         Claim {
             claim: self.claim.clone(),
             measured: if measured.is_empty() {
@@ -242,8 +257,20 @@ impl ClaimSpec {
             } else {
                 measured.join("; ")
             },
-            holds,
+            holds: holds && self.not_applicable.is_none(),
+            applicable: self.not_applicable.is_none(),
             why,
+        }
+    }
+}
+
+impl Claim {
+    /// "yes", "no" or "n/a" (not applicable).
+    pub fn verdict(&self) -> &'static str {
+        match (self.applicable, self.holds) {
+            (false, _) => "n/a",
+            (true, true) => "yes",
+            (true, false) => "no",
         }
     }
 }

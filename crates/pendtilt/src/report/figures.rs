@@ -116,10 +116,94 @@ pub struct FigureSpec {
     pub width: u32,
     /// Height \[px\].
     pub height: u32,
-    /// Fixed ordinate range; `None`: fit the data with a 5% margin.
+    /// Fixed ordinate range; `None`: fit the data with a 5% margin, within `robust`.
     pub y_range: Option<(f64, f64)>,
+    /// How far the ordinate range may follow the data when it is not fixed: `None`, every
+    /// point; default, robust percentiles after the start-up ([`RobustRange`]), the rest
+    /// marked as beyond the axis.
+    pub robust: Option<RobustRange>,
     /// Legend corner.
     pub legend: LegendPosition,
+}
+
+/// An ordinate range from the bulk of the data: the `lo_pct`-`hi_pct` percentiles of every
+/// curve's points after the first `skip_x` of the abscissa (a start-up transient), widened by
+/// `margin` times their spread. Data inside that is drawn whole; what lies beyond is cut at
+/// the frame, marked with a triangle at the edge and counted in a note on the plot.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RobustRange {
+    /// Start of the abscissa left out of the percentiles (s on a time axis). Default 1.
+    pub skip_x: f64,
+    /// Lower percentile \[%\]. Default 0.5.
+    pub lo_pct: f64,
+    /// Upper percentile \[%\]. Default 99.5.
+    pub hi_pct: f64,
+    /// Widening beyond the percentiles, as a fraction of their spread. Default 0.25 (a
+    /// sine's peaks, 0.5 % of its samples, stay on the plot).
+    pub margin: f64,
+}
+
+impl Default for RobustRange {
+    fn default() -> Self {
+        Self {
+            skip_x: 1.0,
+            lo_pct: 0.5,
+            hi_pct: 99.5,
+            margin: 0.25,
+        }
+    }
+}
+
+/// The points of a figure's curves that lie beyond its ordinate axis (cut at the frame).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct Beyond {
+    /// Points above the axis.
+    pub above: usize,
+    /// Points below it.
+    pub below: usize,
+    /// The highest of them.
+    pub highest: Option<f64>,
+    /// The lowest of them.
+    pub lowest: Option<f64>,
+}
+
+impl Beyond {
+    /// Points beyond the axis in all.
+    pub fn total(&self) -> usize {
+        self.above + self.below
+    }
+
+    /// The note drawn on the plot ("12 points beyond the axis: 10 above (max 35.2), 2
+    /// below (min -31)"), or `None` when every point is shown.
+    pub fn note(&self) -> Option<String> {
+        if self.total() == 0 {
+            return None;
+        }
+        let mut parts = Vec::new();
+        if let (n @ 1.., Some(v)) = (self.above, self.highest) {
+            parts.push(format!("{n} above (max {})", super::claims::fmt_sig(v)));
+        }
+        if let (n @ 1.., Some(v)) = (self.below, self.lowest) {
+            parts.push(format!("{n} below (min {})", super::claims::fmt_sig(v)));
+        }
+        Some(format!(
+            "{} point{} beyond the axis: {}",
+            self.total(),
+            if self.total() == 1 { "" } else { "s" },
+            parts.join(", ")
+        ))
+    }
+}
+
+/// One drawn set of axes of a figure: its ordinate range and what lies beyond it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AxisInfo {
+    /// The panel's title.
+    pub title: String,
+    /// The ordinate range drawn.
+    pub y_range: (f64, f64),
+    /// The points cut at the frame.
+    pub beyond: Beyond,
 }
 
 impl FigureSpec {
@@ -132,6 +216,7 @@ impl FigureSpec {
             width: 1200,
             height: 675,
             y_range: None,
+            robust: Some(RobustRange::default()),
             legend: LegendPosition::UpperLeft,
         }
     }
@@ -150,6 +235,15 @@ pub struct FigureFiles {
     pub width: u32,
     /// Pixel height of the PNG.
     pub height: u32,
+    /// One entry per set of axes (one, or one per panel), top to bottom.
+    pub axes: Vec<AxisInfo>,
+}
+
+impl FigureFiles {
+    /// Points beyond the axes of every panel, in all.
+    pub fn beyond_total(&self) -> usize {
+        self.axes.iter().map(|a| a.beyond.total()).sum()
+    }
 }
 
 /// A curve reduced to what is drawn: finite runs of points (lines), or points with bars.
@@ -265,37 +359,6 @@ fn padded(lo: f64, hi: f64) -> (f64, f64) {
     }
 }
 
-fn ranges(prepared: &[Prepared], spec: &FigureSpec) -> Option<((f64, f64), (f64, f64))> {
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for p in prepared {
-        for &(x, y) in p.runs.iter().flatten() {
-            x0 = x0.min(x);
-            x1 = x1.max(x);
-            y0 = y0.min(y);
-            y1 = y1.max(y);
-        }
-        for &(x, lo, hi) in &p.bars {
-            x0 = x0.min(x);
-            x1 = x1.max(x);
-            y0 = y0.min(lo);
-            y1 = y1.max(hi);
-        }
-    }
-    if x0 > x1 {
-        return None;
-    }
-    let xr = if x1 > x0 {
-        (x0, x1)
-    } else {
-        (x0 - 1.0, x1 + 1.0)
-    };
-    let yr = match spec.y_range {
-        Some((a, b)) if a.is_finite() && b.is_finite() && b > a => (a, b),
-        _ => padded(y0, y1),
-    };
-    Some((xr, yr))
-}
-
 /// Cuts line runs to the ordinate range \[y0, y1\]: a segment crossing a bound ends (or
 /// starts) on it, and the part outside is not drawn (plotters would otherwise flatten
 /// out-of-range points onto the frame, which reads as data).
@@ -341,16 +404,211 @@ fn clip_runs(runs: &[Vec<(f64, f64)>], (y0, y1): (f64, f64)) -> Vec<Vec<(f64, f6
     out
 }
 
-fn draw<DB: DrawingBackend>(
-    root: DrawingArea<DB, Shift>,
+fn check_stem(stem: &str) -> Result<(), ReportError> {
+    let ok = !stem.is_empty()
+        && stem
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')
+        && !stem.starts_with('.');
+    if ok {
+        Ok(())
+    } else {
+        Err(ReportError::Invalid(format!(
+            "figure name {stem:?}: use letters, digits, '_', '-', '.'"
+        )))
+    }
+}
+
+/// The x range and the full y range of the prepared points (bars included); `None` when
+/// there is no finite point.
+fn data_extent(prepared: &[Prepared]) -> Option<((f64, f64), (f64, f64))> {
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for p in prepared {
+        for &(x, y) in p.runs.iter().flatten() {
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+        for &(x, lo, hi) in &p.bars {
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+            y0 = y0.min(lo);
+            y1 = y1.max(hi);
+        }
+    }
+    if x0 > x1 {
+        return None;
+    }
+    let xr = if x1 > x0 {
+        (x0, x1)
+    } else {
+        (x0 - 1.0, x1 + 1.0)
+    };
+    Some((xr, (y0, y1)))
+}
+
+/// The `pct` percentile of sorted values (nearest rank).
+fn percentile(sorted: &[f64], pct: f64) -> f64 {
+    let i = (pct / 100.0 * (sorted.len() - 1) as f64).round() as usize;
+    sorted[i.min(sorted.len() - 1)]
+}
+
+/// `full` (the data's y extent) narrowed to the robust limits of `r` over the raw curves;
+/// `full` itself when fewer than 20 points follow the start-up.
+fn robust_y(curves: &[Curve], full: (f64, f64), r: &RobustRange) -> (f64, f64) {
+    let x_first = curves
+        .iter()
+        .flat_map(|c| c.x.iter().copied())
+        .filter(|x| x.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    let mut ys: Vec<f64> = curves
+        .iter()
+        .flat_map(|c| c.x.iter().zip(c.y))
+        .filter(|(x, y)| x.is_finite() && y.is_finite() && **x >= x_first + r.skip_x)
+        .map(|(_, y)| *y)
+        .collect();
+    if ys.len() < 20 {
+        return full;
+    }
+    ys.sort_by(f64::total_cmp);
+    let (lo, hi) = (percentile(&ys, r.lo_pct), percentile(&ys, r.hi_pct));
+    let spread = hi - lo;
+    let (a, b) = (lo - r.margin * spread, hi + r.margin * spread);
+    (full.0.max(a), full.1.min(b))
+}
+
+/// The raw points of `curves` beyond `(y0, y1)`, counted.
+fn count_beyond(curves: &[Curve], (y0, y1): (f64, f64)) -> Beyond {
+    let mut b = Beyond::default();
+    for c in curves {
+        for (x, &y) in c.x.iter().zip(c.y) {
+            if !(x.is_finite() && y.is_finite()) {
+                continue;
+            }
+            if y > y1 {
+                b.above += 1;
+                b.highest = Some(b.highest.map_or(y, |h: f64| h.max(y)));
+            } else if y < y0 {
+                b.below += 1;
+                b.lowest = Some(b.lowest.map_or(y, |l: f64| l.min(y)));
+            }
+        }
+    }
+    b
+}
+
+/// Where to mark excursions: for every stretch of a line beyond `(y0, y1)`, the abscissa
+/// of its extreme point and whether it is above; at most `cap` of them.
+fn excursion_marks(prepared: &[Prepared], (y0, y1): (f64, f64), cap: usize) -> Vec<(f64, bool)> {
+    let mut marks = Vec::new();
+    for p in prepared {
+        for run in &p.runs {
+            let mut best: Option<(f64, f64, bool)> = None;
+            for &(x, y) in run {
+                let side = if y > y1 {
+                    Some(true)
+                } else if y < y0 {
+                    Some(false)
+                } else {
+                    None
+                };
+                match (side, best) {
+                    (Some(up), Some((_, by, bup))) if up == bup => {
+                        if (up && y > by) || (!up && y < by) {
+                            best = Some((x, y, up));
+                        }
+                    }
+                    (Some(up), other) => {
+                        if let Some((bx, _, bup)) = other {
+                            marks.push((bx, bup));
+                        }
+                        best = Some((x, y, up));
+                    }
+                    (None, Some((bx, _, bup))) => {
+                        marks.push((bx, bup));
+                        best = None;
+                    }
+                    (None, None) => {}
+                }
+            }
+            if let Some((bx, _, bup)) = best {
+                marks.push((bx, bup));
+            }
+        }
+    }
+    if marks.len() > cap {
+        let step = marks.len().div_ceil(cap);
+        marks = marks.into_iter().step_by(step).collect();
+    }
+    marks
+}
+
+/// One set of axes, ready to draw.
+struct Axis {
+    spec: FigureSpec,
+    prepared: Vec<Prepared>,
+    ranges: ((f64, f64), (f64, f64)),
+    beyond: Beyond,
+    marks: Vec<(f64, bool)>,
+}
+
+/// Prepares `curves` for one set of axes: thinned runs, the ranges (fixed, or robust, see
+/// [`RobustRange`]) and the points beyond them.
+fn build_axis(
+    stem: &str,
     spec: &FigureSpec,
-    prepared: &[Prepared],
-    (xr, yr): ((f64, f64), (f64, f64)),
+    curves: &[Curve],
+    palette: &Palette,
+) -> Result<Axis, ReportError> {
+    if curves.is_empty() {
+        return Err(ReportError::Empty(format!("figure {stem}: curve list")));
+    }
+    let mut prepared = curves
+        .iter()
+        .map(|c| prepare(c, palette, spec.width))
+        .collect::<Result<Vec<_>, _>>()?;
+    let (xr, full) = data_extent(&prepared)
+        .ok_or_else(|| ReportError::Empty(format!("figure {stem}: no finite point")))?;
+    let yr = match (spec.y_range, spec.robust) {
+        (Some((a, b)), _) if a.is_finite() && b.is_finite() && b > a => (a, b),
+        (_, Some(r)) => {
+            let (a, b) = robust_y(curves, full, &r);
+            padded(a, b)
+        }
+        _ => padded(full.0, full.1),
+    };
+    let beyond = count_beyond(curves, yr);
+    let marks = excursion_marks(&prepared, yr, 400);
+    for p in prepared.iter_mut() {
+        if p.kind == CurveKind::Points {
+            for run in p.runs.iter_mut() {
+                run.retain(|q| q.1 >= yr.0 && q.1 <= yr.1);
+            }
+        }
+    }
+    Ok(Axis {
+        spec: spec.clone(),
+        prepared,
+        ranges: (xr, yr),
+        beyond,
+        marks,
+    })
+}
+
+/// Draws one set of axes on `area`. Lines are cut at the frame ([`clip_runs`]) and drawn as
+/// `width` one-pixel polylines stacked a pixel apart: a thick polyline's mitred corners
+/// on a spiky signal would reach far outside the plot (through the title and the axis).
+fn draw_axis<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    axis: &Axis,
+    caption_px: u32,
 ) -> Result<(), String> {
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("{e:?}");
-    root.fill(&WHITE).map_err(e)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(&spec.title, (FAMILY, 26).into_font())
+    let spec = &axis.spec;
+    let (xr, yr) = axis.ranges;
+    let mut chart = ChartBuilder::on(area)
+        .caption(&spec.title, (FAMILY, caption_px).into_font())
         .margin(18)
         .x_label_area_size(60)
         .y_label_area_size(80)
@@ -366,29 +624,42 @@ fn draw<DB: DrawingBackend>(
         .bold_line_style(RGBColor(210, 210, 210))
         .draw()
         .map_err(e)?;
-    for p in prepared {
-        let style = p.colour.stroke_width(p.width);
+    let (w_px, h_px) = chart.plotting_area().dim_in_pixel();
+    let dx = (xr.1 - xr.0) / f64::from(w_px.max(1));
+    let dy = (yr.1 - yr.0) / f64::from(h_px.max(1));
+    for p in &axis.prepared {
         let colour = p.colour;
         let mut labelled = false;
         match p.kind {
             CurveKind::Line => {
-                for run in &p.runs {
-                    let ann = chart
-                        .draw_series(LineSeries::new(run.iter().copied(), style))
-                        .map_err(e)?;
-                    // one legend entry per curve, on its first run
-                    if !labelled {
-                        ann.label(p.name.as_str()).legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
-                        });
-                        labelled = true;
+                let w = p.width.max(1);
+                let runs = clip_runs(&p.runs, (yr.0 + f64::from(w - 1) * dy, yr.1));
+                for run in &runs {
+                    for k in 0..w {
+                        let shift = f64::from(k) * dy;
+                        let ann = chart
+                            .draw_series(LineSeries::new(
+                                run.iter().map(|&(x, y)| (x, y - shift)),
+                                colour.stroke_width(1),
+                            ))
+                            .map_err(e)?;
+                        // one legend entry per curve, on its first run
+                        if !labelled {
+                            ann.label(p.name.as_str()).legend(move |(x, y)| {
+                                PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+                            });
+                            labelled = true;
+                        }
                     }
                 }
             }
             CurveKind::Points => {
                 chart
                     .draw_series(p.bars.iter().map(|&(x, lo, hi)| {
-                        PathElement::new(vec![(x, lo), (x, hi)], colour.stroke_width(1))
+                        PathElement::new(
+                            vec![(x, lo.max(yr.0)), (x, hi.min(yr.1))],
+                            colour.stroke_width(1),
+                        )
                     }))
                     .map_err(e)?;
                 let r = p.width;
@@ -406,14 +677,57 @@ fn draw<DB: DrawingBackend>(
             }
         }
         if !labelled {
-            // a curve with no finite point still appears in the legend, so it is not
-            // silently missing
+            // a curve with no point on the plot still appears in the legend, so it is
+            // not silently missing
+            let why = if p.runs.iter().all(Vec::is_empty) {
+                "no data"
+            } else {
+                "beyond the axis"
+            };
             chart
                 .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
                 .map_err(e)?
-                .label(format!("{} (no data)", p.name))
+                .label(format!("{} ({why})", p.name))
                 .legend(move |(x, y)| Circle::new((x + 12, y), 4, colour.stroke_width(1)));
         }
+    }
+    // Excursions: a red triangle at the edge, pointing out, for each stretch beyond.
+    let mark = RGBColor(200, 0, 0);
+    let (tw, th) = (5.0 * dx, 9.0 * dy);
+    chart
+        .draw_series(axis.marks.iter().map(|&(x, up)| {
+            let (edge, tip) = if up {
+                (yr.1 - th, yr.1)
+            } else {
+                (yr.0 + th, yr.0)
+            };
+            Polygon::new(
+                vec![(x - tw, edge), (x + tw, edge), (x, tip)],
+                mark.filled(),
+            )
+        }))
+        .map_err(e)?;
+    if let Some(note) = axis.beyond.note() {
+        let note = format!("{note} (red marks)");
+        let font = (FAMILY, 16).into_font().color(&mark);
+        let (tw_px, th_px) = area.estimate_text_size(&note, &font).map_err(e)?;
+        let x_right = xr.1 - 8.0 * dx;
+        let y_top = yr.1 - 14.0 * dy;
+        let x_left = x_right - f64::from(tw_px + 8) * dx;
+        let y_bottom = y_top - f64::from(th_px + 6) * dy;
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(x_left, y_top), (x_right, y_bottom)],
+                WHITE.mix(0.9).filled(),
+            )))
+            .map_err(e)?;
+        chart
+            .draw_series(std::iter::once(Text::new(
+                note,
+                (x_left + 4.0 * dx, y_top - 3.0 * dy),
+                font,
+            )))
+            .map_err(e)?;
     }
     let pos = match spec.legend {
         LegendPosition::UpperLeft => SeriesLabelPosition::UpperLeft,
@@ -429,30 +743,84 @@ fn draw<DB: DrawingBackend>(
         .label_font((FAMILY, 18))
         .draw()
         .map_err(e)?;
+    Ok(())
+}
+
+/// Draws the axes top to bottom on `root` (under `title`, when given) and presents it.
+fn render<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: Option<&str>,
+    axes: &[Axis],
+) -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("{e:?}");
+    root.fill(&WHITE).map_err(e)?;
+    let area = match title {
+        Some(t) => root.titled(t, (FAMILY, 28)).map_err(e)?,
+        None => root.clone(),
+    };
+    let caption = if axes.len() > 1 { 20 } else { 26 };
+    for (axis, part) in axes.iter().zip(area.split_evenly((axes.len(), 1))) {
+        draw_axis(&part, axis, caption)?;
+    }
     root.present().map_err(e)?;
     Ok(())
 }
 
-fn check_stem(stem: &str) -> Result<(), ReportError> {
-    let ok = !stem.is_empty()
-        && stem
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')
-        && !stem.starts_with('.');
-    if ok {
-        Ok(())
-    } else {
-        Err(ReportError::Invalid(format!(
-            "figure name {stem:?}: use letters, digits, '_', '-', '.'"
-        )))
-    }
+/// Writes `dir/stem.png` and `dir/stem.svg` of `axes`.
+fn write_figure(
+    dir: &Path,
+    stem: &str,
+    title: &str,
+    overall: Option<&str>,
+    size: (u32, u32),
+    axes: &[Axis],
+) -> Result<FigureFiles, ReportError> {
+    std::fs::create_dir_all(dir).map_err(|source| ReportError::Io {
+        path: dir.display().to_string(),
+        source,
+    })?;
+    let png = dir.join(format!("{stem}.png"));
+    let svg = dir.join(format!("{stem}.svg"));
+    let plot_err = |path: &Path| {
+        let path = path.display().to_string();
+        move |message| ReportError::Plot { path, message }
+    };
+    render(
+        BitMapBackend::new(&png, size).into_drawing_area(),
+        overall,
+        axes,
+    )
+    .map_err(plot_err(&png))?;
+    render(
+        SVGBackend::new(&svg, size).into_drawing_area(),
+        overall,
+        axes,
+    )
+    .map_err(plot_err(&svg))?;
+    Ok(FigureFiles {
+        title: title.to_string(),
+        png,
+        svg,
+        width: size.0,
+        height: size.1,
+        axes: axes
+            .iter()
+            .map(|a| AxisInfo {
+                title: a.spec.title.clone(),
+                y_range: a.ranges.1,
+                beyond: a.beyond,
+            })
+            .collect(),
+    })
 }
 
 /// Draws named curves and writes `dir/stem.png` and `dir/stem.svg`.
 ///
 /// Lines are broken at non-finite values and thinned to the screen resolution
-/// ([`decimate_min_max`]). Errors: a bad file stem, mismatched lengths, no finite point at all,
-/// a zero size, or the backend failing to write.
+/// ([`decimate_min_max`]); the ordinate range follows [`FigureSpec::y_range`] or
+/// [`FigureSpec::robust`], and points beyond it are marked and counted
+/// ([`FigureFiles::axes`]). Errors: a bad file stem, mismatched lengths, no finite point at
+/// all, a zero size, or the backend failing to write.
 pub fn plot_curves(
     dir: &Path,
     stem: &str,
@@ -468,58 +836,58 @@ pub fn plot_curves(
             spec.width, spec.height
         )));
     }
-    if curves.is_empty() {
-        return Err(ReportError::Empty(format!("figure {stem}: curve list")));
+    let axis = build_axis(stem, spec, curves, palette)?;
+    write_figure(
+        dir,
+        stem,
+        &spec.title,
+        None,
+        (spec.width, spec.height),
+        &[axis],
+    )
+}
+
+/// One panel of [`plot_panels`]: its title, axis labels and curves (the spec's size is
+/// ignored).
+#[derive(Debug, Clone)]
+pub struct Panel<'a> {
+    /// Title, labels, range rules.
+    pub spec: FigureSpec,
+    /// Its curves.
+    pub curves: Vec<Curve<'a>>,
+}
+
+/// Small multiples: the panels stacked top to bottom under one `title`, each `width` x
+/// `panel_height` pixels with its own ordinate range, written as `dir/stem.png` and
+/// `.svg`. Errors as [`plot_curves`], for any panel.
+pub fn plot_panels(
+    dir: &Path,
+    stem: &str,
+    title: &str,
+    (width, panel_height): (u32, u32),
+    panels: &[Panel],
+    palette: &Palette,
+) -> Result<FigureFiles, ReportError> {
+    check_stem(stem)?;
+    register_font()?;
+    if width < 200 || panel_height < 150 {
+        return Err(ReportError::Invalid(format!(
+            "panel size {width}x{panel_height} is under 200x150"
+        )));
     }
-    let prepared = curves
+    if panels.is_empty() {
+        return Err(ReportError::Empty(format!("figure {stem}: panel list")));
+    }
+    let axes = panels
         .iter()
-        .map(|c| prepare(c, palette, spec.width))
+        .map(|p| {
+            let mut spec = p.spec.clone();
+            spec.width = width;
+            build_axis(stem, &spec, &p.curves, palette)
+        })
         .collect::<Result<Vec<_>, _>>()?;
-    let r = ranges(&prepared, spec)
-        .ok_or_else(|| ReportError::Empty(format!("figure {stem}: no finite point")))?;
-    let mut prepared = prepared;
-    for p in prepared.iter_mut() {
-        if p.kind == CurveKind::Line {
-            p.runs = clip_runs(&p.runs, r.1);
-        } else {
-            let (y0, y1) = r.1;
-            for run in p.runs.iter_mut() {
-                run.retain(|q| q.1 >= y0 && q.1 <= y1);
-            }
-        }
-    }
-    std::fs::create_dir_all(dir).map_err(|source| ReportError::Io {
-        path: dir.display().to_string(),
-        source,
-    })?;
-    let png = dir.join(format!("{stem}.png"));
-    let svg = dir.join(format!("{stem}.svg"));
-    let size = (spec.width, spec.height);
-    let plot_err = |path: &Path| {
-        let path = path.display().to_string();
-        move |message| ReportError::Plot { path, message }
-    };
-    draw(
-        BitMapBackend::new(&png, size).into_drawing_area(),
-        spec,
-        &prepared,
-        r,
-    )
-    .map_err(plot_err(&png))?;
-    draw(
-        SVGBackend::new(&svg, size).into_drawing_area(),
-        spec,
-        &prepared,
-        r,
-    )
-    .map_err(plot_err(&svg))?;
-    Ok(FigureFiles {
-        title: spec.title.clone(),
-        png,
-        svg,
-        width: spec.width,
-        height: spec.height,
-    })
+    let height = panel_height * panels.len() as u32 + 50;
+    write_figure(dir, stem, title, Some(title), (width, height), &axes)
 }
 
 /// Angles \[deg\] against time \[s\]: one line per named series, all on the time axis `t`.

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use super::claims::Claim;
-use super::markdown::{metric_cells, METRIC_COLUMNS};
+use super::markdown::{metric_cells, metric_definitions, METRIC_COLUMNS};
 use super::metrics::Metrics;
 use super::palette::Palette;
 use super::ReportError;
@@ -71,9 +71,11 @@ th{background:#eee}td.name,td.text{text-align:left}\
 tr:nth-child(even) td{background:#fafafa}\
 .sw{display:inline-block;width:.9em;height:.9em;margin-right:.4em;vertical-align:-.1em;\
 border:1px solid #888}\
-.yes{color:#1a7f1a;font-weight:bold}.no{color:#b00;font-weight:bold}\
+.yes{color:#1a7f1a;font-weight:bold}.no{color:#b00;font-weight:bold}.na{color:#777}\
 figure{margin:1.2em 0}figure img{max-width:100%;border:1px solid #ddd}\
-figcaption{font-size:.92em;color:#444}.notes li{margin:.2em 0}";
+figcaption{font-size:.92em;color:#444}.notes li{margin:.2em 0}\
+dl.defs{font-size:.85em;color:#333;display:grid;grid-template-columns:max-content auto;\
+gap:.1em 1em;margin:.3em 0 1em}dl.defs dt{font-weight:bold}dl.defs dd{margin:0}";
 
 impl HtmlPage {
     /// The relative paths the page references (images and links), in order.
@@ -120,6 +122,17 @@ impl HtmlPage {
                 h.push_str("</tr>\n");
             }
             h.push_str("</table>\n");
+            if let Some(m) = t.rows.first() {
+                h.push_str("<dl class=\"defs\">\n");
+                for (col, def) in metric_definitions(m.tolerance_deg) {
+                    h.push_str(&format!(
+                        "<dt>{}</dt><dd>{}</dd>\n",
+                        escape(col),
+                        escape(&def)
+                    ));
+                }
+                h.push_str("</dl>\n");
+            }
             let row_notes: Vec<String> = t
                 .rows
                 .iter()
@@ -137,10 +150,11 @@ impl HtmlPage {
             h.push_str("<h2>Claims</h2>\n<table>\n<tr><th>claim</th><th>measured</th>");
             h.push_str("<th>holds</th><th>why</th></tr>\n");
             for c in &self.claims {
-                let (cls, word) = if c.holds {
-                    ("yes", "yes")
-                } else {
-                    ("no", "no")
+                let word = c.verdict();
+                let cls = match word {
+                    "yes" => "yes",
+                    "no" => "no",
+                    _ => "na",
                 };
                 h.push_str(&format!(
                     "<tr><td class=\"text\">{}</td><td class=\"text\">{}</td>\

@@ -17,6 +17,54 @@ pub const METRIC_COLUMNS: &[&str] = &[
     "used / non-finite",
 ];
 
+/// What each column of [`METRIC_COLUMNS`] after "estimator" means, in that order, with the
+/// tolerance band `tolerance_deg` of "within tol". Shown under every metrics table (HTML
+/// and Markdown), so that no number stands without its definition.
+pub fn metric_definitions(tolerance_deg: f64) -> Vec<(&'static str, String)> {
+    vec![
+        (
+            METRIC_COLUMNS[1],
+            "root mean square of the error (estimate - truth) over the samples used".into(),
+        ),
+        (METRIC_COLUMNS[2], "largest |estimate - truth|".into()),
+        (METRIC_COLUMNS[3], "mean of estimate - truth".into()),
+        (
+            METRIC_COLUMNS[4],
+            "standard deviation of the error about its mean (RMS^2 = bias^2 + std^2)".into(),
+        ),
+        (
+            METRIC_COLUMNS[5],
+            "delay of the estimate behind the truth at the peak of their cross-correlation; \
+             positive = late"
+                .into(),
+        ),
+        (
+            METRIC_COLUMNS[6],
+            "on a truth that is one step: the largest excursion beyond the truth's final value \
+             after the step's 50 % point, in % of the step; n/a otherwise"
+                .into(),
+        ),
+        (
+            METRIC_COLUMNS[7],
+            "on a step: time from its 50 % point until the estimate stays within the settling \
+             band of the final value; n/a otherwise"
+                .into(),
+        ),
+        (
+            METRIC_COLUMNS[8],
+            format!(
+                "share of the samples used whose |estimate - truth| <= {} deg (the \
+                 tolerance)",
+                fmt_sig(tolerance_deg)
+            ),
+        ),
+        (
+            METRIC_COLUMNS[9],
+            "samples in the metrics / samples left out (estimate or truth NaN or infinite)".into(),
+        ),
+    ]
+}
+
 fn opt(v: Option<f64>) -> String {
     v.map(fmt_sig).unwrap_or_else(|| "n/a".to_string())
 }
@@ -67,11 +115,10 @@ pub fn metrics_markdown(metrics: &[Metrics]) -> String {
     let rows: Vec<Vec<String>> = metrics.iter().map(metric_cells).collect();
     let mut out = md_table(METRIC_COLUMNS, &rows);
     if let Some(m) = metrics.first() {
-        out.push_str(&format!(
-            "\nwithin tol: share of samples with |error| <= {} deg. \
-             used / non-finite: samples used / samples left out (NaN or infinite).\n",
-            m.tolerance_deg
-        ));
+        out.push('\n');
+        for (col, def) in metric_definitions(m.tolerance_deg) {
+            out.push_str(&format!("- {col}: {def}\n"));
+        }
     }
     out
 }
@@ -84,7 +131,7 @@ pub fn claims_markdown(claims: &[Claim]) -> String {
             vec![
                 c.claim.clone(),
                 c.measured.clone(),
-                if c.holds { "yes" } else { "no" }.to_string(),
+                c.verdict().to_string(),
                 c.why.clone(),
             ]
         })

@@ -5,7 +5,8 @@
 //! one series per estimator, sampled at a known rate) and write files.
 //!
 //! - [`metrics`]: RMS, max, bias, std, lag, overshoot, settling, share within tolerance.
-//! - [`figures`] and [`palette`]: PNG + SVG figures, one fixed colour per series name.
+//! - [`figures`] and [`palette`]: PNG + SVG figures, one fixed colour per series name;
+//!   [`families`]: the panels of the small-multiple overview figures.
 //! - [`fig3`]: the paper's Fig. 3 (Eq 12 and a Monte-Carlo check).
 //! - [`claims`], [`markdown`], [`html`]: claims table, Markdown/JSON, the HTML page.
 //! - [`Report`]: all of it from named series into one directory. `pendtilt report` is
@@ -14,6 +15,7 @@
 //!   `.write(out_dir)`.
 mod builder;
 pub mod claims;
+pub mod families;
 pub mod fig3;
 pub mod figures;
 pub mod html;
