@@ -113,8 +113,10 @@ fn one_output_option_spelling_with_out_as_alias() {
         "simulate",
         "--scenario",
         "sigmoid",
+        // 3 s, so that the step (at 2 s) is in the log: `fit`'s default output-error cost
+        // rightly calls a motionless log unidentifiable.
         "--duration",
-        "1.5",
+        "3",
         "--out",
         s(&log),
         "-q",

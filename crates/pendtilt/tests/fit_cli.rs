@@ -378,8 +378,8 @@ fn implausible_fit_can_be_accepted_and_help_labels_the_inverse_cost() {
     ])
     .unwrap_err();
     assert!(
-        e.to_string().contains("apply to the output cost only"),
-        "{e}"
+        format!("{e:#}").contains("apply to the output cost only"),
+        "{e:#}"
     );
     let help = Cli::try_parse_from(["pendtilt", "fit", "--help"])
         .unwrap_err()
