@@ -96,6 +96,8 @@ fn reproduce_end_to_end_on_a_short_ride() {
     // every metric is defined where it is shown; the one unfiltered number is labelled
     assert!(top.contains("<dt>within tol [%]</dt><dd>share of the samples used"));
     assert!(top.contains("Fig. 5 (sigmoid, unfiltered series, not the FIR 20 Hz view"));
+    // a figure that cuts points says so in its caption on the top page too
+    assert!(top.contains("beyond the ordinate axis, marked red on the frame."));
     // claim 4 says the gains were fitted in this run (they were)
     assert!(out.calibration.gains_fitted && top.contains("K, L, M, N fitted in this run"));
 

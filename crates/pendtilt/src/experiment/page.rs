@@ -60,7 +60,14 @@ impl TopPage<'_> {
                     .iter()
                     .find(|f| stem_of(&f.png).as_deref() == Some(pick.stem))?;
                 Some(FigureRef {
-                    caption: pick.caption.clone(),
+                    caption: match f.beyond_total() {
+                        0 => pick.caption.clone(),
+                        n => format!(
+                            "{} ({n} point{} beyond the ordinate axis, marked red on the frame.)",
+                            pick.caption,
+                            if n == 1 { "" } else { "s" }
+                        ),
+                    },
                     png: format!("{}/{}", pick.dir, name(&f.png)),
                     svg: Some(format!("{}/{}", pick.dir, name(&f.svg))),
                 })
