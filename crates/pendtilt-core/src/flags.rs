@@ -24,6 +24,9 @@ bitflags::bitflags! {
         const MEASUREMENT_SKIPPED = 1 << 5;
         /// The encoder angle jumped by about a full turn and was unwrapped.
         const ENCODER_WRAPPED = 1 << 6;
+        /// A reading of the row was implausible (beyond its sensor's full scale or
+        /// physically impossible) and was read as missing before any estimator saw it.
+        const IMPLAUSIBLE = 1 << 7;
     }
 }
 
@@ -40,7 +43,7 @@ pub struct FlagNames(Flags);
 
 impl core::fmt::Display for FlagNames {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        const NAMES: [(Flags, &str); 7] = [
+        const NAMES: [(Flags, &str); 8] = [
             (Flags::INITIALISING, "initialising"),
             (Flags::ASIN_CLAMPED, "asin_clamped"),
             (Flags::SAMPLE_MISSING, "sample_missing"),
@@ -48,6 +51,7 @@ impl core::fmt::Display for FlagNames {
             (Flags::SATURATED, "saturated"),
             (Flags::MEASUREMENT_SKIPPED, "measurement_skipped"),
             (Flags::ENCODER_WRAPPED, "encoder_wrapped"),
+            (Flags::IMPLAUSIBLE, "implausible"),
         ];
         let mut first = true;
         for (flag, name) in NAMES {

@@ -39,6 +39,21 @@ impl Inputs {
         accel: true,
     };
 
+    /// True when the two sets share a sensor.
+    pub fn intersects(self, other: Inputs) -> bool {
+        (self.phi && other.phi) || (self.gyro && other.gyro) || (self.accel && other.accel)
+    }
+
+    /// True when no sensor is in the set.
+    pub fn is_empty(self) -> bool {
+        !(self.phi || self.gyro || self.accel)
+    }
+
+    /// The sensor names of the set (`phi`, `gyro`, `ax/ay`).
+    pub fn names(self) -> Vec<&'static str> {
+        Inputs::default().lacking(self)
+    }
+
     fn covers(self, need: Inputs) -> bool {
         (self.phi || !need.phi) && (self.gyro || !need.gyro) && (self.accel || !need.accel)
     }
@@ -78,7 +93,17 @@ pub struct BankSettings {
     pub gravity: f64,
     /// `ekf`, `ukf`, `madgwick`, `mahony`, `complementary` (beyond the paper).
     pub peers: PeerSettings,
+    /// A sensor whose readings were all missing for longer than this \[s\] (a gap in the
+    /// log, a burst of missing or implausible cells) restarts every estimator that reads
+    /// it at its next good reading. Default [`RESTART_GAP`].
+    pub restart_gap: f64,
 }
+
+/// Default of [`BankSettings::restart_gap`] \[s\]. Shorter sensor gaps are bridged: each
+/// estimator holds its input (or predicts) and resumes; longer ones restart it, because
+/// after them a held gyro rate has been integrated for too long (Madgwick and Mahony were
+/// left 180 and 110 deg off after a 10 s gap and never came back).
+pub const RESTART_GAP: f64 = 0.5;
 
 impl BankSettings {
     /// Defaults for a pendulum with parameters `params`.
@@ -92,6 +117,7 @@ impl BankSettings {
             kalman: KalmanSettings::default(),
             gravity: STANDARD_GRAVITY,
             peers: PeerSettings::default(),
+            restart_gap: RESTART_GAP,
         }
     }
 }
@@ -311,10 +337,30 @@ pub struct Skipped {
     pub lacking: Vec<&'static str>,
 }
 
+/// A restart of estimators after a long gap in one or more sensors.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Restart {
+    /// The sensors that came back after the gap.
+    pub sensors: Inputs,
+    /// The longest of their gaps \[s\].
+    pub gap: f64,
+    /// How many outputs were restarted.
+    pub outputs: usize,
+}
+
 /// The estimators that a log's inputs allow, run side by side.
 pub struct Bank {
     names: Vec<&'static str>,
+    /// The sensors each output reads (its registry entry's needs).
+    needs: Vec<Inputs>,
     slots: Vec<Slot>,
+    /// The sensors each slot reads (the union over its outputs).
+    slot_needs: Vec<Inputs>,
+    inputs: Inputs,
+    settings: BankSettings,
+    /// Time of the last finite reading of phi, gyro, ax/ay.
+    last_good: [Option<f64>; 3],
+    restart: Option<Restart>,
     skipped: Vec<Skipped>,
     measurements: Vec<(f64, f64)>,
     blank: Estimate<f64>,
@@ -351,7 +397,13 @@ impl Bank {
         let wanted = |name: &str| only.is_none_or(|o| o.iter().any(|n| n == name));
         let mut bank = Bank {
             names: Vec::new(),
+            needs: Vec::new(),
             slots: Vec::new(),
+            slot_needs: Vec::new(),
+            inputs,
+            settings: settings.clone(),
+            last_good: [None; 3],
+            restart: None,
             skipped: Vec::new(),
             measurements: Vec::with_capacity(4),
             blank: Estimate {
@@ -377,6 +429,10 @@ impl Bank {
                     if let Some(Slot::Shared(front)) = bank.slots.last_mut() {
                         if *front.settings() == fe && front.push(eq) {
                             bank.names.push(e.name);
+                            bank.needs.push(e.needs);
+                            if let Some(n) = bank.slot_needs.last_mut() {
+                                *n = union(*n, e.needs);
+                            }
                             continue;
                         }
                     }
@@ -408,7 +464,9 @@ impl Bank {
                 }
             };
             bank.names.push(e.name);
+            bank.needs.push(e.needs);
             bank.slots.push(slot);
+            bank.slot_needs.push(e.needs);
         }
         Ok(bank)
     }
@@ -423,9 +481,97 @@ impl Bank {
         &self.skipped
     }
 
-    /// Runs every estimator on `sample`; `out` gets one estimate per name.
+    /// The settings the bank was built from.
+    pub fn settings(&self) -> &BankSettings {
+        &self.settings
+    }
+
+    /// The restart the last [`Bank::update`] did before running the estimators, if any.
+    pub fn restarted(&self) -> Option<Restart> {
+        self.restart
+    }
+
+    /// Adds [`Flags::IMPLAUSIBLE`] to every output in `out` that reads one of `sensors`
+    /// (the sensors whose readings of this row were impossible and read as missing).
+    pub fn flag_implausible(&self, sensors: Inputs, out: &mut [Estimate<f64>]) {
+        if sensors.is_empty() {
+            return;
+        }
+        for (e, need) in out.iter_mut().zip(&self.needs) {
+            if need.intersects(sensors) {
+                e.flags |= Flags::IMPLAUSIBLE;
+            }
+        }
+    }
+
+    /// Restarts the estimators reading a sensor that comes back on `sample` after a gap
+    /// longer than the restart gap, so that they start afresh from this reading instead of
+    /// resuming from a state the gap has made stale.
+    fn restart_after_gaps(&mut self, sample: &Sample<f64>) {
+        self.restart = None;
+        let t = sample.t;
+        if !t.is_finite() {
+            return;
+        }
+        let used = [self.inputs.phi, self.inputs.gyro, self.inputs.accel];
+        let good = [
+            sample.phi.is_finite(),
+            sample.gyro.is_finite(),
+            sample.ax.is_finite() && sample.ay.is_finite(),
+        ];
+        let mut back = [false; 3];
+        let mut gap = 0.0f64;
+        for i in 0..3 {
+            if !(used[i] && good[i]) {
+                continue;
+            }
+            if let Some(last) = self.last_good[i] {
+                if t - last > self.settings.restart_gap {
+                    back[i] = true;
+                    gap = gap.max(t - last);
+                }
+            }
+            self.last_good[i] = Some(self.last_good[i].map_or(t, |l| l.max(t)));
+        }
+        let sensors = Inputs {
+            phi: back[0],
+            gyro: back[1],
+            accel: back[2],
+        };
+        if sensors.is_empty() {
+            return;
+        }
+        let mut outputs = 0;
+        let mut first_output = 0;
+        for (slot, need) in self.slots.iter_mut().zip(&self.slot_needs) {
+            let width = match slot {
+                Slot::Shared(f) => f.equations().len(),
+                _ => 1,
+            };
+            if need.intersects(sensors) {
+                match slot {
+                    Slot::Direct(e) => e.reset(),
+                    Slot::Shared(f) => f.reset(),
+                    Slot::Kalman { kf, .. } => kf.reset(),
+                }
+                outputs += width;
+            }
+            first_output += width;
+        }
+        debug_assert_eq!(first_output, self.names.len());
+        self.restart = Some(Restart {
+            sensors,
+            gap,
+            outputs,
+        });
+    }
+
+    /// Runs every estimator on `sample`; `out` gets one estimate per name. A sensor back
+    /// after a gap longer than [`BankSettings::restart_gap`] first restarts the estimators
+    /// that read it ([`Bank::restarted`]).
     pub fn update(&mut self, sample: &Sample<f64>, out: &mut Vec<Estimate<f64>>) {
         out.clear();
+        self.restart_after_gaps(sample);
         for slot in &mut self.slots {
             let e = match slot {
                 Slot::Direct(est) => est.update(sample),
@@ -463,6 +609,14 @@ impl Bank {
                 Slot::Kalman { kf, .. } => kf.reset(),
             }
         }
+    }
+}
+
+fn union(a: Inputs, b: Inputs) -> Inputs {
+    Inputs {
+        phi: a.phi || b.phi,
+        gyro: a.gyro || b.gyro,
+        accel: a.accel || b.accel,
     }
 }
 

@@ -15,3 +15,4 @@ pub mod peers;
 pub mod pipeline;
 pub mod report;
 pub mod sim;
+pub mod units;

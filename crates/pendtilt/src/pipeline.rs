@@ -4,8 +4,9 @@ use std::sync::mpsc;
 
 use pendtilt_core::Estimate;
 
-use crate::bank::{Bank, Inputs};
-use crate::io::{Column, EstimatesWriter, LogError, LogReader, LogRecord, LogWarning};
+use crate::bank::{Bank, Inputs, Restart};
+use crate::io::{Column, EstimatesWriter, LogError, LogReader, LogRecord, LogWarning, WarningKind};
+use crate::units::{check_settings_against_rate, Finding, UnitCheck};
 
 /// Which sensors a log's columns provide.
 pub fn inputs_of<R: BufRead>(log: &LogReader<R>) -> Inputs {
@@ -62,6 +63,11 @@ pub struct PassSummary {
     pub rows: u64,
     /// Error statistics per estimator, in the bank's order, when the log has `theta`.
     pub errors: Option<Vec<(String, ErrorStats)>>,
+    /// Restarts of estimators after long sensor gaps.
+    pub restarts: u64,
+    /// Columns whose scale disagrees with the physics (degrees read as radians), each
+    /// also handed to `warn`.
+    pub unit_findings: Vec<Finding>,
 }
 
 /// Reads every row of `log`, runs `bank` on it, writes one row per input row to `out`
@@ -80,12 +86,19 @@ pub fn run<R: BufRead, W: Write>(
         for w in log.drain_warnings() {
             warn(&w);
         }
-        pass.row(&rec, bank, out.as_deref_mut(), flush_each, &mut each)?;
+        pass.row(
+            &rec,
+            bank,
+            out.as_deref_mut(),
+            flush_each,
+            &mut each,
+            &mut warn,
+        )?;
     }
     for w in log.drain_warnings() {
         warn(&w);
     }
-    pass.finish(bank, out)
+    pass.finish(bank, out, &mut warn)
 }
 
 /// Rows the reader thread of [`run_parallel`] hands over at a time.
@@ -197,7 +210,14 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
             let mut rows = spare_rows.try_recv().unwrap_or_default();
             rows.clear();
             for rec in &batch.records {
-                pass.row(rec, bank, None::<&mut EstimatesWriter<W>>, false, &mut each)?;
+                pass.row(
+                    rec,
+                    bank,
+                    None::<&mut EstimatesWriter<W>>,
+                    false,
+                    &mut each,
+                    &mut warn,
+                )?;
                 rows.t.push(rec.sample.t);
                 rows.theta.push(rec.theta);
                 rows.estimates.extend_from_slice(&pass.est);
@@ -223,25 +243,93 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
         }
         result
     })?;
-    pass.finish(bank, None::<&mut EstimatesWriter<W>>)
+    pass.finish(bank, None::<&mut EstimatesWriter<W>>, &mut warn)
 }
+
+/// Time steps whose median is checked against the bank's frequency settings.
+const RATE_STEPS: usize = 15;
+/// Restart warnings listed before the rest are only counted.
+const MAX_RESTART_WARNINGS: u64 = 10;
 
 /// The per-row work of a pass, shared by [`run`] and [`run_parallel`].
 struct Pass {
+    file: String,
     with_theta: bool,
     stats: Vec<ErrorStats>,
     est: Vec<Estimate<f64>>,
     rows: u64,
+    units: UnitCheck,
+    /// The first positive time steps, until the settings are checked against their median.
+    steps: Vec<f64>,
+    last_t: f64,
+    rate_checked: bool,
+    restarts: u64,
+    /// Restart warnings held until the time steps are known to be plausible (in a log in
+    /// ms every step restarts; the reader's error on the unit says it all).
+    held: Vec<LogWarning>,
 }
 
 impl Pass {
     fn new<R: BufRead>(bank: &Bank, log: &LogReader<R>) -> Self {
         Self {
+            file: log.file().to_string(),
             with_theta: log.columns().has(Column::Theta),
             stats: vec![ErrorStats::default(); bank.names().len()],
             est: Vec::with_capacity(bank.names().len()),
             rows: 0,
+            units: UnitCheck::new(bank.settings(), inputs_of(log)),
+            steps: Vec::with_capacity(RATE_STEPS),
+            last_t: f64::NAN,
+            rate_checked: false,
+            restarts: 0,
+            held: Vec::new(),
         }
+    }
+
+    /// Checks the bank's frequency settings against the log's rate once its median step
+    /// is known (or at the end of a short log).
+    fn check_rate(&mut self, t: f64, bank: &Bank, end: bool) -> Result<(), PassError> {
+        if self.rate_checked {
+            return Ok(());
+        }
+        let dt = t - self.last_t;
+        if !end {
+            if t.is_finite() {
+                self.last_t = t;
+            }
+            if dt > 0.0 {
+                self.steps.push(dt);
+            }
+            if self.steps.len() < RATE_STEPS {
+                return Ok(());
+            }
+        }
+        self.rate_checked = true;
+        if self.steps.len() < 3 {
+            return Ok(());
+        }
+        let mut sorted = self.steps.clone();
+        sorted.sort_by(f64::total_cmp);
+        check_settings_against_rate(bank.settings(), sorted[sorted.len() / 2])
+            .map_err(|m| PassError::Settings(format!("{}: {m}", self.file)))
+    }
+
+    fn restart_warning(&mut self, line: u64, r: Restart) -> Option<LogWarning> {
+        self.restarts += 1;
+        (self.restarts <= MAX_RESTART_WARNINGS).then(|| LogWarning {
+            file: self.file.clone(),
+            line,
+            column: None,
+            header: None,
+            kind: WarningKind::Restarted,
+            message: format!(
+                "{} back after a gap of {:.3} s (longer than the restart gap): {} \
+                 estimators reading it restart from this row",
+                r.sensors.names().join(", "),
+                r.gap,
+                r.outputs
+            ),
+        })
     }
 
     #[inline]
@@ -252,8 +340,28 @@ impl Pass {
         out: Option<&mut EstimatesWriter<W>>,
         flush_each: bool,
         each: &mut impl FnMut(u64, &[Estimate<f64>]),
+        warn: &mut impl FnMut(&LogWarning),
     ) -> Result<(), PassError> {
+        self.check_rate(rec.sample.t, bank, false)?;
         bank.update(&rec.sample, &mut self.est);
+        let i = &rec.issues;
+        let bad = Inputs {
+            phi: i.is_implausible(Column::Phi),
+            gyro: i.is_implausible(Column::Gyro),
+            accel: i.is_implausible(Column::Ax) || i.is_implausible(Column::Ay),
+        };
+        bank.flag_implausible(bad, &mut self.est);
+        if let Some(r) = bank.restarted() {
+            if let Some(w) = self.restart_warning(rec.line, r) {
+                self.held.push(w);
+            }
+        }
+        if self.rate_checked || self.held.len() > RATE_STEPS {
+            for w in self.held.drain(..) {
+                warn(&w);
+            }
+        }
+        self.units.add(&rec.unchecked, rec.theta);
         if let (true, Some(th)) = (self.with_theta, rec.theta) {
             for (s, e) in self.stats.iter_mut().zip(&self.est) {
                 s.add(e.theta, th);
@@ -272,15 +380,47 @@ impl Pass {
     }
 
     fn finish<W: Write>(
-        self,
+        mut self,
         bank: &Bank,
         out: Option<&mut EstimatesWriter<W>>,
+        warn: &mut impl FnMut(&LogWarning),
     ) -> Result<PassSummary, PassError> {
+        self.check_rate(f64::NAN, bank, true)?;
+        for w in self.held.drain(..) {
+            warn(&w);
+        }
         if let Some(w) = out {
             w.flush().map_err(PassError::Write)?;
         }
+        if self.restarts > MAX_RESTART_WARNINGS {
+            warn(&LogWarning {
+                file: self.file.clone(),
+                line: 0,
+                column: None,
+                header: None,
+                kind: WarningKind::Restarted,
+                message: format!(
+                    "{} restarts after sensor gaps in all ({} not listed)",
+                    self.restarts,
+                    self.restarts - MAX_RESTART_WARNINGS
+                ),
+            });
+        }
+        let unit_findings = self.units.findings();
+        for f in &unit_findings {
+            warn(&LogWarning {
+                file: self.file.clone(),
+                line: 0,
+                column: None,
+                header: None,
+                kind: WarningKind::UnitMismatch,
+                message: f.message.clone(),
+            });
+        }
         Ok(PassSummary {
             rows: self.rows,
+            restarts: self.restarts,
+            unit_findings,
             errors: self.with_theta.then(|| {
                 bank.names()
                     .iter()
@@ -300,6 +440,9 @@ pub enum PassError {
     /// The output could not be written.
     #[error("cannot write the estimates: {0}")]
     Write(std::io::Error),
+    /// A setting cannot work at the log's rate (a cutoff above Nyquist).
+    #[error("{0}")]
+    Settings(String),
 }
 
 /// The error table printed by `estimate`: RMS and max error per estimator, in degrees.

@@ -393,7 +393,8 @@ fn angles_that_look_like_degrees_are_warned_once_per_column() {
 
 #[test]
 fn degrees_option_converts_chosen_columns_only() {
-    let text = "t,phi,gyro,theta,ax\n0,90,180,-45,90\n";
+    // gyro 90: read as rad/s it is within the default physical bound (100 rad/s).
+    let text = "t,phi,gyro,theta,ax\n0,90,90,-45,90\n";
     let all = ReaderOptions {
         degrees: "all".parse().unwrap(),
         ..ReaderOptions::default()
@@ -402,7 +403,7 @@ fn degrees_option_converts_chosen_columns_only() {
     assert!(error.is_none() && warnings.is_empty(), "{warnings:?}");
     let r = records[0];
     assert!((r.sample.phi - PI / 2.0).abs() < 1e-15);
-    assert!((r.sample.gyro - PI).abs() < 1e-15);
+    assert!((r.sample.gyro - PI / 2.0).abs() < 1e-15);
     assert!((r.theta.unwrap() + PI / 4.0).abs() < 1e-15);
     assert_eq!(r.sample.ax, 90.0, "accelerometer is never converted");
 
@@ -412,7 +413,7 @@ fn degrees_option_converts_chosen_columns_only() {
     };
     let (records, _, _) = read_all(text, phi_only);
     assert!((records[0].sample.phi - PI / 2.0).abs() < 1e-15);
-    assert_eq!(records[0].sample.gyro, 180.0);
+    assert_eq!(records[0].sample.gyro, 90.0);
     let reader = open(
         text,
         ReaderOptions {

@@ -64,7 +64,7 @@ fn estimate_into(
 ) -> anyhow::Result<(LogReader<BufReader<File>>, Bank, pipeline::PassSummary)> {
     let opts = &args.bank;
     let rig = opts.rig()?;
-    let mut log = LogReader::open(&args.log, opts.reader_options())?;
+    let mut log = LogReader::open(&args.log, opts.reader_options(&rig))?;
     let mut bank = opts.bank(&rig, &log)?;
     let with_theta = log.columns().has(Column::Theta);
     let mut w = EstimatesWriter::new(

@@ -10,8 +10,10 @@ use crate::sim::{Scenario, SCENARIO_NAMES};
 pub const INPUT_UNITS: &str = "Input columns (MODEL.md section 5, SI units): t [s], strictly \
 increasing; phi [rad], the pendulum angle relative to the body (encoder); gyro [rad/s], body \
 rate about the tilt axis, CCW positive; ax, ay [m/s^2], accelerometer specific force in body \
-axes; theta [rad], the true tilt (optional, copied to the output). Angles in degrees: --deg. \
-Other column names: --map. The estimates are written in rad (--out-deg: deg), t in s.";
+axes; theta [rad], the true tilt (optional, copied to the output). Angles in degrees: --deg; \
+t in ms or us: --time-unit. Other column names: --map. A gyro or accelerometer reading beyond \
+the rig's [gyro]/[accel] full_scale (without one: 100 rad/s, 500 m/s^2) is read as missing \
+and flagged implausible. The estimates are written in rad (--out-deg: deg), t in s.";
 
 /// The estimators the bank knows, one line each: name, the columns it needs, what it is.
 pub fn estimator_list() -> String {

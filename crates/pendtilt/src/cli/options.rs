@@ -5,7 +5,9 @@ use std::path::PathBuf;
 
 use crate::bank::{Bank, BankSettings};
 use crate::config::RigConfig;
-use crate::io::{ColumnMap, DegreeColumns, LogReader, LogWarning, ReaderOptions, WriterOptions};
+use crate::io::{
+    ColumnMap, DegreeColumns, LogReader, LogWarning, ReaderOptions, TimeUnit, WriterOptions,
+};
 use crate::pipeline;
 
 /// Options common to the commands that run the estimator bank over a log.
@@ -22,6 +24,10 @@ pub struct BankOptions {
     /// `phi,theta`. Default: none, all in rad and rad/s.
     #[arg(long, num_args = 0..=1, default_missing_value = "all")]
     pub deg: Option<DegreeColumns>,
+    /// Unit of the `t` column: s, ms, us or ns. Default: seconds, and a log whose time
+    /// steps no sensor rate explains (10 Hz to 1 MHz) is refused with the unit to give here.
+    #[arg(long, value_name = "UNIT")]
+    pub time_unit: Option<TimeUnit>,
     /// Write the estimates (and theta) in degrees. Default: rad.
     #[arg(long)]
     pub out_deg: bool,
@@ -49,11 +55,14 @@ impl BankOptions {
         })
     }
 
-    /// How the log is read (`--map`, `--deg`).
-    pub fn reader_options(&self) -> ReaderOptions {
+    /// How the log is read (`--map`, `--deg`, `--time-unit`, and the rig's full scales,
+    /// beyond which a reading is impossible).
+    pub fn reader_options(&self, rig: &RigConfig) -> ReaderOptions {
         ReaderOptions {
             map: self.map.clone(),
             degrees: self.deg.unwrap_or_default(),
+            limits: rig.limits(),
+            time_unit: self.time_unit,
             ..ReaderOptions::default()
         }
     }
@@ -117,5 +126,6 @@ pub fn rig_bank_settings(rig: &RigConfig) -> BankSettings {
             .physical()
             .map_or(pendtilt_core::params::STANDARD_GRAVITY, |p| p.gravity),
         peers: crate::peers::PeerSettings::default(),
+        restart_gap: crate::bank::RESTART_GAP,
     }
 }

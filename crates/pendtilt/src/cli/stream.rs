@@ -39,7 +39,7 @@ pub fn run_on<R: std::io::BufRead, W: std::io::Write>(
 ) -> anyhow::Result<()> {
     let opts = &args.bank;
     let rig = opts.rig()?;
-    let mut log = LogReader::new(input, "<stdin>", opts.reader_options())?;
+    let mut log = LogReader::new(input, "<stdin>", opts.reader_options(&rig))?;
     let mut bank = opts.bank(&rig, &log)?;
     let with_theta = log.columns().has(Column::Theta);
     let wopts = opts.writer_options();

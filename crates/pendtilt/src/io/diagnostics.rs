@@ -26,11 +26,19 @@ pub enum WarningKind {
     LooksLikeDegrees,
     /// Two header columns share a name that no contract column uses.
     DuplicateIgnoredColumn,
+    /// A reading beyond its sensor's full scale, or physically impossible: read as
+    /// missing, the row flagged `implausible`.
+    Implausible,
+    /// Every estimator reading a sensor was restarted after a long gap in it.
+    Restarted,
+    /// A column's scale disagrees with the physics (the gyro against the encoder's
+    /// derivative, the encoder against the accelerometer): degrees read as radians.
+    UnitMismatch,
 }
 
 impl WarningKind {
     /// Every kind, in a fixed order (the order of [`LogSummary::warning_counts`]).
-    pub const ALL: [WarningKind; 9] = [
+    pub const ALL: [WarningKind; 12] = [
         WarningKind::TruncatedRow,
         WarningKind::EmptyCell,
         WarningKind::NonFinite,
@@ -40,6 +48,9 @@ impl WarningKind {
         WarningKind::TimeJitter,
         WarningKind::LooksLikeDegrees,
         WarningKind::DuplicateIgnoredColumn,
+        WarningKind::Implausible,
+        WarningKind::Restarted,
+        WarningKind::UnitMismatch,
     ];
 
     /// A short snake_case name, for summaries.
@@ -54,6 +65,9 @@ impl WarningKind {
             WarningKind::TimeJitter => "time_jitter",
             WarningKind::LooksLikeDegrees => "looks_like_degrees",
             WarningKind::DuplicateIgnoredColumn => "duplicate_ignored_column",
+            WarningKind::Implausible => "implausible",
+            WarningKind::Restarted => "restarted",
+            WarningKind::UnitMismatch => "unit_mismatch",
         }
     }
 
@@ -67,7 +81,8 @@ impl WarningKind {
 pub struct LogWarning {
     /// The file (or origin name) of the log.
     pub file: String,
-    /// 1-based line in the file (comment and blank lines counted).
+    /// 1-based line in the file (comment and blank lines counted); 0 for a finding about
+    /// the whole log.
     pub line: u64,
     /// The contract column concerned, if any.
     pub column: Option<Column>,
@@ -82,7 +97,11 @@ pub struct LogWarning {
 impl fmt::Display for LogWarning {
     /// `log.csv:17: column `phi`: ...`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}: ", self.file, self.line)?;
+        if self.line > 0 {
+            write!(f, "{}:{}: ", self.file, self.line)?;
+        } else {
+            write!(f, "{}: ", self.file)?;
+        }
         match (&self.column, &self.header) {
             (Some(c), Some(h)) if h != c.name() => write!(f, "column `{h}` ({c}): ")?,
             (Some(c), _) => write!(f, "column `{c}`: ")?,
@@ -112,7 +131,7 @@ pub struct LogSummary {
     /// inf, or absent from a truncated row).
     pub missing_cells: [u64; 6],
     /// Per [`WarningKind::ALL`] kind: how many times it occurred.
-    pub warning_counts: [u64; 9],
+    pub warning_counts: [u64; WarningKind::ALL.len()],
     /// Warnings counted but not queued, because their kind had already been reported
     /// `max_reported` times.
     pub warnings_not_listed: u64,

@@ -23,6 +23,7 @@ use pendtilt_core::Sample;
 
 use super::columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns};
 use super::diagnostics::{LogSummary, LogWarning, WarningKind};
+use super::plausibility::{implausible_step, SensorLimits, TimeUnit};
 use super::split::{split_fields, unquote, SplitError};
 
 /// An angle beyond this \[rad\] in a column read as radians looks like degrees (about 200
@@ -49,6 +50,14 @@ pub struct ReaderOptions {
     /// Warnings of one kind queued for the caller before the rest are only counted.
     /// Default 10.
     pub max_reported: usize,
+    /// The bounds beyond which a reading is impossible and read as missing (flagged
+    /// [`RowIssues::implausible`]). Default: the physical bounds of
+    /// [`super::plausibility`].
+    pub limits: SensorLimits,
+    /// The unit of `t` (`--time-unit`). `None` (default): seconds, and a median step that
+    /// no sensor rate explains (a log in ms or us) is an error naming the fix; given, the
+    /// time is converted and not checked.
+    pub time_unit: Option<TimeUnit>,
 }
 
 impl Default for ReaderOptions {
@@ -60,6 +69,8 @@ impl Default for ReaderOptions {
             gap_factor: 3.0,
             jitter_tolerance: 0.5,
             max_reported: 10,
+            limits: SensorLimits::default(),
+            time_unit: None,
         }
     }
 }
@@ -76,12 +87,20 @@ pub struct RowIssues {
     pub bad_time: bool,
     /// The time step before this row is a gap (longer than `gap_factor` nominal steps).
     pub time_gap: bool,
+    /// Per contract column ([`Column::ALL`] order): the cell held an impossible reading
+    /// (beyond the sensor's full scale, or physically impossible), now NaN.
+    pub implausible: [bool; 6],
 }
 
 impl RowIssues {
     /// True when nothing was wrong.
     pub fn is_clean(&self) -> bool {
         *self == Self::default()
+    }
+
+    /// True when `column`'s cell held an impossible reading (now NaN).
+    pub fn is_implausible(&self, column: Column) -> bool {
+        self.implausible[column.index()]
     }
 }
 
@@ -96,6 +115,10 @@ pub struct LogRecord {
     /// The true tilt \[rad\]: `None` when the log has no `theta` column, `Some(NaN)` when
     /// this row's cell is missing.
     pub theta: Option<f64>,
+    /// The sensors as read, before the plausibility check: equal to `sample` except where
+    /// a cell was implausible ([`RowIssues::implausible`]), which `sample` has as NaN. For
+    /// checks of the log as a whole (units), never for the estimators.
+    pub unchecked: Sample<f64>,
     /// What was wrong with the row.
     pub issues: RowIssues,
 }
@@ -162,6 +185,9 @@ pub enum LogErrorKind {
         /// The cell text.
         text: String,
     },
+    /// The time steps are not those of a sensor log in seconds (a log in ms or us).
+    #[error("{0}")]
+    ImplausibleTimeStep(String),
     /// A row with more non-empty fields than the header.
     #[error("{found} fields, the header has {expected}")]
     TooManyFields {
@@ -222,10 +248,12 @@ pub struct LogReader<R> {
     report: ColumnReport,
     summary: LogSummary,
     pending: Vec<LogWarning>,
-    reported: [usize; 9],
+    reported: [usize; WarningKind::ALL.len()],
     degree_warned: [bool; 6],
     last_t: Option<f64>,
     first_dts: Vec<f64>,
+    /// The time step has been checked against plausible rates.
+    rate_checked: bool,
     finished: bool,
 }
 
@@ -266,10 +294,11 @@ impl<R: BufRead> LogReader<R> {
             },
             summary: LogSummary::default(),
             pending: Vec::new(),
-            reported: [0; 9],
+            reported: [0; WarningKind::ALL.len()],
             degree_warned: [false; 6],
             last_t: None,
             first_dts: Vec::with_capacity(NOMINAL_DT_SAMPLES),
+            rate_checked: false,
             finished: false,
         };
         reader.read_header()?;
@@ -520,6 +549,9 @@ impl<R: BufRead> LogReader<R> {
             );
         }
 
+        if let Some(u) = self.options.time_unit {
+            self.scale[Column::T.index()] = u.seconds();
+        }
         for s in &statuses {
             self.positions[s.column.index()] = s.position;
             if s.degrees {
@@ -546,11 +578,13 @@ impl<R: BufRead> LogReader<R> {
             return Ok(None);
         }
         if !self.next_line()? {
-            self.finished = true;
             if self.summary.rows == 0 {
                 let line = Some(self.line.max(1));
                 return Err(self.error(line, None, LogErrorKind::NoData));
             }
+            // A short log: its few steps are checked at its end.
+            self.check_rate()?;
+            self.finished = true;
             return Ok(None);
         }
         self.split()?;
@@ -598,15 +632,25 @@ impl<R: BufRead> LogReader<R> {
             }
         }
         let mut values = [f64::NAN; 6];
+        let mut unchecked = [f64::NAN; 6];
         for column in Column::ALL {
             let Some(pos) = self.positions[column.index()] else {
                 continue;
             };
+            // The time scale of --time-unit lives in `scale` like the degree factors.
             let value = self.cell(column, pos, parsed[column.index()], &mut issues)?;
             values[column.index()] = value;
+            unchecked[column.index()] = if issues.implausible[column.index()] {
+                parsed[column.index()].unwrap_or(f64::NAN) * self.scale[column.index()]
+            } else {
+                value
+            };
         }
 
         self.check_time(values[Column::T.index()], &mut issues);
+        if self.first_dts.len() == NOMINAL_DT_SAMPLES {
+            self.check_rate()?;
+        }
         self.summary.rows += 1;
         let sample = Sample {
             t: values[Column::T.index()],
@@ -616,11 +660,19 @@ impl<R: BufRead> LogReader<R> {
             ay: values[Column::Ay.index()],
         };
         let theta = self.positions[Column::Theta.index()].map(|_| values[Column::Theta.index()]);
+        let unchecked = Sample {
+            t: sample.t,
+            phi: unchecked[Column::Phi.index()],
+            gyro: unchecked[Column::Gyro.index()],
+            ax: unchecked[Column::Ax.index()],
+            ay: unchecked[Column::Ay.index()],
+        };
         Ok(Some(LogRecord {
             line: self.line,
             sample,
             theta,
             issues,
+            unchecked,
         }))
     }
 
@@ -672,6 +724,15 @@ impl<R: BufRead> LogReader<R> {
             );
             return Ok(f64::NAN);
         }
+        let value = raw * self.scale[column.index()];
+        if let Some(reason) = self.options.limits.check(column, value, raw) {
+            self.summary.missing_cells[column.index()] += 1;
+            issues.missing_values = true;
+            issues.implausible[column.index()] = true;
+            let h = self.header[pos].clone();
+            self.warn(WarningKind::Implausible, Some(column), Some(h), reason);
+            return Ok(f64::NAN);
+        }
         if self.scale[column.index()] == 1.0 && !self.degree_warned[column.index()] {
             let limit = match column {
                 Column::Phi | Column::Theta => ANGLE_LOOKS_LIKE_DEGREES,
@@ -693,7 +754,31 @@ impl<R: BufRead> LogReader<R> {
                 );
             }
         }
-        Ok(raw * self.scale[column.index()])
+        Ok(value)
+    }
+
+    /// Once the nominal step is known (or at the end of a short log): an error when no
+    /// sensor rate explains it, unless `--time-unit` was given.
+    fn check_rate(&mut self) -> Result<(), LogError> {
+        if self.rate_checked || self.options.time_unit.is_some() {
+            return Ok(());
+        }
+        let Some(dt) = self.summary.nominal_dt else {
+            return Ok(());
+        };
+        self.rate_checked = true;
+        match implausible_step(dt) {
+            None => Ok(()),
+            Some(msg) => {
+                let line = Some(self.line);
+                let h = self.header[self.positions[Column::T.index()].unwrap_or(0)].clone();
+                let cell = CellRef {
+                    position: self.positions[Column::T.index()].unwrap_or(0) + 1,
+                    header: h,
+                };
+                Err(self.error(line, Some(cell), LogErrorKind::ImplausibleTimeStep(msg)))
+            }
+        }
     }
 
     fn check_time(&mut self, t: f64, issues: &mut RowIssues) {

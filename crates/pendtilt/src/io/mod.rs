@@ -24,6 +24,7 @@ mod diagnostics;
 mod estimates_writer;
 mod log_reader;
 pub mod output;
+pub mod plausibility;
 mod split;
 
 pub use columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns, OptionError};
@@ -33,3 +34,4 @@ pub use log_reader::{
     CellRef, LogError, LogErrorKind, LogReader, LogRecord, ReaderOptions, RowIssues,
     ANGLE_LOOKS_LIKE_DEGREES, RATE_LOOKS_LIKE_DEGREES,
 };
+pub use plausibility::{SensorLimits, TimeUnit};

@@ -1,0 +1,422 @@
+//! Unit checks from the physics rather than from magnitudes, and settings checked against
+//! the log's rate.
+//!
+//! **Degrees read as radians.** Below the pendulum's natural frequency the pendulum hangs
+//! along the specific force, so the encoder angle follows the tilt: `phi ~ theta`, hence
+//! `phi' ~ theta' = gyro`, and `phi ~ atan2(ax, ay)` (the accelerometer angle, whose
+//! units nothing can change). [`UnitCheck`] low-passes every signal well below f_n (two
+//! second-order Butterworth sections at f_n / 4), fits each pair by least squares with an
+//! intercept (a gyro bias, an encoder zero) over the whole log, and reports a pair whose
+//! factor is 180/pi (57.3) or pi/180 with a good fit: that is a column in degrees, named
+//! with the factor found. A correct log gives factors near 1 whatever its motion, and a
+//! log without motion gives no fit; neither reports anything.
+//!
+//! **Settings against the rate.** [`check_settings_against_rate`] refuses a cutoff at or
+//! above the log's Nyquist frequency (the digital filter cannot exist there) or a
+//! differentiator cutoff below half the natural frequency (it would remove the pendulum's
+//! own swing that Eqs 20-21 read), with the valid range.
+use pendtilt_core::estimators::equations::accel_angle;
+use pendtilt_core::filters::biquad::LowPass2;
+use pendtilt_core::Sample;
+
+use crate::bank::{BankSettings, Inputs};
+
+/// 180 / pi: a column in degrees read as radians is this many times too large.
+pub const DEG: f64 = 180.0 / std::f64::consts::PI;
+/// A factor within this ratio of [`DEG`] (or of 1 / [`DEG`]) counts as a degree mistake.
+pub const FACTOR_TOLERANCE: f64 = 1.5;
+/// The least correlation of a pair for its factor to be believed.
+pub const MIN_CORRELATION: f64 = 0.8;
+/// The least duration of usable samples \[s\] for a verdict.
+pub const MIN_DURATION: f64 = 1.0;
+/// The low-pass of the comparison, as a fraction of the natural frequency.
+pub const CUTOFF_TIMES_NATURAL: f64 = 0.25;
+/// A reading this large (or NaN) is absurd in any unit and not used by [`UnitCheck`].
+pub const ABSURD: f64 = 1e5;
+/// A differentiator cutoff below this multiple of the natural frequency is refused.
+pub const MIN_DIFF_CUTOFF_TIMES_NATURAL: f64 = 0.5;
+
+/// Running least squares of `y = k x + c`.
+#[derive(Debug, Clone, Copy, Default)]
+struct Pair {
+    n: f64,
+    sx: f64,
+    sy: f64,
+    sxx: f64,
+    syy: f64,
+    sxy: f64,
+}
+
+/// A fitted pair: the factor `k` and the correlation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fit {
+    /// The least-squares factor of `y` on `x`.
+    pub factor: f64,
+    /// The correlation coefficient of `x` and `y`.
+    pub correlation: f64,
+    /// Samples in the fit.
+    pub samples: u64,
+}
+
+impl Pair {
+    fn add(&mut self, x: f64, y: f64) {
+        self.n += 1.0;
+        self.sx += x;
+        self.sy += y;
+        self.sxx += x * x;
+        self.syy += y * y;
+        self.sxy += x * y;
+    }
+
+    fn fit(&self) -> Option<Fit> {
+        if self.n < 3.0 {
+            return None;
+        }
+        let n = self.n;
+        let vx = self.sxx / n - (self.sx / n).powi(2);
+        let vy = self.syy / n - (self.sy / n).powi(2);
+        let c = self.sxy / n - self.sx * self.sy / (n * n);
+        if !(vx > 0.0 && vy > 0.0) {
+            return None;
+        }
+        Some(Fit {
+            factor: c / vx,
+            correlation: c / (vx * vy).sqrt(),
+            samples: n as u64,
+        })
+    }
+}
+
+/// A fourth-order low-pass: two second-order sections.
+#[derive(Debug, Clone, Copy)]
+struct Smooth([LowPass2<f64>; 2]);
+
+impl Smooth {
+    fn new(hz: f64) -> Self {
+        Self([LowPass2::new(hz); 2])
+    }
+    fn reset(&mut self) {
+        self.0[0].reset();
+        self.0[1].reset();
+    }
+    fn update(&mut self, u: f64, dt: f64) -> f64 {
+        let v = self.0[0].update(u, dt);
+        self.0[1].update(v, dt)
+    }
+}
+
+/// Which pair a finding comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Comparison {
+    /// The gyro against the encoder's derivative.
+    GyroEncoderRate,
+    /// The encoder against the accelerometer angle.
+    EncoderAccel,
+    /// The gyro against the accelerometer angle's derivative.
+    GyroAccelRate,
+    /// The true angle against the encoder.
+    TruthEncoder,
+    /// The true angle against the accelerometer angle.
+    TruthAccel,
+}
+
+/// A column found in degrees (or converted twice).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Finding {
+    /// The column (`phi`, `gyro`, `theta`).
+    pub column: &'static str,
+    /// The pair it was found with.
+    pub comparison: Comparison,
+    /// The fit.
+    pub fit: Fit,
+    /// One sentence with the factor and the fix.
+    pub message: String,
+}
+
+/// The degree detector: feed it every row ([`UnitCheck::add`]), then ask
+/// [`UnitCheck::findings`].
+#[derive(Debug, Clone)]
+pub struct UnitCheck {
+    inputs: Inputs,
+    // phi, gyro, accel angle, theta
+    smooth: [Smooth; 4],
+    prev: Option<(f64, f64, f64)>,
+    /// Time of the first sample since the last restart.
+    start: f64,
+    settle: f64,
+    pairs: [Pair; 5],
+    duration: f64,
+}
+
+impl UnitCheck {
+    /// A check for a log with `inputs` (and a `theta` column if `with_theta`), for the
+    /// pendulum of `settings`.
+    pub fn new(settings: &BankSettings, inputs: Inputs) -> Self {
+        let f_n = settings.params.natural_frequency_hz();
+        let cutoff = if f_n.is_finite() && f_n > 0.0 {
+            CUTOFF_TIMES_NATURAL * f_n
+        } else {
+            0.5
+        };
+        Self {
+            inputs,
+            smooth: [Smooth::new(cutoff); 4],
+            prev: None,
+            start: f64::NAN,
+            settle: 2.0 / cutoff,
+            pairs: [Pair::default(); 5],
+            duration: 0.0,
+        }
+    }
+
+    fn restart(&mut self) {
+        for s in &mut self.smooth {
+            s.reset();
+        }
+        self.prev = None;
+    }
+
+    /// Adds one row (`theta`: the true angle, `None` or NaN when absent).
+    pub fn add(&mut self, s: &Sample<f64>, theta: Option<f64>) {
+        let th = theta.unwrap_or(f64::NAN);
+        // Readings beyond the sensors' bounds still count here (a gyro in deg/s is beyond
+        // a rad/s full scale), unless absurd in any unit.
+        let ok = |v: f64| v.abs() < ABSURD;
+        let usable = s.t.is_finite()
+            && (!self.inputs.phi || ok(s.phi))
+            && (!self.inputs.gyro || ok(s.gyro))
+            && (!self.inputs.accel || (ok(s.ax) && ok(s.ay)));
+        let dt = self.prev.map_or(f64::NAN, |p| s.t - p.0);
+        // A missing reading or a gap starts the filters again.
+        if !usable || (self.prev.is_some() && !(dt > 0.0 && dt < 0.1)) {
+            self.restart();
+            if !usable {
+                return;
+            }
+        }
+        let alpha = if self.inputs.accel {
+            accel_angle(s.ax, s.ay)
+        } else {
+            0.0
+        };
+        let or0 = |u: f64| if u.is_finite() { u } else { 0.0 };
+        let step = if dt > 0.0 && dt < 0.1 { dt } else { 1e-3 };
+        let phi = self.smooth[0].update(or0(s.phi), step);
+        let gyro = self.smooth[1].update(or0(s.gyro), step);
+        let acc = self.smooth[2].update(alpha, step);
+        let truth = self.smooth[3].update(or0(th), step);
+        let Some((_, last_phi, last_acc)) = self.prev.replace((s.t, phi, acc)) else {
+            self.start = s.t;
+            return;
+        };
+        if s.t - self.start < self.settle {
+            return;
+        }
+        self.duration += dt;
+        let dphi = (phi - last_phi) / dt;
+        let dacc = (acc - last_acc) / dt;
+        let (p, g, a) = (self.inputs.phi, self.inputs.gyro, self.inputs.accel);
+        if p && g {
+            self.pairs[Comparison::GyroEncoderRate as usize].add(dphi, gyro);
+        }
+        if p && a {
+            self.pairs[Comparison::EncoderAccel as usize].add(acc, phi);
+        }
+        if g && a {
+            self.pairs[Comparison::GyroAccelRate as usize].add(dacc, gyro);
+        }
+        if th.is_finite() {
+            if p {
+                self.pairs[Comparison::TruthEncoder as usize].add(phi, truth);
+            }
+            if a {
+                self.pairs[Comparison::TruthAccel as usize].add(acc, truth);
+            }
+        }
+    }
+
+    /// The fit of one comparison, if it had samples with motion.
+    pub fn fit(&self, c: Comparison) -> Option<Fit> {
+        self.pairs[c as usize].fit()
+    }
+
+    /// The columns found in degrees (or converted twice), each with its factor and fix.
+    /// Empty for a log that is right, or too short or too still to tell.
+    pub fn findings(&self) -> Vec<Finding> {
+        if self.duration < MIN_DURATION {
+            return Vec::new();
+        }
+        let verdict = |c: Comparison| -> Option<(Fit, f64)> {
+            let f = self.fit(c)?;
+            if f.correlation < MIN_CORRELATION {
+                return None;
+            }
+            let k = f.factor;
+            let near = |target: f64| k / target < FACTOR_TOLERANCE && target / k < FACTOR_TOLERANCE;
+            if near(DEG) {
+                Some((f, DEG))
+            } else if near(1.0 / DEG) {
+                Some((f, 1.0 / DEG))
+            } else if near(1.0) {
+                Some((f, 1.0))
+            } else {
+                None
+            }
+        };
+        let mut out = Vec::new();
+        // The encoder against the accelerometer (whose unit is fixed).
+        let phi = verdict(Comparison::EncoderAccel);
+        let phi_deg = matches!(phi, Some((_, k)) if k == DEG);
+        if let Some((f, k)) = phi {
+            if k != 1.0 {
+                out.push(finding("phi", Comparison::EncoderAccel, f, k));
+            }
+        }
+        // The gyro against the encoder's derivative, else the accelerometer's.
+        let follows_deg_phi = |col: &'static str, c: Comparison, f: Fit| Finding {
+            column: col,
+            comparison: c,
+            fit: f,
+            message: format!(
+                "{col} follows {} (factor {:.2}, r = {:.2}) and phi is in degrees: is \
+                 {col} in {} too? read it with --deg {col}",
+                if col == "gyro" { "d(phi)/dt" } else { "phi" },
+                f.factor,
+                f.correlation,
+                if col == "gyro" { "deg/s" } else { "degrees" }
+            ),
+        };
+        let by_accel = verdict(Comparison::GyroAccelRate);
+        match verdict(Comparison::GyroEncoderRate) {
+            Some((f, k)) if k == DEG && !phi_deg => {
+                out.push(finding("gyro", Comparison::GyroEncoderRate, f, k))
+            }
+            Some((f, k)) if k == 1.0 / DEG && phi.is_none() => {
+                out.push(finding("phi", Comparison::GyroEncoderRate, f, k))
+            }
+            Some((_, k)) if k == 1.0 && !phi_deg => {}
+            Some((f, k)) if k == 1.0 && phi_deg && by_accel.is_none() => {
+                out.push(follows_deg_phi("gyro", Comparison::GyroEncoderRate, f))
+            }
+            _ => {
+                if let Some((f, k)) = by_accel {
+                    if k != 1.0 {
+                        out.push(finding("gyro", Comparison::GyroAccelRate, f, k));
+                    }
+                }
+            }
+        }
+        // The true angle against the accelerometer, else the encoder.
+        match (
+            verdict(Comparison::TruthAccel),
+            verdict(Comparison::TruthEncoder),
+        ) {
+            (Some((f, k)), _) if k != 1.0 => {
+                out.push(finding("theta", Comparison::TruthAccel, f, k))
+            }
+            (Some(_), _) => {}
+            (None, Some((f, k))) if k == 1.0 && phi_deg => {
+                out.push(follows_deg_phi("theta", Comparison::TruthEncoder, f))
+            }
+            (None, Some((f, k))) if k != 1.0 && phi.is_none_or(|(_, k)| k == 1.0) => {
+                out.push(finding("theta", Comparison::TruthEncoder, f, k))
+            }
+            _ => {}
+        }
+        out
+    }
+}
+
+fn finding(column: &'static str, comparison: Comparison, fit: Fit, k: f64) -> Finding {
+    let against = match comparison {
+        Comparison::GyroEncoderRate => "the encoder's derivative d(phi)/dt",
+        Comparison::EncoderAccel | Comparison::TruthAccel => {
+            "the accelerometer's angle atan2(ax, ay)"
+        }
+        Comparison::GyroAccelRate => "the derivative of the accelerometer's angle",
+        Comparison::TruthEncoder => "phi",
+    };
+    let how = format!(
+        "least squares over {} rows below f_n / 4, r = {:.2}",
+        fit.samples, fit.correlation
+    );
+    let unit = |c: &str| if c == "gyro" { "deg/s" } else { "degrees" };
+    let message = if k > 1.0 {
+        format!(
+            "{column} is {:.1}x {against}: is {column} in {}? read it with --deg {column} \
+             ({how})",
+            fit.factor,
+            unit(column)
+        )
+    } else if comparison == Comparison::GyroEncoderRate {
+        // The gyro is 1/57.3 of phi': the encoder is the column in degrees.
+        return Finding {
+            column: "phi",
+            comparison,
+            fit,
+            message: format!(
+                "the encoder's derivative d(phi)/dt is {:.1}x the gyro: is phi in degrees? \
+                 read it with --deg phi ({how})",
+                1.0 / fit.factor
+            ),
+        };
+    } else {
+        format!(
+            "{column} is 1/{:.1} of {against}: is {column} already in radians and read \
+             with --deg? ({how})",
+            1.0 / fit.factor
+        )
+    };
+    Finding {
+        column,
+        comparison,
+        fit,
+        message,
+    }
+}
+
+/// Checks the frequency settings of `settings` against a log whose median time step is
+/// `dt` \[s\]: every cutoff below the Nyquist frequency, the differentiator's at least
+/// [`MIN_DIFF_CUTOFF_TIMES_NATURAL`] f_n. The error names the setting, the log's rate and
+/// the valid range.
+pub fn check_settings_against_rate(settings: &BankSettings, dt: f64) -> Result<(), String> {
+    if !(dt > 0.0 && dt.is_finite()) {
+        return Ok(());
+    }
+    let rate = 1.0 / dt;
+    let nyquist = rate / 2.0;
+    let f_n = settings.params.natural_frequency_hz();
+    let floor = MIN_DIFF_CUTOFF_TIMES_NATURAL * f_n;
+    let diff = settings.alg1.front_end().differentiator;
+    let hz = diff.cutoff_hz(&settings.params);
+    let key = match diff.cutoff {
+        pendtilt_core::filters::diff::Cutoff::Hz(_) => "[differentiator] cutoff_hz".to_string(),
+        pendtilt_core::filters::diff::Cutoff::TimesNatural(k) => format!(
+            "[differentiator] cutoff_times_natural = {k} (f_n = {f_n:.3} Hz) gives a cutoff"
+        ),
+    };
+    if !(hz < nyquist && hz >= floor) {
+        let why = if hz >= nyquist {
+            format!("at or above the Nyquist frequency {nyquist} Hz of this log")
+        } else {
+            format!(
+                "below {MIN_DIFF_CUTOFF_TIMES_NATURAL} f_n: it would filter out the \
+                 pendulum's own swing at f_n = {f_n:.3} Hz that Eqs (20)-(21) read"
+            )
+        };
+        return Err(format!(
+            "{key} = {hz} Hz is {why} (median time step {dt} s, {rate} Hz); valid range: \
+             {floor:.3} Hz up to below {nyquist} Hz"
+        ));
+    }
+    if let Some(p) = settings.accel.prefilter_hz {
+        if p >= nyquist {
+            return Err(format!(
+                "[accel] prefilter_hz = {p} Hz is at or above the Nyquist frequency \
+                 {nyquist} Hz of this log (median time step {dt} s, {rate} Hz); valid \
+                 range: above 0 up to below {nyquist} Hz"
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,716 @@
+//! Issue 11, items 2 and 3: plausibility at the edge and unit checks.
+//!
+//! Item 2: an impossible reading (beyond the rig's full scale, or absurd) is missing for
+//! every estimator, flagged `implausible` on the estimators that read it, reported once
+//! with its line; a long sensor gap restarts the estimators that read the sensor. Each
+//! case runs a simulated ride through the log reader and the bank (as `estimate` does),
+//! clean and faulty, and measures per estimator when it is back within 0.05 deg of the
+//! clean run. Item 3: time in ms or us, degrees read as radians (found from the physics,
+//! with the factor), cutoffs above Nyquist or below the floor; each detector also runs on
+//! correct logs that must not trigger it. Figures: docs/reliability.md section 7b.
+use std::process::Command;
+
+use pendtilt::bank::{Bank, Inputs};
+use pendtilt::cli::options::rig_bank_settings;
+use pendtilt::config::RigConfig;
+use pendtilt::core::{Estimate, Flags};
+use pendtilt::io::{EstimatesWriter, LogReader, LogWarning, ReaderOptions, TimeUnit, WarningKind};
+use pendtilt::pipeline::{self, PassError, PassSummary};
+use pendtilt::sim::{simulate, Scenario, SimRow};
+
+/// A simulated ride and the rig file `simulate` writes for it (with the full scales).
+fn ride(name: &str, secs: f64, seed: u64) -> (Vec<SimRow>, RigConfig) {
+    let mut s = Scenario::named(name).unwrap();
+    s.duration = secs;
+    (simulate(&s, seed).unwrap(), s.rig().unwrap())
+}
+
+/// The cells of each row as text (t, phi, gyro, ax, ay, theta).
+fn cells(rows: &[SimRow]) -> Vec<[String; 6]> {
+    rows.iter()
+        .map(|r| {
+            let s = r.sample();
+            [s.t, s.phi, s.gyro, s.ax, s.ay, r.truth.theta].map(|v| format!("{v}"))
+        })
+        .collect()
+}
+
+fn text(cells: &[[String; 6]]) -> String {
+    let mut s = String::from("t,phi,gyro,ax,ay,theta\n");
+    for c in cells {
+        s.push_str(&c.join(","));
+        s.push('\n');
+    }
+    s
+}
+
+/// One pass of the reader and the bank over a log text.
+struct Run {
+    names: Vec<&'static str>,
+    t: Vec<f64>,
+    est: Vec<Vec<Estimate<f64>>>,
+    warnings: Vec<LogWarning>,
+    result: Result<PassSummary, PassError>,
+    implausible_count: u64,
+}
+
+fn run_with(log: &str, rig: &RigConfig, options: ReaderOptions) -> Run {
+    let mut r = LogReader::new(log.as_bytes(), "ride.csv", options).unwrap();
+    let mut bank = Bank::new(&rig_bank_settings(rig), pipeline::inputs_of(&r), None).unwrap();
+    let names = bank.names().to_vec();
+    let mut est = Vec::new();
+    let mut warnings = Vec::new();
+    let result = pipeline::run(
+        &mut r,
+        &mut bank,
+        None::<&mut EstimatesWriter<Vec<u8>>>,
+        false,
+        |w| warnings.push(w.clone()),
+        |_, e| est.push(e.to_vec()),
+    );
+    let t: Vec<f64> = log
+        .lines()
+        .skip(1)
+        .take(est.len())
+        .map(|l| l.split(',').next().unwrap().parse().unwrap_or(f64::NAN))
+        .collect();
+    Run {
+        names,
+        t,
+        est,
+        warnings,
+        result,
+        implausible_count: r.summary().count(WarningKind::Implausible),
+    }
+}
+
+fn run(log: &str, rig: &RigConfig) -> Run {
+    run_with(
+        log,
+        rig,
+        ReaderOptions {
+            limits: rig.limits(),
+            ..ReaderOptions::default()
+        },
+    )
+}
+
+const TOLERANCE_DEG: f64 = 0.05;
+
+/// Per estimator: the time after `t_end` from which it stays within 0.05 deg of the clean
+/// run (0 when it never left), and the largest difference from `t_end + 2 s` on [deg].
+fn recovery(clean: &Run, bad: &Run, t_end: f64) -> Vec<(&'static str, f64, f64)> {
+    assert_eq!(clean.est.len(), bad.est.len(), "a row was lost");
+    let mut out = Vec::new();
+    for (j, name) in clean.names.iter().enumerate() {
+        let mut last_out = None;
+        let mut worst = 0.0f64;
+        for (k, &t) in clean.t.iter().enumerate() {
+            if t < t_end {
+                continue;
+            }
+            let (a, b) = (clean.est[k][j].theta, bad.est[k][j].theta);
+            let d = if a.is_nan() && b.is_nan() {
+                0.0
+            } else {
+                (a - b).abs().to_degrees()
+            };
+            let d = if d.is_nan() { f64::INFINITY } else { d };
+            if d > TOLERANCE_DEG {
+                last_out = Some(t);
+            }
+            if t >= t_end + 2.0 {
+                worst = worst.max(d);
+            }
+        }
+        let back = last_out.map_or(0.0, |t| t - t_end + 1e-3);
+        out.push((*name, back, worst));
+    }
+    out
+}
+
+fn print(case: &str, rec: &[(&str, f64, f64)]) {
+    println!("{case}:");
+    for (n, back, worst) in rec {
+        println!(
+            "  {n:<14} back within 0.05 deg after {back:.3} s; max diff from +2 s {worst:.4} deg"
+        );
+    }
+}
+
+/// The paper's estimators and their Kalman filters.
+fn paper(name: &str) -> bool {
+    name.starts_with("alg") || name.starts_with("kf_") || name == "accel" || name == "pendulum"
+}
+
+fn implausible_warnings(r: &Run) -> Vec<&LogWarning> {
+    r.warnings
+        .iter()
+        .filter(|w| w.kind == WarningKind::Implausible)
+        .collect()
+}
+
+#[test]
+fn one_impossible_cell_per_sensor_is_missing_for_every_estimator_flagged_and_told_once() {
+    let (rows, rig) = ride("scooter", 8.0, 6);
+    let base = cells(&rows);
+    let clean = run(&text(&base), &rig);
+    assert!(clean.result.is_ok());
+    assert!(implausible_warnings(&clean).is_empty());
+    // Row 2500 is on line 2502 (the header is line 1).
+    let k = 2500;
+    let cases: [(usize, &str, &str, Inputs); 6] = [
+        (
+            2,
+            "1e6",
+            "gyro 1e6 rad/s exceeds the full scale 8.73 rad/s",
+            gyro(),
+        ),
+        (
+            2,
+            "1e308",
+            "gyro 1e308 rad/s exceeds the full scale 8.73",
+            gyro(),
+        ),
+        (2, "-9", "gyro -9 rad/s exceeds the full scale 8.73", gyro()),
+        (
+            3,
+            "-1e308",
+            "ax -1e308 m/s^2 exceeds the full scale 78.5 m/s^2",
+            accel(),
+        ),
+        (
+            4,
+            "1e6",
+            "ay 1e6 m/s^2 exceeds the full scale 78.5",
+            accel(),
+        ),
+        (1, "1e300", "phi 1e300 rad is physically impossible", phi()),
+    ];
+    for (col, value, says, sensor) in cases {
+        let mut c = base.clone();
+        c[k][col] = value.to_string();
+        let bad = run(&text(&c), &rig);
+        assert!(bad.result.is_ok());
+        assert_eq!(bad.est.len(), rows.len(), "{value}: a row was lost");
+        let w = implausible_warnings(&bad);
+        assert_eq!(w.len(), 1, "{value}: told once: {:?}", bad.warnings);
+        let shown = w[0].to_string();
+        assert!(shown.starts_with("ride.csv:2502: "), "{shown}");
+        assert!(shown.contains(says), "{shown}");
+        assert!(!shown.contains("--deg"), "{shown}");
+        assert!(
+            !bad.warnings
+                .iter()
+                .any(|w| w.kind == WarningKind::LooksLikeDegrees),
+            "{value}: the degree hint must not fire: {:?}",
+            bad.warnings
+        );
+        // Flagged on exactly the estimators that read the sensor, on that row only.
+        let mut settings_needs = Vec::new();
+        for e in pendtilt::bank::REGISTRY {
+            if let Some(j) = bad.names.iter().position(|n| *n == e.name) {
+                settings_needs.push((j, e.needs));
+            }
+        }
+        for (j, needs) in settings_needs {
+            let f = bad.est[k][j].flags;
+            let reads = needs.intersects(sensor);
+            assert_eq!(
+                f.contains(Flags::IMPLAUSIBLE),
+                reads,
+                "{value} {}",
+                bad.names[j]
+            );
+            assert!(!bad.est[k + 1][j].flags.contains(Flags::IMPLAUSIBLE));
+        }
+        let rec = recovery(&clean, &bad, k as f64 * 1e-3);
+        print(&format!("one cell {value} in column {col}"), &rec);
+        for (n, back, worst) in &rec {
+            if *n == "madgwick" {
+                // Madgwick's gradient step is normalised: it corrects by beta dt = 0.068
+                // deg per sample whatever the error, so two runs parted by one sample can
+                // stay up to about two such steps apart (measured 0.14 deg after one
+                // missing ax); 0.05 deg is below its resolution at this gain and rate.
+                assert!(*worst <= 0.2, "{value}: madgwick {worst} deg off 2 s after");
+            } else {
+                assert!(*back <= 2.0, "{value}: {n} back only after {back} s");
+            }
+        }
+    }
+}
+
+fn gyro() -> Inputs {
+    Inputs {
+        gyro: true,
+        ..Inputs::default()
+    }
+}
+fn accel() -> Inputs {
+    Inputs {
+        accel: true,
+        ..Inputs::default()
+    }
+}
+fn phi() -> Inputs {
+    Inputs {
+        phi: true,
+        ..Inputs::default()
+    }
+}
+
+#[test]
+fn without_a_full_scale_the_physical_bound_applies_and_no_degree_hint_fires() {
+    let (rows, _) = ride("scooter", 3.0, 2);
+    let mut c = cells(&rows);
+    c[1000][2] = "1e6".into();
+    let rig = RigConfig::default();
+    let r = run(&text(&c), &rig);
+    let w = implausible_warnings(&r);
+    assert_eq!(w.len(), 1);
+    assert!(
+        w[0].message
+            .contains("exceeds the physical bound 100 rad/s (no [gyro] full_scale in the rig)"),
+        "{}",
+        w[0]
+    );
+    assert!(!r
+        .warnings
+        .iter()
+        .any(|w| w.kind == WarningKind::LooksLikeDegrees));
+    // A reading exactly at full scale is clipped but real: kept, flagged saturated.
+    let (rows, rig) = ride("scooter", 3.0, 2);
+    let fs = rig.gyro.full_scale.unwrap();
+    let mut c = cells(&rows);
+    c[1000][2] = format!("{fs}");
+    let r = run(&text(&c), &rig);
+    assert!(implausible_warnings(&r).is_empty());
+    let alg2 = r.names.iter().position(|n| *n == "alg2").unwrap();
+    assert!(r.est[1000][alg2].flags.contains(Flags::SATURATED));
+    assert!(!r.est[1000][alg2].flags.contains(Flags::IMPLAUSIBLE));
+}
+
+#[test]
+fn a_burst_of_100_impossible_cells() {
+    let (rows, rig) = ride("scooter", 14.0, 6);
+    let base = cells(&rows);
+    let clean = run(&text(&base), &rig);
+    let (k0, n) = (3000, 100);
+    for (col, value, name) in [(2, "1e6", "gyro"), (3, "-1e308", "ax"), (1, "1e300", "phi")] {
+        let mut c = base.clone();
+        for row in c.iter_mut().skip(k0).take(n) {
+            row[col] = value.into();
+        }
+        let bad = run(&text(&c), &rig);
+        assert!(bad.result.is_ok());
+        assert_eq!(
+            bad.implausible_count, n as u64,
+            "{name}: every cell counted"
+        );
+        assert_eq!(implausible_warnings(&bad).len(), 10, "{name}: ten listed");
+        let rec = recovery(&clean, &bad, (k0 + n) as f64 * 1e-3);
+        print(&format!("burst of {n} {name} = {value}"), &rec);
+        for (est, back, worst) in &rec {
+            // The paper's estimators and their Kalman filters are back within 2 s. The
+            // gyro-integrating peers hold the last gyro reading through a gyro burst (the
+            // core's input hold) and converge at their own gains: bounds measured, see
+            // docs/reliability.md 7b.
+            let bound = match (name, *est) {
+                ("gyro", "ekf" | "ukf") => 1.3,
+                ("gyro", "madgwick") => 0.3,
+                ("gyro", "mahony") => 0.6,
+                ("gyro", "complementary") => 0.1,
+                ("phi", "ekf" | "ukf") => 0.15,
+                _ => TOLERANCE_DEG,
+            };
+            assert!(*worst <= bound, "{name}: {est} {worst} deg off 2 s after");
+            if paper(est) {
+                assert!(*back <= 2.0, "{name}: {est} back after {back} s");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
+    let (rows, rig) = ride("scooter", 30.0, 3);
+    let base = cells(&rows);
+    let clean = run(&text(&base), &rig);
+    let (k0, k1) = (5000, 15000);
+    let mut c = base.clone();
+    for row in c.iter_mut().take(k1).skip(k0) {
+        for cell in row.iter_mut().take(5).skip(1) {
+            cell.clear();
+        }
+    }
+    let bad = run(&text(&c), &rig);
+    assert!(bad.result.is_ok());
+    assert_eq!(bad.est.len(), rows.len());
+    let restarts: Vec<_> = bad
+        .warnings
+        .iter()
+        .filter(|w| w.kind == WarningKind::Restarted)
+        .collect();
+    assert_eq!(restarts.len(), 1, "{:?}", bad.warnings);
+    assert_eq!(restarts[0].line, k1 as u64 + 2);
+    assert!(
+        restarts[0].message.contains("after a gap of 10.0"),
+        "{}",
+        restarts[0]
+    );
+    assert_eq!(bad.result.as_ref().unwrap().restarts, 1);
+
+    // After the gap every estimator gives exactly what it gives when started there.
+    let tail = run(&text(&base[k1..]), &rig);
+    for (k, row) in tail.est.iter().enumerate() {
+        for (j, e) in row.iter().enumerate() {
+            let b = bad.est[k1 + k][j];
+            // Equal to rounding: a restarted differentiator may keep its filter design
+            // for the same step (1 ulp).
+            assert!(
+                (e.theta - b.theta).abs() <= 1e-12 && e.flags == b.flags,
+                "{} at row {}: {:?} against {:?}",
+                tail.names[j],
+                k1 + k,
+                b,
+                e
+            );
+        }
+    }
+    let rec = recovery(&clean, &bad, k1 as f64 * 1e-3);
+    print("10 s gap of every sensor", &rec);
+    for (est, back, worst) in &rec {
+        if paper(est) {
+            assert!(*back <= 2.0, "{est} back after {back} s");
+        }
+        // Before the restart Madgwick and Mahony stayed 180 and 110 deg off.
+        assert!(*worst < 2.5, "{est}: {worst} deg off 2 s after the gap");
+    }
+
+    // The same gap as missing rows (the time jumps by 10 s).
+    let mut c = base[..k0].to_vec();
+    c.extend_from_slice(&base[k1..]);
+    let jumped = run(&text(&c), &rig);
+    assert_eq!(jumped.result.as_ref().unwrap().restarts, 1);
+    for (k, row) in tail.est.iter().enumerate() {
+        for (j, e) in row.iter().enumerate() {
+            assert!((e.theta - jumped.est[k0 + k][j].theta).abs() <= 1e-12);
+        }
+    }
+}
+
+#[test]
+fn a_gap_shorter_than_the_restart_gap_is_bridged_not_restarted() {
+    let (rows, rig) = ride("scooter", 4.0, 6);
+    let mut c = cells(&rows);
+    for row in c.iter_mut().skip(1000).take(400) {
+        row[2].clear();
+    }
+    let r = run(&text(&c), &rig);
+    assert_eq!(r.result.as_ref().unwrap().restarts, 0);
+    for row in c.iter_mut().skip(1000).take(600) {
+        row[2].clear();
+    }
+    let r = run(&text(&c), &rig);
+    assert_eq!(r.result.as_ref().unwrap().restarts, 1);
+    let w = r
+        .warnings
+        .iter()
+        .find(|w| w.kind == WarningKind::Restarted)
+        .unwrap();
+    assert!(
+        w.message.starts_with("gyro back after a gap of 0.60"),
+        "{w}"
+    );
+    // Only the estimators reading the gyro restarted: accel and pendulum did not.
+    let n_gyro = pendtilt::bank::REGISTRY
+        .iter()
+        .filter(|e| r.names.contains(&e.name) && e.needs.gyro)
+        .count();
+    // alg1 shares its front end with alg2, so it restarts with it.
+    assert!(
+        w.message.contains(&format!("{} estimators", n_gyro + 1)),
+        "{w}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------
+// Item 3: units.
+
+fn retimed(rows: &[SimRow], scale: f64) -> String {
+    let mut c = cells(rows);
+    for (row, r) in c.iter_mut().zip(rows) {
+        row[0] = format!("{}", (r.t * scale * 1e6).round() / 1e6);
+    }
+    text(&c)
+}
+
+#[test]
+fn time_in_ms_or_us_is_an_error_with_the_fix_and_the_fix_works() {
+    let (rows, rig) = ride("step", 2.0, 1);
+    for (scale, unit, fix) in [
+        (1e3, TimeUnit::Ms, "--time-unit ms (1000 Hz)"),
+        (1e6, TimeUnit::Us, "--time-unit us (1000 Hz)"),
+    ] {
+        let log = retimed(&rows, scale);
+        let r = run(&log, &rig);
+        let err = r.result.unwrap_err().to_string();
+        assert!(err.starts_with("ride.csv:17: column 1 (`t`): "), "{err}");
+        assert!(err.contains(fix), "{err}");
+        // No restart warnings before the error (each step would be a "gap").
+        assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+        let fixed = run_with(
+            &log,
+            &rig,
+            ReaderOptions {
+                limits: rig.limits(),
+                time_unit: Some(unit),
+                ..ReaderOptions::default()
+            },
+        );
+        let s = fixed.result.unwrap();
+        assert_eq!((s.rows, s.restarts), (rows.len() as u64, 0));
+    }
+    // Correct logs at 1 kHz, 100 Hz and 20 Hz, and a short one, pass.
+    for (rate, secs) in [(1000.0, 2.0), (100.0, 3.0), (20.0, 5.0), (1000.0, 0.005)] {
+        let mut s = Scenario::named("step").unwrap();
+        s.rate = rate;
+        s.duration = secs;
+        let rows = simulate(&s, 1).unwrap();
+        let r = run(&text(&cells(&rows)), &s.rig().unwrap());
+        assert!(
+            r.result.is_ok(),
+            "{rate} Hz: {:?}",
+            r.result.err().map(|e| e.to_string())
+        );
+    }
+}
+
+fn degrees(rows: &[SimRow], cols: &[usize]) -> String {
+    let mut c = cells(rows);
+    for row in &mut c {
+        for &i in cols {
+            row[i] = format!("{}", row[i].parse::<f64>().unwrap().to_degrees());
+        }
+    }
+    text(&c)
+}
+
+fn findings(r: &Run) -> Vec<(&'static str, f64, String)> {
+    r.result
+        .as_ref()
+        .unwrap()
+        .unit_findings
+        .iter()
+        .map(|f| (f.column, f.fit.factor, f.message.clone()))
+        .collect()
+}
+
+/// The scenarios the degree detector must stay quiet on when the units are right.
+fn scenarios() -> Vec<(&'static str, Vec<SimRow>, RigConfig)> {
+    let mut v = Vec::new();
+    for (name, secs) in [
+        ("still", 6.0),
+        ("step", 5.0),
+        ("scooter", 12.0),
+        ("sine", 10.0),
+    ] {
+        let (rows, rig) = ride(name, secs, 4);
+        v.push((name, rows, rig));
+    }
+    // The issue's case: a small motion, 2.3 deg and about 8 deg/s.
+    let mut s = Scenario::named("sine").unwrap();
+    s.motion.set_amplitude(0.04);
+    s.duration = 12.0;
+    v.push(("small sine", simulate(&s, 4).unwrap(), s.rig().unwrap()));
+    v
+}
+
+#[test]
+fn degrees_are_found_from_the_physics_with_the_factor_and_correct_logs_are_quiet() {
+    for (name, rows, rig) in scenarios() {
+        let clean = run(&text(&cells(&rows)), &rig);
+        assert!(
+            findings(&clean).is_empty(),
+            "{name}: {:?}",
+            findings(&clean)
+        );
+        if name == "still" {
+            // Nothing moves: no fit, nothing to tell (and nothing claimed).
+            let r = run(&degrees(&rows, &[2]), &rig);
+            assert!(findings(&r).is_empty(), "{name}: {:?}", findings(&r));
+            continue;
+        }
+        // The gyro in deg/s: 57.3x the encoder's derivative.
+        let r = run(&degrees(&rows, &[2]), &rig);
+        let f = findings(&r);
+        assert_eq!(f.len(), 1, "{name}: {f:?}");
+        assert_eq!(f[0].0, "gyro", "{name}: {f:?}");
+        assert!(
+            (f[0].1 / 57.3 - 1.0).abs() < 0.1,
+            "{name}: factor {}",
+            f[0].1
+        );
+        assert!(f[0].2.contains("the encoder's derivative") && f[0].2.contains("--deg gyro"));
+        println!("{name}, gyro in deg/s: {}", f[0].2);
+        // Every angle in degrees: each column named against the accelerometer.
+        let r = run(&degrees(&rows, &[1, 2, 5]), &rig);
+        let mut cols: Vec<_> = findings(&r).iter().map(|f| f.0).collect();
+        cols.sort();
+        assert_eq!(cols, ["gyro", "phi", "theta"], "{name}: {:?}", findings(&r));
+        for f in findings(&r) {
+            // Found directly (57.3 within the accelerometer's vibration bias), or by
+            // following phi, itself found in degrees.
+            assert!(
+                (f.1 / 57.3 - 1.0).abs() < 0.3 || f.2.contains("and phi is in degrees"),
+                "{name}: {f:?}"
+            );
+            assert!(f.2.contains(&format!("--deg {}", f.0)), "{name}: {f:?}");
+            println!("{name}, all in degrees: {}", f.2);
+        }
+        // Only phi in degrees: phi' is 57.3x the gyro and phi 57.3x the accelerometer.
+        let r = run(&degrees(&rows, &[1]), &rig);
+        let f = findings(&r);
+        assert_eq!(f.len(), 1, "{name}: {f:?}");
+        assert_eq!(f[0].0, "phi", "{name}: {f:?}");
+        // Read with --deg, the same logs are quiet again.
+        let fixed = run_with(
+            &degrees(&rows, &[1, 2, 5]),
+            &rig,
+            ReaderOptions {
+                limits: rig.limits(),
+                degrees: "phi,gyro,theta".parse().unwrap(),
+                ..ReaderOptions::default()
+            },
+        );
+        assert!(
+            findings(&fixed).is_empty(),
+            "{name}: {:?}",
+            findings(&fixed)
+        );
+    }
+}
+
+#[test]
+fn cutoffs_above_nyquist_or_below_the_floor_are_refused_with_the_valid_range() {
+    let (rows, rig) = ride("step", 2.0, 1);
+    let log = text(&cells(&rows));
+    let refuse = |edit: &dyn Fn(&mut RigConfig), says: &[&str]| {
+        let mut r = rig.clone();
+        edit(&mut r);
+        let e = run(&log, &r).result.unwrap_err().to_string();
+        for s in says {
+            assert!(e.contains(s), "{e}");
+        }
+    };
+    refuse(
+        &|r| r.differentiator.cutoff_hz = Some(1000.0),
+        &[
+            "ride.csv: [differentiator] cutoff_hz = 1000 Hz is at or above the Nyquist frequency 500 Hz",
+            "valid range: 1.09",
+            "up to below 500 Hz",
+        ],
+    );
+    refuse(
+        &|r| r.differentiator.cutoff_hz = Some(500.0),
+        &["Nyquist frequency 500 Hz"],
+    );
+    refuse(
+        &|r| r.differentiator.cutoff_hz = Some(0.2),
+        &["cutoff_hz = 0.2 Hz is below 0.5 f_n", "f_n = 2.186 Hz"],
+    );
+    refuse(
+        &|r| r.differentiator.cutoff_times_natural = Some(300.0),
+        &["cutoff_times_natural = 300", "Nyquist"],
+    );
+    refuse(
+        &|r| r.accel.prefilter_hz = Some(600.0),
+        &["[accel] prefilter_hz = 600 Hz is at or above the Nyquist frequency 500 Hz"],
+    );
+    // Accepted: anything inside the range.
+    for hz in [1.2, 2.8, 40.0, 400.0] {
+        let mut r = rig.clone();
+        r.differentiator.cutoff_hz = Some(hz);
+        assert!(run(&log, &r).result.is_ok(), "{hz} Hz refused");
+    }
+    // At 100 Hz, 60 Hz is above Nyquist; 40 Hz is not.
+    let mut s = Scenario::named("step").unwrap();
+    s.rate = 100.0;
+    s.duration = 2.0;
+    let slow = text(&cells(&simulate(&s, 1).unwrap()));
+    let mut r = rig.clone();
+    r.differentiator.cutoff_hz = Some(60.0);
+    assert!(run(&slow, &r)
+        .result
+        .unwrap_err()
+        .to_string()
+        .contains("Nyquist frequency 50 Hz"));
+    r.differentiator.cutoff_hz = Some(40.0);
+    assert!(run(&slow, &r).result.is_ok());
+}
+
+#[test]
+fn estimate_end_to_end_one_absurd_gyro_cell() {
+    let dir = tempfile::tempdir().unwrap();
+    let (rows, rig) = ride("scooter", 3.0, 6);
+    let mut c = cells(&rows);
+    c[2501][2] = "1e6".into();
+    let log = dir.path().join("ride.csv");
+    std::fs::write(&log, text(&c)).unwrap();
+    let rig_path = dir.path().join("rig.toml");
+    rig.save(&rig_path).unwrap();
+    let out = dir.path().join("est.csv");
+    let o = Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+        .args([
+            "estimate",
+            log.to_str().unwrap(),
+            "-p",
+            rig_path.to_str().unwrap(),
+        ])
+        .args(["-o", out.to_str().unwrap(), "--flags"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(
+            "ride.csv:2503: column `gyro`: gyro 1e6 rad/s exceeds the full scale 8.73 rad/s"
+        ),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("looks like degrees"), "{stderr}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), rows.len() + 1);
+    assert!(lines[2502].contains("implausible"), "{}", lines[2502]);
+    assert!(!lines[2503].contains("implausible"));
+
+    // The same log with t in ms: refused, the fix named; with it, accepted.
+    let ms = dir.path().join("ms.csv");
+    std::fs::write(&ms, retimed(&rows, 1e3)).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+        .args([
+            "estimate",
+            ms.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "-q",
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(stderr.contains("--time-unit ms"), "{stderr}");
+    let o = Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+        .args([
+            "estimate",
+            ms.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "-q",
+        ])
+        .args(["--time-unit", "ms"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
