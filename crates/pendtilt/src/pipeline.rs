@@ -314,7 +314,7 @@ impl Pass {
             .map_err(|m| PassError::Settings(format!("{}: {m}", self.file)))
     }
 
-    fn restart_warning(&mut self, line: u64, r: Restart) -> Option<LogWarning> {
+    fn restart_warning(&mut self, line: u64, r: Restart, limit: f64) -> Option<LogWarning> {
         self.restarts += 1;
         (self.restarts <= MAX_RESTART_WARNINGS).then(|| LogWarning {
             file: self.file.clone(),
@@ -323,8 +323,8 @@ impl Pass {
             header: None,
             kind: WarningKind::Restarted,
             message: format!(
-                "{} back after a gap of {:.3} s (longer than the restart gap): {} \
-                 estimators reading it restart from this row",
+                "{} back after a gap of {:.3} s (longer than the restart gap {limit} s): \
+                 {} estimators reading it restart from this row",
                 r.sensors.names().join(", "),
                 r.gap,
                 r.outputs
@@ -352,7 +352,7 @@ impl Pass {
         };
         bank.flag_implausible(bad, &mut self.est);
         if let Some(r) = bank.restarted() {
-            if let Some(w) = self.restart_warning(rec.line, r) {
+            if let Some(w) = self.restart_warning(rec.line, r, bank.settings().restart_gap) {
                 self.held.push(w);
             }
         }

@@ -389,10 +389,13 @@ pub fn check_settings_against_rate(settings: &BankSettings, dt: f64) -> Result<(
     let floor = MIN_DIFF_CUTOFF_TIMES_NATURAL * f_n;
     let diff = settings.alg1.front_end().differentiator;
     let hz = diff.cutoff_hz(&settings.params);
-    let key = match diff.cutoff {
-        pendtilt_core::filters::diff::Cutoff::Hz(_) => "[differentiator] cutoff_hz".to_string(),
+    let what = match diff.cutoff {
+        pendtilt_core::filters::diff::Cutoff::Hz(_) => {
+            format!("[differentiator] cutoff_hz = {hz} Hz")
+        }
         pendtilt_core::filters::diff::Cutoff::TimesNatural(k) => format!(
-            "[differentiator] cutoff_times_natural = {k} (f_n = {f_n:.3} Hz) gives a cutoff"
+            "[differentiator] cutoff_times_natural = {k}, a cutoff of {hz:.1} Hz \
+             (f_n = {f_n:.3} Hz),"
         ),
     };
     if !(hz < nyquist && hz >= floor) {
@@ -405,7 +408,7 @@ pub fn check_settings_against_rate(settings: &BankSettings, dt: f64) -> Result<(
             )
         };
         return Err(format!(
-            "{key} = {hz} Hz is {why} (median time step {dt} s, {rate} Hz); valid range: \
+            "{what} is {why} (median time step {dt} s, {rate} Hz); valid range: \
              {floor:.3} Hz up to below {nyquist} Hz"
         ));
     }
