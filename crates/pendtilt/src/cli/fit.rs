@@ -96,6 +96,10 @@ pub struct Args {
     /// none, all in rad and rad/s.
     #[arg(long, num_args = 0..=1, default_missing_value = "all")]
     pub deg: Option<DegreeColumns>,
+    /// Unit of the `t` column: s, ms, us or ns. Default: seconds, and a log whose time
+    /// steps no sensor rate explains (10 Hz to 1 MHz) is refused with the unit to give here.
+    #[arg(long, value_name = "UNIT")]
+    pub time_unit: Option<crate::io::TimeUnit>,
     /// Print nothing but errors.
     #[arg(long, short = 'q')]
     pub quiet: bool,
@@ -134,6 +138,8 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     let options = ReaderOptions {
         map: args.map.clone(),
         degrees: args.deg.unwrap_or_default(),
+        limits: rig.limits(),
+        time_unit: args.time_unit,
         ..ReaderOptions::default()
     };
     let mut log = LogReader::open(&args.log, options)?;

@@ -38,6 +38,10 @@ pub struct Args {
     /// `phi,theta`. Default: none, all in rad and rad/s.
     #[arg(long, num_args = 0..=1, default_missing_value = "all")]
     pub deg: Option<DegreeColumns>,
+    /// Unit of the `t` column: s, ms, us or ns. Default: seconds, and a log whose time
+    /// steps no sensor rate explains (10 Hz to 1 MHz) is refused with the unit to give here.
+    #[arg(long, value_name = "UNIT")]
+    pub time_unit: Option<crate::io::TimeUnit>,
     /// Title of the report (default: the log's file name).
     #[arg(long)]
     pub title: Option<String>,
@@ -121,6 +125,8 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
     let options = ReaderOptions {
         map: args.map.clone(),
         degrees: args.deg.unwrap_or_default(),
+        limits: rig.limits(),
+        time_unit: args.time_unit,
         ..ReaderOptions::default()
     };
     let (ride, inputs) = read_log(&args.log, options, bars)?;
