@@ -13,9 +13,14 @@
 //!   shape (settings with defaults, `new(settings)`, `update(sample) -> estimate`, flags):
 //!   [`estimators::accel`] (Eq 1), [`estimators::pendulum`] (raw), [`estimators::alg1`]
 //!   (Eq 20), [`estimators::alg2`] (Eqs 21-22), [`estimators::alg3`] (Eq 30).
-//! - [`kalman`]: process models, measurement models and a linear Kalman filter, kept apart
-//!   so that a new sensor is a new measurement model; [`kalman::tilt`] assembles the paper's
-//!   angle+bias filter (Eqs 2-11) over any measurement source.
+//! - [`engine`]: one filter engine: process models, measurement models and the EKF and
+//!   UKF generic over them, kept apart so that a new sensor is a new measurement model and
+//!   a new state (a quaternion) a new process model; corrections go through the state's
+//!   `retract`, so a rotation composes instead of adding.
+//! - [`kalman`]: the paper's angle+bias filter (Eqs 2-11) as models on the engine;
+//!   [`kalman::tilt`] assembles it over any measurement source.
+//! - [`ekf`]: the pendulum dynamics and its sensors as models on the engine, and the
+//!   model-based estimators `ekf` and `ukf` (the paper's future work).
 //!
 //! ## Sign convention
 //! The paper prints `theta = phi - asin(...)` in Eqs (20), (21) and (30). Solving its own
@@ -28,6 +33,7 @@
 extern crate std;
 
 pub mod ekf;
+pub mod engine;
 pub mod estimators;
 pub mod filters;
 mod flags;

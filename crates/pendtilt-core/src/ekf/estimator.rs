@@ -1,11 +1,12 @@
-//! The streaming estimator around a [`StateFilter`]: time steps, start-up, missing
-//! samples, encoder wrap-around and restarts. [`super::Ekf`] and [`super::Ukf`] are this
-//! over the EKF and the UKF.
-use super::filter::StateFilter;
+//! The streaming estimator around a [`GaussianFilter`] of the engine: time steps,
+//! start-up, missing samples, restarts, and the loop over the sensors
+//! ([`super::sensor`]) with their innovation gates. [`super::Ekf`] and [`super::Ukf`] are
+//! this over the EKF and the UKF.
 use super::measurement::{Accelerometer, Encoder, Gyro};
-use super::model::{Cov, PendulumProcess, State, ALPHA, BIAS, DPHI, OMEGA, PHI, THETA};
+use super::model::{Cov, PendulumProcess, State, ALPHA, BIAS, DPHI, N, OMEGA, PHI, THETA};
+use super::sensor::{wrap, Sensor};
 use super::settings::ModelSettings;
-use super::update::{Gate, Rejected};
+use crate::engine::{Gate, GaussianFilter, ProcessModel, Rejected};
 use crate::{Estimate, Estimator, Flags, Real, Sample};
 
 /// Upper bound on the integration steps one sample interval is split into.
@@ -14,8 +15,8 @@ const MAX_SUBSTEPS: usize = 10_000;
 /// A model-based tilt estimator (see the module documentation of [`super`]).
 ///
 /// Per sample: predict over `dt` (split into steps of at most
-/// [`ModelSettings::max_step`]), then update with the gyro, the encoder and, if enabled,
-/// the accelerometer, each only if finite. The first sample with a finite phi starts the
+/// [`ModelSettings::max_step`]), then update with each sensor in turn (the gyro, the
+/// encoder and, if enabled, the accelerometer), each only if its reading is finite. The first sample with a finite phi starts the
 /// filter at `theta = phi` (the pendulum at rest), `theta' = gyro`; after a gap longer
 /// than [`ModelSettings::max_gap`], or if the filter ever becomes non-finite, it starts
 /// again the same way.
@@ -24,6 +25,7 @@ const MAX_SUBSTEPS: usize = 10_000;
 /// an outlier is skipped and the sample flagged [`Flags::MEASUREMENT_SKIPPED`]. After
 /// [`ModelSettings::reacquire_after`] consecutive rejections of one measurement the
 /// filter re-acquires it: for an innovation `y` it adds `v v^T` to the covariance with
+/// the sensor's directions ([`Sensor::inflation`]):
 /// - encoder: `v = y` on theta and on phi together, a tilt step that leaves the pendulum
 ///   where it hangs (an encoder re-zero reads exactly so; inflating phi and phi' apart,
 ///   a pendulum swing, sent the nonlinear model spinning after a 2.5 rad step),
@@ -36,7 +38,7 @@ pub struct ModelBased<T: Real, F> {
     settings: ModelSettings<T>,
     model: PendulumProcess<T>,
     accel: Accelerometer<T>,
-    r_phi: T,
+    encoder: Encoder<T>,
     q_step: T,
     q: Cov<T>,
     filter: Option<F>,
@@ -72,7 +74,7 @@ struct Runs {
     accel: Lock,
 }
 
-impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
+impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// A new estimator.
     pub fn new(settings: ModelSettings<T>) -> Self {
         let dt = T::lit(1e-3);
@@ -86,7 +88,9 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
         Self {
             model: settings.process_model(),
             accel,
-            r_phi: settings.sensors.encoder_variance().max(T::lit(1e-14)),
+            encoder: Encoder {
+                r: settings.sensors.encoder_variance().max(T::lit(1e-14)),
+            },
             q_step: T::zero(),
             q: Cov::<T>::zeros(),
             settings,
@@ -141,10 +145,10 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
         x[OMEGA] = w0;
         x[PHI] = s.phi;
         let mut p = Cov::<T>::zeros();
-        p[(THETA, THETA)] = st.initial_angle * st.initial_angle + self.r_phi;
+        p[(THETA, THETA)] = st.initial_angle * st.initial_angle + self.encoder.r;
         p[(OMEGA, OMEGA)] = w_var;
         p[(ALPHA, ALPHA)] = T::lit(100.0);
-        p[(PHI, PHI)] = self.r_phi;
+        p[(PHI, PHI)] = self.encoder.r;
         p[(DPHI, DPHI)] = T::lit(0.01);
         p[(BIAS, BIAS)] = b0 * b0 + T::lit(1e-12);
         self.filter = Some(F::start(x, p));
@@ -157,48 +161,77 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
         }
     }
 
-    /// Applies one measurement through `gate` ([`Lock`]). After
-    /// [`ModelSettings::reacquire_after`] consecutive rejections, `v v^T` is added to the
-    /// covariance for each `v` of `inflation` and the gate is held open for as many
-    /// samples (as after a gap). Returns [`Flags::MEASUREMENT_SKIPPED`] if it was not
-    /// applied.
+    /// Applies `sensor`'s reading of `s`, if it has one, through its gate ([`Lock`]).
+    /// After [`ModelSettings::reacquire_after`] consecutive rejections, `v v^T` is added
+    /// to the covariance for each `v` of [`Sensor::inflation`] and the gate is held open
+    /// for as many samples (as after a gap). Returns the reading's flags, and
+    /// [`Flags::MEASUREMENT_SKIPPED`] if it was not applied.
     #[inline(always)]
-    fn gated(
+    fn sense<Z: Sensor<T, M>, const M: usize>(
         filter: &mut F,
         settings: &ModelSettings<T>,
-        gate: Gate<T>,
+        sensor: &Z,
+        s: &Sample<T>,
         lock: &mut Lock,
-        inflation: impl FnOnce(&F) -> [State<T>; 2],
-        apply: impl FnOnce(&mut F, Gate<T>) -> Result<(), Rejected>,
     ) -> Flags {
         let n = settings.reacquire_after.max(1);
+        let Some((z, flags)) = sensor.reading(s, filter.state()) else {
+            *lock = Lock::Open(n);
+            return Z::MISSING;
+        };
         let gate = match *lock {
             Lock::Tracking(run) if run >= n => {
-                for v in &inflation(filter) {
+                for v in &sensor.inflation(s, filter.state()) {
                     filter.inflate(v);
                 }
                 *lock = Lock::Open(n);
                 Gate::off()
             }
-            Lock::Tracking(_) => gate,
+            Lock::Tracking(_) => sensor.gate(settings.innovation_gate),
             Lock::Open(_) => Gate::off(),
         };
-        match apply(filter, gate) {
-            Ok(()) => {
-                *lock = match *lock {
-                    Lock::Open(k) if k > 1 => Lock::Open(k - 1),
-                    _ => Lock::Tracking(0),
-                };
-                Flags::empty()
-            }
-            Err(Rejected::Outlier) => {
-                if let Lock::Tracking(run) = lock {
-                    *run += 1;
+        flags
+            | match filter.update(sensor, &z, gate) {
+                Ok(()) => {
+                    *lock = match *lock {
+                        Lock::Open(k) if k > 1 => Lock::Open(k - 1),
+                        _ => Lock::Tracking(0),
+                    };
+                    Flags::empty()
                 }
-                Flags::MEASUREMENT_SKIPPED
+                Err(Rejected::Outlier) => {
+                    if let Lock::Tracking(run) = lock {
+                        *run += 1;
+                    }
+                    Flags::MEASUREMENT_SKIPPED
+                }
+                Err(_) => Flags::MEASUREMENT_SKIPPED,
             }
-            Err(_) => Flags::MEASUREMENT_SKIPPED,
+    }
+
+    /// Predicts over `dt`, split into steps no longer than [`ModelSettings::max_step`];
+    /// `false` if a step could not be propagated.
+    #[inline(always)]
+    fn predict(&mut self, dt: T) -> bool {
+        let ratio = (dt / self.settings.max_step).ceil().to_f64();
+        let n = if ratio.is_finite() && ratio >= 1.0 {
+            (ratio as usize).min(MAX_SUBSTEPS)
+        } else {
+            1
+        };
+        let h = dt / T::lit(n as f64);
+        if h != self.q_step {
+            self.q = self.model.q(h);
+            self.q_step = h;
         }
+        let Some(filter) = self.filter.as_mut() else {
+            return false;
+        };
+        let mut ok = true;
+        for _ in 0..n {
+            ok &= filter.predict(&self.model, &(), h, &self.q);
+        }
+        ok
     }
 
     fn hold(&self, flags: Flags) -> Estimate<T> {
@@ -209,17 +242,7 @@ impl<T: Real, F: StateFilter<T>> ModelBased<T, F> {
     }
 }
 
-/// `x` wrapped into (-pi, pi].
-#[inline]
-fn wrap<T: Real>(x: T) -> T {
-    if x.abs() > T::pi() {
-        x.sin().atan2(x.cos())
-    } else {
-        x
-    }
-}
-
-impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
+impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator<T> for ModelBased<T, F> {
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
         if !s.t.is_finite() || self.t_prev.is_some_and(|tp| s.t <= tp) {
@@ -247,103 +270,22 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
             return self.hold(Flags::INITIALISING | Flags::SAMPLE_MISSING);
         }
         let r_gyro = self.gyro_variance(dt);
-        // Predict, split into steps no longer than max_step.
-        let ratio = (dt / self.settings.max_step).ceil().to_f64();
-        let n = if ratio.is_finite() && ratio >= 1.0 {
-            (ratio as usize).min(MAX_SUBSTEPS)
-        } else {
-            1
-        };
-        let h = dt / T::lit(n as f64);
-        if h != self.q_step {
-            self.q = self.model.q(h);
-            self.q_step = h;
-        }
+        let ok = self.predict(dt);
         let Some(filter) = self.filter.as_mut() else {
             return self.hold(Flags::INITIALISING);
         };
-        let mut ok = true;
-        for _ in 0..n {
-            ok &= filter.predict(&self.model, h, &self.q);
-        }
         self.t_prev = Some(s.t);
         let st = &self.settings;
-        let gate = Gate {
-            threshold: st.innovation_gate,
-            floor: T::zero(),
+        let gyro = Gyro {
+            r: r_gyro,
+            gate_floor: st.gyro_vibration * st.gyro_vibration,
         };
-        // Gyro: theta' + bias.
-        if s.gyro.is_finite() {
-            let g = s.gyro;
-            flags |= Self::gated(
-                filter,
-                st,
-                Gate {
-                    floor: st.gyro_vibration * st.gyro_vibration,
-                    ..gate
-                },
-                &mut self.runs.gyro,
-                |f| {
-                    let y = g - f.state()[OMEGA] - f.state()[BIAS];
-                    let mut rate = State::<T>::zeros();
-                    rate[OMEGA] = y;
-                    let mut offset = State::<T>::zeros();
-                    offset[BIAS] = y;
-                    [rate, offset]
-                },
-                |f, gate| f.update_unit(&Gyro::<T>::INDICES, g, r_gyro, gate),
-            );
-        } else {
-            self.runs.gyro = Lock::Open(st.reacquire_after.max(1));
-            flags |= Flags::SAMPLE_MISSING | Flags::MEASUREMENT_SKIPPED;
-        }
-        // Encoder: phi, taken within half a turn of the prediction.
-        if s.phi.is_finite() {
-            let pred = filter.state()[PHI];
-            let y = wrap(s.phi - pred);
-            let z = pred + y;
-            if (z - s.phi).abs() > T::lit(1e-9) {
-                flags |= Flags::ENCODER_WRAPPED;
-            }
-            flags |= Self::gated(
-                filter,
-                st,
-                gate,
-                &mut self.runs.phi,
-                |_| {
-                    let mut tilt = State::<T>::zeros();
-                    tilt[THETA] = y;
-                    tilt[PHI] = y;
-                    [tilt, State::<T>::zeros()]
-                },
-                |f, gate| f.update_unit(&Encoder::<T>::INDICES, z, self.r_phi, gate),
-            );
-        } else {
-            self.runs.phi = Lock::Open(st.reacquire_after.max(1));
-            flags |= Flags::SAMPLE_MISSING | Flags::MEASUREMENT_SKIPPED;
-        }
+        // The sensors, in this order; a new sensor is one more line.
+        let runs = &mut self.runs;
+        flags |= Self::sense(filter, st, &gyro, s, &mut runs.gyro);
+        flags |= Self::sense(filter, st, &self.encoder, s, &mut runs.phi);
         if st.use_accel {
-            if s.ax.is_finite() && s.ay.is_finite() {
-                let acc = &self.accel;
-                let za = [s.ax, s.ay];
-                flags |= Self::gated(
-                    filter,
-                    st,
-                    gate,
-                    &mut self.runs.accel,
-                    |f| {
-                        let p = acc.predict(f.state());
-                        let (ex, ey) = (za[0] - p[0], za[1] - p[1]);
-                        let mut tilt = State::<T>::zeros();
-                        tilt[THETA] = (ex * ex + ey * ey).sqrt() / acc.gravity;
-                        [tilt, State::<T>::zeros()]
-                    },
-                    |f, gate| f.update_accel(acc, za, gate),
-                );
-            } else {
-                self.runs.accel = Lock::Open(st.reacquire_after.max(1));
-                flags |= Flags::MEASUREMENT_SKIPPED;
-            }
+            flags |= Self::sense(filter, st, &self.accel, s, &mut runs.accel);
         }
         // Keep theta within a turn (phi moves with it: only phi - theta is physical).
         let th = filter.state()[THETA];
@@ -352,7 +294,7 @@ impl<T: Real, F: StateFilter<T>> Estimator<T> for ModelBased<T, F> {
             let mut dx = State::<T>::zeros();
             dx[THETA] = d;
             dx[PHI] = d;
-            filter.shift(&dx);
+            filter.retract(&dx);
         }
         // A NaN or infinity anywhere in the state or on P's diagonal makes the sum
         // non-finite (off-diagonal terms reach the diagonal at the next step).

@@ -2,21 +2,20 @@
 //! filter that carry the pendulum's own dynamics, so the pendulum angle need not be
 //! differentiated twice the way Algorithms 1-3 do.
 //!
-//! One concern per module:
+//! They are models on the filter engine ([`crate::engine`]), one concern per module:
 //! - [`model`]: the process model, MODEL.md section 2 with the pivot offset l12; state
 //!   `[theta, theta', theta'', phi, phi', gyro bias]`, theta'' a random walk, analytic
-//!   Jacobian, exact process-noise integrals.
+//!   Jacobian with its zero pattern exploited, exact process-noise integrals.
 //! - [`measurement`]: the encoder (phi), the gyro (theta' + bias) and the optional
 //!   accelerometer (specific force at a point of the body) with its own noise.
-//! - [`update`]: the scalar measurement update, symmetric by construction (P stays symmetric positive
-//!   definite).
-//! - [`filter`]: the [`StateFilter`] interface; [`extended`] ([`ExtendedKalman`]) and [`unscented`]
-//!   ([`UnscentedKalman`]) implement it on nalgebra fixed-size matrices.
+//! - [`sensor`]: what the estimator does around each measurement (where its reading is in
+//!   a sample, its gate, how it is re-acquired), so that the estimator applies them all
+//!   by one loop: a new sensor is a new measurement type and one line there.
 //! - [`settings`]: settings and their defaults derived from the rig parameters and the
 //!   sensors' noise figures.
-//! - [`estimator`]: the streaming [`crate::Estimator`] around either filter:
-//!   [`Ekf`] (column `ekf`) and [`Ukf`] (column `ukf`), with the innovation gate that
-//!   skips outliers and re-acquires after a run of them
+//! - [`estimator`]: the streaming [`crate::Estimator`] around either filter of the
+//!   engine: [`Ekf`] (column `ekf`) and [`Ukf`] (column `ukf`), with the innovation gate
+//!   that skips outliers and re-acquires after a run of them
 //!   ([`ModelSettings::innovation_gate`], [`ModelSettings::reacquire_after`]; measured
 //!   by `cargo test --release -p pendtilt --test ekf_gate -- --nocapture`: a 100 ms,
 //!   2.5 rad encoder glitch leaves the EKF within 0.0091 deg of the clean run from 50 ms
@@ -50,20 +49,19 @@
 //! kf_alg2, at most a fifth of the best peer, lag no worse than alg2's). Per-sample cost:
 //! `cargo bench -p pendtilt --bench peers` (EKF beside Madgwick from `ahrs`).
 pub mod estimator;
-pub mod extended;
-pub mod filter;
 pub mod measurement;
 pub mod model;
+pub mod sensor;
 pub mod settings;
-pub mod unscented;
-pub mod update;
 
 pub use estimator::ModelBased;
-pub use extended::ExtendedKalman;
-pub use filter::StateFilter;
 pub use model::{PendulumProcess, ProcessNoise};
 pub use settings::{Environment, ModelSettings, SensorNoise};
-pub use unscented::UnscentedKalman;
+
+/// The engine's EKF over the pendulum state.
+pub type ExtendedKalman<T> = crate::engine::ExtendedKalman<T, model::State<T>, { model::N }>;
+/// The engine's UKF over the pendulum state.
+pub type UnscentedKalman<T> = crate::engine::UnscentedKalman<T, model::State<T>, { model::N }>;
 
 /// The extended Kalman filter estimator (column `ekf`).
 pub type Ekf<T> = ModelBased<T, ExtendedKalman<T>>;

@@ -1,14 +1,7 @@
-//! Measurement models: what a sensor sees of the state, and how noisily.
+//! The paper's measurement model (Eq 11) on the filter engine.
+use crate::engine::Measurement;
 use crate::Real;
-use nalgebra::SMatrix;
-
-/// A linear measurement of `M` values of an `N`-state: `z = H x + v`, `v ~ N(0, R)`.
-pub trait LinearMeasurement<T: Real, const N: usize, const M: usize> {
-    /// H.
-    fn h(&self) -> SMatrix<T, M, N>;
-    /// R, the measurement noise covariance.
-    fn r(&self) -> SMatrix<T, M, M>;
-}
+use nalgebra::{Matrix1x2, Vector1, Vector2};
 
 /// A sensor that reports the tilt angle (accelerometer via Eq 1, or a pendulum algorithm)
 /// of the `[theta, bias]` state: `H = [1, 0]` (Eq 11), variance `r` [rad^2].
@@ -18,13 +11,26 @@ pub struct AngleMeasurement<T> {
     pub r: T,
 }
 
-impl<T: Real> LinearMeasurement<T, 2, 1> for AngleMeasurement<T> {
+impl<T: Real> Measurement<T, Vector2<T>, 2, 1> for AngleMeasurement<T> {
+    const LINEAR: bool = true;
+
     #[inline]
-    fn h(&self) -> SMatrix<T, 1, 2> {
-        SMatrix::<T, 1, 2>::new(T::one(), T::zero())
+    fn predict(&self, x: &Vector2<T>) -> Vector1<T> {
+        Vector1::new(x[0])
     }
+
     #[inline]
-    fn r(&self) -> SMatrix<T, 1, 1> {
-        SMatrix::<T, 1, 1>::new(self.r)
+    fn jacobian(&self, _x: &Vector2<T>) -> Matrix1x2<T> {
+        Matrix1x2::new(T::one(), T::zero())
+    }
+
+    #[inline]
+    fn variance(&self) -> Vector1<T> {
+        Vector1::new(self.r)
+    }
+
+    #[inline]
+    fn unit_row(&self, _axis: usize) -> Option<&[usize]> {
+        Some(&[0])
     }
 }

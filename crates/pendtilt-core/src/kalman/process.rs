@@ -1,29 +1,12 @@
-//! Process models: the state transition over one time step.
+//! The paper's process model (Eqs 9, 11) on the filter engine.
+use crate::engine::ProcessModel;
 use crate::Real;
-use nalgebra::{SMatrix, SVector};
-
-/// The linearised motion of an `N`-state system over one step: `x- = F x + B u`,
-/// `P- = F P F^T + Q`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Transition<T: Real, const N: usize> {
-    /// State transition F (the paper's A).
-    pub f: SMatrix<T, N, N>,
-    /// The input's contribution B u.
-    pub bu: SVector<T, N>,
-    /// Process noise covariance over the step.
-    pub q: SMatrix<T, N, N>,
-}
-
-/// A process model: the transition for a step `dt` under input `u`.
-pub trait ProcessModel<T: Real, const N: usize> {
-    /// The input (a gyro rate for [`AngleBias`]).
-    type Input;
-    /// The transition over `dt` seconds with input `u`.
-    fn transition(&self, dt: T, u: &Self::Input) -> Transition<T, N>;
-}
+use nalgebra::{Matrix2, Vector2};
 
 /// The paper's model (Eqs 9, 11): state `[theta, bias]`, input the gyro rate,
-/// `A = [[1, -dt], [0, 1]]`, `B = [dt, 0]^T`, `Q = diag(q_angle, q_bias) dt`.
+/// `x- = A x + B u` with `A = [[1, -dt], [0, 1]]`, `B = [dt, 0]^T`,
+/// `Q = diag(q_angle, q_bias) dt`. Linear, so the engine's EKF is the paper's Kalman
+/// filter on it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AngleBias<T> {
     /// Angle process noise density [rad^2/s].
@@ -32,15 +15,37 @@ pub struct AngleBias<T> {
     pub q_bias: T,
 }
 
+impl<T: Real> AngleBias<T> {
+    /// A (the paper's state transition) over `dt`.
+    #[inline]
+    fn a(dt: T) -> Matrix2<T> {
+        Matrix2::new(T::one(), -dt, T::zero(), T::one())
+    }
+}
+
 impl<T: Real> ProcessModel<T, 2> for AngleBias<T> {
+    type State = Vector2<T>;
     type Input = T;
 
     #[inline]
-    fn transition(&self, dt: T, u: &T) -> Transition<T, 2> {
-        Transition {
-            f: SMatrix::<T, 2, 2>::new(T::one(), -dt, T::zero(), T::one()),
-            bu: SVector::<T, 2>::new(dt * *u, T::zero()),
-            q: SMatrix::<T, 2, 2>::new(self.q_angle * dt, T::zero(), T::zero(), self.q_bias * dt),
-        }
+    fn step(&self, x: &Vector2<T>, u: &T, dt: T) -> Vector2<T> {
+        self.step_with_jacobian(x, u, dt).0
+    }
+
+    #[inline]
+    fn jacobian(&self, _x: &Vector2<T>, _u: &T, dt: T) -> Matrix2<T> {
+        Self::a(dt)
+    }
+
+    /// `A x + B u` and `A`.
+    #[inline]
+    fn step_with_jacobian(&self, x: &Vector2<T>, u: &T, dt: T) -> (Vector2<T>, Matrix2<T>) {
+        let a = Self::a(dt);
+        (a * x + Vector2::new(dt * *u, T::zero()), a)
+    }
+
+    #[inline]
+    fn q(&self, dt: T) -> Matrix2<T> {
+        Matrix2::new(self.q_angle * dt, T::zero(), T::zero(), self.q_bias * dt)
     }
 }

@@ -2,10 +2,12 @@
 //! measurement source, with the Arduino filter's conventions: state starts at
 //! `[z_0, 0]` on the first sample with a measurement; at each later sample
 //! `dt = t_k - t_{k-1}`, predict with the current gyro `u_k`, then update with each
-//! measurement `z_k` in turn, each with its own R.
-use super::filter::KalmanFilter;
+//! measurement `z_k` in turn, each with its own R, through the engine's Kalman filter
+//! (scalar updates in symmetric form, [`crate::engine::update::scalar_update`]).
 use super::measurement::AngleMeasurement;
-use super::process::{AngleBias, ProcessModel};
+use super::process::AngleBias;
+use super::KalmanFilter;
+use crate::engine::{Gate, GaussianFilter, ProcessModel};
 use crate::{Estimate, Estimator, Flags, Real, Sample};
 use nalgebra::{Matrix2, Vector1, Vector2};
 
@@ -55,7 +57,7 @@ impl<T: Real> Default for KalmanSettings<T> {
 pub struct TiltKalman<T: Real> {
     settings: KalmanSettings<T>,
     process: AngleBias<T>,
-    kf: KalmanFilter<T, 2>,
+    kf: KalmanFilter<T>,
     t_prev: Option<T>,
     started: bool,
     last_gyro: T,
@@ -69,7 +71,7 @@ impl<T: Real> TiltKalman<T> {
                 q_angle: settings.q_angle,
                 q_bias: settings.q_bias,
             },
-            kf: KalmanFilter::new(
+            kf: KalmanFilter::start(
                 Vector2::zeros(),
                 Matrix2::new(settings.p0_angle, T::zero(), T::zero(), settings.p0_bias),
             ),
@@ -86,7 +88,7 @@ impl<T: Real> TiltKalman<T> {
     }
 
     /// The underlying filter (state `[theta, bias]` and covariance).
-    pub fn filter(&self) -> &KalmanFilter<T, 2> {
+    pub fn filter(&self) -> &KalmanFilter<T> {
         &self.kf
     }
 
@@ -149,7 +151,7 @@ impl<T: Real> TiltKalman<T> {
         let dt = t - self.t_prev.unwrap_or(t);
         self.t_prev = Some(t);
         let (x_prev, p_prev) = (self.kf.x, self.kf.p);
-        self.kf.predict(&self.process.transition(dt, &u));
+        self.kf.predict(&self.process, &u, dt, &self.process.q(dt));
         if saturated {
             let fs = self.settings.gyro_full_scale.unwrap_or(T::zero());
             self.kf.p[(0, 0)] += (fs * dt) * (fs * dt);
@@ -158,7 +160,7 @@ impl<T: Real> TiltKalman<T> {
             let ok = z.is_finite()
                 && self
                     .kf
-                    .update(&AngleMeasurement { r }, &Vector1::new(z))
+                    .update(&AngleMeasurement { r }, &Vector1::new(z), Gate::off())
                     .is_ok();
             if !ok {
                 flags |= Flags::MEASUREMENT_SKIPPED;

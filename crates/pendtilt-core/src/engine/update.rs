@@ -1,48 +1,14 @@
-//! The scalar measurement update both filters share, in symmetric rank-one form.
-use super::model::{Cov, State, N};
+//! The scalar measurement update both filters share, in symmetric rank-one form, and the
+//! covariance helpers around it.
+use super::gate::{Gate, Rejected};
+use super::measurement::{row, Measurement};
+use super::state::ErrorState;
+use super::{Cov, Error};
 use crate::Real;
+use nalgebra::SVector;
 
-/// Why an update was not applied.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Rejected {
-    /// The measurement, its variance or the innovation variance was not finite.
-    NotFinite,
-    /// The innovation variance was not positive.
-    NotPositive,
-    /// The normalised innovation squared `y^2 / s` was above the gate: an outlier.
-    Outlier,
-}
-
-/// The innovation gate of one measurement: `y` is an outlier if
-/// `y^2 > threshold (s + floor)`, `s` the innovation variance the filter predicts and
-/// `floor` a variance the filter does not model but the measurement carries (the gyro's
-/// angular vibration). For a consistent filter and `floor = 0`, `y^2 / s` is chi-square
-/// with one degree of freedom.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Gate<T> {
-    /// Threshold on `y^2 / (s + floor)`; infinity turns the gate off.
-    pub threshold: T,
-    /// Variance added to `s` for the test only [measurement unit squared].
-    pub floor: T,
-}
-
-impl<T: Real> Gate<T> {
-    /// No gate: every finite innovation is applied.
-    pub fn off() -> Self {
-        Self {
-            threshold: T::lit(f64::INFINITY),
-            floor: T::zero(),
-        }
-    }
-
-    /// Whether innovation `y` with predicted variance `s` is an outlier.
-    #[inline]
-    pub fn rejects(&self, y: T, s: T) -> bool {
-        y * y > self.threshold * (s + self.floor)
-    }
-}
-
-/// Applies one scalar measurement with row `h`, innovation `y = z - h(x)` and variance `r`.
+/// Applies one scalar measurement with Jacobian row `h`, innovation `y = z - h(x)` and
+/// variance `r`; the state is corrected by [`ErrorState::retract`].
 ///
 /// Gain `k = P h / s`, `s = h P h + r`, `v = P h`. The covariance becomes
 /// `P - v v^T / s`, computed on the upper triangle and mirrored, so `P` stays exactly
@@ -55,10 +21,10 @@ impl<T: Real> Gate<T> {
 /// An innovation the [`Gate`] rejects changes nothing and returns [`Rejected::Outlier`];
 /// the test reuses `s`, so it costs a multiply-add and a comparison.
 #[inline]
-pub fn scalar_update<T: Real>(
-    x: &mut State<T>,
-    p: &mut Cov<T>,
-    h: &State<T>,
+pub fn scalar_update<T: Real, S: ErrorState<T, N>, const N: usize>(
+    x: &mut S,
+    p: &mut Cov<T, N>,
+    h: &Error<T, N>,
     y: T,
     r: T,
     gate: Gate<T>,
@@ -71,24 +37,50 @@ pub fn scalar_update<T: Real>(
     apply_gain(x, p, &v, y, s, gate)
 }
 
-/// [`scalar_update`] for a row of ones at the indices `idx` (and zeros elsewhere): `P h`
-/// is a sum of columns and `h . x` a sum of states. Indices out of range are ignored.
+/// Applies the axes of reading `z` of `meas` one scalar at a time, each with its row and
+/// innovation at the current estimate ([`unit_update`] for a row of ones,
+/// [`scalar_update`] otherwise). An axis that fails stops there (the axes before it stay
+/// applied).
+#[inline(always)]
+pub fn sequential_update<T, S, Z, const N: usize, const M: usize>(
+    x: &mut S,
+    p: &mut Cov<T, N>,
+    meas: &Z,
+    z: &SVector<T, M>,
+    gate: Gate<T>,
+) -> Result<(), Rejected>
+where
+    T: Real,
+    S: ErrorState<T, N>,
+    Z: Measurement<T, S, N, M>,
+{
+    let r = meas.variance();
+    for axis in 0..M {
+        let y = z[axis] - meas.predict(x)[axis];
+        match meas.unit_row(axis) {
+            Some(idx) => unit_update(x, p, idx, y, r[axis], gate)?,
+            None => scalar_update(x, p, &row(meas, x, axis), y, r[axis], gate)?,
+        };
+    }
+    Ok(())
+}
+
+/// [`scalar_update`] for a row of ones at the error indices `idx` (zeros elsewhere):
+/// `P h` is a sum of columns and `h P h` a sum of its entries. Indices out of range are
+/// ignored.
 #[inline]
-pub fn unit_update<T: Real>(
-    x: &mut State<T>,
-    p: &mut Cov<T>,
+pub fn unit_update<T: Real, S: ErrorState<T, N>, const N: usize>(
+    x: &mut S,
+    p: &mut Cov<T, N>,
     idx: &[usize],
-    z: T,
+    y: T,
     r: T,
     gate: Gate<T>,
 ) -> Result<T, Rejected> {
-    let mut v = State::<T>::zeros();
-    let mut hx = T::zero();
+    let mut v = Error::<T, N>::zeros();
     for &i in idx.iter().filter(|&&i| i < N) {
         v += p.column(i);
-        hx += x[i];
     }
-    let y = z - hx;
     if !(y.is_finite() && r.is_finite()) {
         return Err(Rejected::NotFinite);
     }
@@ -102,10 +94,10 @@ pub fn unit_update<T: Real>(
 /// The end both updates share: with `v = P h` and `s = h P h + r`, checks `s`, gates `y`
 /// and applies the gain `v / s`.
 #[inline]
-fn apply_gain<T: Real>(
-    x: &mut State<T>,
-    p: &mut Cov<T>,
-    v: &State<T>,
+fn apply_gain<T: Real, S: ErrorState<T, N>, const N: usize>(
+    x: &mut S,
+    p: &mut Cov<T, N>,
+    v: &Error<T, N>,
     y: T,
     s: T,
     gate: Gate<T>,
@@ -120,7 +112,7 @@ fn apply_gain<T: Real>(
         return Err(Rejected::Outlier);
     }
     let k = v / s;
-    *x += k * y;
+    *x = x.retract(&(k * y));
     rank_one_downdate(p, &k, v);
     Ok(s)
 }
@@ -128,7 +120,7 @@ fn apply_gain<T: Real>(
 /// `P - k v^T` (with `k = v / s`, that is `P - v v^T / s`) on the upper triangle, mirrored:
 /// exactly symmetric, one multiplication per entry.
 #[inline]
-fn rank_one_downdate<T: Real>(p: &mut Cov<T>, k: &State<T>, v: &State<T>) {
+fn rank_one_downdate<T: Real, const N: usize>(p: &mut Cov<T, N>, k: &Error<T, N>, v: &Error<T, N>) {
     for j in 0..N {
         for i in 0..=j {
             let val = p[(i, j)] - k[i] * v[j];
@@ -140,7 +132,7 @@ fn rank_one_downdate<T: Real>(p: &mut Cov<T>, k: &State<T>, v: &State<T>) {
 
 /// `P + v v^T` on the upper triangle, mirrored: the covariance grows along `v` only.
 #[inline]
-pub fn add_outer<T: Real>(p: &mut Cov<T>, v: &State<T>) {
+pub fn add_outer<T: Real, const N: usize>(p: &mut Cov<T, N>, v: &Error<T, N>) {
     for j in 0..N {
         for i in 0..=j {
             let val = p[(i, j)] + v[i] * v[j];
@@ -152,7 +144,7 @@ pub fn add_outer<T: Real>(p: &mut Cov<T>, v: &State<T>) {
 
 /// `(P + P^T) / 2`.
 #[inline]
-pub fn symmetrise<T: Real>(p: &mut Cov<T>) {
+pub fn symmetrise<T: Real, const N: usize>(p: &mut Cov<T, N>) {
     let half = T::lit(0.5);
     for i in 0..N {
         for j in (i + 1)..N {
@@ -167,19 +159,22 @@ pub fn symmetrise<T: Real>(p: &mut Cov<T>) {
 mod tests {
     use super::*;
 
+    type State = Error<f64, 6>;
+    type Cov6 = Cov<f64, 6>;
+
     #[test]
     fn matches_the_textbook_update() {
         // A random SPD P and the textbook K = P h / s, P = (I - k h) P.
-        let a = Cov::<f64>::from_fn(|i, j| ((i * 7 + j * 3) % 5) as f64 * 0.1 + 0.01 * i as f64);
-        let p0 = a * a.transpose() + Cov::<f64>::identity() * 0.1;
-        let h = State::<f64>::from([0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
-        let mut x = State::<f64>::zeros();
+        let a = Cov6::from_fn(|i, j| ((i * 7 + j * 3) % 5) as f64 * 0.1 + 0.01 * i as f64);
+        let p0 = a * a.transpose() + Cov6::identity() * 0.1;
+        let h = State::from([0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
+        let mut x = State::zeros();
         let mut p = p0;
         let s = scalar_update(&mut x, &mut p, &h, 0.5, 0.2, Gate::off()).unwrap();
         let s_ref = (h.transpose() * p0 * h)[0] + 0.2;
         assert!((s - s_ref).abs() < 1e-12);
         let k = p0 * h / s_ref;
-        let p_ref = (Cov::<f64>::identity() - k * h.transpose()) * p0;
+        let p_ref = (Cov6::identity() - k * h.transpose()) * p0;
         assert!((p - p_ref).abs().max() < 1e-12);
         assert!((x - k * 0.5).abs().max() < 1e-15);
         assert_eq!(p, p.transpose());
@@ -187,59 +182,67 @@ mod tests {
 
     #[test]
     fn unit_update_equals_the_general_one() {
-        let a = Cov::<f64>::from_fn(|i, j| ((i * 7 + j * 3) % 5) as f64 * 0.1 + 0.01 * i as f64);
-        let p0 = a * a.transpose() + Cov::<f64>::identity() * 0.1;
-        let x0 = State::<f64>::from([0.1, 0.2, 0.3, 0.4, 0.5, 0.6]);
-        let h = State::<f64>::from([0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
+        let a = Cov6::from_fn(|i, j| ((i * 7 + j * 3) % 5) as f64 * 0.1 + 0.01 * i as f64);
+        let p0 = a * a.transpose() + Cov6::identity() * 0.1;
+        let x0 = State::from([0.1, 0.2, 0.3, 0.4, 0.5, 0.6]);
+        let h = State::from([0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
         let (mut x1, mut p1) = (x0, p0);
         let (mut x2, mut p2) = (x0, p0);
         scalar_update(&mut x1, &mut p1, &h, 0.9 - h.dot(&x0), 0.2, Gate::off()).unwrap();
-        unit_update(&mut x2, &mut p2, &[1, 5], 0.9, 0.2, Gate::off()).unwrap();
+        unit_update(
+            &mut x2,
+            &mut p2,
+            &[1, 5],
+            0.9 - (x0[1] + x0[5]),
+            0.2,
+            Gate::off(),
+        )
+        .unwrap();
         assert!((x1 - x2).abs().max() < 1e-15);
         assert!((p1 - p2).abs().max() < 1e-15);
     }
 
     #[test]
     fn rejects_bad_input() {
-        let mut x = State::<f64>::zeros();
-        let mut p = Cov::<f64>::identity();
-        let h = State::<f64>::from([1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let mut x = State::zeros();
+        let mut p = Cov6::identity();
+        let h = State::from([1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
         assert_eq!(
             scalar_update(&mut x, &mut p, &h, f64::NAN, 1.0, Gate::off()),
             Err(Rejected::NotFinite)
         );
-        p = Cov::<f64>::zeros();
+        p = Cov6::zeros();
         assert_eq!(
             scalar_update(&mut x, &mut p, &h, 1.0, 0.0, Gate::off()),
             Err(Rejected::NotPositive)
         );
-        assert_eq!(x, State::<f64>::zeros());
+        assert_eq!(x, State::zeros());
     }
 
     #[test]
     fn the_gate_rejects_exactly_beyond_its_threshold() {
         // P = I, h = e0, r = 1: s = 2, floor 2, so y^2 / (s + floor) crosses 25 at
         // y = 10.
-        let h = State::<f64>::from([1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let h = State::from([1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
         let y_edge = 10.0;
         let g = Gate {
             threshold: 25.0,
             floor: 2.0,
         };
         for (y, accepted) in [(y_edge * 0.999, true), (y_edge * 1.001, false)] {
-            let mut x = State::<f64>::zeros();
-            let mut p = Cov::<f64>::identity();
+            let mut x = State::zeros();
+            let mut p = Cov6::identity();
             let r = scalar_update(&mut x, &mut p, &h, y, 1.0, g);
             assert_eq!(r.is_ok(), accepted, "y = {y}");
-            let mut x2 = State::<f64>::zeros();
-            let mut p2 = Cov::<f64>::identity();
+            let mut x2 = State::zeros();
+            let mut p2 = Cov6::identity();
             let r2 = unit_update(&mut x2, &mut p2, &[0], y, 1.0, g);
             assert_eq!(r2.is_ok(), accepted, "unit, y = {y}");
             if !accepted {
                 // A rejected update leaves the filter as it was.
                 assert_eq!(r, Err(Rejected::Outlier));
-                assert_eq!((x, p), (State::zeros(), Cov::identity()));
-                assert_eq!((x2, p2), (State::zeros(), Cov::identity()));
+                assert_eq!((x, p), (State::zeros(), Cov6::identity()));
+                assert_eq!((x2, p2), (State::zeros(), Cov6::identity()));
             }
         }
     }
