@@ -10,7 +10,7 @@ use pendtilt_core::estimators::alg3::{Alg3, Alg3Settings};
 use pendtilt_core::estimators::pendulum::{Pendulum, PendulumSettings};
 use pendtilt_core::estimators::theta_dd::ThetaDdSource;
 use pendtilt_core::kalman::{KalmanSettings, TiltKalman};
-use pendtilt_core::{Estimator, Real, Sample};
+use pendtilt_core::{PlanarEstimator, Real, Sample};
 use std::hint::black_box;
 
 const N: usize = 4096;
@@ -23,7 +23,8 @@ fn samples<T: Real>() -> Vec<Sample<T>> {
             let th = 0.2 * (1.3 * t).sin();
             let vib = 0.002 * (2.0 * std::f64::consts::PI * 37.0 * t).sin();
             Sample {
-                t: T::lit(t),
+                // The batch repeats: every step, the first included, is 1 ms.
+                dt: T::lit(1e-3),
                 phi: T::lit(th * 0.97 + vib),
                 gyro: T::lit(0.26 * (1.3 * t).cos()),
                 ax: T::lit(9.81 * th.sin() + 3.0 * vib),
@@ -33,7 +34,7 @@ fn samples<T: Real>() -> Vec<Sample<T>> {
         .collect()
 }
 
-fn run<T: Real, E: Estimator<T>>(e: &mut E, s: &[Sample<T>]) -> T {
+fn run<T: Real, E: PlanarEstimator<T>>(e: &mut E, s: &[Sample<T>]) -> T {
     e.reset();
     let mut acc = T::zero();
     for x in s {
@@ -80,7 +81,7 @@ fn bench_type<T: Real>(c: &mut Criterion, name: &str) {
             kf.reset();
             let mut acc = T::zero();
             for x in &s {
-                acc += kf.step(x.t, x.gyro, &[(black_box(x.phi), r)]).theta;
+                acc += kf.step(x.dt, x.gyro, &[(black_box(x.phi), r)]).theta;
             }
             acc
         })

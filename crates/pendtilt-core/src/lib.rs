@@ -42,9 +42,11 @@ pub mod linalg;
 pub mod params;
 mod real;
 mod sample;
+pub mod step;
 pub mod supervision;
 
 pub use flags::{FlagNames, Flags};
 pub use params::{PendulumParams, PhysicalParams};
 pub use real::{lit, Real};
-pub use sample::{Estimate, Estimator, Sample};
+pub use sample::{Estimate, Estimator, Output, PlanarEstimator, Sample};
+pub use step::{Micros, StepClock, StepGate};

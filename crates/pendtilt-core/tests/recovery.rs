@@ -9,7 +9,7 @@ use pendtilt_core::estimators::alg1::{Alg1, Alg1Settings};
 use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
 use pendtilt_core::estimators::equations;
 use pendtilt_core::estimators::pendulum::{Pendulum, PendulumSettings};
-use pendtilt_core::{Estimator, PendulumParams, Sample};
+use pendtilt_core::{Estimator, PendulumParams, PlanarEstimator, Sample, StepGate};
 
 /// Body motion: theta, theta', theta''.
 type Motion = fn(f64) -> (f64, f64, f64);
@@ -112,12 +112,13 @@ fn alg2_recovers_theta_exactly_for_any_motion_and_alg1_does_not() {
 }
 
 /// RMS error of a streaming estimator over samples past `skip` seconds.
-fn rms(est: &mut dyn Estimator<f64>, rows: &[[f64; 7]], skip: f64) -> f64 {
+fn rms(est: &mut dyn PlanarEstimator<f64>, rows: &[[f64; 7]], skip: f64) -> f64 {
     let mut acc = 0.0;
     let mut n = 0;
+    let mut gate = StepGate::new();
     for r in rows {
         let s = Sample {
-            t: r[0],
+            dt: gate.step(r[0]),
             phi: r[1],
             gyro: r[5],
             ax: f64::NAN,
@@ -187,21 +188,16 @@ fn f32_estimators_agree_with_f64() {
     let mut b64 = Alg1::<f64>::new(Alg1Settings::from_params(p64));
     let mut b32 = Alg1::<f32>::new(Alg1Settings::from_params(p32));
     let (mut s2, mut s1, mut n) = (0.0, 0.0, 0.0);
+    let mut gate = StepGate::new();
     for r in &rows {
         let s = Sample {
-            t: r[0],
+            dt: gate.step(r[0]),
             phi: r[1],
             gyro: r[5],
             ax: f64::NAN,
             ay: f64::NAN,
         };
-        let s32 = Sample {
-            t: r[0] as f32,
-            phi: r[1] as f32,
-            gyro: r[5] as f32,
-            ax: f32::NAN,
-            ay: f32::NAN,
-        };
+        let s32 = s.cast::<f32>();
         s2 += (a64.update(&s).theta - a32.update(&s32).theta as f64).powi(2);
         s1 += (b64.update(&s).theta - b32.update(&s32).theta as f64).powi(2);
         n += 1.0;

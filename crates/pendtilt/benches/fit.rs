@@ -37,7 +37,10 @@ fn log() -> (Vec<Sample<f64>>, Vec<f64>) {
     for k in 0..N / rows.len() {
         for r in &rows {
             let mut x = r.sample();
-            x.t += 10.0 * k as f64;
+            if k > 0 && x.dt == 0.0 {
+                // Repeats continue the log: 1 ms after the previous one's last row.
+                x.dt = 1e-3;
+            }
             samples.push(x);
             truth.push(r.theta);
         }

@@ -20,7 +20,8 @@ fn samples(t0: f64) -> Vec<Sample<f64>> {
             let th = 0.2 * (w * t).sin();
             let vib = (std::f64::consts::TAU * 40.0 * t).sin();
             Sample {
-                t,
+                // Batches follow each other: every step, the first included, is 1 ms.
+                dt: 1e-3,
                 phi: 0.2 * (w * t - 0.05).sin() + 1e-3 * vib,
                 gyro: 0.2 * w * (w * t).cos() + 0.01,
                 ax: 9.81 * th.sin() + 2.0 * vib,

@@ -10,9 +10,9 @@ use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
 use pendtilt_core::estimators::theta_dd::ThetaDdSource;
 use pendtilt_core::estimators::PhiSource;
 use pendtilt_core::filters::diff::{Cutoff, Response};
-use pendtilt_core::Estimator;
+use pendtilt_core::PlanarEstimator;
 
-fn rms(est: &mut dyn Estimator<f64>, rows: &[pendtilt::sim::SimRow]) -> f64 {
+fn rms(est: &mut dyn PlanarEstimator<f64>, rows: &[pendtilt::sim::SimRow]) -> f64 {
     let (mut acc, mut n) = (0.0, 0usize);
     for r in rows {
         let e = est.update(&r.sample());

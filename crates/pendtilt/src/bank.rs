@@ -16,7 +16,7 @@ use pendtilt_core::estimators::shared::{Equation, FrontEndSettings, SharedFrontE
 use pendtilt_core::kalman::tilt::UNUSABLE;
 use pendtilt_core::kalman::{KalmanSettings, TiltKalman};
 use pendtilt_core::params::STANDARD_GRAVITY;
-use pendtilt_core::{Estimate, Estimator, Flags, PendulumParams, Sample};
+use pendtilt_core::{Estimate, Flags, PendulumParams, PlanarEstimator, Sample};
 
 use crate::peers::{self, ahrs_planar, PeerSettings};
 
@@ -134,7 +134,7 @@ pub type InversionSpec = (FrontEndSettings<f64>, Equation<f64>);
 /// How an output is computed.
 pub enum Kind {
     /// A streaming estimator built from the settings.
-    Direct(fn(&BankSettings) -> Box<dyn Estimator<f64> + Send>),
+    Direct(fn(&BankSettings) -> Box<dyn PlanarEstimator<f64> + Send>),
     /// One of Algorithms 1-3: an equation on a front end. Consecutive entries whose front
     /// ends are equal share one ([`SharedFrontEnd`]): one differentiator per sample for
     /// all of them, each output the same as its stand-alone estimator's.
@@ -319,7 +319,7 @@ pub static REGISTRY: &[Entry] = &[
 ];
 
 enum Slot {
-    Direct(Box<dyn Estimator<f64> + Send>),
+    Direct(Box<dyn PlanarEstimator<f64> + Send>),
     /// Several consecutive outputs from one front end.
     Shared(Box<SharedFrontEnd<f64>>),
     Kalman {
@@ -593,7 +593,7 @@ impl Bank {
                         };
                         self.measurements.push((z, r));
                     }
-                    kf.step(sample.t, sample.gyro, &self.measurements)
+                    kf.step(sample.dt, sample.gyro, &self.measurements)
                 }
             };
             out.push(e);
@@ -658,9 +658,8 @@ mod tests {
         // Body still at 0.1 rad for 10 s: every estimator converges there (the gradient
         // peers, Madgwick and Mahony, take seconds).
         for k in 0..10_000 {
-            let t = k as f64 * 1e-3;
             let s = Sample {
-                t,
+                dt: if k == 0 { 0.0 } else { 1e-3 },
                 phi: 0.1,
                 gyro: 0.0,
                 ax: 9.80665 * 0.1f64.sin(),
@@ -718,7 +717,7 @@ mod tests {
                 .filter(|x| matches!(x, Slot::Shared(_)))
                 .count();
             assert_eq!(shared, if alg1_cutoff.is_some() { 2 } else { 1 });
-            let mut alone: Vec<(&str, Box<dyn Estimator<f64>>)> = vec![
+            let mut alone: Vec<(&str, Box<dyn PlanarEstimator<f64>>)> = vec![
                 ("alg1", Box::new(Alg1::new(s.alg1))),
                 ("alg2", Box::new(Alg2::<f64>::new(s.alg2))),
                 (
@@ -744,7 +743,7 @@ mod tests {
                 let t = k as f64 * 1e-3;
                 let th = 0.2 * (0.9 * t).sin() + 0.005 * (180.0 * t).sin();
                 let smp = Sample {
-                    t,
+                    dt: if k == 0 { 0.0 } else { 1e-3 },
                     phi: if k == 700 { f64::NAN } else { 0.95 * th },
                     gyro: if k == 900 {
                         f64::NAN

@@ -218,7 +218,7 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
                     &mut each,
                     &mut warn,
                 )?;
-                rows.t.push(rec.sample.t);
+                rows.t.push(rec.t);
                 rows.theta.push(rec.theta);
                 rows.estimates.extend_from_slice(&pass.est);
             }
@@ -368,7 +368,7 @@ impl Pass {
             }
         }
         if let Some(w) = out {
-            w.write(rec.sample.t, &self.est, rec.theta)
+            w.write(rec.t, &self.est, rec.theta)
                 .map_err(PassError::Write)?;
             if flush_each {
                 w.flush().map_err(PassError::Write)?;

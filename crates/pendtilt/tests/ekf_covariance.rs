@@ -53,7 +53,7 @@ fn covariance_is_spd_for_an_hour_at_1_khz() {
         let phi = ((lagged + ripple + 1e-4 * rng.next()) / q).round() * q;
         let bias = 0.0087 + 1e-3 * (tau * t / 1800.0).sin();
         let s = Sample {
-            t,
+            dt: if k == 0 { 0.0 } else { 1e-3 },
             phi,
             gyro: w + bias + 5e-3 * rng.next(),
             ax: 9.81 * th.sin(),

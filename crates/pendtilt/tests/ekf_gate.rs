@@ -6,7 +6,7 @@
 mod ekf_common;
 use ekf_common::*;
 use pendtilt::core::ekf::{Ekf, ModelSettings, Ukf};
-use pendtilt::core::{Estimator, Flags, Sample};
+use pendtilt::core::{Flags, PlanarEstimator, Sample};
 
 /// Sample rate of the simulated rides [Hz].
 const RATE: f64 = 1000.0;
@@ -14,7 +14,7 @@ const RATE: f64 = 1000.0;
 const AT: usize = 4000;
 
 /// Both filters with settings `s`.
-fn filters(s: ModelSettings<f64>) -> [(&'static str, Box<dyn Estimator<f64>>); 2] {
+fn filters(s: ModelSettings<f64>) -> [(&'static str, Box<dyn PlanarEstimator<f64>>); 2] {
     [
         ("ekf", Box::new(Ekf::<f64>::new(s))),
         ("ukf", Box::new(Ukf::<f64>::new(s))),
@@ -23,7 +23,11 @@ fn filters(s: ModelSettings<f64>) -> [(&'static str, Box<dyn Estimator<f64>>); 2
 
 /// Runs `e` from its start; the estimates and how many samples from `from` on were
 /// flagged `measurement_skipped`.
-fn run(e: &mut dyn Estimator<f64>, samples: &[Sample<f64>], from: usize) -> (Vec<f64>, usize) {
+fn run(
+    e: &mut dyn PlanarEstimator<f64>,
+    samples: &[Sample<f64>],
+    from: usize,
+) -> (Vec<f64>, usize) {
     e.reset();
     let mut skipped = 0;
     let est = samples
@@ -235,7 +239,7 @@ fn a_gap_is_bridged_exactly_as_without_the_gate() {
     let base = ModelSettings::from_params(r.params, r.gravity);
     let mut faulty = r.samples.clone();
     for s in &mut faulty[AT..AT + 50] {
-        *s = Sample::at(s.t);
+        *s = Sample::after(s.dt);
     }
     let (a, _) = run(&mut Ekf::<f64>::new(base), &faulty, 0);
     let open = ModelSettings {

@@ -473,7 +473,7 @@ fn everything_missing_burst() {
     check(&Fault {
         name: "all sensors NaN, 20 ms",
         rows: (4000, 4020),
-        apply: |s| *s = Sample::at(s.t),
+        apply: |s| *s = Sample::after(s.dt),
         sensors: Inputs::ALL,
         expect: missing_flag,
         settle: 3.0,

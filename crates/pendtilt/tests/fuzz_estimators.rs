@@ -20,7 +20,7 @@ use pendtilt::core::estimators::theta_dd::ThetaDdSource;
 use pendtilt::core::kalman::tilt::KalmanOn;
 use pendtilt::core::kalman::KalmanSettings;
 use pendtilt::core::supervision::supervised::{SupervisedAlg3, SupervisedAlg3Settings};
-use pendtilt::core::{Estimator, PendulumParams, Real, Sample};
+use pendtilt::core::{PendulumParams, PlanarEstimator, Real, Sample};
 use proptest::prelude::*;
 
 /// A value of any class an ADC, a driver or a log can produce.
@@ -60,29 +60,27 @@ fn samples() -> impl Strategy<Value = (f64, Vec<(f64, [f64; 4])>)> {
     )
 }
 
-/// Builds the time series: a NaN step makes a NaN time cell for that row only.
-fn series<T: Real>(t0: f64, rows: &[(f64, [f64; 4])]) -> Vec<Sample<T>> {
-    let mut t = t0;
+/// Builds the series: the steps go to the estimators as they are (negative, zero, NaN,
+/// huge: what a caller without a [`pendtilt::core::StepGate`] might pass), the first
+/// row's step is `dt0` (ignored by a well-behaved estimator unless it is not finite).
+fn series<T: Real>(dt0: f64, rows: &[(f64, [f64; 4])]) -> Vec<Sample<T>> {
     rows.iter()
-        .map(|(dt, v)| {
-            let tk = if dt.is_nan() {
-                f64::NAN
-            } else {
-                t += dt;
-                t
-            };
-            Sample {
-                t: T::lit(tk),
-                phi: T::lit(v[0]),
-                gyro: T::lit(v[1]),
-                ax: T::lit(v[2]),
-                ay: T::lit(v[3]),
-            }
+        .enumerate()
+        .map(|(k, (dt, v))| Sample {
+            dt: T::lit(if k == 0 { dt0 } else { *dt }),
+            phi: T::lit(v[0]),
+            gyro: T::lit(v[1]),
+            ax: T::lit(v[2]),
+            ay: T::lit(v[3]),
         })
         .collect()
 }
 
-fn check<T: Real, E: Estimator<T>>(name: &str, mut e: E, s: &[Sample<T>]) -> Result<(), String> {
+fn check<T: Real, E: PlanarEstimator<T>>(
+    name: &str,
+    mut e: E,
+    s: &[Sample<T>],
+) -> Result<(), String> {
     let mut had_finite = false;
     for (k, x) in s.iter().enumerate() {
         let out = e.update(x);

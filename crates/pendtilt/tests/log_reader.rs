@@ -65,13 +65,7 @@ fn good_log_reads_every_column() {
     let r = &records[1];
     assert_eq!(r.line, 3);
     assert_eq!(
-        (
-            r.sample.t,
-            r.sample.phi,
-            r.sample.gyro,
-            r.sample.ax,
-            r.sample.ay
-        ),
+        (r.t, r.sample.phi, r.sample.gyro, r.sample.ax, r.sample.ay),
         (0.001, 0.02, 0.2, 0.6, 9.7)
     );
     assert_eq!(r.theta, Some(0.021));
@@ -240,7 +234,7 @@ fn time_repeated_or_backwards_is_kept_and_flagged() {
     let bad: Vec<bool> = records.iter().map(|r| r.issues.bad_time).collect();
     assert_eq!(bad, vec![false, false, true, true, false]);
     assert_eq!(
-        records[2].sample.t, 0.001,
+        records[2].t, 0.001,
         "time passed through for the estimators to flag"
     );
     let time: Vec<&LogWarning> = warnings
@@ -263,8 +257,8 @@ fn time_repeated_or_backwards_is_kept_and_flagged() {
 fn missing_time_cell_is_kept_and_flagged() {
     let (records, warnings) = ok("t,phi\n0,0\n,0.1\nnan,0.2\n0.003,0\n");
     assert_eq!(records.len(), 4);
-    assert!(records[1].sample.t.is_nan() && records[1].issues.bad_time);
-    assert!(records[2].sample.t.is_nan() && records[2].issues.bad_time);
+    assert!(records[1].t.is_nan() && records[1].issues.bad_time);
+    assert!(records[2].t.is_nan() && records[2].issues.bad_time);
     assert!(warnings
         .iter()
         .any(|w| w.kind == WarningKind::TimeMissing && w.line == 3));
@@ -346,7 +340,7 @@ fn truncated_last_line_is_kept_with_missing_cells() {
     let (records, warnings) = ok("t,phi,gyro\n0,0.1,0.2\n0.001,0.1");
     assert_eq!(records.len(), 2);
     let last = &records[1];
-    assert_eq!((last.line, last.sample.t, last.sample.phi), (3, 0.001, 0.1));
+    assert_eq!((last.line, last.t, last.sample.phi), (3, 0.001, 0.1));
     assert!(last.sample.gyro.is_nan());
     assert!(last.issues.truncated && last.issues.missing_values);
     assert_eq!(warnings.len(), 1);
@@ -446,11 +440,7 @@ fn column_map_reads_other_names() {
     let (records, _, error) = read_all(text, options);
     assert!(error.is_none());
     assert_eq!(
-        (
-            records[0].sample.t,
-            records[0].sample.phi,
-            records[0].sample.gyro
-        ),
+        (records[0].t, records[0].sample.phi, records[0].sample.gyro),
         (0.0, 0.5, 0.25)
     );
 }
@@ -581,13 +571,7 @@ mod never_panics {
         while let Ok(Some(r)) = reader.next_record() {
             assert!(r.line > last && r.line <= lines);
             last = r.line;
-            for v in [
-                r.sample.t,
-                r.sample.phi,
-                r.sample.gyro,
-                r.sample.ax,
-                r.sample.ay,
-            ] {
+            for v in [r.t, r.sample.phi, r.sample.gyro, r.sample.ax, r.sample.ay] {
                 assert!(v.is_finite() || v.is_nan());
             }
         }

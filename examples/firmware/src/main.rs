@@ -7,11 +7,10 @@
 //! and the binary's size is the size of the estimators. There is no runtime crate: the
 //! entry point `_start` is the reset handler's body.
 //!
-//! Time: the estimators take `dt = t - t_prev` in `f32`. A free-running clock in seconds
-//! loses resolution as it grows (at t = 16384 s the `f32` spacing is 2 ms, coarser than a
-//! 1 kHz sample step), so the loop feeds time since start from an integer tick counter,
-//! reset to zero at boot, and restarts the estimators (`reset`) every [`RESTART_AFTER_S`]
-//! seconds (docs/reliability.md has the measurement).
+//! Time: the estimators take the step `dt`, never an absolute time. A [`StepGate`] over the
+//! free-running microsecond counter ([`Micros`], wrapping every 71 minutes) turns its
+//! readings into `dt` exactly, so the loop runs for any length of time without a restart
+//! (`tests/f32_vs_f64.rs` runs a 2-hour log in f32 against f64).
 #![no_std]
 #![no_main]
 
@@ -25,30 +24,20 @@ use pendtilt_core::estimators::alg3::{Alg3, Alg3Settings};
 use pendtilt_core::estimators::pendulum::{Pendulum, PendulumSettings};
 use pendtilt_core::kalman::tilt::UNUSABLE;
 use pendtilt_core::kalman::{KalmanSettings, TiltKalman};
-use pendtilt_core::{Estimate, Estimator, PendulumParams, Sample};
+use pendtilt_core::{Estimate, Estimator, Micros, PendulumParams, Sample, StepGate};
 
-/// Sample rate of the loop [Hz].
-const RATE_HZ: u32 = 1000;
-/// Restart the estimators (and the time origin) after this long [s]. Measured on the
-/// simulated scooter ride (`tests/f32_vs_f64.rs`): with the f32 clock 60 s old every
-/// estimator is within 0.003 deg RMS of f64; 300 s old, 0.01 deg; 1 hour old, 0.87 deg
-/// (the f32 time spacing, 0.24 ms, jitters dt by a quarter of the 1 ms step). A restart
-/// costs the differentiators' settling (about half a second at the default cutoff), so a
-/// firmware that cannot accept that should keep time in a wider type (see
-/// docs/reliability.md).
-const RESTART_AFTER_S: u32 = 60;
 /// Eq (22) window capacity in samples (if the window source is chosen): 32, not the
 /// library's 256, to keep RAM small.
 const W: usize = 32;
 
-/// Stand-ins for the sensor registers: tick counter, encoder [rad], gyro [rad/s],
+/// Stand-ins for the sensor registers: microsecond counter, encoder [rad], gyro [rad/s],
 /// accelerometer [m/s^2]. A board support package would read its drivers instead.
 static mut TICKS: u32 = 0;
 static mut SENSORS: [f32; 4] = [0.0; 4];
 /// Stand-in for the controller's input: one angle [rad] and its flags per estimator.
 static mut OUT: [(f32, u16); 6] = [(0.0, 0); 6];
 
-fn read_sensors(t0_ticks: u32) -> Sample<f32> {
+fn read_sensors(gate: &mut StepGate<Micros>) -> Sample<f32> {
     // SAFETY: single-threaded firmware; volatile reads of plain statics.
     let (ticks, s) = unsafe {
         (
@@ -57,8 +46,8 @@ fn read_sensors(t0_ticks: u32) -> Sample<f32> {
         )
     };
     Sample {
-        // Time since the last restart, from an integer counter: no lost resolution.
-        t: ticks.wrapping_sub(t0_ticks) as f32 / RATE_HZ as f32,
+        // The step since the last sample, from the integer counter: no lost resolution.
+        dt: gate.step(Micros(ticks)),
         phi: s[0],
         gyro: s[1],
         ax: s[2],
@@ -99,15 +88,6 @@ impl Bank {
         }
     }
 
-    fn reset(&mut self) {
-        self.accel.reset();
-        self.pendulum.reset();
-        self.alg1.reset();
-        self.alg2.reset();
-        self.alg3.reset();
-        self.kf_alg2.reset();
-    }
-
     /// One sample through every estimator.
     fn step(&mut self, s: &Sample<f32>) {
         publish(0, self.accel.update(s));
@@ -123,7 +103,7 @@ impl Bank {
             a2.theta
         };
         let r = KalmanSettings::<f32>::default().r_pendulum;
-        publish(5, self.kf_alg2.step(s.t, s.gyro, &[(z, r)]));
+        publish(5, self.kf_alg2.step(s.dt, s.gyro, &[(z, r)]));
     }
 }
 
@@ -142,15 +122,11 @@ fn wait_for_tick(last: u32) -> u32 {
 #[no_mangle]
 pub extern "C" fn _start() -> ! {
     let mut bank = Bank::new();
-    let mut t0 = 0u32;
+    let mut gate = StepGate::new();
     let mut last = 0u32;
     loop {
         last = wait_for_tick(last);
-        if last.wrapping_sub(t0) >= RESTART_AFTER_S * RATE_HZ {
-            bank.reset();
-            t0 = last;
-        }
-        let s = read_sensors(t0);
+        let s = read_sensors(&mut gate);
         // A flagged sample is the controller's to judge; the loop never stops on one.
         bank.step(&s);
     }

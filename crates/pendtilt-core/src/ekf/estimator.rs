@@ -7,7 +7,7 @@ use super::model::{Cov, PendulumProcess, State, ALPHA, BIAS, DPHI, N, OMEGA, PHI
 use super::sensor::{wrap, Sensor};
 use super::settings::ModelSettings;
 use crate::engine::{Gate, GaussianFilter, ProcessModel, Rejected};
-use crate::{Estimate, Estimator, Flags, Real, Sample};
+use crate::{Estimate, Estimator, Flags, Real, Sample, StepClock};
 
 /// Upper bound on the integration steps one sample interval is split into.
 const MAX_SUBSTEPS: usize = 10_000;
@@ -42,9 +42,9 @@ pub struct ModelBased<T: Real, F> {
     q_step: T,
     q: Cov<T>,
     filter: Option<F>,
-    t_prev: Option<T>,
+    clock: StepClock<T>,
     // Time of the last row with an encoder reading.
-    last_phi: Option<T>,
+    since_phi: Option<T>,
     last_theta: T,
     runs: Runs,
 }
@@ -95,8 +95,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             q: Cov::<T>::zeros(),
             settings,
             filter: None,
-            t_prev: None,
-            last_phi: None,
+            clock: StepClock::new(),
+            since_phi: None,
             last_theta: T::nan(),
             runs: Runs::default(),
         }
@@ -153,7 +153,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         p[(BIAS, BIAS)] = b0 * b0 + T::lit(1e-12);
         self.filter = Some(F::start(x, p));
         self.runs = Runs::default();
-        self.t_prev = Some(s.t);
+        self.clock.accept();
         self.last_theta = s.phi;
         Estimate {
             theta: s.phi,
@@ -242,26 +242,32 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     }
 }
 
-impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator<T> for ModelBased<T, F> {
+impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> {
+    type Input = Sample<T>;
+    type Output = Estimate<T>;
+
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
-        if !s.t.is_finite() || self.t_prev.is_some_and(|tp| s.t <= tp) {
+        let Ok(step) = self.clock.offer(s.dt) else {
             return self.hold(Flags::BAD_TIME_STEP);
-        }
+        };
         let mut flags = Flags::empty();
-        let dt = s.t - self.t_prev.unwrap_or(s.t);
+        let dt = step.unwrap_or(T::zero());
         // A gap in the rows, or in the encoder's readings (rows whose phi is missing), longer
         // than max_gap is not bridged: the prediction would extrapolate the last estimated
         // tilt acceleration, vibration included, for the whole gap.
+        if let Some(e) = self.since_phi.as_mut() {
+            *e += s.dt;
+        }
         let coasted = s.phi.is_finite()
             && self
-                .last_phi
-                .is_some_and(|t0| s.t - t0 > self.settings.max_gap);
+                .since_phi
+                .is_some_and(|e| e > self.settings.max_gap);
         if self.filter.is_some() && (dt > self.settings.max_gap || coasted) {
             self.filter = None;
         }
         if s.phi.is_finite() {
-            self.last_phi = Some(s.t);
+            self.since_phi = Some(T::zero());
         }
         if self.filter.is_none() {
             if s.phi.is_finite() {
@@ -274,7 +280,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator<T> for ModelBased<T, 
         let Some(filter) = self.filter.as_mut() else {
             return self.hold(Flags::INITIALISING);
         };
-        self.t_prev = Some(s.t);
+        self.clock.accept();
         let st = &self.settings;
         let gyro = Gyro {
             r: r_gyro,
@@ -315,8 +321,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator<T> for ModelBased<T, 
 
     fn reset(&mut self) {
         self.filter = None;
-        self.t_prev = None;
-        self.last_phi = None;
+        self.clock.restart();
+        self.since_phi = None;
         self.last_theta = T::nan();
         self.runs = Runs::default();
     }
@@ -327,9 +333,10 @@ mod tests {
     use super::*;
     use crate::ekf::ExtendedKalman;
 
+    /// Sample `k` of a 1 kHz log (`k` is kept for the tests' readability).
     fn s(k: usize, phi: f64) -> Sample<f64> {
         Sample {
-            t: k as f64 * 1e-3,
+            dt: if k == 0 { 0.0 } else { 1e-3 },
             phi,
             gyro: 0.0,
             ax: f64::NAN,

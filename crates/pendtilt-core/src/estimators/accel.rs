@@ -5,7 +5,7 @@
 //! low-passes ax and ay before atan2; it is off by default so that Eq (1) stays the paper's.
 use super::equations::accel_angle;
 use crate::filters::biquad::LowPass2;
-use crate::{Estimate, Estimator, Flags, Real, Sample};
+use crate::{Estimate, Estimator, Flags, Real, Sample, StepClock};
 
 /// Settings of [`Accel`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -24,7 +24,7 @@ pub struct Accel<T: Real> {
     settings: AccelSettings<T>,
     lx: LowPass2<T>,
     ly: LowPass2<T>,
-    t_prev: Option<T>,
+    clock: StepClock<T>,
     last: T,
 }
 
@@ -36,25 +36,27 @@ impl<T: Real> Accel<T> {
             settings,
             lx: LowPass2::new(f),
             ly: LowPass2::new(f),
-            t_prev: None,
+            clock: StepClock::new(),
             last: T::nan(),
         }
     }
 }
 
-impl<T: Real> Estimator<T> for Accel<T> {
+impl<T: Real> Estimator for Accel<T> {
+    type Input = Sample<T>;
+    type Output = Estimate<T>;
+
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
-        if !s.t.is_finite()
-            || self
-                .t_prev
-                .is_some_and(|tp| !crate::real::is_positive(s.t - tp))
-        {
-            return Estimate {
-                theta: self.last,
-                flags: Flags::BAD_TIME_STEP,
-            };
-        }
+        let step = match self.clock.offer(s.dt) {
+            Ok(step) => step,
+            Err(flags) => {
+                return Estimate {
+                    theta: self.last,
+                    flags,
+                }
+            }
+        };
         if !(s.ax.is_finite() && s.ay.is_finite()) {
             return Estimate {
                 theta: self.last,
@@ -67,11 +69,8 @@ impl<T: Real> Estimator<T> for Accel<T> {
                 flags |= Flags::SATURATED;
             }
         }
-        let (ax, ay) = match (self.settings.prefilter_hz, self.t_prev) {
-            (Some(_), Some(tp)) => {
-                let dt = s.t - tp;
-                (self.lx.update(s.ax, dt), self.ly.update(s.ay, dt))
-            }
+        let (ax, ay) = match (self.settings.prefilter_hz, step) {
+            (Some(_), Some(dt)) => (self.lx.update(s.ax, dt), self.ly.update(s.ay, dt)),
             (Some(_), None) => {
                 flags |= Flags::INITIALISING;
                 (
@@ -91,7 +90,7 @@ impl<T: Real> Estimator<T> for Accel<T> {
                 flags: flags | Flags::SATURATED | Flags::SAMPLE_MISSING,
             };
         }
-        self.t_prev = Some(s.t);
+        self.clock.accept();
         self.last = accel_angle(ax, ay);
         Estimate {
             theta: self.last,
@@ -114,8 +113,8 @@ mod tests {
             prefilter_hz: Some(5.0),
             full_scale: None,
         });
-        let s = |t: f32, ax: f32, ay: f32| Sample {
-            t,
+        let s = |dt: f32, ax: f32, ay: f32| Sample {
+            dt,
             phi: f32::NAN,
             gyro: f32::NAN,
             ax,
@@ -129,7 +128,7 @@ mod tests {
         assert!(e.flags.contains(Flags::SATURATED | Flags::SAMPLE_MISSING));
         // The next ordinary samples give ordinary angles again.
         for k in 3..50 {
-            let e = a.update(&s(k as f32 * 1e-3, 0.0, 9.8));
+            let e = a.update(&s(1e-3, 0.0, 9.8));
             assert!(e.theta.abs() < 1e-6, "{k}: {e:?}");
         }
     }

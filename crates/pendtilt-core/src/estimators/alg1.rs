@@ -68,7 +68,10 @@ impl<T: Real> Alg1<T> {
     }
 }
 
-impl<T: Real> Estimator<T> for Alg1<T> {
+impl<T: Real> Estimator for Alg1<T> {
+    type Input = Sample<T>;
+    type Output = Estimate<T>;
+
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
         self.inv.run(s, &Equation::Alg1(self.settings.params)).0

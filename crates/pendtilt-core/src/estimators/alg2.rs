@@ -101,7 +101,10 @@ impl<T: Real, const W: usize> Alg2<T, W> {
     }
 }
 
-impl<T: Real, const W: usize> Estimator<T> for Alg2<T, W> {
+impl<T: Real, const W: usize> Estimator for Alg2<T, W> {
+    type Input = Sample<T>;
+    type Output = Estimate<T>;
+
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
         self.inv.run(s, &self.settings.equation()).0

@@ -83,6 +83,8 @@ pub struct Alg3Terms<T> {
     /// The gyro through the phi low-pass (same delay as phi', phi'') [rad/s]: the
     /// supervisor's matched cost uses it instead of running a low-pass of its own.
     pub gk_filtered: T,
+    /// Time since the previous accepted sample [s] (0 on the first).
+    pub dt: T,
 }
 
 impl<T: Real, const W: usize> Alg3<T, W> {
@@ -121,12 +123,16 @@ impl<T: Real, const W: usize> Alg3<T, W> {
             gd: k.theta_dd,
             gk: k.gyro,
             gk_filtered: k.gyro_filtered,
+            dt: k.dt,
         });
         (e, terms)
     }
 }
 
-impl<T: Real, const W: usize> Estimator<T> for Alg3<T, W> {
+impl<T: Real, const W: usize> Estimator for Alg3<T, W> {
+    type Input = Sample<T>;
+    type Output = Estimate<T>;
+
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
         self.inv.run(s, &Equation::Alg3(self.settings.gains)).0

@@ -85,7 +85,10 @@ impl<T: Real> Complementary<T> {
     }
 }
 
-impl<T: Real> Estimator<T> for Complementary<T> {
+impl<T: Real> Estimator for Complementary<T> {
+    type Input = Sample<T>;
+    type Output = Estimate<T>;
+
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
         let (dt, gyro, mut flags) = match self.input.begin(s) {
@@ -100,7 +103,7 @@ impl<T: Real> Estimator<T> for Complementary<T> {
                 return match self.accel(s, T::one()) {
                     Some(a) => {
                         self.theta = a;
-                        self.input.started(s.t);
+                        self.input.started();
                         Estimate {
                             theta: a,
                             flags: flags | Flags::INITIALISING,
@@ -155,9 +158,9 @@ impl<T: Real> Estimator<T> for Complementary<T> {
 mod tests {
     use super::*;
 
-    fn sample(t: f64, gyro: f64, angle: f64) -> Sample<f64> {
+    fn sample(dt: f64, gyro: f64, angle: f64) -> Sample<f64> {
         Sample {
-            t,
+            dt,
             phi: f64::NAN,
             gyro,
             ax: 9.81 * angle.sin(),
@@ -184,14 +187,13 @@ mod tests {
         c.update(&sample(0.0, 0.0, 0.0));
         // Held at 0.3 rad with a still gyro: converges to 0.3 within a few tau.
         let mut e = c.update(&sample(1e-3, 0.0, 0.3));
-        for k in 2..20_000 {
-            e = c.update(&sample(k as f64 * 1e-3, 0.0, 0.3));
+        for _ in 2..20_000 {
+            e = c.update(&sample(1e-3, 0.0, 0.3));
         }
         assert!((e.theta - 0.3).abs() < 1e-4, "{}", e.theta);
         // A fast rotation with the accelerometer lying: the gyro wins in the short term.
-        let t0 = 20.0;
-        for k in 1..=100 {
-            e = c.update(&sample(t0 + k as f64 * 1e-3, 1.0, 0.3));
+        for _ in 1..=100 {
+            e = c.update(&sample(1e-3, 1.0, 0.3));
         }
         assert!((e.theta - 0.4).abs() < 0.01, "{}", e.theta);
     }
@@ -205,15 +207,15 @@ mod tests {
         let e = c.update(&s);
         assert!(e.flags.contains(Flags::MEASUREMENT_SKIPPED));
         assert!((e.theta - 0.2).abs() < 1e-12);
-        let e2 = c.update(&sample(0.1, 0.0, 0.0));
+        let e2 = c.update(&sample(f64::NAN, 0.0, 0.0));
         assert!(e2.flags.contains(Flags::BAD_TIME_STEP) && e2.theta == e.theta);
     }
 
     #[test]
     fn overflowing_gyro_step_is_not_integrated() {
         let mut c = Complementary::<f32>::new(ComplementarySettings::default());
-        let s = |t: f32, gyro: f32| Sample {
-            t,
+        let s = |dt: f32, gyro: f32| Sample {
+            dt,
             phi: 0.0,
             gyro,
             ax: 0.0,
@@ -225,7 +227,7 @@ mod tests {
             e.theta.is_finite() && e.flags.contains(Flags::SATURATED),
             "{e:?}"
         );
-        let e = c.update(&s(1e6 + 1.0, 0.0));
+        let e = c.update(&s(1.0, 0.0));
         assert!(e.theta.is_finite(), "{e:?}");
     }
 }

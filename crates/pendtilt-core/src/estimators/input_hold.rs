@@ -4,7 +4,7 @@
 //! ([`Flags::BAD_TIME_STEP`], the caller holds its output); a missing gyro reading is
 //! replaced by the last good one ([`Flags::SAMPLE_MISSING`]); the time step runs from the
 //! last accepted sample.
-use crate::{Flags, Real, Sample};
+use crate::{Flags, Real, Sample, StepClock};
 
 /// What [`InputHold::begin`] makes of a sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,7 +34,7 @@ pub enum Step<T> {
 /// The time and gyro state behind [`Step`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InputHold<T> {
-    t_prev: Option<T>,
+    clock: StepClock<T>,
     last_gyro: T,
 }
 
@@ -48,7 +48,7 @@ impl<T: Real> InputHold<T> {
     /// Nothing accepted yet; a gyro missing before any good reading is taken as zero.
     pub fn new() -> Self {
         Self {
-            t_prev: None,
+            clock: StepClock::new(),
             last_gyro: T::zero(),
         }
     }
@@ -56,9 +56,9 @@ impl<T: Real> InputHold<T> {
     /// Gates sample `s` (see [`Step`]).
     #[inline]
     pub fn begin(&mut self, s: &Sample<T>) -> Step<T> {
-        if !s.t.is_finite() || self.t_prev.is_some_and(|tp| s.t <= tp) {
+        let Ok(step) = self.clock.offer(s.dt) else {
             return Step::BadTime;
-        }
+        };
         let mut flags = Flags::empty();
         let gyro = if s.gyro.is_finite() {
             self.last_gyro = s.gyro;
@@ -67,22 +67,18 @@ impl<T: Real> InputHold<T> {
             flags |= Flags::SAMPLE_MISSING;
             self.last_gyro
         };
-        match self.t_prev {
+        match step {
             None => Step::First { gyro, flags },
-            Some(tp) => {
-                self.t_prev = Some(s.t);
-                Step::Next {
-                    dt: s.t - tp,
-                    gyro,
-                    flags,
-                }
+            Some(dt) => {
+                self.clock.accept();
+                Step::Next { dt, gyro, flags }
             }
         }
     }
 
-    /// The estimator started on the sample at time `t`: later steps run from it.
-    pub fn started(&mut self, t: T) {
-        self.t_prev = Some(t);
+    /// The estimator started on the sample just gated: later steps run from it.
+    pub fn started(&mut self) {
+        self.clock.accept();
     }
 }
 
@@ -90,9 +86,9 @@ impl<T: Real> InputHold<T> {
 mod tests {
     use super::*;
 
-    fn s(t: f64, gyro: f64) -> Sample<f64> {
+    fn s(dt: f64, gyro: f64) -> Sample<f64> {
         Sample {
-            t,
+            dt,
             phi: f64::NAN,
             gyro,
             ax: 0.0,
@@ -118,12 +114,12 @@ mod tests {
                 flags: Flags::empty()
             }
         );
-        h.started(0.5);
-        assert_eq!(h.begin(&s(0.5, 0.0)), Step::BadTime);
-        assert_eq!(h.begin(&s(0.4, 0.0)), Step::BadTime);
+        h.started();
+        assert_eq!(h.begin(&s(0.0, 0.0)), Step::BadTime);
+        assert_eq!(h.begin(&s(-0.1, 0.0)), Step::BadTime);
         assert_eq!(h.begin(&s(f64::NAN, 0.0)), Step::BadTime);
         assert_eq!(
-            h.begin(&s(0.75, f64::NAN)),
+            h.begin(&s(0.25, f64::NAN)),
             Step::Next {
                 dt: 0.25,
                 gyro: 0.3,
@@ -131,7 +127,7 @@ mod tests {
             }
         );
         assert_eq!(
-            h.begin(&s(1.0, -0.1)),
+            h.begin(&s(0.25, -0.1)),
             Step::Next {
                 dt: 0.25,
                 gyro: -0.1,

@@ -6,7 +6,7 @@ use super::shared::Equation;
 use super::shared::FrontEndSettings;
 use super::theta_dd::ThetaDd;
 use crate::filters::diff::SmoothingDifferentiator;
-use crate::{Estimate, Flags, Real, Sample};
+use crate::{Estimate, Flags, Real, Sample, StepClock};
 
 /// Which phi enters `theta = phi + asin(...)`.
 ///
@@ -42,6 +42,8 @@ pub struct Kinematics<T> {
     pub gyro_filtered: T,
     /// DC delay of the phi low-pass [s].
     pub delay: T,
+    /// Time since the previous accepted sample [s] (0 on the first).
+    pub dt: T,
     /// Flags of the gyro path alone (missing gyro sample, Eq (22) window filling): the
     /// algorithms that read the gyro add them, Algorithm 1 does not.
     pub gyro_flags: Flags,
@@ -58,7 +60,7 @@ pub(crate) struct Inverter<T: Real, const W: usize, const C: usize = 2> {
     gyro: Option<ThetaDd<T, W>>,
     gyro_full_scale: Option<T>,
     gyro_seen: bool,
-    t_prev: Option<T>,
+    clock: StepClock<T>,
     encoder: Unwrapper<T>,
     last_gyro: T,
     delay: T,
@@ -79,7 +81,7 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
                 .filter(|f| crate::real::is_positive(*f)),
             gyro_seen: false,
             diff: d,
-            t_prev: None,
+            clock: StepClock::new(),
             encoder: Unwrapper::new(),
             last_gyro: T::zero(),
             last_theta: T::nan(),
@@ -92,7 +94,7 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
             g.reset();
         }
         self.gyro_seen = false;
-        self.t_prev = None;
+        self.clock.restart();
         self.encoder = Unwrapper::new();
         self.last_gyro = T::zero();
         self.last_theta = T::nan();
@@ -104,20 +106,9 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
     #[inline]
     pub fn step(&mut self, s: &Sample<T>) -> Result<(Kinematics<T>, Flags), Flags> {
         let mut flags = Flags::empty();
-        let first = self.t_prev.is_none();
-        if !s.t.is_finite() {
-            return Err(Flags::BAD_TIME_STEP);
-        }
-        let dt = match self.t_prev {
-            Some(tp) => {
-                let dt = s.t - tp;
-                if !crate::real::is_positive(dt) {
-                    return Err(Flags::BAD_TIME_STEP);
-                }
-                dt
-            }
-            None => T::zero(),
-        };
+        let step = self.clock.offer(s.dt)?;
+        let first = step.is_none();
+        let dt = step.unwrap_or(T::zero());
         if !is_reading(s.phi) {
             let f = Flags::SAMPLE_MISSING
                 | if first {
@@ -131,7 +122,7 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
         if wrapped {
             flags |= Flags::ENCODER_WRAPPED;
         }
-        self.t_prev = Some(s.t);
+        self.clock.accept();
         // A missing gyro sample is held (zero-order hold) so the two signals stay in step.
         // A saturated one still enters as the rate (its sign is right and its size the
         // closest bound to the truth), but the derivative of its clipped plateau is not
@@ -153,7 +144,7 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
             flags |= Flags::INITIALISING;
             self.diff.start_all(u);
         } else {
-            self.diff.update_all(u, dt, s.t);
+            self.diff.update_all(u, dt);
         }
         let d = self.diff.signal(0);
         let mut theta_dd = T::zero();
@@ -162,8 +153,9 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
         if let Some(g) = self.gyro.as_mut() {
             let gd = self.diff.signal(1);
             gyro_filtered = gd.value;
+            g.advance(dt);
             if gyro_ok {
-                let (v, init) = g.update(s.t, s.gyro, &gd);
+                let (v, init) = g.update(s.gyro, &gd);
                 theta_dd = v;
                 if init {
                     gyro_flags |= Flags::INITIALISING;
@@ -190,6 +182,7 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
                 theta_dd,
                 gyro_filtered,
                 delay: self.delay,
+                dt,
                 gyro_flags,
             },
             flags,

@@ -1,7 +1,7 @@
 //! The raw pendulum: theta = phi. At rest the pendulum hangs vertical, so its angle to the
 //! body is the tilt; in motion it lags and overshoots (the paper's Figs 7-8).
 use super::encoder::{is_reading, wrap_angle, Unwrapper};
-use crate::{Estimate, Estimator, Flags, Real, Sample};
+use crate::{Estimate, Estimator, Flags, Real, Sample, StepClock};
 
 /// Settings of [`Pendulum`]: none yet; kept for the common estimator shape.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -12,7 +12,7 @@ pub struct PendulumSettings {}
 pub struct Pendulum<T: Real> {
     last: T,
     encoder: Unwrapper<T>,
-    t_prev: Option<T>,
+    clock: StepClock<T>,
 }
 
 impl<T: Real> Pendulum<T> {
@@ -21,22 +21,21 @@ impl<T: Real> Pendulum<T> {
         Self {
             last: T::nan(),
             encoder: Unwrapper::new(),
-            t_prev: None,
+            clock: StepClock::new(),
         }
     }
 }
 
-impl<T: Real> Estimator<T> for Pendulum<T> {
+impl<T: Real> Estimator for Pendulum<T> {
+    type Input = Sample<T>;
+    type Output = Estimate<T>;
+
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
-        if !s.t.is_finite()
-            || self
-                .t_prev
-                .is_some_and(|tp| !crate::real::is_positive(s.t - tp))
-        {
+        if let Err(flags) = self.clock.offer(s.dt) {
             return Estimate {
                 theta: self.last,
-                flags: Flags::BAD_TIME_STEP,
+                flags,
             };
         }
         if !is_reading(s.phi) {
@@ -45,7 +44,7 @@ impl<T: Real> Estimator<T> for Pendulum<T> {
                 flags: Flags::SAMPLE_MISSING,
             };
         }
-        self.t_prev = Some(s.t);
+        self.clock.accept();
         let (phi, wrapped) = self.encoder.unwrap(s.phi);
         let flags = if wrapped {
             Flags::ENCODER_WRAPPED

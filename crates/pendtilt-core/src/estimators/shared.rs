@@ -211,13 +211,13 @@ mod tests {
     use crate::estimators::alg1::{Alg1, Alg1Settings};
     use crate::estimators::alg2::{Alg2, Alg2Settings};
     use crate::estimators::alg3::{Alg3, Alg3Settings};
-    use crate::Estimator;
     use std::boxed::Box;
     use std::vec::Vec;
 
     /// Tilt with vibration, a gyro gap, a missing phi, a repeated time stamp, a jittered step.
     fn log() -> Vec<Sample<f64>> {
         let mut t = 0.0f64;
+        let mut gate = crate::StepGate::new();
         (0..4000)
             .map(|k| {
                 t += if k % 7 == 0 { 1.3e-3 } else { 1e-3 };
@@ -226,7 +226,7 @@ mod tests {
                 }
                 let th = 0.3 * (1.1 * t).sin() + 0.01 * (190.0 * t).sin();
                 Sample {
-                    t,
+                    dt: gate.step(t),
                     phi: if k == 1200 { f64::NAN } else { 0.9 * th },
                     gyro: if (1500..1520).contains(&k) {
                         f64::NAN
@@ -259,7 +259,7 @@ mod tests {
                 n: 0.004,
                 ..Alg3Gains::from_params(&p)
             };
-            let mut alone: Vec<Box<dyn Estimator<f64>>> = std::vec![
+            let mut alone: Vec<Box<dyn crate::PlanarEstimator<f64>>> = std::vec![
                 Box::new(Alg1::new(Alg1Settings::from_params(p))),
                 Box::new(Alg2::<f64>::new(a2)),
                 Box::new(Alg2::<f64>::new(Alg2Settings {
@@ -294,20 +294,18 @@ mod tests {
                 flags: Flags::empty(),
             }; 5];
             let mut flagged = 0;
-            for s in log() {
+            for (k, s) in log().into_iter().enumerate() {
                 shared.update(&s, &mut out);
                 for (j, e) in alone.iter_mut().enumerate() {
                     let want = e.update(&s);
                     assert_eq!(
                         out[j].flags, want.flags,
-                        "{theta_dd:?} output {j} t {}",
-                        s.t
+                        "{theta_dd:?} output {j} sample {k}"
                     );
                     assert!(
                         (out[j].theta - want.theta).abs() < 1e-12
                             || (out[j].theta.is_nan() && want.theta.is_nan()),
-                        "{theta_dd:?} output {j} t {}: {} vs {}",
-                        s.t,
+                        "{theta_dd:?} output {j} sample {k}: {} vs {}",
                         out[j].theta,
                         want.theta
                     );

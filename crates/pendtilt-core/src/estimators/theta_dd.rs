@@ -27,6 +27,9 @@ pub enum ThetaDdSource<T> {
     Matched,
 }
 
+/// The window's clock is rebased (every stored time shifted) once it passes this [s].
+const REBASE_S: f64 = 1.0;
+
 /// Capacity of the Eq (22) history: 256 samples, a 0.256 s window at 1 kHz.
 pub const DEFAULT_WINDOW_CAPACITY: usize = 256;
 
@@ -38,8 +41,11 @@ pub const DEFAULT_WINDOW_CAPACITY: usize = 256;
 #[derive(Debug, Clone)]
 pub struct ThetaDd<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
     source: ThetaDdSource<T>,
-    // Eq (22) history ring: times and gyro values.
+    // Eq (22) history ring: times (on `now`'s clock) and gyro values.
     times: [T; W],
+    // Time since the clock's last rebase [s]; kept below REBASE_S so that time differences
+    // keep the precision of the step in f32 whatever the log's length.
+    now: T,
     rates: [T; W],
     head: usize,
     len: usize,
@@ -54,6 +60,7 @@ impl<T: Real, const W: usize> ThetaDd<T, W> {
         Self {
             source,
             times: [T::zero(); W],
+            now: T::zero(),
             rates: [T::zero(); W],
             head: 0,
             len: 0,
@@ -69,7 +76,27 @@ impl<T: Real, const W: usize> ThetaDd<T, W> {
         self.head = 0;
         self.w = 0;
         self.t_prev = None;
+        self.now = T::zero();
         self.last = T::zero();
+    }
+
+    /// Advances the window's clock by the front end's step (every accepted sample, gyro or
+    /// not, so that a missing gyro sample leaves its gap in the window's times).
+    #[inline]
+    pub fn advance(&mut self, dt: T) {
+        if !matches!(self.source, ThetaDdSource::Window { .. }) {
+            return;
+        }
+        self.now += dt;
+        if self.now > T::lit(REBASE_S) {
+            for t in self.times.iter_mut().take(self.len) {
+                *t -= self.now;
+            }
+            if let Some(tp) = self.t_prev.as_mut() {
+                *tp -= self.now;
+            }
+            self.now = T::zero();
+        }
     }
 
     /// The last theta'' [rad/s^2] (held when the gyro is missing).
@@ -77,17 +104,17 @@ impl<T: Real, const W: usize> ThetaDd<T, W> {
         self.last
     }
 
-    /// Takes the gyro sample `g` at time `t` (finite, after the previous one) and the gyro
-    /// through the phi differentiator, `matched`, and returns
+    /// Takes the gyro sample `g` (finite) at the clock's time ([`Self::advance`]) and the
+    /// gyro through the phi differentiator, `matched`, and returns
     /// `(theta'', still_initialising)`.
     #[inline]
-    pub fn update(&mut self, t: T, g: T, matched: &Derivatives<T>) -> (T, bool) {
+    pub fn update(&mut self, g: T, matched: &Derivatives<T>) -> (T, bool) {
         match self.source {
             ThetaDdSource::Matched => {
                 self.last = matched.d1;
                 (self.last, false)
             }
-            ThetaDdSource::Window { span } => self.window(t, g, span),
+            ThetaDdSource::Window { span } => self.window(self.now, g, span),
         }
     }
 
@@ -140,7 +167,8 @@ mod tests {
         let mut last = 0.0;
         for k in 0..100 {
             let t = k as f64 * 1e-3;
-            let (v, init) = s.update(t, 2.0 * t + 0.5, &Derivatives::default());
+            s.advance(if k == 0 { 0.0 } else { 1e-3 });
+            let (v, init) = s.update(2.0 * t + 0.5, &Derivatives::default());
             if init {
                 init_count += 1;
             }
@@ -158,8 +186,22 @@ mod tests {
         for k in 0..10_000 {
             let t = k as f64 * 1e-3;
             let g = -0.7 * t;
-            last = s.update(t, g, &d.update(g, 1e-3)).0;
+            last = s.update(g, &d.update(g, 1e-3)).0;
         }
         assert!((last + 0.7).abs() < 1e-9);
+    }
+
+    #[test]
+    fn window_in_f32_after_two_hours_is_as_exact_as_at_the_start() {
+        // The clock rebases, so an f32 window over a 2-hour log still divides by 10 ms.
+        let mut s = ThetaDd::<f32, 32>::new(ThetaDdSource::Window { span: 0.010 });
+        let mut last = 0.0;
+        for k in 0..7_200_000u32 {
+            s.advance(if k == 0 { 0.0 } else { 1e-3 });
+            // G ramps at 2 rad/s^2 within each second (restarting keeps G small in f32).
+            let t = (k % 1000) as f32 * 1e-3;
+            last = s.update(2.0 * t, &Derivatives::default()).0;
+        }
+        assert!((last - 2.0).abs() < 2e-3, "{last}");
     }
 }

@@ -156,10 +156,9 @@ pub struct SmoothingDifferentiator<T: Real, const C: usize = 1> {
 /// A step is reused when it differs from the cached one by less than this fraction: the
 /// filter's response changes by far less than its rounding.
 const STEP_TOLERANCE: f64 = 1e-9;
-/// Time stamps carry rounding of a few ulps of `|t|` (in f32 at t = 100 s, 4 us, 0.4 % of a
-/// 1 ms step): step differences below this many ulps of `|t|` are that rounding, not a new
-/// step, and do not trigger a recomputation.
-const TIME_ULPS: f64 = 4.0;
+/// ... or by less than this many ulps of the step itself: the rounding of a step computed
+/// in `f64` and handed to an `f32` filter ([`crate::StepGate`]), not a new step.
+const STEP_ULPS: f64 = 4.0;
 
 impl<T: Real, const C: usize> SmoothingDifferentiator<T, C> {
     /// A differentiator with the given response and cutoff [Hz]. A cutoff that is not
@@ -228,19 +227,18 @@ impl<T: Real, const C: usize> SmoothingDifferentiator<T, C> {
         }
     }
 
-    /// Advances every signal by `dt` seconds to the new inputs `u`, for samples stamped `t`
-    /// (step changes within the rounding of `t` reuse the cached discretisation; pass 0
-    /// without time stamps). The first call starts at rest on `u`. Inputs must be finite
+    /// Advances every signal by `dt` seconds to the new inputs `u` (step changes within the
+    /// rounding of `dt` reuse the cached discretisation). The first call starts at rest on
+    /// `u`. Inputs must be finite
     /// and `dt > 0` (the estimators check both); a step that cannot be discretised leaves
     /// the state unchanged.
     #[inline]
-    pub fn update_all(&mut self, u: [T; C], dt: T, t: T) {
+    pub fn update_all(&mut self, u: [T; C], dt: T) {
         if !self.started {
             self.start_all(u);
             return;
         }
-        let tol =
-            T::lit(STEP_TOLERANCE) * self.step + T::lit(TIME_ULPS) * T::default_epsilon() * t.abs();
+        let tol = T::lit(STEP_TOLERANCE).max(T::lit(STEP_ULPS) * T::default_epsilon()) * self.step;
         if (dt - self.step).abs() > tol && !self.rediscretise(dt) {
             return;
         }
@@ -292,14 +290,7 @@ impl<T: Real> SmoothingDifferentiator<T, 1> {
     /// a step that cannot be discretised leaves the state unchanged.
     #[inline]
     pub fn update(&mut self, u: T, dt: T) -> Derivatives<T> {
-        self.update_at(u, dt, T::zero())
-    }
-
-    /// [`Self::update`] for a sample stamped `t`: step changes within the rounding of `t`
-    /// itself reuse the cached discretisation (this keeps f32 at its nominal cost).
-    #[inline]
-    pub fn update_at(&mut self, u: T, dt: T, t: T) -> Derivatives<T> {
-        self.update_all([u], dt, t);
+        self.update_all([u], dt);
         self.output()
     }
 
@@ -442,7 +433,7 @@ mod tests {
             let (u, v) = ((2.0 * t).sin(), 0.3 * t * t);
             if k == 0 {
                 // Signal 1 has no input yet: it joins later.
-                pair.update_all([u, 0.0], dt, t);
+                pair.update_all([u, 0.0], dt);
                 a.update(u, dt);
                 continue;
             }
@@ -450,7 +441,7 @@ mod tests {
                 pair.restart_signal(1, v);
                 b.start(v);
             }
-            pair.update_all([u, v], dt, t);
+            pair.update_all([u, v], dt);
             let (x, y) = (a.update(u, dt), b.update(v, dt));
             assert!((pair.signal(0).d2 - x.d2).abs() < 1e-9, "k {k}");
             assert!((pair.signal(1).d1 - y.d1).abs() < 1e-9, "k {k}");

@@ -8,7 +8,7 @@ use super::measurement::AngleMeasurement;
 use super::process::AngleBias;
 use super::KalmanFilter;
 use crate::engine::{Gate, GaussianFilter, ProcessModel};
-use crate::{Estimate, Estimator, Flags, Real, Sample};
+use crate::{Estimate, Estimator, Flags, PlanarEstimator, Real, Sample, StepClock};
 use nalgebra::{Matrix2, Vector1, Vector2};
 
 /// Settings: the rig file's `[kalman]` table.
@@ -58,7 +58,7 @@ pub struct TiltKalman<T: Real> {
     settings: KalmanSettings<T>,
     process: AngleBias<T>,
     kf: KalmanFilter<T>,
-    t_prev: Option<T>,
+    clock: StepClock<T>,
     started: bool,
     last_gyro: T,
 }
@@ -76,7 +76,7 @@ impl<T: Real> TiltKalman<T> {
                 Matrix2::new(settings.p0_angle, T::zero(), T::zero(), settings.p0_bias),
             ),
             settings,
-            t_prev: None,
+            clock: StepClock::new(),
             started: false,
             last_gyro: T::zero(),
         }
@@ -97,22 +97,18 @@ impl<T: Real> TiltKalman<T> {
         *self = Self::new(self.settings);
     }
 
-    /// One sample: time `t`, gyro `gyro` [rad/s], and `(z, r)` angle measurements
+    /// One sample: `dt` seconds after the previous one ([`Sample::dt`]), gyro `gyro` [rad/s], and `(z, r)` angle measurements
     /// [rad, rad^2], each used only if `z` is finite (otherwise flagged
     /// [`Flags::MEASUREMENT_SKIPPED`]). A missing gyro uses the last good one
     /// ([`Flags::SAMPLE_MISSING`]).
-    pub fn step(&mut self, t: T, gyro: T, measurements: &[(T, T)]) -> Estimate<T> {
+    pub fn step(&mut self, dt: T, gyro: T, measurements: &[(T, T)]) -> Estimate<T> {
         let mut flags = Flags::empty();
-        if !t.is_finite()
-            || self
-                .t_prev
-                .is_some_and(|tp| !crate::real::is_positive(t - tp))
-        {
+        let Ok(step) = self.clock.offer(dt) else {
             return Estimate {
                 theta: self.angle(),
                 flags: Flags::BAD_TIME_STEP,
             };
-        }
+        };
         let mut saturated = false;
         let u = if gyro.is_finite() {
             saturated = self
@@ -134,7 +130,7 @@ impl<T: Real> TiltKalman<T> {
                 Some(&(z0, _)) => {
                     self.kf.x = Vector2::new(z0, T::zero());
                     self.started = true;
-                    self.t_prev = Some(t);
+                    self.clock.accept();
                     return Estimate {
                         theta: z0,
                         flags: flags | Flags::INITIALISING,
@@ -148,8 +144,8 @@ impl<T: Real> TiltKalman<T> {
                 }
             }
         }
-        let dt = t - self.t_prev.unwrap_or(t);
-        self.t_prev = Some(t);
+        let dt = step.unwrap_or(T::zero());
+        self.clock.accept();
         let (x_prev, p_prev) = (self.kf.x, self.kf.p);
         self.kf.predict(&self.process, &u, dt, &self.process.q(dt));
         if saturated {
@@ -204,7 +200,7 @@ pub struct KalmanOn<T: Real, E> {
     kf: TiltKalman<T>,
 }
 
-impl<T: Real, E: Estimator<T>> KalmanOn<T, E> {
+impl<T: Real, E: PlanarEstimator<T>> KalmanOn<T, E> {
     /// A filter over `source` whose angle has variance `r` [rad^2].
     pub fn new(source: E, r: T, settings: KalmanSettings<T>) -> Self {
         Self {
@@ -225,7 +221,10 @@ pub const UNUSABLE: Flags = Flags::SAMPLE_MISSING
     .union(Flags::ASIN_CLAMPED)
     .union(Flags::BAD_TIME_STEP);
 
-impl<T: Real, E: Estimator<T>> Estimator<T> for KalmanOn<T, E> {
+impl<T: Real, E: PlanarEstimator<T>> Estimator for KalmanOn<T, E> {
+    type Input = Sample<T>;
+    type Output = Estimate<T>;
+
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
         let m = self.source.update(s);
         let z = if m.flags.intersects(UNUSABLE) {
@@ -233,7 +232,7 @@ impl<T: Real, E: Estimator<T>> Estimator<T> for KalmanOn<T, E> {
         } else {
             m.theta
         };
-        self.kf.step(s.t, s.gyro, &[(z, self.r)])
+        self.kf.step(s.dt, s.gyro, &[(z, self.r)])
     }
 
     fn reset(&mut self) {
@@ -303,7 +302,7 @@ mod tests {
         let sden = pm[0][0] + 0.03;
         let g = [pm[0][0] / sden, pm[1][0] / sden];
         let y = 0.11 - xp[0];
-        let e2 = kf.step(0.02, 0.4, &[(0.11, 0.03)]);
+        let e2 = kf.step(0.01, 0.4, &[(0.11, 0.03)]);
         assert!((e2.theta - (xp[0] + g[0] * y)).abs() < 1e-15);
         assert!((kf.bias() - (xp[1] + g[1] * y)).abs() < 1e-15);
     }
@@ -317,8 +316,8 @@ mod tests {
         let dt = 0.004;
         let mut kf = TiltKalman::new(s);
         kf.step(0.0, 0.0, &[(0.0, s.r_accel)]);
-        for k in 1..20_000 {
-            kf.step(k as f64 * dt, 0.0, &[(0.0, s.r_accel)]);
+        for _ in 1..20_000 {
+            kf.step(dt, 0.0, &[(0.0, s.r_accel)]);
         }
         let p = kf.filter().p;
         let kgain = [p[(0, 0)], p[(1, 0)]]; // posterior P H^T / R = K
@@ -365,7 +364,7 @@ mod tests {
         // Constant tilt 0.2, gyro reads bias 0.05: the filter learns the bias.
         let mut kf = TiltKalman::<f64>::new(KalmanSettings::default());
         for k in 0..60_000 {
-            kf.step(k as f64 * 1e-3, 0.05, &[(0.2, 0.03)]);
+            kf.step(if k == 0 { 0.0 } else { 1e-3 }, 0.05, &[(0.2, 0.03)]);
         }
         assert!((kf.bias() - 0.05).abs() < 1e-3, "bias {}", kf.bias());
         assert!((kf.angle() - 0.2).abs() < 1e-3);
@@ -378,7 +377,7 @@ mod tests {
         let e = kf.step(0.01, 1.0, &[(f64::NAN, 0.03)]);
         assert!(e.flags.contains(Flags::MEASUREMENT_SKIPPED));
         assert!((e.theta - 0.01).abs() < 1e-12, "pure gyro prediction");
-        let e = kf.step(0.01, 1.0, &[(0.0, 0.03)]);
+        let e = kf.step(0.0, 1.0, &[(0.0, 0.03)]);
         assert!(e.flags.contains(Flags::BAD_TIME_STEP));
     }
 
@@ -389,7 +388,7 @@ mod tests {
         let e = kf.step(1e6, 3e38, &[(0.1, 0.03)]);
         assert_eq!(e.theta, 0.1);
         assert!(e.flags.contains(Flags::SATURATED), "{e:?}");
-        let e = kf.step(1e6 + 1.0, 0.0, &[(0.1, 0.03)]);
+        let e = kf.step(1.0, 0.0, &[(0.1, 0.03)]);
         assert!(e.theta.is_finite() && e.flags.is_empty(), "{e:?}");
     }
 
@@ -408,8 +407,9 @@ mod tests {
         for k in 0..500 {
             let t = k as f64 * 1e-3;
             let theta = 2.0 * t;
-            let x = a.step(t, fs, &[(theta, 0.001)]);
-            let y = b.step(t, fs, &[(theta, 0.001)]);
+            let dt = if k == 0 { 0.0 } else { 1e-3 };
+            let x = a.step(dt, fs, &[(theta, 0.001)]);
+            let y = b.step(dt, fs, &[(theta, 0.001)]);
             assert!(x.flags.contains(Flags::SATURATED), "{k} {:?}", x.flags);
             assert!(!y.flags.contains(Flags::SATURATED));
             ea = ea.max((x.theta - theta).abs());
@@ -418,7 +418,7 @@ mod tests {
         // Measured: 0.0174 against 0.0210 rad (the bias state absorbs part of the clip).
         assert!(ea < 0.9 * eb, "told {ea}, not told {eb}");
         // Below full scale nothing is flagged.
-        let e = a.step(0.5, 0.99, &[(1.0, 0.001)]);
+        let e = a.step(1e-3, 0.99, &[(1.0, 0.001)]);
         assert!(!e.flags.contains(Flags::SATURATED), "{e:?}");
     }
 }

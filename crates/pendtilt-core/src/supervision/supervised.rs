@@ -175,7 +175,6 @@ pub struct SupervisedEstimate<T> {
 /// The previous usable sample, for the finite differences of Eq (29).
 #[derive(Debug, Clone, Copy)]
 struct Prev<T> {
-    t: T,
     phi: T,
     gyro: T,
     x: [T; 4],
@@ -694,7 +693,6 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
             if sup.matched { gyro } else { terms.gk },
         ];
         let prev = self.prev.replace(Prev {
-            t: s.t,
             phi: phi_or_rate,
             gyro,
             x,
@@ -712,7 +710,7 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
                 supervision: SupervisionFlags::WARMING_UP,
             };
         };
-        let dt = s.t - prev.t;
+        let dt = terms.dt;
         let inv_dt = T::one() / dt;
         let half = T::lit(0.5);
         // Parameter-free part of the residual: G at mid-interval minus the raw phi rate.
@@ -870,7 +868,10 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
     }
 }
 
-impl<T: Real, const CAP: usize, const W: usize> Estimator<T> for SupervisedAlg3<T, CAP, W> {
+impl<T: Real, const CAP: usize, const W: usize> Estimator for SupervisedAlg3<T, CAP, W> {
+    type Input = Sample<T>;
+    type Output = Estimate<T>;
+
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
         self.update_supervised(s).estimate

@@ -76,7 +76,7 @@ pub fn read_log(
         for w in log.drain_warnings() {
             progress.message(&format!("warning: {w}"));
         }
-        ride.t.push(rec.sample.t);
+        ride.t.push(rec.t);
         ride.samples.push(rec.sample);
         ride.theta.push(rec.theta.unwrap_or(f64::NAN));
         if ride.t.len() as u64 % CHUNK == 0 {

@@ -1,6 +1,6 @@
 //! Runs the estimator bank (and the extra variants of the experiment) over a ride.
 use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
-use pendtilt_core::{Estimate, Estimator};
+use pendtilt_core::{Estimate, PlanarEstimator};
 
 use crate::bank::{Bank, BankSettings, Inputs};
 
@@ -16,7 +16,7 @@ pub struct Extra {
     /// Output name.
     pub name: String,
     /// The estimator.
-    pub estimator: Box<dyn Estimator<f64> + Send>,
+    pub estimator: Box<dyn PlanarEstimator<f64> + Send>,
 }
 
 /// Algorithm 2 with [`Alg2Settings::delay_compensation`] on, named [`ALG2_DELAY_COMPENSATED`].

@@ -146,10 +146,10 @@ impl OutputProblem {
         // The leading run of complete rows with increasing time.
         let mut n = 0;
         while n < samples.len() {
-            let ok = samples[n].t.is_finite()
+            let ok = samples[n].dt.is_finite()
                 && samples[n].phi.is_finite()
                 && truth[n].is_finite()
-                && (n == 0 || samples[n].t > samples[n - 1].t);
+                && (n == 0 || samples[n].dt > 0.0);
             if !ok {
                 break;
             }
@@ -161,26 +161,27 @@ impl OutputProblem {
                 need: MIN_ROWS,
             });
         }
-        let t: Vec<f64> = samples[..n].iter().map(|x| x.t).collect();
+        // step[k] = t_k - t_(k-1) (step[0] unused).
+        let step: Vec<f64> = samples[..n].iter().map(|x| x.dt).collect();
         // Zero-phase first-order low-pass of the truth (forward then backward).
         let wc = 2.0 * std::f64::consts::PI * s.smoothing_hz;
         let mut th: Vec<f64> = truth[..n].to_vec();
         for k in 1..n {
-            let al = 1.0 - (-wc * (t[k] - t[k - 1])).exp();
+            let al = 1.0 - (-wc * step[k]).exp();
             th[k] = th[k - 1] + al * (th[k] - th[k - 1]);
         }
         for k in (0..n - 1).rev() {
-            let al = 1.0 - (-wc * (t[k + 1] - t[k])).exp();
+            let al = 1.0 - (-wc * step[k + 1]).exp();
             th[k] = th[k + 1] + al * (th[k] - th[k + 1]);
         }
         let omega: Vec<f64> = (0..n)
             .map(|k| {
                 let (i, j) = (k.saturating_sub(1), (k + 1).min(n - 1));
-                (th[j] - th[i]) / (t[j] - t[i])
+                (th[j] - th[i]) / step[i + 1..=j].iter().sum::<f64>()
             })
             .collect();
         let dt: Vec<f64> = (0..n)
-            .map(|k| if k + 1 < n { t[k + 1] - t[k] } else { 0.0 })
+            .map(|k| if k + 1 < n { step[k + 1] } else { 0.0 })
             .collect();
         let y: Vec<f64> = (0..n).map(|k| truth[k] - samples[k].phi).collect();
         let vibration = vibration_rms(&samples[..n]);
@@ -195,7 +196,15 @@ impl OutputProblem {
         } else {
             Vec::new()
         };
-        let used: Vec<bool> = t.iter().map(|&tk| tk - t[0] >= s.skip).collect();
+        let mut elapsed = 0.0;
+        let used: Vec<bool> = (0..n)
+            .map(|k| {
+                if k > 0 {
+                    elapsed += step[k];
+                }
+                elapsed >= s.skip
+            })
+            .collect();
         let count = used.iter().filter(|&&u| u).count();
         if count < MIN_ROWS {
             return Err(FitError::TooFewSamples {

@@ -141,7 +141,7 @@ impl Problem {
         // The target's own low-pass (same response and cutoff as phi's), when matched.
         let mut target_lp =
             SmoothingDifferentiator::<f64>::new(kin.differentiator.response, cutoff_hz);
-        let mut t_lp: Option<f64> = None;
+        let mut since_lp: Option<f64> = None;
         let mut est = Alg3::<f64>::new(settings);
         let n = samples.len();
         let mut p = Self {
@@ -154,20 +154,28 @@ impl Problem {
             count: 0,
             cutoff_hz,
         };
-        let t0 = samples.iter().map(|s| s.t).find(|t| t.is_finite());
-        let mut prev: Option<(f64, f64, f64)> = None; // t, phi, gyro of the previous row
+        // Time since the first row with a good stamp, and since the last target sample.
+        let mut elapsed: Option<f64> = None;
+        let mut prev: Option<(f64, f64)> = None; // phi, gyro of the previous row
         for (i, s) in samples.iter().enumerate() {
             let (_, terms) = est.update_with_terms(s);
+            let good_time = s.dt.is_finite();
+            if good_time {
+                elapsed = Some(elapsed.map_or(0.0, |e| e + s.dt));
+                if let Some(lp) = since_lp.as_mut() {
+                    *lp += s.dt;
+                }
+            }
             let raw_target = match target {
                 Target::Truth => truth.map_or(f64::NAN, |t| t[i]),
                 Target::Gyro => s.gyro,
             };
             // The target through the low-pass (held over missing values).
             let target_value = if kin.matched_target {
-                if raw_target.is_finite() && s.t.is_finite() {
-                    let dt = t_lp.map_or(1.0, |tp| s.t - tp);
+                if raw_target.is_finite() && good_time {
+                    let dt = since_lp.unwrap_or(1.0);
                     if dt > 0.0 {
-                        t_lp = Some(s.t);
+                        since_lp = Some(0.0);
                         target_lp.update(raw_target, dt).value
                     } else {
                         f64::NAN
@@ -186,22 +194,22 @@ impl Problem {
                 Algorithm::Alg2 => [k.dphi, k.ddphi - k.gd, 0.0, k.gk],
                 Algorithm::Alg3 => [k.dphi, k.ddphi, k.gd, k.gk],
             };
-            let settled = t0.is_some_and(|t0| s.t - t0 >= kin.skip);
+            let settled = elapsed.is_some_and(|e| e >= kin.skip);
             let (y, inv_dt, used) = match target {
                 Target::Truth => {
                     let th = target_value;
                     (th - k.phi, 0.0, settled && th.is_finite())
                 }
                 Target::Gyro => match prev {
-                    Some((tp, phip, gp)) if target_value.is_finite() && gp.is_finite() => {
-                        let inv = 1.0 / (s.t - tp);
+                    Some((phip, gp)) if target_value.is_finite() && gp.is_finite() => {
+                        let inv = 1.0 / k.dt;
                         let y = 0.5 * (target_value + gp) - (k.phi - phip) * inv;
                         (y, inv, settled && y.is_finite() && inv.is_finite())
                     }
                     _ => (0.0, 0.0, false),
                 },
             };
-            prev = Some((s.t, k.phi, target_value));
+            prev = Some((k.phi, target_value));
             p.x.push(x);
             p.y.push(y);
             p.inv_dt.push(inv_dt);

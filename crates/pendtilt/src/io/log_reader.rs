@@ -19,7 +19,7 @@ use std::fs::File;
 use std::io::{BufRead, BufReader};
 use std::path::Path;
 
-use pendtilt_core::Sample;
+use pendtilt_core::{Sample, StepGate};
 
 use super::columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns};
 use super::diagnostics::{LogSummary, LogWarning, WarningKind};
@@ -109,7 +109,9 @@ impl RowIssues {
 pub struct LogRecord {
     /// 1-based line in the file (comment and blank lines counted).
     pub line: u64,
-    /// The sensors in SI units; a missing or non-finite cell, or a column the log does not
+    /// The time stamp [s] (NaN when the cell is missing or not finite).
+    pub t: f64,
+    /// The sensors in SI units, `dt` from the reader's [`StepGate`]; a missing or non-finite cell, or a column the log does not
     /// have, is NaN.
     pub sample: Sample<f64>,
     /// The true tilt \[rad\]: `None` when the log has no `theta` column, `Some(NaN)` when
@@ -247,6 +249,8 @@ pub struct LogReader<R> {
     scale: [f64; 6],
     report: ColumnReport,
     summary: LogSummary,
+    // Stamps into steps, once for every estimator.
+    gate: StepGate<f64>,
     pending: Vec<LogWarning>,
     reported: [usize; WarningKind::ALL.len()],
     degree_warned: [bool; 6],
@@ -293,6 +297,7 @@ impl<R: BufRead> LogReader<R> {
                 ignored: Vec::new(),
             },
             summary: LogSummary::default(),
+            gate: StepGate::new(),
             pending: Vec::new(),
             reported: [0; WarningKind::ALL.len()],
             degree_warned: [false; 6],
@@ -652,8 +657,9 @@ impl<R: BufRead> LogReader<R> {
             self.check_rate()?;
         }
         self.summary.rows += 1;
+        let t = values[Column::T.index()];
         let sample = Sample {
-            t: values[Column::T.index()],
+            dt: self.gate.step(t),
             phi: values[Column::Phi.index()],
             gyro: values[Column::Gyro.index()],
             ax: values[Column::Ax.index()],
@@ -669,6 +675,7 @@ impl<R: BufRead> LogReader<R> {
         };
         Ok(Some(LogRecord {
             line: self.line,
+            t,
             sample,
             theta,
             issues,
@@ -870,10 +877,10 @@ mod tests {
     fn reads_plain_rows_with_line_numbers() {
         let mut r = reader("t,phi\n0,0.1\n# note\n\n0.001,0.2\n");
         let a = r.next_record().unwrap().unwrap();
-        assert_eq!((a.line, a.sample.t, a.sample.phi), (2, 0.0, 0.1));
+        assert_eq!((a.line, a.t, a.sample.phi), (2, 0.0, 0.1));
         assert!(a.sample.gyro.is_nan() && a.theta.is_none());
         let b = r.next_record().unwrap().unwrap();
-        assert_eq!((b.line, b.sample.t, b.sample.phi), (5, 0.001, 0.2));
+        assert_eq!((b.line, b.t, b.sample.phi), (5, 0.001, 0.2));
         assert!(r.next_record().unwrap().is_none());
         assert!(r.next_record().unwrap().is_none());
         assert_eq!(r.summary().rows, 2);

@@ -77,7 +77,10 @@ impl<F: PlanarAhrs> Planar<F> {
     }
 }
 
-impl<F: PlanarAhrs> Estimator<f64> for Planar<F> {
+impl<F: PlanarAhrs> Estimator for Planar<F> {
+    type Input = Sample<f64>;
+    type Output = Estimate<f64>;
+
     fn update(&mut self, s: &Sample<f64>) -> Estimate<f64> {
         let accel_ok = s.ax.is_finite() && s.ay.is_finite() && (s.ax != 0.0 || s.ay != 0.0);
         let (dt, gyro, mut flags) = match self.input.begin(s) {
@@ -96,7 +99,7 @@ impl<F: PlanarAhrs> Estimator<f64> for Planar<F> {
                 }
                 let th = accel_angle(s.ax, s.ay);
                 self.filter = Some((self.make)(th, &self.gains));
-                self.input.started(s.t);
+                self.input.started();
                 self.last = th;
                 return Estimate {
                     theta: th,
@@ -173,10 +176,11 @@ pub fn mahony(kp: f64, ki: f64) -> Planar<ahrs::Mahony<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use pendtilt_core::PlanarEstimator;
 
-    fn s(t: f64, gyro: f64, th: f64) -> Sample<f64> {
+    fn s(dt: f64, gyro: f64, th: f64) -> Sample<f64> {
         Sample {
-            t,
+            dt,
             phi: f64::NAN,
             gyro,
             ax: 9.81 * th.sin(),
@@ -194,7 +198,7 @@ mod tests {
     #[test]
     fn both_follow_the_gyro_sign_and_settle_on_the_accelerometer() {
         for mut e in [
-            Box::new(madgwick(0.05)) as Box<dyn Estimator<f64>>,
+            Box::new(madgwick(0.05)) as Box<dyn PlanarEstimator<f64>>,
             // ki / kp sets how fast Mahony's integral unwinds: 0.1 /s here.
             Box::new(mahony(1.0, 0.1)),
         ] {
@@ -203,12 +207,12 @@ mod tests {
             let mut last = 0.0;
             for k in 1..=1000 {
                 let t = k as f64 * 1e-3;
-                last = e.update(&s(t, 0.5, 0.5 * t)).theta;
+                last = e.update(&s(1e-3, 0.5, 0.5 * t)).theta;
             }
             assert!((last - 0.5).abs() < 5e-3, "{last}");
             // Then held at 0.2 by the accelerometer with a still gyro: converges there.
-            for k in 1001..=60_000 {
-                last = e.update(&s(k as f64 * 1e-3, 0.0, 0.2)).theta;
+            for _ in 1001..=60_000 {
+                last = e.update(&s(1e-3, 0.0, 0.2)).theta;
             }
             assert!((last - 0.2).abs() < 1e-3, "{last}");
         }

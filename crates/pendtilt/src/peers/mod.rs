@@ -21,7 +21,7 @@ pub mod tune;
 use pendtilt_core::ekf::{Ekf, Environment, ModelSettings, SensorNoise, Ukf};
 use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
 use pendtilt_core::estimators::complementary::{Complementary, ComplementarySettings};
-use pendtilt_core::{Estimator, PendulumParams, PhysicalParams};
+use pendtilt_core::{PendulumParams, PhysicalParams, PlanarEstimator};
 
 /// The columns this module provides, in report order.
 pub const COLUMNS: [&str; 6] = [
@@ -34,7 +34,7 @@ pub const COLUMNS: [&str; 6] = [
 ];
 
 /// A boxed streaming estimator over `f64`.
-pub type BoxedEstimator = Box<dyn Estimator<f64> + Send>;
+pub type BoxedEstimator = Box<dyn PlanarEstimator<f64> + Send>;
 
 /// Everything the estimators of this module are built from besides the rig.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -113,7 +113,7 @@ mod tests {
         for name in COLUMNS {
             let mut e = build_physical(name, &rig, &PeerSettings::default()).unwrap();
             let s = pendtilt_core::Sample {
-                t: 0.0,
+                dt: 0.0,
                 phi: 0.1,
                 gyro: 0.0,
                 ax: 9.81 * 0.1f64.sin(),

@@ -7,7 +7,7 @@
 use super::ahrs_planar::{madgwick, mahony};
 use pendtilt_core::ekf::{Ekf, ModelSettings, ProcessNoise};
 use pendtilt_core::estimators::complementary::{Complementary, ComplementarySettings};
-use pendtilt_core::{Estimator, Sample};
+use pendtilt_core::{PlanarEstimator, Sample};
 
 /// A log with a true angle, and how many leading samples the cost ignores.
 #[derive(Debug, Clone, Copy)]
@@ -22,7 +22,7 @@ pub struct Log<'a> {
 
 /// Eq (23): the RMS error [rad] of `e` run over the whole log, counted after `skip`
 /// samples where both are finite. `INFINITY` if nothing is counted.
-pub fn rms_error(e: &mut dyn Estimator<f64>, log: &Log) -> f64 {
+pub fn rms_error(e: &mut dyn PlanarEstimator<f64>, log: &Log) -> f64 {
     e.reset();
     let mut sum = 0.0;
     let mut n = 0usize;

@@ -123,6 +123,9 @@ pub struct Truth {
 pub struct SimRow {
     /// t_k = k / rate \[s\].
     pub t: f64,
+    /// t_k - t_(k-1) \[s\] (0 for the first row): the step the estimators take, the same
+    /// as a [`pendtilt_core::StepGate`] computes from the written stamps.
+    pub dt: f64,
     /// Encoder reading \[rad\].
     pub phi: f64,
     /// Gyro reading \[rad/s\].
@@ -141,7 +144,7 @@ impl SimRow {
     /// The sensor readings as the estimators take them.
     pub fn sample(&self) -> Sample<f64> {
         Sample {
-            t: self.t,
+            dt: self.dt,
             phi: self.phi,
             gyro: self.gyro,
             ax: self.ax,
@@ -300,9 +303,15 @@ impl Simulator {
                 pend.rhs(y, force[jj], kin[jj][1])
             });
         }
+        let dt = if self.k == 0 {
+            0.0
+        } else {
+            t0 - (self.k - 1) as f64 / self.rate
+        };
         self.k += 1;
         SimRow {
             t: t0,
+            dt,
             phi: r.phi,
             gyro: r.gyro,
             ax: r.ax,

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 use pendtilt::core::estimators::{alg1::*, alg2::*, alg3::*};
 use pendtilt::core::kalman::{KalmanOn, KalmanSettings};
-use pendtilt::core::{Estimator, PendulumParams, Sample};
+use pendtilt::core::{PendulumParams, PlanarEstimator, Sample};
 use pendtilt::peers::{build, PeerSettings};
 use pendtilt::report::metrics::{lag_by_xcorr, ErrorSamples};
 use pendtilt::sim::{simulate, Scenario, SimRow};
@@ -63,7 +63,7 @@ pub struct Score {
 }
 
 /// Runs `e` over the ride and scores it after [`SKIP`] samples.
-pub fn score(e: &mut dyn Estimator<f64>, r: &Ride) -> Score {
+pub fn score(e: &mut dyn PlanarEstimator<f64>, r: &Ride) -> Score {
     let t0 = std::time::Instant::now();
     let est: Vec<f64> = r.samples.iter().map(|s| e.update(s).theta).collect();
     let ns = t0.elapsed().as_nanos() as f64 / r.samples.len() as f64;
@@ -80,7 +80,7 @@ pub fn score(e: &mut dyn Estimator<f64>, r: &Ride) -> Score {
 }
 
 /// The paper's estimators and this issue's, by column name, for the ride's rig.
-pub fn estimator(name: &str, r: &Ride) -> Box<dyn Estimator<f64>> {
+pub fn estimator(name: &str, r: &Ride) -> Box<dyn PlanarEstimator<f64>> {
     let p = r.params;
     match name {
         "alg1" => Box::new(Alg1::<f64>::new(Alg1Settings::from_params(p))),
