@@ -309,7 +309,7 @@ fn plausibility_check_names_the_ms_fit_and_passes_the_true_one() {
             .iter()
             .map(|r| {
                 let mut s = r.sample();
-                s.t *= scale;
+                s.dt *= scale;
                 s
             })
             .collect();
@@ -318,7 +318,7 @@ fn plausibility_check_names_the_ms_fit_and_passes_the_true_one() {
             cost,
             ..FitSettings::default()
         };
-        let span = LogSpan::of(samples.iter().map(|s| s.t)).unwrap();
+        let span = LogSpan::of(rows.iter().map(|r| r.t * scale)).unwrap();
         let found = match fit_log(&samples, Some(&theta), &set, |_| {}) {
             Ok(r) => check(&r.pendulum_params(), &span),
             // An optimiser that gives up is no silent result either.

@@ -148,6 +148,7 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     }
     let has_theta = log.columns().has(Column::Theta);
     let mut samples = Vec::new();
+    let mut stamps = Vec::new();
     let mut truth = Vec::new();
     while let Some(rec) = log.next_record()? {
         if !args.quiet {
@@ -156,6 +157,7 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
             }
         }
         samples.push(rec.sample);
+        stamps.push(rec.t);
         truth.push(rec.theta.unwrap_or(f64::NAN));
     }
     if !args.quiet {
@@ -195,7 +197,7 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
         cost.describe()
     );
     settings.output.skip = args.skip.max(settings.output.skip);
-    let span = fit::plausibility::LogSpan::of(samples.iter().map(|s| s.t));
+    let span = fit::plausibility::LogSpan::of(stamps.iter().copied());
     let truth_opt = has_theta.then_some(&truth[..]);
     // A slow median step is the usual sign of time in ms: said beside any failure.
     let hint = match span {
