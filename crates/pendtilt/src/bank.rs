@@ -358,7 +358,9 @@ pub struct Bank {
     slot_needs: Vec<Inputs>,
     inputs: Inputs,
     settings: BankSettings,
-    /// Time of the last finite reading of phi, gyro, ax/ay.
+    /// Time since the first row, the sum of the rows' steps [s].
+    now: f64,
+    /// Time (on `now`'s clock) of the last finite reading of phi, gyro, ax/ay.
     last_good: [Option<f64>; 3],
     restart: Option<Restart>,
     skipped: Vec<Skipped>,
@@ -402,6 +404,7 @@ impl Bank {
             slot_needs: Vec::new(),
             inputs,
             settings: settings.clone(),
+            now: 0.0,
             last_good: [None; 3],
             restart: None,
             skipped: Vec::new(),
@@ -509,10 +512,11 @@ impl Bank {
     /// resuming from a state the gap has made stale.
     fn restart_after_gaps(&mut self, sample: &Sample<f64>) {
         self.restart = None;
-        let t = sample.t;
-        if !t.is_finite() {
+        if !sample.dt.is_finite() {
             return;
         }
+        self.now += sample.dt;
+        let t = self.now;
         let used = [self.inputs.phi, self.inputs.gyro, self.inputs.accel];
         let good = [
             sample.phi.is_finite(),

@@ -342,7 +342,7 @@ impl Pass {
         each: &mut impl FnMut(u64, &[Estimate<f64>]),
         warn: &mut impl FnMut(&LogWarning),
     ) -> Result<(), PassError> {
-        self.check_rate(rec.sample.t, bank, false)?;
+        self.check_rate(rec.t, bank, false)?;
         bank.update(&rec.sample, &mut self.est);
         let i = &rec.issues;
         let bad = Inputs {

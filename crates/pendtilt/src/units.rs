@@ -140,9 +140,9 @@ pub struct UnitCheck {
     inputs: Inputs,
     // phi, gyro, accel angle, theta
     smooth: [Smooth; 4],
-    prev: Option<(f64, f64, f64)>,
-    /// Time of the first sample since the last restart.
-    start: f64,
+    prev: Option<(f64, f64)>,
+    /// Time since the first sample after the last restart [s].
+    since_start: f64,
     settle: f64,
     pairs: [Pair; 5],
     duration: f64,
@@ -162,7 +162,7 @@ impl UnitCheck {
             inputs,
             smooth: [Smooth::new(cutoff); 4],
             prev: None,
-            start: f64::NAN,
+            since_start: f64::NAN,
             settle: 2.0 / cutoff,
             pairs: [Pair::default(); 5],
             duration: 0.0,
@@ -182,11 +182,11 @@ impl UnitCheck {
         // Readings beyond the sensors' bounds still count here (a gyro in deg/s is beyond
         // a rad/s full scale), unless absurd in any unit.
         let ok = |v: f64| v.abs() < ABSURD;
-        let usable = s.t.is_finite()
+        let usable = s.dt.is_finite()
             && (!self.inputs.phi || ok(s.phi))
             && (!self.inputs.gyro || ok(s.gyro))
             && (!self.inputs.accel || (ok(s.ax) && ok(s.ay)));
-        let dt = self.prev.map_or(f64::NAN, |p| s.t - p.0);
+        let dt = self.prev.map_or(f64::NAN, |_| s.dt);
         // A missing reading or a gap starts the filters again.
         if !usable || (self.prev.is_some() && !(dt > 0.0 && dt < 0.1)) {
             self.restart();
@@ -205,11 +205,12 @@ impl UnitCheck {
         let gyro = self.smooth[1].update(or0(s.gyro), step);
         let acc = self.smooth[2].update(alpha, step);
         let truth = self.smooth[3].update(or0(th), step);
-        let Some((_, last_phi, last_acc)) = self.prev.replace((s.t, phi, acc)) else {
-            self.start = s.t;
+        let Some((last_phi, last_acc)) = self.prev.replace((phi, acc)) else {
+            self.since_start = 0.0;
             return;
         };
-        if s.t - self.start < self.settle {
+        self.since_start += dt;
+        if self.since_start < self.settle {
             return;
         }
         self.duration += dt;

@@ -30,7 +30,7 @@ fn cells(rows: &[SimRow]) -> Vec<[String; 6]> {
     rows.iter()
         .map(|r| {
             let s = r.sample();
-            [s.t, s.phi, s.gyro, s.ax, s.ay, r.truth.theta].map(|v| format!("{v}"))
+            [r.t, s.phi, s.gyro, s.ax, s.ay, r.truth.theta].map(|v| format!("{v}"))
         })
         .collect()
 }

@@ -259,10 +259,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         if let Some(e) = self.since_phi.as_mut() {
             *e += s.dt;
         }
-        let coasted = s.phi.is_finite()
-            && self
-                .since_phi
-                .is_some_and(|e| e > self.settings.max_gap);
+        let coasted =
+            s.phi.is_finite() && self.since_phi.is_some_and(|e| e > self.settings.max_gap);
         if self.filter.is_some() && (dt > self.settings.max_gap || coasted) {
             self.filter = None;
         }

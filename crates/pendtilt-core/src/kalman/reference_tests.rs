@@ -70,6 +70,7 @@ fn equals_the_filter_before_the_engine_to_1e_12() {
         (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
     };
     let (mut t, mut worst, mut worst_bias) = (0.0, 0.0f64, 0.0f64);
+    let mut gate = crate::StepGate::new();
     for k in 0..200_000 {
         t += 1e-3 * (1.0 + 0.2 * unif());
         let theta = 0.4 * (0.7 * t).sin() + 0.1 * (3.1 * t).sin();
@@ -86,7 +87,7 @@ fn equals_the_filter_before_the_engine_to_1e_12() {
             theta + 0.01 * unif()
         };
         let ms = [(accel, s.r_accel), (pend, s.r_pendulum)];
-        let e = new.step(t, gyro, &ms);
+        let e = new.step(gate.step(t), gyro, &ms);
         let o = old.step(t, gyro, &ms);
         assert!(!e.flags.contains(Flags::BAD_TIME_STEP));
         worst = worst.max((e.theta - o).abs());

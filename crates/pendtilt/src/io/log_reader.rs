@@ -667,7 +667,7 @@ impl<R: BufRead> LogReader<R> {
         };
         let theta = self.positions[Column::Theta.index()].map(|_| values[Column::Theta.index()]);
         let unchecked = Sample {
-            t: sample.t,
+            dt: sample.dt,
             phi: unchecked[Column::Phi.index()],
             gyro: unchecked[Column::Gyro.index()],
             ax: unchecked[Column::Ax.index()],
