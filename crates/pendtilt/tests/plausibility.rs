@@ -318,7 +318,7 @@ fn a_burst_of_100_impossible_cells() {
             let bound = match (name, *est) {
                 ("gyro", "ekf" | "ukf") => 1.3,
                 ("gyro", "madgwick") => 0.3,
-                ("gyro", "mahony") => 0.6,
+                ("gyro", "mahony") => 0.25,
                 ("gyro", "complementary") => 0.1,
                 ("phi", "ekf" | "ukf") => 0.15,
                 _ => TOLERANCE_DEG,

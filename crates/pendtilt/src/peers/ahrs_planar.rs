@@ -57,7 +57,16 @@ pub struct Planar<F> {
     filter: Option<F>,
     input: InputHold<f64>,
     last: f64,
+    /// The gyro's recent mean [rad/s] (time constant [`MISSING_RATE_TAU`]), integrated
+    /// in place of a missing reading.
+    mean_rate: f64,
 }
+
+/// Time constant [s] of the gyro mean a planar filter integrates while the gyro is
+/// missing. Holding the last reading instead integrates one sample of the body's angular
+/// vibration (40 Hz on the scooter ride) for the whole gap: after 100 missing readings
+/// Madgwick was 0.15 deg and Mahony 0.49 deg off their fault-free run 2 s later.
+pub const MISSING_RATE_TAU: f64 = 0.05;
 
 impl<F: PlanarAhrs> Planar<F> {
     /// A wrapper building its filter with `make(theta0, gains)` on the first usable sample.
@@ -68,6 +77,7 @@ impl<F: PlanarAhrs> Planar<F> {
             filter: None,
             input: InputHold::new(),
             last: f64::NAN,
+            mean_rate: f64::NAN,
         }
     }
 
@@ -108,6 +118,19 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
             }
             Step::Next { dt, gyro, flags } => (dt, gyro, flags),
         };
+        let gyro = if s.gyro.is_finite() {
+            let a = (dt / MISSING_RATE_TAU).min(1.0);
+            self.mean_rate = if self.mean_rate.is_finite() {
+                self.mean_rate + a * (s.gyro - self.mean_rate)
+            } else {
+                s.gyro
+            };
+            gyro
+        } else if self.mean_rate.is_finite() {
+            self.mean_rate
+        } else {
+            gyro
+        };
         let Some(f) = self.filter.as_mut() else {
             return Estimate {
                 theta: self.last,
@@ -142,6 +165,7 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
         self.filter = None;
         self.input = InputHold::new();
         self.last = f64::NAN;
+        self.mean_rate = f64::NAN;
     }
 }
 
