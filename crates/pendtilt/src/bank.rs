@@ -16,7 +16,7 @@ use pendtilt_core::estimators::shared::{Equation, FrontEndSettings, SharedFrontE
 use pendtilt_core::kalman::tilt::UNUSABLE;
 use pendtilt_core::kalman::{KalmanSettings, TiltKalman};
 use pendtilt_core::params::STANDARD_GRAVITY;
-use pendtilt_core::{Estimate, Flags, PendulumParams, PlanarEstimator, Sample};
+use pendtilt_core::{Estimate, Estimator, Flags, PendulumParams, PlanarEstimator, Sample};
 
 use crate::peers::{self, ahrs_planar, PeerSettings};
 
@@ -122,6 +122,9 @@ impl BankSettings {
     }
 }
 
+/// A boxed streaming estimator over `f64`.
+pub type BoxedEstimator = Box<dyn PlanarEstimator<f64> + Send>;
+
 /// Picks a measurement variance R [rad^2] from the Kalman settings.
 pub type RSelector = fn(&KalmanSettings<f64>) -> f64;
 
@@ -134,7 +137,7 @@ pub type InversionSpec = (FrontEndSettings<f64>, Equation<f64>);
 /// How an output is computed.
 pub enum Kind {
     /// A streaming estimator built from the settings.
-    Direct(fn(&BankSettings) -> Box<dyn PlanarEstimator<f64> + Send>),
+    Direct(fn(&BankSettings) -> BoxedEstimator),
     /// One of Algorithms 1-3: an equation on a front end. Consecutive entries whose front
     /// ends are equal share one ([`SharedFrontEnd`]): one differentiator per sample for
     /// all of them, each output the same as its stand-alone estimator's.
@@ -318,8 +321,44 @@ pub static REGISTRY: &[Entry] = &[
     },
 ];
 
+/// The estimator of registry entry `name` on its own, built from `settings` exactly as
+/// [`Bank`] builds it (an inversion on a front end of its own); `None` for a name the
+/// registry does not know and for the Kalman outputs, which read other outputs.
+pub fn build_alone(name: &str, settings: &BankSettings) -> Option<BoxedEstimator> {
+    let entry = REGISTRY.iter().find(|e| e.name == name)?;
+    match &entry.kind {
+        Kind::Direct(build) => Some(build(settings)),
+        Kind::Inversion(build) => {
+            let (fe, eq) = build(settings);
+            Some(Box::new(Alone(Box::new(SharedFrontEnd::new(&fe, &[eq])?))))
+        }
+        Kind::Kalman(_) => None,
+    }
+}
+
+/// A front end with one equation as a stand-alone estimator.
+struct Alone(Box<SharedFrontEnd<f64>>);
+
+impl Estimator for Alone {
+    type Input = Sample<f64>;
+    type Output = Estimate<f64>;
+
+    fn update(&mut self, s: &Sample<f64>) -> Estimate<f64> {
+        let mut out = [Estimate {
+            theta: f64::NAN,
+            flags: Flags::SAMPLE_MISSING,
+        }];
+        self.0.update(s, &mut out);
+        out[0]
+    }
+
+    fn reset(&mut self) {
+        self.0.reset();
+    }
+}
+
 enum Slot {
-    Direct(Box<dyn PlanarEstimator<f64> + Send>),
+    Direct(BoxedEstimator),
     /// Several consecutive outputs from one front end.
     Shared(Box<SharedFrontEnd<f64>>),
     Kalman {

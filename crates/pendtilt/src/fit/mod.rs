@@ -63,7 +63,7 @@ pub mod problem;
 
 use std::time::{Duration, Instant};
 
-use nalgebra::{Matrix4, Vector4};
+use nalgebra::{SMatrix, SVector, Vector4};
 use pendtilt_core::estimators::equations::Alg3Gains;
 use pendtilt_core::supervision::newton::{converged, newton_iteration, NewtonError};
 use pendtilt_core::supervision::{NewtonSettings, Objective};
@@ -697,16 +697,16 @@ pub fn fit_output_log(
 }
 
 /// Solves `(A + shift) x = b` on the active block with Cholesky (inactive: x = 0).
-pub(crate) fn solve_active(
-    a: &Matrix4<f64>,
-    b: &Vector4<f64>,
-    active: &[bool; 4],
-) -> Option<Vector4<f64>> {
+pub(crate) fn solve_active<const N: usize>(
+    a: &SMatrix<f64, N, N>,
+    b: &SVector<f64, N>,
+    active: &[bool; N],
+) -> Option<SVector<f64, N>> {
     let mut m = *a;
     let mut r = *b;
-    for j in 0..4 {
+    for j in 0..N {
         if !active[j] {
-            for k in 0..4 {
+            for k in 0..N {
                 m[(j, k)] = 0.0;
                 m[(k, j)] = 0.0;
             }

@@ -34,8 +34,9 @@
 //! ([`fit_output`]), or by the paper's Newton (Eqs 24-28) on the RMS of the residual.
 use nalgebra::{Matrix2, Vector2};
 
+use super::lm::{minimise, Gradient, LeastSquares, LmIteration, LmOutcome, Normal};
 use super::problem::MIN_ROWS;
-use super::{FitError, LmSettings, Stop};
+use super::{FitError, LmSettings};
 use pendtilt_core::Sample;
 
 /// Settings of the output-error cost.
@@ -250,6 +251,17 @@ impl OutputProblem {
     /// finite and > 0, or the simulation diverges).
     pub fn residuals(&self, a: f64, b: f64, out: &mut Vec<f64>) -> f64 {
         out.clear();
+        self.simulate(a, b, |r| out.push(r))
+    }
+
+    /// The sum of squares of [`OutputProblem::residuals`] without keeping them.
+    pub fn sum_of_squares(&self, a: f64, b: f64) -> f64 {
+        self.simulate(a, b, |_| {})
+    }
+
+    /// Simulates beta for (a, b), hands each used residual to `sink` in row order and
+    /// returns their sum of squares (NaN as [`OutputProblem::residuals`]).
+    fn simulate(&self, a: f64, b: f64, mut sink: impl FnMut(f64)) -> f64 {
         if !(a.is_finite() && b.is_finite() && a >= 0.0 && b > 0.0) {
             return f64::NAN;
         }
@@ -279,7 +291,7 @@ impl OutputProblem {
         for k in 0..n {
             if self.used[k] {
                 let r = beta - self.y[k];
-                out.push(r);
+                sink(r);
                 sum += r * r;
             }
             if k + 1 == n {
@@ -353,116 +365,43 @@ impl OutputProblem {
     }
 }
 
-/// One iteration of [`fit_output`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct OutputIteration {
-    /// 1-based.
-    pub n: usize,
-    /// (a, b) after it.
-    pub params: Vector2<f64>,
-    /// RMS residual after it \[rad\].
-    pub rms: f64,
-    /// |J'r| / samples before the step.
-    pub gradient_norm: f64,
-    /// Damping of the accepted step.
-    pub lambda: f64,
-    /// Simulations run.
-    pub evaluations: usize,
+impl LeastSquares<2> for OutputProblem {
+    /// The simulation at (a, b) and four around it.
+    const LINEARISE_PASSES: usize = 5;
+
+    fn residual_count(&self) -> usize {
+        self.len()
+    }
+
+    fn linearise(&self, p: &Vector2<f64>) -> Normal<2> {
+        self.normal_equations(p[0], p[1])
+    }
+
+    fn trial(&self, q: &Vector2<f64>) -> (f64, Option<Gradient<2>>) {
+        (self.sum_of_squares(q[0], q[1]), None)
+    }
 }
 
-/// What [`fit_output`] found.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct OutputOutcome {
-    /// (a, b).
-    pub params: Vector2<f64>,
-    /// Why it stopped.
-    pub stop: Stop,
-    /// Simulations run.
-    pub evaluations: usize,
-}
+/// One iteration of [`fit_output`] (evaluations are simulations run).
+pub type OutputIteration = LmIteration<2>;
 
-/// Levenberg-Marquardt (Marquardt's diagonal scaling) on the output-error cost from
-/// (a0, b0), with the same settings and acceptance rule as [`super::lm`].
+/// What [`fit_output`] found: (a, b) (evaluations are simulations run).
+pub type OutputOutcome = LmOutcome<2>;
+
+/// Levenberg-Marquardt on the output-error cost from (a0, b0): the loop of [`super::lm`]
+/// ([`minimise`]) with its settings and acceptance rule.
 pub fn fit_output(
     problem: &OutputProblem,
     a0: f64,
     b0: f64,
     s: &LmSettings,
-    mut on_iteration: impl FnMut(&OutputIteration),
+    on_iteration: impl FnMut(&OutputIteration),
 ) -> Result<OutputOutcome, FitError> {
-    let ok = |v: f64| v.is_finite() && v > 0.0;
-    if !(ok(s.lambda) && s.decrease > 1.0 && s.increase > 1.0 && s.ftol >= 0.0 && s.xtol >= 0.0) {
-        return Err(FitError::BadSettings(
-            "LM: lambda > 0, decrease and increase > 1, tolerances >= 0".into(),
-        ));
-    }
-    let n = problem.len() as f64;
-    let mut p = Vector2::new(a0, b0);
-    let (mut jtj, mut jtr, mut sum) = problem.normal_equations(a0, b0);
-    let mut evaluations = 5usize;
-    if !sum.is_finite() {
-        return Err(FitError::NonFiniteCost);
-    }
-    let mut lambda = s.lambda;
-    let mut stop = Stop::IterationLimit;
-    let mut scratch = Vec::with_capacity(problem.len());
-    'outer: for it in 1..=s.max_iterations {
-        let mut tries = 0usize;
-        loop {
-            tries += 1;
-            let mut m = jtj;
-            for j in 0..2 {
-                m[(j, j)] += lambda * jtj[(j, j)].max(f64::MIN_POSITIVE);
-            }
-            let step = m
-                .cholesky()
-                .map(|c| c.solve(&(-jtr)))
-                .filter(|x| x.iter().all(|v| v.is_finite()));
-            let q = step.map(|d| p + d);
-            let sum1 = q.map_or(f64::NAN, |q| problem.residuals(q[0], q[1], &mut scratch));
-            evaluations += 1;
-            if let (Some(q), Some(d)) = (q, step) {
-                if sum1.is_finite() && sum1 < sum {
-                    let rel_f = (sum - sum1) / sum;
-                    let small_x = (0..2).all(|j| d[j].abs() <= s.xtol * (p[j].abs() + s.xtol));
-                    let grad = jtr.norm() / n;
-                    p = q;
-                    (jtj, jtr, sum) = problem.normal_equations(p[0], p[1]);
-                    evaluations += 5;
-                    on_iteration(&OutputIteration {
-                        n: it,
-                        params: p,
-                        rms: (sum / n).sqrt(),
-                        gradient_norm: grad,
-                        lambda,
-                        evaluations: tries + 5,
-                    });
-                    lambda = (lambda / s.decrease).max(1e-12);
-                    if rel_f <= s.ftol || small_x {
-                        stop = Stop::Converged;
-                        break 'outer;
-                    }
-                    break;
-                }
-            }
-            lambda *= s.increase;
-            if lambda > 1e16 {
-                stop = Stop::NoDescent;
-                on_iteration(&OutputIteration {
-                    n: it,
-                    params: p,
-                    rms: (sum / n).sqrt(),
-                    gradient_norm: jtr.norm() / n,
-                    lambda,
-                    evaluations: tries,
-                });
-                break 'outer;
-            }
-        }
-    }
-    Ok(OutputOutcome {
-        params: p,
-        stop,
-        evaluations,
-    })
+    minimise(
+        problem,
+        &Vector2::new(a0, b0),
+        &[true, true],
+        s,
+        on_iteration,
+    )
 }

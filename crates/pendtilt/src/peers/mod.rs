@@ -1,16 +1,17 @@
 //! The estimators beyond the paper, ready to run beside it: the model-based filters of
 //! [`pendtilt_core::ekf`], Algorithm 2 with the pivot-offset term, and the peers users
 //! would pick instead of a pendulum (Madgwick and Mahony from the `ahrs` crate, a
-//! complementary filter), each built by name from the rig and the sensors' noise figures.
+//! complementary filter), each built by name from the rig and the sensors' noise figures
+//! through the bank's registry ([`crate::bank::REGISTRY`]), the one table of names.
 //!
 //! | column | estimator | inputs |
 //! |---|---|---|
 //! | `ekf` | [`pendtilt_core::ekf::Ekf`], pendulum dynamics with l12 | phi, gyro |
 //! | `ukf` | [`pendtilt_core::ekf::Ukf`], the same model, unscented | phi, gyro |
-//! | `alg2_offset` | [`Alg2`] with [`Alg2Settings::pivot_offset`] | phi, gyro |
+//! | `alg2_offset` | [`pendtilt_core::estimators::alg2::Alg2`] with `pivot_offset` | phi, gyro |
 //! | `madgwick` | [`ahrs_planar::madgwick`], beta = [`ahrs_planar::MADGWICK_BETA`] | gyro, ax, ay |
 //! | `mahony` | [`ahrs_planar::mahony`], kp, ki = [`ahrs_planar::MAHONY_GAINS`] | gyro, ax, ay |
-//! | `complementary` | [`Complementary`], tau = 0.75 s, 5 Hz accelerometer prefilter | gyro, ax, ay |
+//! | `complementary` | [`pendtilt_core::estimators::complementary::Complementary`], tau = 0.75 s, 5 Hz accelerometer prefilter | gyro, ax, ay |
 //!
 //! The peers' gains are the best ones a small search found on the simulated scooter ride
 //! ([`tune::search_peer_gains`]); [`tune::fit_process_noise`] fits the EKF's process noise
@@ -18,10 +19,10 @@
 pub mod ahrs_planar;
 pub mod tune;
 
-use pendtilt_core::ekf::{Ekf, Environment, ModelSettings, SensorNoise, Ukf};
-use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
-use pendtilt_core::estimators::complementary::{Complementary, ComplementarySettings};
-use pendtilt_core::{PendulumParams, PhysicalParams, PlanarEstimator};
+use crate::bank::{self, BankSettings};
+use pendtilt_core::ekf::{Environment, ModelSettings, SensorNoise};
+use pendtilt_core::estimators::complementary::ComplementarySettings;
+use pendtilt_core::{PendulumParams, PhysicalParams};
 
 /// The columns this module provides, in report order.
 pub const COLUMNS: [&str; 6] = [
@@ -33,8 +34,7 @@ pub const COLUMNS: [&str; 6] = [
     "complementary",
 ];
 
-/// A boxed streaming estimator over `f64`.
-pub type BoxedEstimator = Box<dyn PlanarEstimator<f64> + Send>;
+pub use crate::bank::BoxedEstimator;
 
 /// Everything the estimators of this module are built from besides the rig.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -72,26 +72,22 @@ pub fn model_settings(
     ModelSettings::derived(*params, gravity, peer.sensors, &peer.environment)
 }
 
-/// Builds the estimator of column `name` (one of [`COLUMNS`]) for normalised parameters
-/// `params` under gravity `gravity`; `None` for an unknown name.
+/// Builds the estimator of column `name` (one of [`COLUMNS`], or any other stand-alone
+/// entry of [`crate::bank::REGISTRY`], the one name-to-constructor table) for normalised
+/// parameters `params` under gravity `gravity`, every other setting at its default;
+/// `None` for an unknown name.
 pub fn build(
     name: &str,
     params: &PendulumParams<f64>,
     gravity: f64,
     peer: &PeerSettings,
 ) -> Option<BoxedEstimator> {
-    Some(match name {
-        "ekf" => Box::new(Ekf::new(model_settings(params, gravity, peer))),
-        "ukf" => Box::new(Ukf::new(model_settings(params, gravity, peer))),
-        "alg2_offset" => Box::new(Alg2::<f64>::new(Alg2Settings {
-            pivot_offset: true,
-            ..Alg2Settings::from_params(*params)
-        })),
-        "madgwick" => Box::new(ahrs_planar::madgwick(peer.madgwick_beta)),
-        "mahony" => Box::new(ahrs_planar::mahony(peer.mahony[0], peer.mahony[1])),
-        "complementary" => Box::new(Complementary::new(peer.complementary)),
-        _ => return None,
-    })
+    let settings = BankSettings {
+        gravity,
+        peers: *peer,
+        ..BankSettings::from_params(*params)
+    };
+    bank::build_alone(name, &settings)
 }
 
 /// [`build`] from the rig's physical parameters.
