@@ -22,6 +22,18 @@
 //! - [`ekf`]: the pendulum dynamics and its sensors as models on the engine, and the
 //!   model-based estimators `ekf` and `ukf` (the paper's future work).
 //!
+//! ## Getting started
+//! `use pendtilt_core::prelude::*;` brings in what a firmware or application needs: the
+//! [`Estimator`] trait, [`Sample`] in and [`Estimate`] out, [`Flags`], [`StepGate`]
+//! (time stamps to steps), [`Real`], the rig's parameters, and every estimator with its
+//! settings. The examples, from the simplest up (`cargo run -p pendtilt-core --release
+//! --example NAME`):
+//! 1. `minimal`: the raw pendulum against the accelerometer;
+//! 2. `alg2_kalman`: Algorithm 2, and the angle+bias Kalman filter fed by it;
+//! 3. `supervised_alg3`: Algorithm 3 with its gains re-fitted live against the gyro;
+//! 4. `ekf`: the model-based extended Kalman filter;
+//! 5. `examples/firmware` in the repository: an `f32`, `no_std` loop for a Cortex-M4F.
+//!
 //! ## Sign convention
 //! The paper prints `theta = phi - asin(...)` in Eqs (20), (21) and (30). Solving its own
 //! Eq (18) gives `theta = phi + asin(a phi' + b (phi'' - theta''))`; this crate implements
@@ -40,6 +52,7 @@ mod flags;
 pub mod kalman;
 pub mod linalg;
 pub mod params;
+pub mod prelude;
 mod real;
 mod sample;
 pub mod step;

@@ -8,15 +8,15 @@ pub const STANDARD_GRAVITY: f64 = 9.80665;
 /// The pendulum as built (MODEL.md sections 1-2). SI units.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PhysicalParams<T> {
-    /// Pendulum mass m_p [kg].
+    /// Pendulum mass m_p \[kg\].
     pub mass: T,
-    /// Pivot-to-CG distance l_p [m].
+    /// Pivot-to-CG distance l_p \[m\].
     pub length: T,
     /// Moment of inertia about the pivot I_p [kg m^2] (includes m_p l_p^2).
     pub inertia: T,
     /// Viscous friction at the pivot C [N m s/rad].
     pub damping: T,
-    /// Distance l12 from the body's rotation axis P1 to the pendulum pivot P2 [m].
+    /// Distance l12 from the body's rotation axis P1 to the pendulum pivot P2 \[m\].
     pub pivot_offset: T,
     /// Gravity g [m/s^2].
     pub gravity: T,
@@ -57,7 +57,7 @@ impl<T: Real> PhysicalParams<T> {
 /// The normalised parameters of the paper's estimators (MODEL.md section 3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PendulumParams<T> {
-    /// a = C / (m_p g l_p) [s]: friction over gravity stiffness.
+    /// a = C / (m_p g l_p) \[s\]: friction over gravity stiffness.
     pub a: T,
     /// b = I_p / (m_p g l_p) [s^2]: inertia over gravity stiffness, 1 / w_n^2.
     pub b: T,

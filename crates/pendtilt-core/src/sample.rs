@@ -9,11 +9,11 @@ use crate::{Flags, Real};
 /// or failed on this sample is `NaN`; each estimator reads only the fields it needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample<T> {
-    /// Time since the previous sample [s], from a [`crate::StepGate`]: finite and
+    /// Time since the previous sample \[s\], from a [`crate::StepGate`]: finite and
     /// positive; `NaN` marks a sample whose time stamp was refused (not finite, or not
     /// after the previous one). Ignored on an estimator's first sample.
     pub dt: T,
-    /// Encoder: pendulum angle relative to the body, clockwise positive [rad].
+    /// Encoder: pendulum angle relative to the body, clockwise positive \[rad\].
     pub phi: T,
     /// Gyro: body rate about the tilt axis, CCW positive [rad/s].
     pub gyro: T,
@@ -52,7 +52,7 @@ impl<T: Real> Sample<T> {
 /// One tilt estimate with its diagnostics.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Estimate<T> {
-    /// Estimated body tilt theta [rad], CCW positive. `NaN` only before the estimator has
+    /// Estimated body tilt theta \[rad\], CCW positive. `NaN` only before the estimator has
     /// seen any usable input (then [`Flags::SAMPLE_MISSING`] is set).
     pub theta: T,
     /// What happened on this sample.

@@ -26,7 +26,7 @@ pub struct ErrorStats {
     /// Samples whose estimate was NaN while the truth was finite.
     pub missing: u64,
     sum_sq: f64,
-    /// Largest absolute error [rad].
+    /// Largest absolute error \[rad\].
     pub max_abs: f64,
 }
 
@@ -46,7 +46,7 @@ impl ErrorStats {
         self.max_abs = self.max_abs.max(e.abs());
     }
 
-    /// Root-mean-square error [rad] (NaN without samples).
+    /// Root-mean-square error \[rad\] (NaN without samples).
     pub fn rms(&self) -> f64 {
         if self.count == 0 {
             f64::NAN
@@ -132,7 +132,7 @@ impl Rows {
 /// [`run`] on three threads, for files: one reads and parses the log, one runs the bank,
 /// one formats and writes the estimates. Each of the three is about a third of the work,
 /// so on two cores the pass takes about half the time of [`run`]. Memory stays bounded
-/// (a few batches of [`BATCH_ROWS`] rows in flight, their vectors recycled). The rows,
+/// (a few batches of 4096 rows in flight, their vectors recycled). The rows,
 /// estimates and errors are the same as [`run`]'s (test
 /// `the_parallel_pass_gives_the_same_rows_errors_and_statistics`); a reader warning
 /// reaches `warn` before the rows of its batch rather than between rows.

@@ -99,7 +99,7 @@ impl<T: Real> Measurement<T, State<T>, N, 1> for Gyro<T> {
 pub struct Accelerometer<T> {
     /// Gravity g [m/s^2].
     pub gravity: T,
-    /// Distance d from the rotation axis P1 along the body's up-axis [m].
+    /// Distance d from the rotation axis P1 along the body's up-axis \[m\].
     pub distance: T,
     /// Variance of each axis [(m/s^2)^2]: sensor noise plus the vibration the filter
     /// does not model.

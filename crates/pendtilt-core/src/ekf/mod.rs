@@ -31,7 +31,7 @@
 //! lag by cross-correlation), default settings everywhere, the peers at the gains their
 //! search found (`pendtilt::peers::tune::search_peer_gains`):
 //!
-//! | estimator | RMS [deg] | bias [deg] | lag [ms] |
+//! | estimator | RMS \[deg\] | bias \[deg\] | lag \[ms\] |
 //! |---|---|---|---|
 //! | alg1 | 2.371 | 0.028 | 5.5 |
 //! | alg2 | 2.690 | 0.027 | 10.0 |

@@ -25,13 +25,13 @@ use nalgebra::{SMatrix, SVector};
 
 /// Number of states.
 pub const N: usize = 6;
-/// Index of the body tilt theta [rad].
+/// Index of the body tilt theta \[rad\].
 pub const THETA: usize = 0;
 /// Index of the tilt rate theta' [rad/s].
 pub const OMEGA: usize = 1;
 /// Index of the tilt acceleration theta'' [rad/s^2].
 pub const ALPHA: usize = 2;
-/// Index of the pendulum angle relative to the body phi [rad].
+/// Index of the pendulum angle relative to the body phi \[rad\].
 pub const PHI: usize = 3;
 /// Index of phi' [rad/s].
 pub const DPHI: usize = 4;

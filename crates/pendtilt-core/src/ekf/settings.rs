@@ -41,7 +41,7 @@ use crate::{PendulumParams, PhysicalParams, Real};
 pub struct SensorNoise<T> {
     /// Encoder resolution in bits per turn (0: not quantised). Default 12.
     pub encoder_bits: u32,
-    /// Encoder noise, standard deviation [rad]. Default 0.
+    /// Encoder noise, standard deviation \[rad\]. Default 0.
     pub encoder_noise: T,
     /// Gyro white-noise density [rad/s/sqrt(Hz)]. Default 0.005 deg/s/sqrt(Hz) = 8.73e-5.
     pub gyro_density: T,
@@ -86,9 +86,9 @@ impl<T: Real> SensorNoise<T> {
 /// scenario of MODEL.md section 6.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Environment<T> {
-    /// RMS of the slow tilt manoeuvres [rad]. Default 7 deg.
+    /// RMS of the slow tilt manoeuvres \[rad\]. Default 7 deg.
     pub tilt_rms: T,
-    /// Their highest frequency [Hz]. Default 0.8 Hz.
+    /// Their highest frequency \[Hz\]. Default 0.8 Hz.
     pub tilt_bandwidth_hz: T,
     /// Density of the translational acceleration across the pendulum near its natural
     /// frequency [m/s^2/sqrt(Hz)]. Default 0.02: the scooter's broadband vibration
@@ -162,7 +162,7 @@ pub struct ModelSettings<T> {
     /// unfiltered, and what it knows of gravity the pendulum already tells.
     pub use_accel: bool,
     /// Distance of the accelerometer from the rotation axis P1 along the body's up-axis
-    /// [m]. Default `c g` = l12 (mounted at the pendulum pivot).
+    /// \[m\]. Default `c g` = l12 (mounted at the pendulum pivot).
     pub accel_distance: T,
     /// Standard deviation of the vibration the accelerometer reads, per axis [m/s^2],
     /// added to its white noise. Default [`Environment::vibration_rms`], 3 m/s^2.
@@ -172,17 +172,17 @@ pub struct ModelSettings<T> {
     /// variance (the gyro's own noise alone would make the ride's vibration look like
     /// outliers). Default [`Environment::angular_vibration_rms`], 0.178 rad/s.
     pub gyro_vibration: T,
-    /// Longest single integration step [s]; longer sample intervals are split.
+    /// Longest single integration step \[s\]; longer sample intervals are split.
     /// Default 5 ms (w_n dt = 0.07 for the default pendulum).
     pub max_step: T,
-    /// Longest gap [s] bridged by prediction, between rows or between encoder readings
+    /// Longest gap \[s\] bridged by prediction, between rows or between encoder readings
     /// (rows whose phi is missing); after a longer one the filter restarts on the next
     /// reading. Default 50 ms: on the scooter ride, bridging a gap of every sensor left
     /// 0.5 deg (50 ms), 0.9 deg (100 ms) and 181 deg (900 ms) of error 3 s later, because
     /// the prediction extrapolates the last estimated tilt acceleration, vibration
     /// included; restarting left 0.07-0.11 deg for gaps from 50 to 900 ms.
     pub max_gap: T,
-    /// Initial standard deviation of theta around the first phi [rad]. Default 2 deg
+    /// Initial standard deviation of theta around the first phi \[rad\]. Default 2 deg
     /// (the pendulum is assumed at rest on the first sample, MODEL.md section 6).
     pub initial_angle: T,
     /// Innovation gate: a measurement (the encoder, the gyro, an accelerometer axis) whose

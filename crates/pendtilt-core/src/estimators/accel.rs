@@ -10,7 +10,7 @@ use crate::{Estimate, Estimator, Flags, Real, Sample, StepClock};
 /// Settings of [`Accel`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct AccelSettings<T> {
-    /// Cutoff [Hz] of a 2nd-order Butterworth low-pass on ax and ay before atan2.
+    /// Cutoff \[Hz\] of a 2nd-order Butterworth low-pass on ax and ay before atan2.
     /// Default `None` (the paper's Eq 1 on raw samples).
     pub prefilter_hz: Option<T>,
     /// Accelerometer full scale [m/s^2]: samples at or beyond it are flagged

@@ -70,7 +70,7 @@ pub struct Alg3<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
 /// The signals Eq (30) combines at one sample, for supervisors that refit K, L, M, N.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Alg3Terms<T> {
-    /// phi as used in the equation [rad].
+    /// phi as used in the equation \[rad\].
     pub phi: T,
     /// phi' [rad/s].
     pub dphi: T,
@@ -83,7 +83,7 @@ pub struct Alg3Terms<T> {
     /// The gyro through the phi low-pass (same delay as phi', phi'') [rad/s]: the
     /// supervisor's matched cost uses it instead of running a low-pass of its own.
     pub gk_filtered: T,
-    /// Time since the previous accepted sample [s] (0 on the first).
+    /// Time since the previous accepted sample \[s\] (0 on the first).
     pub dt: T,
 }
 

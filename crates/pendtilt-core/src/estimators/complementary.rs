@@ -17,11 +17,11 @@ use crate::{Estimate, Estimator, Flags, Real, Sample};
 /// Settings of [`Complementary`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ComplementarySettings<T> {
-    /// Crossover time constant tau [s]. Default 0.75 s: the gain search
+    /// Crossover time constant tau \[s\]. Default 0.75 s: the gain search
     /// (`pendtilt::peers::tune::search_peer_gains`) on the simulated scooter ride (60 s,
     /// seed 1, l12 = 0.2 m) found 0.754 s best, RMS error 0.81 deg (2 s gave 1.87 deg).
     pub time_constant: T,
-    /// Cutoff [Hz] of a 2nd-order Butterworth low-pass on ax and ay before atan2.
+    /// Cutoff \[Hz\] of a 2nd-order Butterworth low-pass on ax and ay before atan2.
     /// Default `Some(5 Hz)`: well below the engine vibration, well above the crossover.
     pub accel_prefilter_hz: Option<T>,
 }

@@ -8,7 +8,7 @@ use crate::{PendulumParams, Real};
 /// An inverted angle and whether its asin argument had to be clamped to [-1, 1].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Inversion<T> {
-    /// Estimated body tilt theta [rad].
+    /// Estimated body tilt theta \[rad\].
     pub theta: T,
     /// True when the asin argument left [-1, 1] and was clamped.
     pub clamped: bool,
@@ -85,13 +85,13 @@ pub fn alg2_offset<T: Real>(
 /// The four parameters of Eq (30), normalised like a and b (divided by m g l).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Alg3Gains<T> {
-    /// K, multiplies phi' [s].
+    /// K, multiplies phi' \[s\].
     pub k: T,
     /// L, multiplies phi'' [s^2].
     pub l: T,
     /// M, multiplies G_d (theta'') [s^2].
     pub m: T,
-    /// N, multiplies the raw gyro G_k [s]: a delay compensation outside the asin.
+    /// N, multiplies the raw gyro G_k \[s\]: a delay compensation outside the asin.
     pub n: T,
 }
 

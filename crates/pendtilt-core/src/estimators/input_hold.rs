@@ -22,7 +22,7 @@ pub enum Step<T> {
     },
     /// A later sample, already accepted.
     Next {
-        /// Time since the last accepted sample [s], positive.
+        /// Time since the last accepted sample \[s\], positive.
         dt: T,
         /// The gyro reading, or the last good one.
         gyro: T,

@@ -28,7 +28,7 @@ pub enum PhiSource {
 /// What the front end hands an inversion equation for one sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Kinematics<T> {
-    /// The phi that enters `theta = phi + asin(...)` ([`PhiSource`]) [rad].
+    /// The phi that enters `theta = phi + asin(...)` ([`PhiSource`]) \[rad\].
     pub phi: T,
     /// phi' through the differentiator [rad/s].
     pub dphi: T,
@@ -40,9 +40,9 @@ pub struct Kinematics<T> {
     pub theta_dd: T,
     /// The gyro through the phi low-pass (0 without a gyro) [rad/s].
     pub gyro_filtered: T,
-    /// DC delay of the phi low-pass [s].
+    /// DC delay of the phi low-pass \[s\].
     pub delay: T,
-    /// Time since the previous accepted sample [s] (0 on the first).
+    /// Time since the previous accepted sample \[s\] (0 on the first).
     pub dt: T,
     /// Flags of the gyro path alone (missing gyro sample, Eq (22) window filling): the
     /// algorithms that read the gyro add them, Algorithm 1 does not.

@@ -18,7 +18,7 @@ pub enum ThetaDdSource<T> {
     /// Eq (22) over a window of about `span` seconds (rounded to whole samples at the
     /// first time step, at least 1, at most the buffer capacity minus one).
     Window {
-        /// Window length [s].
+        /// Window length \[s\].
         span: T,
     },
     /// The derivative of the gyro through the phi differentiator (same delay as phi'').
@@ -36,7 +36,7 @@ pub const DEFAULT_WINDOW_CAPACITY: usize = 256;
 /// Streaming theta'' from gyro samples. `W` bounds the Eq (22) window (no allocation).
 ///
 /// The matched source needs no state of its own: it is the derivative output of the gyro
-/// signal of the [`Inverter`](super::inverter)'s two-signal differentiator, handed in on
+/// signal of the `Inverter`'s two-signal differentiator, handed in on
 /// each update. The window source keeps the gyro history.
 #[derive(Debug, Clone)]
 pub struct ThetaDd<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {

@@ -85,7 +85,7 @@ impl Response {
 /// The differentiator's cutoff frequency.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Cutoff<T> {
-    /// A fixed cutoff [Hz].
+    /// A fixed cutoff \[Hz\].
     Hz(T),
     /// A multiple of the pendulum's natural frequency `f_n = 1 / (2 pi sqrt(b))`.
     TimesNatural(T),
@@ -161,7 +161,7 @@ const STEP_TOLERANCE: f64 = 1e-9;
 const STEP_ULPS: f64 = 4.0;
 
 impl<T: Real, const C: usize> SmoothingDifferentiator<T, C> {
-    /// A differentiator with the given response and cutoff [Hz]. A cutoff that is not
+    /// A differentiator with the given response and cutoff \[Hz\]. A cutoff that is not
     /// finite and positive is replaced by 1 Hz (never a panic); check before if it matters.
     pub fn new(response: Response, cutoff_hz: T) -> Self {
         let f = if cutoff_hz.is_finite() && cutoff_hz > T::zero() {

@@ -4,8 +4,8 @@
 //! One concern per file:
 //! - [`progress`]: progress reporting ([`Progress`], [`NoProgress`]).
 //! - [`rides`]: simulated rides in memory ([`Ride`]).
-//! - [`calibrate`]: the Newton fit of a, b (output-error cost) and of Algorithm 3's gains
-//!   (Eq 23) on a separate calibration ride ([`Calibration`]).
+//! - [`calibrate`](mod@calibrate): the Newton fit of a, b (output-error cost) and of
+//!   Algorithm 3's gains (Eq 23) on a separate calibration ride ([`Calibration`]).
 //! - [`estimate`]: the estimator bank plus the delay-compensated Algorithm 2 over a ride.
 //! - [`standard`]: the report of one record (also what `pendtilt report` writes).
 //! - [`claims`]: the paper's five claims as checks on the measured metrics.

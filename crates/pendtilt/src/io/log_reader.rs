@@ -109,7 +109,7 @@ impl RowIssues {
 pub struct LogRecord {
     /// 1-based line in the file (comment and blank lines counted).
     pub line: u64,
-    /// The time stamp [s] (NaN when the cell is missing or not finite).
+    /// The time stamp \[s\] (NaN when the cell is missing or not finite).
     pub t: f64,
     /// The sensors in SI units, `dt` from the reader's [`StepGate`]; a missing or non-finite cell, or a column the log does not
     /// have, is NaN.

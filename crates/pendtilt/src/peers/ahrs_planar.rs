@@ -14,7 +14,7 @@ use pendtilt_core::{Estimate, Estimator, Flags, Sample};
 
 /// The part of an `ahrs` filter the planar wrapper needs.
 pub trait PlanarAhrs: Ahrs<f64> {
-    /// Sets the step of the next update [s].
+    /// Sets the step of the next update \[s\].
     fn set_period(&mut self, dt: f64);
     /// The orientation.
     fn attitude(&self) -> UnitQuaternion<f64>;

@@ -14,13 +14,13 @@ use pendtilt_core::{PlanarEstimator, Sample};
 pub struct Log<'a> {
     /// The sensor samples.
     pub samples: &'a [Sample<f64>],
-    /// The true tilt for each sample [rad] (`NaN` where unknown).
+    /// The true tilt for each sample \[rad\] (`NaN` where unknown).
     pub truth: &'a [f64],
     /// Samples ignored at the start (settling).
     pub skip: usize,
 }
 
-/// Eq (23): the RMS error [rad] of `e` run over the whole log, counted after `skip`
+/// Eq (23): the RMS error \[rad\] of `e` run over the whole log, counted after `skip`
 /// samples where both are finite. `INFINITY` if nothing is counted.
 pub fn rms_error(e: &mut dyn PlanarEstimator<f64>, log: &Log) -> f64 {
     e.reset();
@@ -84,14 +84,14 @@ pub fn golden_log(
     best
 }
 
-/// The peers' best gains on a log and the RMS error [rad] each reached.
+/// The peers' best gains on a log and the RMS error \[rad\] each reached.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PeerGains {
     /// Madgwick's beta [rad/s] and its RMS error.
     pub madgwick_beta: (f64, f64),
     /// Mahony's (kp, ki) and the RMS error.
     pub mahony: ([f64; 2], f64),
-    /// The complementary filter's time constant [s] and its RMS error (with the default
+    /// The complementary filter's time constant \[s\] and its RMS error (with the default
     /// 5 Hz accelerometer prefilter).
     pub complementary_tau: (f64, f64),
 }
@@ -147,7 +147,7 @@ pub fn search_peer_gains(log: &Log, iterations: usize) -> PeerGains {
 
 /// Fits the EKF's three process-noise densities on `log`: `rounds` passes of a
 /// golden-section search on each density in turn, within `decades` decades either side of
-/// its value in `start`. Returns the fitted densities and the RMS error [rad] they give.
+/// its value in `start`. Returns the fitted densities and the RMS error \[rad\] they give.
 pub fn fit_process_noise(
     start: &ModelSettings<f64>,
     log: &Log,
