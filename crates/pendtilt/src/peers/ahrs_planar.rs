@@ -62,7 +62,7 @@ pub struct Planar<F> {
     mean_rate: f64,
 }
 
-/// Time constant [s] of the gyro mean a planar filter integrates while the gyro is
+/// Time constant \[s\] of the gyro mean a planar filter integrates while the gyro is
 /// missing. Holding the last reading instead integrates one sample of the body's angular
 /// vibration (40 Hz on the scooter ride) for the whole gap: after 100 missing readings
 /// Madgwick was 0.15 deg and Mahony 0.49 deg off their fault-free run 2 s later.
