@@ -23,6 +23,9 @@
 //! - An empty cell or `NaN` in a filtered column is a missing sample: it makes the next
 //!   order + 1 outputs of that column `NaN`, then the filter recovers. Any other cell that
 //!   is not a number is an error naming the file, line and column.
+//! - The file is read by the log reader's line reader ([`crate::io::csv_lines`]): blank
+//!   lines and `#` comment lines are skipped but counted in line numbers, whitespace
+//!   around a field is trimmed, a quoted field may not span lines.
 //! - Streaming: the file is read twice (once to check the time column and the cells and
 //!   find the rate, once to filter), and memory holds only the filter histories, not the
 //!   file. The output goes to a temporary file beside it, renamed into place only when the
@@ -34,9 +37,10 @@ use pendtilt_core::filters::fir::{design_lowpass, FirSlice, Window, PAPER_CUTOFF
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 use std::fs::File;
-use std::io::Write;
+use std::io::{BufReader, Write};
 use std::path::{Path, PathBuf};
 
+use crate::io::csv_lines::{CsvLines, RowError};
 use crate::io::output::{NamedPath, OutputFile};
 
 /// The largest `--order` accepted. Far beyond any useful low-pass for these logs; the limit
@@ -186,7 +190,7 @@ impl Plan {
     pub fn apply<W: Write>(&self, out: W) -> Result<Applied> {
         let path = self.input.as_path();
         let mut rdr = open_reader(path)?;
-        let header = rdr.byte_headers().map_err(|e| csv_error(path, e))?.clone();
+        let header = ByteRecord::from(read_header(path, &mut rdr)?);
         let mut wtr = csv::WriterBuilder::new().from_writer(out);
         wtr.write_byte_record(&header)
             .with_context(|| "cannot write the output header".to_string())?;
@@ -230,11 +234,7 @@ impl Plan {
             Ok(())
         };
 
-        while rdr
-            .read_byte_record(&mut rec)
-            .map_err(|e| csv_error(path, e))?
-        {
-            let line = rec.position().map_or(0, |p| p.line());
+        while let Some(line) = read_record(path, &mut rdr, &self.names, &mut rec)? {
             for (j, &i) in self.filtered.iter().enumerate() {
                 x[j] = parse_cell(path, line, &self.names, i, rec.get(i))?;
                 missing_in[j] += u64::from(x[j].is_nan());
@@ -319,31 +319,65 @@ fn format_f64(out: &mut String, x: f64) {
     };
 }
 
-fn open_reader(path: &Path) -> Result<csv::Reader<File>> {
+/// The input as CSV lines (the log reader's: [`crate::io::csv_lines`]).
+type Lines = CsvLines<BufReader<File>>;
+
+fn open_reader(path: &Path) -> Result<Lines> {
     let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
-    Ok(csv::ReaderBuilder::new()
-        .has_headers(true)
-        .flexible(false)
-        .from_reader(file))
+    Ok(CsvLines::new(BufReader::with_capacity(1 << 16, file), b','))
 }
 
-/// A csv error as `FILE:LINE: what`, with the row-length case spelled out.
-fn csv_error(path: &Path, e: csv::Error) -> anyhow::Error {
+/// The header's names (lossily decoded, trimmed, unquoted).
+fn read_header(path: &Path, rdr: &mut Lines) -> Result<Vec<String>> {
+    if !next_row(path, rdr, &[])? {
+        bail!("{}: empty file: expected a header row", path.display());
+    }
+    Ok((0..rdr.field_count())
+        .map(|i| String::from_utf8_lossy(&rdr.field(i).unwrap_or_default()).into_owned())
+        .collect())
+}
+
+/// Reads the next data row into `rec` (fields trimmed and unquoted): its line, `None` at
+/// the end of the file.
+fn read_record(
+    path: &Path,
+    rdr: &mut Lines,
+    names: &[String],
+    rec: &mut ByteRecord,
+) -> Result<Option<u64>> {
+    if !next_row(path, rdr, names)? {
+        return Ok(None);
+    }
+    rec.clear();
+    for i in 0..rdr.field_count() {
+        rec.push_field(&rdr.field(i).unwrap_or_default());
+    }
+    Ok(Some(rdr.line()))
+}
+
+/// Reads and splits the next line; an error as `FILE:LINE: what` when it cannot be read or
+/// split, or when its field count is not the header's (`names`, empty for the header).
+fn next_row(path: &Path, rdr: &mut Lines, names: &[String]) -> Result<bool> {
     let file = path.display();
-    match e.kind() {
-        csv::ErrorKind::UnequalLengths {
-            pos,
-            expected_len,
-            len,
-        } => {
-            let line = pos.as_ref().map_or(0, |p| p.line());
-            anyhow::anyhow!("{file}:{line}: row has {len} fields but the header has {expected_len}")
+    match rdr.next_row() {
+        Ok(None) => Ok(false),
+        Ok(Some(())) => {
+            let (len, expected) = (rdr.field_count(), names.len());
+            if expected > 0 && len != expected {
+                bail!(
+                    "{file}:{}: row has {len} fields but the header has {expected}",
+                    rdr.line()
+                );
+            }
+            Ok(true)
         }
-        csv::ErrorKind::Io(_) => anyhow::anyhow!("{file}: cannot read: {e}"),
-        _ => match e.position() {
-            Some(p) => anyhow::anyhow!("{file}:{}: {e}", p.line()),
-            None => anyhow::anyhow!("{file}: {e}"),
-        },
+        Err(RowError::Io(e)) => bail!("{file}:{}: cannot read: {e}", rdr.line() + 1),
+        Err(RowError::UnterminatedQuote(i)) => bail!(
+            "{file}:{}: column '{}' (field {}): a quoted field is not closed on its line",
+            rdr.line(),
+            names.get(i).map_or("?", String::as_str),
+            i + 1
+        ),
     }
 }
 
@@ -409,13 +443,64 @@ fn find_column(path: &Path, names: &[String], name: &str, what: &str) -> Result<
 /// Every problem with the file or the options, as `FILE:LINE: what`, naming the column.
 pub fn scan(input: &Path, opts: &FilterOptions) -> Result<Plan> {
     let file = input.display();
+    let shift = check_options(opts)?;
+    let mut rdr = open_reader(input)?;
+    let names = read_header(input, &mut rdr)?;
+    let time_idx = find_column(input, &names, &opts.time_column, "time")?;
+    // Explicit columns are checked against the header now; the default set needs the first
+    // data row.
+    let mut filtered = match &opts.columns {
+        None => None,
+        Some(cols) => Some(requested_columns(input, &names, cols, time_idx)?),
+    };
+    let mut rec = ByteRecord::new();
+    let mut steps = TimeSteps::default();
+    while let Some(line) = read_record(input, &mut rdr, &names, &mut rec)? {
+        let t = parse_cell(input, line, &names, time_idx, rec.get(time_idx))?;
+        if !t.is_finite() {
+            bail!(
+                "{file}:{line}: time column '{}' is empty or not finite",
+                opts.time_column
+            );
+        }
+        if filtered.is_none() {
+            filtered = Some(default_columns(input, line, &names, &rec, opts, time_idx)?);
+        }
+        steps.push(&file, t, line, &opts.time_column)?;
+        if let Some(idx) = &filtered {
+            for &i in idx {
+                parse_cell(input, line, &names, i, rec.get(i))?;
+            }
+        }
+    }
+    let rate_hz = steps.uniform_rate(&file, opts.max_jitter)?;
+    let mut taps = vec![0.0f64; opts.order + 1];
+    design_lowpass(opts.cutoff_hz, rate_hz, opts.window, &mut taps).with_context(|| {
+        format!(
+            "--cutoff {} Hz at the sample rate {rate_hz} Hz of {file}",
+            opts.cutoff_hz
+        )
+    })?;
+    Ok(Plan {
+        input: input.to_path_buf(),
+        names,
+        filtered: filtered.unwrap_or_default(),
+        rows: steps.rows,
+        rate_hz,
+        taps,
+        shift,
+    })
+}
+
+/// Checks the options that do not depend on the file; returns the output shift (order/2
+/// with `--compensate-delay`, else 0).
+fn check_options(opts: &FilterOptions) -> Result<usize> {
     if opts.order > MAX_ORDER {
         bail!(
             "--order {} is larger than the maximum {MAX_ORDER}",
             opts.order
         );
     }
-    let n_taps = opts.order + 1;
     let shift = if opts.compensate_delay {
         if opts.order % 2 != 0 {
             bail!(
@@ -438,144 +523,153 @@ pub fn scan(input: &Path, opts: &FilterOptions) -> Result<Plan> {
         bail!("--cutoff {} Hz must be positive", opts.cutoff_hz);
     }
 
-    let mut rdr = open_reader(input)?;
-    let header = rdr.byte_headers().map_err(|e| csv_error(input, e))?;
-    let names: Vec<String> = header
-        .iter()
-        .map(|f| String::from_utf8_lossy(f).trim().to_string())
-        .collect();
-    if names.is_empty() || (names.len() == 1 && names[0].is_empty()) {
-        bail!("{file}: empty file: expected a header row");
-    }
-    let time_idx = find_column(input, &names, &opts.time_column, "time")?;
+    Ok(shift)
+}
 
-    // Explicit columns are checked against the header now; the default set needs the first
-    // data row.
-    let mut filtered: Option<Vec<usize>> = match &opts.columns {
-        None => None,
-        Some(cols) => {
-            let mut idx = Vec::new();
-            for c in cols.iter().map(|c| c.trim()) {
-                if c.is_empty() {
-                    bail!("--columns: empty column name in the list");
-                }
-                let i = find_column(input, &names, c, "requested")?;
-                if i == time_idx {
-                    bail!(
-                        "--columns: '{c}' is the time column; it is passed through, not \
-                         filtered"
-                    );
-                }
-                if !idx.contains(&i) {
-                    idx.push(i);
-                }
-            }
-            if idx.is_empty() {
-                bail!("--columns: no column named");
-            }
-            idx.sort_unstable();
-            Some(idx)
+/// The field indices of `--columns` (sorted, without repeats); an error for an empty
+/// name, a name not in the header, or the time column.
+fn requested_columns(
+    input: &Path,
+    names: &[String],
+    cols: &[String],
+    time_idx: usize,
+) -> Result<Vec<usize>> {
+    let mut idx = Vec::new();
+    for c in cols.iter().map(|c| c.trim()) {
+        if c.is_empty() {
+            bail!("--columns: empty column name in the list");
         }
-    };
-
-    let mut rec = ByteRecord::new();
-    let mut rows = 0u64;
-    let (mut t_first, mut t_prev, mut prev_line) = (0.0f64, 0.0f64, 0u64);
-    // Extreme time steps and where they are, for the uniformity check after the pass.
-    let (mut dt_min, mut dt_min_line) = (f64::INFINITY, 0u64);
-    let (mut dt_max, mut dt_max_line) = (0.0f64, 0u64);
-    while rdr
-        .read_byte_record(&mut rec)
-        .map_err(|e| csv_error(input, e))?
-    {
-        let line = rec.position().map_or(0, |p| p.line());
-        let t = parse_cell(input, line, &names, time_idx, rec.get(time_idx))?;
-        if !t.is_finite() {
+        let i = find_column(input, names, c, "requested")?;
+        if i == time_idx {
             bail!(
-                "{file}:{line}: time column '{}' is empty or not finite",
-                opts.time_column
+                "--columns: '{c}' is the time column; it is passed through, not \
+                 filtered"
             );
         }
-        if rows == 0 {
-            t_first = t;
-            if filtered.is_none() {
-                let idx: Vec<usize> = (0..names.len())
-                    .filter(|&i| i != time_idx)
-                    .filter(|&i| {
-                        rec.get(i)
-                            .and_then(|f| std::str::from_utf8(f).ok())
-                            .map(str::trim)
-                            .is_some_and(|s| !s.is_empty() && s.parse::<f64>().is_ok())
-                    })
-                    .collect();
-                if idx.is_empty() {
-                    bail!(
-                        "{file}:{line}: no numeric column to filter besides the time column \
-                         '{}' (name them with --columns)",
-                        opts.time_column
-                    );
-                }
-                filtered = Some(idx);
-            }
+        if !idx.contains(&i) {
+            idx.push(i);
+        }
+    }
+    if idx.is_empty() {
+        bail!("--columns: no column named");
+    }
+    idx.sort_unstable();
+    Ok(idx)
+}
+
+/// The default columns to filter: every column but time whose cell on the first data row
+/// (`rec`, on `line`) is a number.
+fn default_columns(
+    input: &Path,
+    line: u64,
+    names: &[String],
+    rec: &ByteRecord,
+    opts: &FilterOptions,
+    time_idx: usize,
+) -> Result<Vec<usize>> {
+    let file = input.display();
+    let idx: Vec<usize> = (0..names.len())
+        .filter(|&i| i != time_idx)
+        .filter(|&i| {
+            rec.get(i)
+                .and_then(|f| std::str::from_utf8(f).ok())
+                .map(str::trim)
+                .is_some_and(|s| !s.is_empty() && s.parse::<f64>().is_ok())
+        })
+        .collect();
+    if idx.is_empty() {
+        bail!(
+            "{file}:{line}: no numeric column to filter besides the time column \
+             '{}' (name them with --columns)",
+            opts.time_column
+        );
+    }
+    Ok(idx)
+}
+
+/// The time column's steps as a pass reads them: rows, first and last time, and the
+/// shortest and longest step with their lines.
+#[derive(Debug, Clone, Copy)]
+struct TimeSteps {
+    rows: u64,
+    t_first: f64,
+    t_prev: f64,
+    prev_line: u64,
+    dt_min: (f64, u64),
+    dt_max: (f64, u64),
+}
+
+impl Default for TimeSteps {
+    fn default() -> Self {
+        Self {
+            rows: 0,
+            t_first: 0.0,
+            t_prev: 0.0,
+            prev_line: 0,
+            dt_min: (f64::INFINITY, 0),
+            dt_max: (0.0, 0),
+        }
+    }
+}
+
+impl TimeSteps {
+    /// Adds the finite time `t` of `line` of `file`: an error when it is not after the
+    /// previous one.
+    fn push(
+        &mut self,
+        file: &dyn std::fmt::Display,
+        t: f64,
+        line: u64,
+        column: &str,
+    ) -> Result<()> {
+        if self.rows == 0 {
+            self.t_first = t;
         } else {
+            let t_prev = self.t_prev;
             if t <= t_prev {
                 bail!(
-                    "{file}:{line}: time {t} is not after {t_prev} (line {prev_line}): the time \
-                     column '{}' must be strictly increasing",
-                    opts.time_column
+                    "{file}:{line}: time {t} is not after {t_prev} (line {}): the time \
+                     column '{column}' must be strictly increasing",
+                    self.prev_line
                 );
             }
             let dt = t - t_prev;
-            if dt < dt_min {
-                (dt_min, dt_min_line) = (dt, line);
+            if dt < self.dt_min.0 {
+                self.dt_min = (dt, line);
             }
-            if dt > dt_max {
-                (dt_max, dt_max_line) = (dt, line);
-            }
-        }
-        if let Some(idx) = &filtered {
-            for &i in idx {
-                parse_cell(input, line, &names, i, rec.get(i))?;
+            if dt > self.dt_max.0 {
+                self.dt_max = (dt, line);
             }
         }
-        t_prev = t;
-        prev_line = line;
-        rows += 1;
-    }
-    if rows < 2 {
-        bail!("{file}: {rows} data row(s): at least 2 are needed to find the sample rate");
-    }
-    let mean_dt = (t_prev - t_first) / (rows - 1) as f64;
-    let rate_hz = 1.0 / mean_dt;
-    for (dt, line) in [(dt_max, dt_max_line), (dt_min, dt_min_line)] {
-        let dev = (dt - mean_dt).abs() / mean_dt;
-        if dev > opts.max_jitter {
-            bail!(
-                "{file}:{line}: time step {dt} s differs from the mean step {mean_dt} s by {:.1}% \
-                 (more than --max-jitter {:.1}%): the FIR needs uniformly sampled data; \
-                 resample the log or raise --max-jitter",
-                dev * 100.0,
-                opts.max_jitter * 100.0
-            );
-        }
+        self.t_prev = t;
+        self.prev_line = line;
+        self.rows += 1;
+        Ok(())
     }
 
-    let mut taps = vec![0.0f64; n_taps];
-    design_lowpass(opts.cutoff_hz, rate_hz, opts.window, &mut taps).with_context(|| {
-        format!(
-            "--cutoff {} Hz at the sample rate {rate_hz} Hz of {file}",
-            opts.cutoff_hz
-        )
-    })?;
-    Ok(Plan {
-        input: input.to_path_buf(),
-        names,
-        filtered: filtered.unwrap_or_default(),
-        rows,
-        rate_hz,
-        taps,
-        shift,
-    })
+    /// The rate `(rows - 1) / (t_last - t_first)` \[Hz\] of `file`: an error with fewer
+    /// than 2 rows or a step further than `max_jitter` (a fraction) from the mean.
+    fn uniform_rate(&self, file: &dyn std::fmt::Display, max_jitter: f64) -> Result<f64> {
+        let rows = self.rows;
+        if rows < 2 {
+            bail!("{file}: {rows} data row(s): at least 2 are needed to find the sample rate");
+        }
+        let mean_dt = (self.t_prev - self.t_first) / (rows - 1) as f64;
+        let rate_hz = 1.0 / mean_dt;
+        for (dt, line) in [self.dt_max, self.dt_min] {
+            let dev = (dt - mean_dt).abs() / mean_dt;
+            if dev > max_jitter {
+                bail!(
+                    "{file}:{line}: time step {dt} s differs from the mean step {mean_dt} s by {:.1}% \
+                     (more than --max-jitter {:.1}%): the FIR needs uniformly sampled data; \
+                     resample the log or raise --max-jitter",
+                    dev * 100.0,
+                    max_jitter * 100.0
+                );
+            }
+        }
+        Ok(rate_hz)
+    }
 }
 
 /// Runs `pendtilt filter`: [`scan`], then [`Plan::apply`] into a temporary file renamed

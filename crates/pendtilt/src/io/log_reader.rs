@@ -12,9 +12,9 @@
 //! a UTF-8 byte-order mark is skipped; blank lines and lines whose first non-blank
 //! character is `#` are skipped (before and after the header) but still counted, so that
 //! every line number is the one an editor shows. Whitespace around a field is ignored.
-//! Lines are read and split by this module rather than by the `csv` crate because that
-//! crate does not count comment lines in its line numbers; quoted fields therefore may
-//! not span lines.
+//! Lines are read and split by [`super::csv_lines`] rather than by the `csv` crate because
+//! that crate does not count comment lines in its line numbers; quoted fields therefore
+//! may not span lines.
 use std::fs::File;
 use std::io::{BufRead, BufReader};
 use std::path::Path;
@@ -22,9 +22,10 @@ use std::path::Path;
 use pendtilt_core::{Sample, StepGate};
 
 use super::columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns};
+use super::csv_lines::CsvLines;
 use super::diagnostics::{LogSummary, LogWarning, WarningKind};
 use super::plausibility::{implausible_step, SensorLimits, TimeUnit};
-use super::split::{split_fields, unquote, SplitError};
+use super::split::unquote;
 
 /// An angle beyond this \[rad\] in a column read as radians looks like degrees (about 200
 /// degrees: a pendulum or a tilt never gets there, a degree value of a few tens does).
@@ -236,12 +237,9 @@ fn column_part(column: &Option<CellRef>) -> String {
 /// [`LogReader::summary`]); take them with [`LogReader::drain_warnings`].
 #[derive(Debug)]
 pub struct LogReader<R> {
-    input: R,
+    lines: CsvLines<R>,
     file: String,
     options: ReaderOptions,
-    buf: Vec<u8>,
-    fields: Vec<(usize, usize)>,
-    line: u64,
     header: Vec<String>,
     /// Field position of each contract column.
     positions: [Option<usize>; 6],
@@ -283,12 +281,9 @@ impl<R: BufRead> LogReader<R> {
     /// Reads the header from `input`; `origin` names the source in messages.
     pub fn new(input: R, origin: &str, options: ReaderOptions) -> Result<Self, LogError> {
         let mut reader = Self {
-            input,
+            lines: CsvLines::new(input, options.delimiter),
             file: origin.to_string(),
             options,
-            buf: Vec::with_capacity(256),
-            fields: Vec::with_capacity(16),
-            line: 0,
             header: Vec::new(),
             positions: [None; 6],
             scale: [1.0; 6],
@@ -362,7 +357,7 @@ impl<R: BufRead> LogReader<R> {
             self.reported[kind.index()] += 1;
             self.pending.push(LogWarning {
                 file: self.file.clone(),
-                line: self.line,
+                line: self.lines.line(),
                 column,
                 header,
                 kind,
@@ -373,67 +368,43 @@ impl<R: BufRead> LogReader<R> {
         }
     }
 
-    /// Reads the next line that is neither blank nor a comment into `self.buf` (line end
-    /// and BOM removed). `Ok(false)` at the end of the input.
+    /// Reads the next line that is neither blank nor a comment ([`CsvLines::next_line`]).
+    /// `Ok(false)` at the end of the input.
     fn next_line(&mut self) -> Result<bool, LogError> {
-        loop {
-            self.buf.clear();
-            let n = match self.input.read_until(b'\n', &mut self.buf) {
-                Ok(n) => n,
-                Err(e) => {
-                    let line = Some(self.line + 1);
-                    return Err(self.error(line, None, LogErrorKind::Io(e)));
-                }
-            };
-            if n == 0 {
-                return Ok(false);
-            }
-            self.line += 1;
-            if self.buf.last() == Some(&b'\n') {
-                self.buf.pop();
-            }
-            if self.buf.last() == Some(&b'\r') {
-                self.buf.pop();
-            }
-            if self.line == 1 && self.buf.starts_with(b"\xEF\xBB\xBF") {
-                self.buf.drain(..3);
-            }
-            match self.buf.iter().find(|b| !matches!(b, b' ' | b'\t' | b'\r')) {
-                None | Some(b'#') => continue,
-                Some(_) => return Ok(true),
-            }
-        }
+        self.lines.next_line().map_err(|e| {
+            let line = Some(self.lines.line() + 1);
+            self.error(line, None, LogErrorKind::Io(e))
+        })
     }
 
     fn split(&mut self) -> Result<(), LogError> {
-        match split_fields(&self.buf, self.options.delimiter, &mut self.fields) {
-            Ok(()) => Ok(()),
-            Err(SplitError::UnterminatedQuote(i)) => {
-                let column = Some(CellRef {
-                    position: i + 1,
-                    header: self.header.get(i).cloned().unwrap_or_default(),
-                });
-                let line = Some(self.line);
-                Err(self.error(line, column, LogErrorKind::UnterminatedQuote))
-            }
-        }
+        self.lines.split().map_err(|i| {
+            let column = Some(CellRef {
+                position: i + 1,
+                header: self.header.get(i).cloned().unwrap_or_default(),
+            });
+            let line = Some(self.lines.line());
+            self.error(line, column, LogErrorKind::UnterminatedQuote)
+        })
     }
 
     fn read_header(&mut self) -> Result<(), LogError> {
         if !self.next_line()? {
             return Err(self.error(None, None, LogErrorKind::Empty));
         }
-        if self.line == 1
-            && (self.buf.starts_with(b"\xFF\xFE") || self.buf.starts_with(b"\xFE\xFF"))
+        if self.lines.line() == 1
+            && (self.lines.bytes().starts_with(b"\xFF\xFE")
+                || self.lines.bytes().starts_with(b"\xFE\xFF"))
         {
             return Err(self.error(Some(1), None, LogErrorKind::Utf16));
         }
         self.split()?;
-        let quoted = self.buf.contains(&b'"');
-        let mut header = Vec::with_capacity(self.fields.len());
-        for &(a, b) in &self.fields {
-            let Ok(name) = std::str::from_utf8(&self.buf[a..b]) else {
-                let line = Some(self.line);
+        let quoted = self.lines.bytes().contains(&b'"');
+        let mut header = Vec::with_capacity(self.lines.ranges().len());
+        for k in 0..self.lines.field_count() {
+            let (a, b) = self.lines.ranges()[k];
+            let Ok(name) = std::str::from_utf8(&self.lines.bytes()[a..b]) else {
+                let line = Some(self.lines.line());
                 return Err(self.error(line, None, LogErrorKind::InvalidUtf8));
             };
             header.push(if quoted {
@@ -462,7 +433,7 @@ impl<R: BufRead> LogReader<R> {
                 .as_deref()
                 .and_then(|s| self.header.iter().position(|h| h == s));
             if mapped && position.is_none() {
-                let line = Some(self.line);
+                let line = Some(self.lines.line());
                 return Err(self.error(
                     line,
                     None,
@@ -505,7 +476,7 @@ impl<R: BufRead> LogReader<R> {
             } else {
                 "; name the time column with --map t=NAME".to_string()
             };
-            let line = Some(self.line);
+            let line = Some(self.lines.line());
             return Err(self.error(
                 line,
                 None,
@@ -528,7 +499,7 @@ impl<R: BufRead> LogReader<R> {
             };
             if used.contains(&first) {
                 let name = name.clone();
-                let line = Some(self.line);
+                let line = Some(self.lines.line());
                 return Err(self.error(
                     line,
                     Some(CellRef {
@@ -584,7 +555,7 @@ impl<R: BufRead> LogReader<R> {
         }
         if !self.next_line()? {
             if self.summary.rows == 0 {
-                let line = Some(self.line.max(1));
+                let line = Some(self.lines.line().max(1));
                 return Err(self.error(line, None, LogErrorKind::NoData));
             }
             // A short log: its few steps are checked at its end.
@@ -594,12 +565,12 @@ impl<R: BufRead> LogReader<R> {
         }
         self.split()?;
         let expected = self.header.len();
-        let found = self.fields.len();
+        let found = self.lines.ranges().len();
         let mut issues = RowIssues::default();
         if found > expected {
-            let extra_nonempty = self.fields[expected..].iter().any(|&(a, b)| b > a);
+            let extra_nonempty = self.lines.ranges()[expected..].iter().any(|&(a, b)| b > a);
             if extra_nonempty {
-                let line = Some(self.line);
+                let line = Some(self.lines.line());
                 return Err(self.error(
                     line,
                     None,
@@ -623,15 +594,16 @@ impl<R: BufRead> LogReader<R> {
         // (cut at ASCII delimiters and blanks) is then valid text too.
         let mut parsed = [None; 6];
         {
-            let whole = std::str::from_utf8(&self.buf).ok();
+            let whole = std::str::from_utf8(self.lines.bytes()).ok();
             for column in Column::ALL {
-                let Some(&(a, b)) = self.positions[column.index()].and_then(|p| self.fields.get(p))
+                let Some(&(a, b)) =
+                    self.positions[column.index()].and_then(|p| self.lines.ranges().get(p))
                 else {
                     continue;
                 };
                 let text = match whole {
                     Some(w) => w.get(a..b),
-                    None => std::str::from_utf8(&self.buf[a..b]).ok(),
+                    None => std::str::from_utf8(&self.lines.bytes()[a..b]).ok(),
                 };
                 parsed[column.index()] = text.and_then(|t| t.parse::<f64>().ok());
             }
@@ -674,7 +646,7 @@ impl<R: BufRead> LogReader<R> {
             ay: unchecked[Column::Ay.index()],
         };
         Ok(Some(LogRecord {
-            line: self.line,
+            line: self.lines.line(),
             t,
             sample,
             theta,
@@ -692,7 +664,7 @@ impl<R: BufRead> LogReader<R> {
         parsed: Option<f64>,
         issues: &mut RowIssues,
     ) -> Result<f64, LogError> {
-        let Some(&(a, b)) = self.fields.get(pos) else {
+        let Some(&(a, b)) = self.lines.ranges().get(pos) else {
             // Absent from a truncated row (already warned about).
             self.summary.missing_cells[column.index()] += 1;
             issues.missing_values = true;
@@ -711,12 +683,12 @@ impl<R: BufRead> LogReader<R> {
             return Ok(f64::NAN);
         }
         let Some(raw) = parsed else {
-            let text = String::from_utf8_lossy(&self.buf[a..b]).into_owned();
+            let text = String::from_utf8_lossy(&self.lines.bytes()[a..b]).into_owned();
             let cell = CellRef {
                 position: pos + 1,
                 header: self.header[pos].clone(),
             };
-            let line = Some(self.line);
+            let line = Some(self.lines.line());
             return Err(self.error(line, Some(cell), LogErrorKind::NotANumber { text }));
         };
         if !raw.is_finite() {
@@ -777,7 +749,7 @@ impl<R: BufRead> LogReader<R> {
         match implausible_step(dt) {
             None => Ok(()),
             Some(msg) => {
-                let line = Some(self.line);
+                let line = Some(self.lines.line());
                 let h = self.header[self.positions[Column::T.index()].unwrap_or(0)].clone();
                 let cell = CellRef {
                     position: self.positions[Column::T.index()].unwrap_or(0) + 1,

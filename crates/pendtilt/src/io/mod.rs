@@ -1,4 +1,5 @@
-//! CSV input and output (MODEL.md section 5): the streaming sensor-log reader and the
+//! CSV input and output (MODEL.md section 5): the streaming sensor-log reader (on the one
+//! CSV line reader, `csv_lines`, which `pendtilt filter` reads through too) and the
 //! streaming estimates writer. The library never prints: warnings are queued for the
 //! caller ([`LogReader::drain_warnings`]) and counted ([`LogReader::summary`]).
 //!
@@ -20,6 +21,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 mod columns;
+pub(crate) mod csv_lines;
 mod diagnostics;
 mod estimates_writer;
 mod log_reader;
