@@ -121,10 +121,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Reads the log, fits, prints the iterations and the result, and returns the fitted rig.
-/// (Long: it is the command's sequence of steps, each a few lines, in order.)
+/// Reads the log, fits, prints the iterations and the result, and returns the fitted rig:
+/// the command's steps, in order.
 fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
-    let mut rig = match &args.params {
+    let rig = match &args.params {
         Some(p) => RigConfig::load(p)?,
         None => RigConfig::default(),
     };
@@ -135,6 +135,80 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     if let Some(b) = args.b {
         start.b = b;
     }
+    let log = read_log(args, &rig)?;
+    let settings = fit_settings(args, &rig, start);
+    let cost = args.cost.resolve(args.target, args.algorithm);
+    anyhow::ensure!(
+        !(args.accel_drive || args.no_accel_drive) || cost == Cost::Output,
+        "--accel-drive and --no-accel-drive apply to the output cost only (this fit runs {})",
+        cost.describe()
+    );
+    let span = fit::plausibility::LogSpan::of(log.stamps.iter().copied());
+    let truth_opt = log.has_theta.then_some(&log.truth[..]);
+    // A slow median step is the usual sign of time in ms: said beside any failure.
+    let hint = match span {
+        Some(s) if s.median_step >= 0.05 => format!(
+            " (the log's median time step is {:.3} s, i.e. {:.2} Hz: if its time column is in \
+             ms, divide it by 1000)",
+            s.median_step,
+            1.0 / s.median_step
+        ),
+        _ => String::new(),
+    };
+    let with_hint = |e: fit::FitError| anyhow::anyhow!("{e}{hint}");
+    let problem = match cost {
+        Cost::Output => None,
+        _ => Some(fit::prepare(&log.samples, truth_opt, &settings).map_err(with_hint)?),
+    };
+    let quiet = args.quiet;
+    if !quiet {
+        print_fit_header(args, problem.as_ref());
+    }
+    let show = |it: &Iteration| {
+        if !quiet {
+            let p: Vec<String> = it.params.iter().map(|v| format!("{v:>13.6e}")).collect();
+            eprintln!(
+                "{:>4} {} {:>12.5e} {:>10.3e} {:>10.3e} {:>5}",
+                it.n,
+                p.join(" "),
+                it.cost,
+                it.gradient_norm,
+                it.step,
+                it.evaluations
+            );
+        }
+    };
+    let report = match &problem {
+        Some(problem) => fit::fit(problem, &settings, show),
+        None => fit::fit_output_log(&log.samples, truth_opt, &settings, show),
+    }
+    .map_err(with_hint)?;
+    if !quiet && report.cost_kind == Cost::Output {
+        eprintln!("{}", accel_note(&report));
+    }
+    let fitted = report.pendulum_params();
+    // alg3's K, L are gains that may take up the differentiator's delay, not a pendulum.
+    let implausible = match (args.algorithm, span) {
+        (Algorithm::Alg3, _) | (_, None) => Vec::new(),
+        (_, Some(span)) => fit::plausibility::check(&fitted, &span),
+    };
+    print_result(&report, &fitted, &implausible);
+    check_result(args, &report, &fitted, &implausible)?;
+    fitted_rig(args, rig, &report, fitted, problem.as_ref())
+}
+
+/// The log's columns as the fit reads them.
+struct FitLog {
+    samples: Vec<pendtilt_core::Sample<f64>>,
+    /// The rows' time stamps \[s\].
+    stamps: Vec<f64>,
+    /// The true angle (NaN where missing, or everywhere without a `theta` column).
+    truth: Vec<f64>,
+    has_theta: bool,
+}
+
+/// Reads the whole log (warnings printed unless `--quiet`).
+fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<FitLog> {
     let options = ReaderOptions {
         map: args.map.clone(),
         degrees: args.deg.unwrap_or_default(),
@@ -163,6 +237,20 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     if !args.quiet {
         eprintln!("read {} samples", samples.len());
     }
+    Ok(FitLog {
+        samples,
+        stamps,
+        truth,
+        has_theta,
+    })
+}
+
+/// The fit's settings from the options and the rig, starting at `start`.
+fn fit_settings(
+    args: &Args,
+    rig: &RigConfig,
+    start: pendtilt_core::PendulumParams<f64>,
+) -> FitSettings {
     let mut settings = FitSettings {
         algorithm: args.algorithm,
         target: args.target,
@@ -190,37 +278,18 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     settings.output.smoothing_hz = args.smoothing_hz;
     settings.output.accel = args.accel_drive;
     settings.output.auto_accel = !args.no_accel_drive;
-    let cost = args.cost.resolve(args.target, args.algorithm);
-    anyhow::ensure!(
-        !(args.accel_drive || args.no_accel_drive) || cost == Cost::Output,
-        "--accel-drive and --no-accel-drive apply to the output cost only (this fit runs {})",
-        cost.describe()
-    );
     settings.output.skip = args.skip.max(settings.output.skip);
-    let span = fit::plausibility::LogSpan::of(stamps.iter().copied());
-    let truth_opt = has_theta.then_some(&truth[..]);
-    // A slow median step is the usual sign of time in ms: said beside any failure.
-    let hint = match span {
-        Some(s) if s.median_step >= 0.05 => format!(
-            " (the log's median time step is {:.3} s, i.e. {:.2} Hz: if its time column is in \
-             ms, divide it by 1000)",
-            s.median_step,
-            1.0 / s.median_step
-        ),
-        _ => String::new(),
-    };
-    let with_hint = |e: fit::FitError| anyhow::anyhow!("{e}{hint}");
-    let problem = match cost {
-        Cost::Output => None,
-        _ => Some(fit::prepare(&samples, truth_opt, &settings).map_err(with_hint)?),
-    };
+    settings
+}
+
+/// What is fitted, on which cost, and the iteration table's header (stderr).
+fn print_fit_header(args: &Args, problem: Option<&fit::Problem>) {
     let unit = match args.target {
         Target::Truth => "rad",
         Target::Gyro => "rad/s",
     };
-    let quiet = args.quiet;
-    if !quiet {
-        match &problem {
+    {
+        match problem {
             Some(problem) => eprintln!(
                 "fitting {} of {:?} by {:?} on {} samples (the paper's inverse cost, Eq {} in \
                  {unit}, differentiator cutoff {:.3} Hz; biased under vibration)",
@@ -260,34 +329,14 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
             "evals"
         );
     }
-    let show = |it: &Iteration| {
-        if !quiet {
-            let p: Vec<String> = it.params.iter().map(|v| format!("{v:>13.6e}")).collect();
-            eprintln!(
-                "{:>4} {} {:>12.5e} {:>10.3e} {:>10.3e} {:>5}",
-                it.n,
-                p.join(" "),
-                it.cost,
-                it.gradient_norm,
-                it.step,
-                it.evaluations
-            );
-        }
-    };
-    let report = match &problem {
-        Some(problem) => fit::fit(problem, &settings, show),
-        None => fit::fit_output_log(&samples, truth_opt, &settings, show),
-    }
-    .map_err(with_hint)?;
-    if !quiet && report.cost_kind == Cost::Output {
-        eprintln!("{}", accel_note(&report));
-    }
-    let fitted = report.pendulum_params();
-    // alg3's K, L are gains that may take up the differentiator's delay, not a pendulum.
-    let implausible = match (args.algorithm, span) {
-        (Algorithm::Alg3, _) | (_, None) => Vec::new(),
-        (_, Some(span)) => fit::plausibility::check(&fitted, &span),
-    };
+}
+
+/// The verdict, the parameters and the pendulum they make (stdout).
+fn print_result(
+    report: &fit::FitReport,
+    fitted: &pendtilt_core::PendulumParams<f64>,
+    implausible: &[fit::plausibility::Implausible],
+) {
     let verdict = if implausible.is_empty() {
         format!("{:?}", report.stop)
     } else {
@@ -313,6 +362,16 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
             fitted.damping_ratio()
         );
     }
+}
+
+/// Refuses a fit outside the physical region, and an implausible one unless
+/// `--accept-implausible` (then it warns).
+fn check_result(
+    args: &Args,
+    report: &fit::FitReport,
+    fitted: &pendtilt_core::PendulumParams<f64>,
+    implausible: &[fit::plausibility::Implausible],
+) -> anyhow::Result<()> {
     anyhow::ensure!(
         fitted.a >= 0.0 && fitted.b > 0.0,
         "the fit left the physical region ({} = {:.4e}, {} = {:.4e}): not written; check the \
@@ -340,12 +399,24 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
             why.join("\n")
         );
     }
+    Ok(())
+}
+
+/// The rig file to write: the fitted pendulum, the differentiator the fit used, alg3's
+/// gains when fitted.
+fn fitted_rig(
+    args: &Args,
+    rig: RigConfig,
+    report: &fit::FitReport,
+    fitted: pendtilt_core::PendulumParams<f64>,
+    problem: Option<&fit::Problem>,
+) -> anyhow::Result<RigConfig> {
     let mut differentiator = rig.differentiator;
-    rig = RigConfig::from_params(fitted)?;
+    let mut rig = RigConfig::from_params(fitted)?;
     // The differentiator the fit used, fixed in Hz as its kinematics were, so that
     // `pendtilt estimate` with this file computes exactly what was fitted.
     // (The output cost uses no differentiator: the rig's own settings are kept.)
-    if let Some(problem) = &problem {
+    if let Some(problem) = problem {
         differentiator.cutoff_hz = Some(problem.cutoff_hz());
         differentiator.cutoff_times_natural = None;
     }

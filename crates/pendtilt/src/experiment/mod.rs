@@ -188,9 +188,97 @@ pub fn reproduce(
     use anyhow::Context;
     let mut timings = Timings::default();
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    let true_params: PendulumParams<f64> = cfg.scooter.physical().normalised();
-
     // 1. calibration ride and fit
+    let calibration = calibration_step(cfg, progress, &mut timings)?;
+    let settings = calibration.bank_settings(cfg.kalman);
+    // 2. the rides, estimated and reported
+    let scooter = ride_report(
+        "scooter",
+        (&cfg.scooter, cfg.scooter_seed),
+        (&settings, &calibration),
+        out,
+        progress,
+        &mut timings,
+    )?
+    .0;
+    let (sigmoid, fig5) = ride_report(
+        "sigmoid",
+        (&cfg.sigmoid, cfg.sigmoid_seed),
+        (&settings, &calibration),
+        out,
+        progress,
+        &mut timings,
+    )?;
+    // 3. claims on the pooled metrics, the top page and claims.json
+    let started = Instant::now();
+    let main_view = claims_view(&scooter);
+    let step_view = claims_view(&sigmoid);
+    let pooled = claims::pool(&main_view.metrics, Some(&step_view.metrics));
+    let info = differentiator_info(&settings);
+    let gains = if calibration.gains_fitted {
+        claims::Alg3Gains::Fitted
+    } else {
+        claims::Alg3Gains::Eq21Equivalent
+    };
+    let mut specs = claims::paper_claims(&pooled, true, &info, gains);
+    specs.push(claims::delay_compensation_claim(&pooled));
+    let claims_table = claims::evaluate(&specs, &pooled);
+    let top = page::TopPage {
+        title: "pendtilt reproduce: the paper's claims on simulated data".into(),
+        intro: intro(cfg, &calibration, &settings, &info, &scooter),
+        links: vec![
+            ("scooter/index.html".into(), "scooter test ride".into()),
+            ("sigmoid/index.html".into(), "sigmoid (Fig. 5)".into()),
+        ],
+        tables: vec![
+            (
+                format!("scooter test ride, {}", main_view.view),
+                main_view.metrics.clone(),
+            ),
+            (
+                format!("sigmoid, {}", step_view.view),
+                step_view.metrics.clone(),
+            ),
+        ],
+        claims: claims_table.clone(),
+        figures: figure_picks(&scooter, &sigmoid),
+        notes: top_notes(fig5.as_deref()),
+    };
+    let (index, markdown) = top.write(out)?;
+    timings.report += started.elapsed();
+    let json = out.join("claims.json");
+    let body = claims_json(
+        &scooter,
+        &claims_table,
+        &pooled,
+        &calibration,
+        &info,
+        &timings,
+    );
+    std::fs::write(&json, serde_json::to_string_pretty(&body)?)
+        .with_context(|| format!("cannot write {}", json.display()))?;
+    Ok(ReproduceOutcome {
+        index,
+        markdown,
+        json,
+        claims: claims_table,
+        claims_view: scooter.data.claims_view.clone(),
+        pooled,
+        calibration,
+        scooter,
+        sigmoid,
+        timings,
+    })
+}
+
+/// Step 1 of [`reproduce`]: simulates the calibration ride and fits on it; with the
+/// engine off, also the same fit with it running, as a note for comparison.
+fn calibration_step(
+    cfg: &ReproduceConfig,
+    progress: &dyn Progress,
+    timings: &mut Timings,
+) -> anyhow::Result<Calibration> {
+    let true_params: PendulumParams<f64> = cfg.scooter.physical().normalised();
     let started = Instant::now();
     let mut cal_scenario = cfg.scooter.clone();
     cal_scenario.duration = cfg.calibration_duration;
@@ -215,117 +303,133 @@ pub fn reproduce(
     drop(cal_ride);
     timings.fit += started.elapsed();
     if !cfg.calibrate_with_engine_running {
-        // The same fit with the engine running, for comparison only.
-        let started = Instant::now();
-        let mut vib = cfg.scooter.clone();
-        vib.duration = cfg.calibration_duration;
-        let ride = simulate_ride(
-            "a calibration ride with the engine running (comparison)",
-            &vib,
-            cfg.calibration_seed,
-            progress,
-        )?;
-        timings.simulate += started.elapsed();
-        let started = Instant::now();
-        let note = match calibrate::fit_ab(&ride, &true_params) {
-            Ok(r) => format!(
-                "For comparison, the same a, b fit on a calibration ride with the engine \
-                 running: {}. Not used (the paper calibrates with the engine off); the default \
-                 output-error cost is not biased by the vibration, where the paper's Eq (23) \
-                 shrinks b (`pendtilt fit --cost inverse`).",
-                calibrate::describe_ab(&r, &true_params)
-            ),
-            Err(e) => {
-                format!("For comparison, the same a, b fit with the engine running failed: {e}.")
-            }
-        };
+        let note = engine_running_comparison(cfg, &true_params, progress, timings)?;
         progress.message(&note);
         calibration.notes.push(note);
-        timings.fit += started.elapsed();
     }
-    let settings = calibration.bank_settings(cfg.kalman);
+    Ok(calibration)
+}
 
-    // 2. the rides, estimated and reported
-    let mut outputs = Vec::new();
-    let mut fig5 = None;
-    for (which, scenario, seed) in [
-        ("scooter", &cfg.scooter, cfg.scooter_seed),
-        ("sigmoid", &cfg.sigmoid, cfg.sigmoid_seed),
-    ] {
-        let started = Instant::now();
-        let label = match which {
-            "scooter" => format!("the scooter test ride (seed {seed})"),
-            _ => format!("the sigmoid of Fig. 5 (seed {seed})"),
-        };
-        let ride = simulate_ride(&label, scenario, seed, progress)?;
-        timings.simulate += started.elapsed();
-        let started = Instant::now();
-        let extras = vec![estimate::alg2_delay_compensated(&settings)];
-        let series = estimate::run_estimators(&ride, &settings, Inputs::ALL, extras, progress)
-            .map_err(anyhow::Error::msg)?;
-        timings.estimate += started.elapsed();
-        let started = Instant::now();
-        progress.stage(&format!("metrics and figures of {label}"), 0);
-        let title = match which {
-            "scooter" => format!("Scooter, engine running ({:.0} s)", ride.duration()),
-            _ => "Sigmoid (the paper's Fig. 5)".to_string(),
-        };
-        let alg1 = series
-            .iter()
-            .find(|(n, _)| n == "alg1")
-            .map(|(_, v)| v.clone());
-        let (mut report, _) =
-            standard::standard_report(&title, ride.t.clone(), ride.theta.clone(), series)?;
-        for n in &calibration.notes {
-            report = report.note(n);
-        }
-        if which == "sigmoid" {
-            report = report.figure_group(FigureGroup {
-                stem: "fig5_alg1_sigmoid".into(),
-                title: "Fig. 5: Algorithm 1 on the sigmoid".into(),
-                names: vec!["pendulum".into(), "alg1".into()],
-                window: Some((1.0, 3.5)),
-            });
-            if let Some(note) = alg1.as_deref().and_then(|a| fig5_note(&ride, a)) {
-                report = report.note(&note);
-                fig5 = Some(note);
-            }
-        }
-        let dir = out.join(which);
-        let written = report
-            .write(&dir)
-            .with_context(|| format!("writing the {which} report into {}", dir.display()))?;
-        timings.report += started.elapsed();
-        outputs.push(written);
-    }
-    let sigmoid = outputs.pop().context("no sigmoid report")?;
-    let scooter = outputs.pop().context("no scooter report")?;
-
-    // 3. claims on the pooled metrics
+/// The a, b fit on a calibration ride with the engine running, as a sentence (for
+/// comparison only: the paper calibrates with the engine off).
+fn engine_running_comparison(
+    cfg: &ReproduceConfig,
+    true_params: &PendulumParams<f64>,
+    progress: &dyn Progress,
+    timings: &mut Timings,
+) -> anyhow::Result<String> {
     let started = Instant::now();
-    let main_view = claims_view(&scooter);
-    let step_view = claims_view(&sigmoid);
-    let pooled = claims::pool(&main_view.metrics, Some(&step_view.metrics));
+    let mut vib = cfg.scooter.clone();
+    vib.duration = cfg.calibration_duration;
+    let ride = simulate_ride(
+        "a calibration ride with the engine running (comparison)",
+        &vib,
+        cfg.calibration_seed,
+        progress,
+    )?;
+    timings.simulate += started.elapsed();
+    let started = Instant::now();
+    let note = match calibrate::fit_ab(&ride, true_params) {
+        Ok(r) => format!(
+            "For comparison, the same a, b fit on a calibration ride with the engine \
+             running: {}. Not used (the paper calibrates with the engine off); the default \
+             output-error cost is not biased by the vibration, where the paper's Eq (23) \
+             shrinks b (`pendtilt fit --cost inverse`).",
+            calibrate::describe_ab(&r, true_params)
+        ),
+        Err(e) => {
+            format!("For comparison, the same a, b fit with the engine running failed: {e}.")
+        }
+    };
+    timings.fit += started.elapsed();
+    Ok(note)
+}
+
+/// Step 2 of [`reproduce`] for one ride (`which`: "scooter" or "sigmoid"): simulates it,
+/// runs the estimators with the calibrated `settings`, and writes its report under
+/// `out/which`. Returns the report and, for the sigmoid, Fig. 5's note.
+fn ride_report(
+    which: &str,
+    (scenario, seed): (&Scenario, u64),
+    (settings, calibration): (&crate::bank::BankSettings, &Calibration),
+    out: &Path,
+    progress: &dyn Progress,
+    timings: &mut Timings,
+) -> anyhow::Result<(ReportOutput, Option<String>)> {
+    use anyhow::Context;
+    let started = Instant::now();
+    let label = match which {
+        "scooter" => format!("the scooter test ride (seed {seed})"),
+        _ => format!("the sigmoid of Fig. 5 (seed {seed})"),
+    };
+    let ride = simulate_ride(&label, scenario, seed, progress)?;
+    timings.simulate += started.elapsed();
+    let started = Instant::now();
+    let extras = vec![estimate::alg2_delay_compensated(settings)];
+    let series = estimate::run_estimators(&ride, settings, Inputs::ALL, extras, progress)
+        .map_err(anyhow::Error::msg)?;
+    timings.estimate += started.elapsed();
+    let started = Instant::now();
+    progress.stage(&format!("metrics and figures of {label}"), 0);
+    let title = match which {
+        "scooter" => format!("Scooter, engine running ({:.0} s)", ride.duration()),
+        _ => "Sigmoid (the paper's Fig. 5)".to_string(),
+    };
+    let alg1 = series
+        .iter()
+        .find(|(n, _)| n == "alg1")
+        .map(|(_, v)| v.clone());
+    let (mut report, _) =
+        standard::standard_report(&title, ride.t.clone(), ride.theta.clone(), series)?;
+    for n in &calibration.notes {
+        report = report.note(n);
+    }
+    let mut fig5 = None;
+    if which == "sigmoid" {
+        report = report.figure_group(FigureGroup {
+            stem: "fig5_alg1_sigmoid".into(),
+            title: "Fig. 5: Algorithm 1 on the sigmoid".into(),
+            names: vec!["pendulum".into(), "alg1".into()],
+            window: Some((1.0, 3.5)),
+        });
+        if let Some(note) = alg1.as_deref().and_then(|a| fig5_note(&ride, a)) {
+            report = report.note(&note);
+            fig5 = Some(note);
+        }
+    }
+    let dir = out.join(which);
+    let written = report
+        .write(&dir)
+        .with_context(|| format!("writing the {which} report into {}", dir.display()))?;
+    timings.report += started.elapsed();
+    Ok((written, fig5))
+}
+
+/// The differentiator's cut-off, DC delay and the pendulum's natural frequency, for the
+/// claims and the intro.
+fn differentiator_info(settings: &crate::bank::BankSettings) -> claims::DifferentiatorInfo {
     let diff = settings.alg2.differentiator;
     let cutoff_hz = diff.cutoff_hz(&settings.params);
-    let info = claims::DifferentiatorInfo {
+    claims::DifferentiatorInfo {
         cutoff_hz,
         delay_ms: diff
             .response
             .dc_delay(2.0 * std::f64::consts::PI * cutoff_hz)
             * 1e3,
         natural_hz: settings.params.natural_frequency_hz(),
-    };
-    let gains = if calibration.gains_fitted {
-        claims::Alg3Gains::Fitted
-    } else {
-        claims::Alg3Gains::Eq21Equivalent
-    };
-    let mut specs = claims::paper_claims(&pooled, true, &info, gains);
-    specs.push(claims::delay_compensation_claim(&pooled));
-    let claims_table = claims::evaluate(&specs, &pooled);
+    }
+}
 
-    let response = match diff.response {
+/// The top page's introduction: what was simulated, how the algorithms ran, and the
+/// calibration's notes.
+fn intro(
+    cfg: &ReproduceConfig,
+    calibration: &Calibration,
+    settings: &crate::bank::BankSettings,
+    info: &claims::DifferentiatorInfo,
+    scooter: &ReportOutput,
+) -> Vec<String> {
+    let response = match settings.alg2.differentiator.response {
         Response::Butterworth => "Butterworth",
         Response::Bessel => "Bessel",
         Response::CriticallyDamped => "critically damped",
@@ -366,6 +470,11 @@ pub fn reproduce(
         ),
     ];
     intro.extend(calibration.notes.iter().cloned());
+    intro
+}
+
+/// The top page's notes (Fig. 5's reading last, when there is one).
+fn top_notes(fig5: Option<&str>) -> Vec<String> {
     let mut notes = vec![
         "Every number on this page comes from this run: the claims table is computed from the \
          metrics tables (never written by hand)."
@@ -374,55 +483,48 @@ pub fn reproduce(
          on the paper's rig."
             .to_string(),
     ];
-    notes.extend(fig5.iter().cloned());
-    let figs: Vec<(&str, &ReportOutput, &str, &str)> = vec![
-        ("scooter", &scooter, "est_pendulum", "Figs 7-8: raw pendulum beside the accelerometer (angle)"),
-        ("scooter", &scooter, "est_pendulum_error", "Figs 7-8: raw pendulum beside the accelerometer (error)"),
-        ("scooter", &scooter, "est_alg1", "Figs 9-10: Algorithm 1 beside the accelerometer (angle)"),
-        ("scooter", &scooter, "est_alg1_error", "Figs 9-10: Algorithm 1 beside the accelerometer (error)"),
-        ("scooter", &scooter, "est_alg2", "Figs 11-12: Algorithm 2 beside the accelerometer (angle)"),
-        ("scooter", &scooter, "est_alg2_error", "Figs 11-12: Algorithm 2 beside the accelerometer (error)"),
-        ("scooter", &scooter, "est_alg3", "Figs 13-14: Algorithm 3 beside the accelerometer (angle)"),
-        ("scooter", &scooter, "est_alg3_error", "Figs 13-14: Algorithm 3 beside the accelerometer (error)"),
-        ("scooter", &scooter, "kalman_accel_vs_pendulum_error", "Kalman filter fed by the accelerometer vs by the pendulum algorithms (error; not in the paper)"),
-        ("sigmoid", &sigmoid, "fig5_alg1_sigmoid", "Fig. 5: Algorithm 1 (and the raw pendulum) on the sigmoid"),
-        ("sigmoid", &sigmoid, "fig5_alg1_sigmoid_error", "Fig. 5: their error, largest where |theta''| is"),
-        ("sigmoid", &sigmoid, "est_alg3_error", "Algorithm 3 on the sigmoid (error): its overshoot"),
-        ("scooter", &scooter, "fig3_kalman_variance", "Fig. 3: Eq (12), the Kalman posterior variance against the measurement variance R"),
+    notes.extend(fig5.map(str::to_string));
+    notes
+}
+
+/// The figures the top page shows, picked from the rides' reports, with captions.
+fn figure_picks<'a>(scooter: &'a ReportOutput, sigmoid: &'a ReportOutput) -> Vec<page::Pick<'a>> {
+    let figs: Vec<(&str, &'a ReportOutput, &str, &str)> = vec![
+        ("scooter", scooter, "est_pendulum", "Figs 7-8: raw pendulum beside the accelerometer (angle)"),
+        ("scooter", scooter, "est_pendulum_error", "Figs 7-8: raw pendulum beside the accelerometer (error)"),
+        ("scooter", scooter, "est_alg1", "Figs 9-10: Algorithm 1 beside the accelerometer (angle)"),
+        ("scooter", scooter, "est_alg1_error", "Figs 9-10: Algorithm 1 beside the accelerometer (error)"),
+        ("scooter", scooter, "est_alg2", "Figs 11-12: Algorithm 2 beside the accelerometer (angle)"),
+        ("scooter", scooter, "est_alg2_error", "Figs 11-12: Algorithm 2 beside the accelerometer (error)"),
+        ("scooter", scooter, "est_alg3", "Figs 13-14: Algorithm 3 beside the accelerometer (angle)"),
+        ("scooter", scooter, "est_alg3_error", "Figs 13-14: Algorithm 3 beside the accelerometer (error)"),
+        ("scooter", scooter, "kalman_accel_vs_pendulum_error", "Kalman filter fed by the accelerometer vs by the pendulum algorithms (error; not in the paper)"),
+        ("sigmoid", sigmoid, "fig5_alg1_sigmoid", "Fig. 5: Algorithm 1 (and the raw pendulum) on the sigmoid"),
+        ("sigmoid", sigmoid, "fig5_alg1_sigmoid_error", "Fig. 5: their error, largest where |theta''| is"),
+        ("sigmoid", sigmoid, "est_alg3_error", "Algorithm 3 on the sigmoid (error): its overshoot"),
+        ("scooter", scooter, "fig3_kalman_variance", "Fig. 3: Eq (12), the Kalman posterior variance against the measurement variance R"),
     ];
-    let top = page::TopPage {
-        title: "pendtilt reproduce: the paper's claims on simulated data".into(),
-        intro,
-        links: vec![
-            ("scooter/index.html".into(), "scooter test ride".into()),
-            ("sigmoid/index.html".into(), "sigmoid (Fig. 5)".into()),
-        ],
-        tables: vec![
-            (
-                format!("scooter test ride, {}", main_view.view),
-                main_view.metrics.clone(),
-            ),
-            (
-                format!("sigmoid, {}", step_view.view),
-                step_view.metrics.clone(),
-            ),
-        ],
-        claims: claims_table.clone(),
-        figures: figs
-            .into_iter()
-            .map(|(dir, output, stem, caption)| page::Pick {
-                dir,
-                output,
-                stem,
-                caption: caption.to_string(),
-            })
-            .collect(),
-        notes,
-    };
-    let (index, markdown) = top.write(out)?;
-    timings.report += started.elapsed();
-    let json = out.join("claims.json");
-    let body = serde_json::json!({
+    figs.into_iter()
+        .map(|(dir, output, stem, caption)| page::Pick {
+            dir,
+            output,
+            stem,
+            caption: caption.to_string(),
+        })
+        .collect()
+}
+
+/// `claims.json`: the claims, the pooled metrics, the calibration, the differentiator and
+/// the wall times.
+fn claims_json(
+    scooter: &ReportOutput,
+    claims_table: &[Claim],
+    pooled: &[Metrics],
+    calibration: &Calibration,
+    info: &claims::DifferentiatorInfo,
+    timings: &Timings,
+) -> serde_json::Value {
+    serde_json::json!({
         "claims_view": scooter.data.claims_view,
         "claims": claims_table,
         "pooled_metrics": pooled,
@@ -443,19 +545,5 @@ pub fn reproduce(
             "estimate": timings.estimate.as_secs_f64(),
             "report": timings.report.as_secs_f64(),
         },
-    });
-    std::fs::write(&json, serde_json::to_string_pretty(&body)?)
-        .with_context(|| format!("cannot write {}", json.display()))?;
-    Ok(ReproduceOutcome {
-        index,
-        markdown,
-        json,
-        claims: claims_table,
-        claims_view: scooter.data.claims_view.clone(),
-        pooled,
-        calibration,
-        scooter,
-        sigmoid,
-        timings,
     })
 }

@@ -381,6 +381,28 @@ impl Report {
         })?;
         let pv = self.view_index(&self.plot_view)?;
         let pv_name = self.view_names()[pv].clone();
+        let (figures, captions) = self.draw_figures(dir, &data, pv)?;
+        let (md_path, json_path) = self.write_markdown_and_json(dir, &data)?;
+        let html = self.write_page(dir, &data, &figures, &captions, &pv_name)?;
+        Ok(ReportOutput {
+            html,
+            markdown: md_path,
+            json: json_path,
+            figures,
+            data,
+        })
+    }
+
+    /// Draws every figure of the plot view `pv` (in degrees) into `dir`: the family
+    /// overview and its errors, each figure group (one per estimator beside the reference
+    /// when asked) with its errors, and Fig. 3. Returns the figures and their captions.
+    fn draw_figures(
+        &self,
+        dir: &Path,
+        data: &ReportData,
+        pv: usize,
+    ) -> Result<(Vec<FigureFiles>, Vec<String>), ReportError> {
+        let pv_name = self.view_names()[pv].clone();
         let (truth, est) = self.view_series(pv)?;
         let f = self.config.input_unit.to_deg_factor();
         let deg = |v: &[f64]| v.iter().map(|x| x * f).collect::<Vec<f64>>();
@@ -431,27 +453,7 @@ impl Report {
                 .to_string(),
         );
 
-        let mut groups = self.groups.clone();
-        if self.per_estimator_figures {
-            for (n, _) in &est_deg {
-                if Some(n) == self.reference.as_ref() {
-                    continue;
-                }
-                let mut names = Vec::new();
-                if let Some(r) = &self.reference {
-                    if find(r).is_some() {
-                        names.push(r.clone());
-                    }
-                }
-                names.push(n.clone());
-                groups.push(FigureGroup {
-                    stem: format!("est_{}", file_safe(n)),
-                    title: format!("{}: {}", self.title, names.join(" and ")),
-                    names,
-                    window: None,
-                });
-            }
-        }
+        let groups = self.figure_groups(&est_deg, &find);
         for g in &groups {
             let (t, truth_w, series) = windowed(&self.t, &truth_deg, &g.names, &find, g.window)?;
             let mut lines: Vec<(&str, &[f64])> = vec![("theta", &truth_w)];
@@ -494,7 +496,46 @@ impl Report {
             ));
         }
 
-        // Markdown and JSON
+        Ok((figures, captions))
+    }
+
+    /// The figure groups to draw: the ones added, then (with per-estimator figures) one
+    /// per estimate beside the reference.
+    fn figure_groups<'a>(
+        &self,
+        est_deg: &[(String, Vec<f64>)],
+        find: &dyn Fn(&str) -> Option<&'a [f64]>,
+    ) -> Vec<FigureGroup> {
+        let mut groups = self.groups.clone();
+        if self.per_estimator_figures {
+            for (n, _) in est_deg {
+                if Some(n) == self.reference.as_ref() {
+                    continue;
+                }
+                let mut names = Vec::new();
+                if let Some(r) = &self.reference {
+                    if find(r).is_some() {
+                        names.push(r.clone());
+                    }
+                }
+                names.push(n.clone());
+                groups.push(FigureGroup {
+                    stem: format!("est_{}", file_safe(n)),
+                    title: format!("{}: {}", self.title, names.join(" and ")),
+                    names,
+                    window: None,
+                });
+            }
+        }
+        groups
+    }
+
+    /// `report.md` and `report.json` in `dir`.
+    fn write_markdown_and_json(
+        &self,
+        dir: &Path,
+        data: &ReportData,
+    ) -> Result<(PathBuf, PathBuf), ReportError> {
         let mut md = format!("# {}\n\n", self.title);
         for p in &self.intro {
             md.push_str(&format!("{p}\n\n"));
@@ -520,9 +561,21 @@ impl Report {
         let md_path = dir.join("report.md");
         write_file(&md_path, md.as_bytes())?;
         let json_path = dir.join("report.json");
-        write_file(&json_path, serde_json::to_string_pretty(&data)?.as_bytes())?;
+        write_file(&json_path, serde_json::to_string_pretty(data)?.as_bytes())?;
 
-        // the page
+        Ok((md_path, json_path))
+    }
+
+    /// `index.html` in `dir`: the intro, metrics tables, claims, `figures` with their
+    /// `captions`, and the notes.
+    fn write_page(
+        &self,
+        dir: &Path,
+        data: &ReportData,
+        figures: &[FigureFiles],
+        captions: &[String],
+        pv_name: &str,
+    ) -> Result<PathBuf, ReportError> {
         let rel = |p: &Path| {
             p.file_name()
                 .map(|s| s.to_string_lossy().into_owned())
@@ -568,7 +621,7 @@ impl Report {
             claims: data.claims.clone(),
             figures: figures
                 .iter()
-                .zip(&captions)
+                .zip(captions)
                 .map(|(f, c)| FigureRef {
                     caption: c.clone(),
                     png: rel(&f.png),
@@ -577,14 +630,7 @@ impl Report {
                 .collect(),
             notes,
         };
-        let html = page.write(dir, "index.html", &self.palette)?;
-        Ok(ReportOutput {
-            html,
-            markdown: md_path,
-            json: json_path,
-            figures,
-            data,
-        })
+        page.write(dir, "index.html", &self.palette)
     }
 }
 
