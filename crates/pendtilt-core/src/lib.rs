@@ -50,7 +50,7 @@ pub mod estimators;
 pub mod filters;
 mod flags;
 pub mod kalman;
-pub mod linalg;
+pub(crate) mod linalg;
 pub mod params;
 pub mod prelude;
 mod real;
@@ -60,6 +60,6 @@ pub mod supervision;
 
 pub use flags::{FlagNames, Flags};
 pub use params::{PendulumParams, PhysicalParams};
-pub use real::{lit, Real};
+pub use real::Real;
 pub use sample::{Estimate, Estimator, Output, PlanarEstimator, Sample};
 pub use step::{Micros, StepClock, StepGate};

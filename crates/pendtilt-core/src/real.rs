@@ -50,9 +50,3 @@ impl Real for f32 {
 pub(crate) fn is_positive<T: Real>(x: T) -> bool {
     x > T::zero()
 }
-
-/// Shorthand for [`Real::lit`].
-#[inline(always)]
-pub fn lit<T: Real>(x: f64) -> T {
-    T::lit(x)
-}

@@ -1,6 +1,6 @@
 //! The streaming estimator around a [`GaussianFilter`] of the engine: time steps,
 //! start-up, missing samples, restarts, and the loop over the sensors
-//! ([`super::sensor`]) with their innovation gates. [`super::Ekf`] and [`super::Ukf`] are
+//! (`super::sensor`) with their innovation gates. [`super::Ekf`] and [`super::Ukf`] are
 //! this over the EKF and the UKF.
 use super::measurement::{Accelerometer, Encoder, Gyro};
 use super::model::{Cov, PendulumProcess, State, ALPHA, BIAS, DPHI, N, OMEGA, PHI, THETA};
@@ -25,7 +25,7 @@ const MAX_SUBSTEPS: usize = 10_000;
 /// an outlier is skipped and the sample flagged [`Flags::MEASUREMENT_SKIPPED`]. After
 /// [`ModelSettings::reacquire_after`] consecutive rejections of one measurement the
 /// filter re-acquires it: for an innovation `y` it adds `v v^T` to the covariance with
-/// the sensor's directions ([`Sensor::inflation`]):
+/// the sensor's directions (`Sensor::inflation`):
 /// - encoder: `v = y` on theta and on phi together, a tilt step that leaves the pendulum
 ///   where it hangs (an encoder re-zero reads exactly so; inflating phi and phi' apart,
 ///   a pendulum swing, sent the nonlinear model spinning after a 2.5 rad step),

@@ -6,9 +6,9 @@
 //! - [`model`]: the process model, MODEL.md section 2 with the pivot offset l12; state
 //!   `[theta, theta', theta'', phi, phi', gyro bias]`, theta'' a random walk, analytic
 //!   Jacobian with its zero pattern exploited, exact process-noise integrals.
-//! - [`measurement`]: the encoder (phi), the gyro (theta' + bias) and the optional
+//! - `measurement`: the encoder (phi), the gyro (theta' + bias) and the optional
 //!   accelerometer (specific force at a point of the body) with its own noise.
-//! - [`sensor`]: what the estimator does around each measurement (where its reading is in
+//! - `sensor`: what the estimator does around each measurement (where its reading is in
 //!   a sample, its gate, how it is re-acquired), so that the estimator applies them all
 //!   by one loop: a new sensor is a new measurement type and one line there.
 //! - [`settings`]: settings and their defaults derived from the rig parameters and the
@@ -49,9 +49,9 @@
 //! kf_alg2, at most a fifth of the best peer, lag no worse than alg2's). Per-sample cost:
 //! `cargo bench -p pendtilt --bench peers` (EKF beside Madgwick from `ahrs`).
 pub mod estimator;
-pub mod measurement;
+pub(crate) mod measurement;
 pub mod model;
-pub mod sensor;
+pub(crate) mod sensor;
 pub mod settings;
 
 pub use estimator::ModelBased;

@@ -189,7 +189,7 @@ impl<T: Real> ProcessModel<T, N> for PendulumProcess<T> {
         q
     }
 
-    /// The structured product ([`propagate`]).
+    /// The structured product (`propagate`).
     #[inline]
     fn propagate(&self, f: &Cov<T>, p: &Cov<T>) -> Cov<T> {
         propagate(f, p)
@@ -202,7 +202,7 @@ impl<T: Real> ProcessModel<T, N> for PendulumProcess<T> {
 /// itself. The upper triangle is mirrored, so the result is exactly symmetric. About 40 %
 /// of the dense products' multiplications.
 #[inline]
-pub fn propagate<T: Real>(f: &Cov<T>, p: &Cov<T>) -> Cov<T> {
+pub(crate) fn propagate<T: Real>(f: &Cov<T>, p: &Cov<T>) -> Cov<T> {
     let mut fa = [[T::zero(); N]; N];
     let mut pa = [[T::zero(); N]; N];
     for i in 0..N {

@@ -1,7 +1,7 @@
 //! The extended Kalman filter: the state goes through the nonlinear process model, the
 //! covariance through its Jacobian; measurements are applied one scalar axis at a time,
 //! each linearised at the current estimate, `P - v v^T / s` kept exactly symmetric
-//! ([`super::update::scalar_update`]). With a linear model it is the ordinary Kalman
+//! (`super::update::scalar_update`). With a linear model it is the ordinary Kalman
 //! filter (the paper's Eqs 2-8).
 use super::filter::GaussianFilter;
 use super::gate::{Gate, Rejected};

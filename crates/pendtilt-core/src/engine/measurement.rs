@@ -31,7 +31,7 @@ pub trait Measurement<T: Real, S, const N: usize, const M: usize> {
 
 /// Row `axis` of a measurement's Jacobian as an error vector.
 #[inline]
-pub fn row<T: Real, S, const N: usize, const M: usize, Z: Measurement<T, S, N, M>>(
+pub(crate) fn row<T: Real, S, const N: usize, const M: usize, Z: Measurement<T, S, N, M>>(
     m: &Z,
     x: &S,
     axis: usize,

@@ -12,7 +12,7 @@
 //!   (diagonal) noise `R`, for scalar and small-vector readings.
 //! - [`gate`]: the innovation gate ([`Gate`]) and why an update was not applied
 //!   ([`Rejected`]).
-//! - [`update`]: the scalar measurement update in symmetric rank-one form, shared by both
+//! - `update`: the scalar measurement update in symmetric rank-one form, shared by both
 //!   filters.
 //! - [`filter`]: the [`GaussianFilter`] interface; [`extended`] ([`ExtendedKalman`]) and
 //!   [`unscented`] ([`UnscentedKalman`]) implement it.
@@ -28,7 +28,7 @@ pub mod measurement;
 pub mod process;
 pub mod state;
 pub mod unscented;
-pub mod update;
+pub(crate) mod update;
 
 pub use extended::ExtendedKalman;
 pub use filter::GaussianFilter;

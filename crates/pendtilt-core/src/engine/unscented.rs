@@ -4,7 +4,7 @@
 //! transform with alpha = 1, kappa = 0, beta = 0: all weights positive, so the propagated
 //! covariance is a sum of positive terms). A linear measurement
 //! ([`Measurement::LINEAR`]), where the unscented transform is exactly the Kalman update,
-//! uses [`super::update::scalar_update`] as the EKF does.
+//! uses `super::update::scalar_update` as the EKF does.
 use super::filter::GaussianFilter;
 use super::gate::{Gate, Rejected};
 use super::measurement::Measurement;

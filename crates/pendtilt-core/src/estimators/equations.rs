@@ -16,7 +16,7 @@ pub struct Inversion<T> {
 
 /// `asin(x)` with `x` clamped to [-1, 1]; the flag tells whether it was.
 #[inline]
-pub fn clamped_asin<T: Real>(x: T) -> (T, bool) {
+pub(crate) fn clamped_asin<T: Real>(x: T) -> (T, bool) {
     let one = T::one();
     if x > one {
         (T::frac_pi_2(), true)
@@ -126,7 +126,7 @@ pub fn alg3<T: Real>(g: &Alg3Gains<T>, phi: T, dphi: T, ddphi: T, gd: T, gk: T) 
 /// (the paper writes the denominator `w dt`; the time difference is the same for uniform
 /// sampling and stays right under jitter). Returns 0 when the times coincide.
 #[inline]
-pub fn windowed_rate<T: Real>(g_now: T, t_now: T, g_old: T, t_old: T) -> T {
+pub(crate) fn windowed_rate<T: Real>(g_now: T, t_now: T, g_old: T, t_old: T) -> T {
     let span = t_now - t_old;
     if span > T::zero() {
         (g_now - g_old) / span

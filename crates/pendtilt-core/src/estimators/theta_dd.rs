@@ -39,7 +39,7 @@ pub const DEFAULT_WINDOW_CAPACITY: usize = 256;
 /// signal of the `Inverter`'s two-signal differentiator, handed in on
 /// each update. The window source keeps the gyro history.
 #[derive(Debug, Clone)]
-pub struct ThetaDd<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
+pub(crate) struct ThetaDd<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
     source: ThetaDdSource<T>,
     // Eq (22) history ring: times (on `now`'s clock) and gyro values.
     times: [T; W],

@@ -27,7 +27,7 @@
 //! The filter is `H(s) = c0 / (s'^4 + c3 s'^3 + c2 s'^2 + c1 s' + c0)`, `s' = s / w_c`, in
 //! companion form with states scaled by powers of `w_c` (well conditioned at any cutoff),
 //! discretised exactly at each sample's actual time step with a first-order hold on the
-//! input ([`crate::linalg`]); the matrices are recomputed only when the step changes.
+//! input (`crate::linalg`); the matrices are recomputed only when the step changes.
 use crate::linalg::{discretise, first_order_hold_inputs};
 use crate::{PendulumParams, Real};
 use nalgebra::{Matrix4, RowSVector, SMatrix, Vector4};

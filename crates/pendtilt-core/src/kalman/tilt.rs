@@ -3,7 +3,7 @@
 //! `[z_0, 0]` on the first sample with a measurement; at each later sample
 //! `dt = t_k - t_{k-1}`, predict with the current gyro `u_k`, then update with each
 //! measurement `z_k` in turn, each with its own R, through the engine's Kalman filter
-//! (scalar updates in symmetric form, [`crate::engine::update::scalar_update`]).
+//! (scalar updates in symmetric form, `crate::engine::update::scalar_update`).
 use super::measurement::AngleMeasurement;
 use super::process::AngleBias;
 use super::KalmanFilter;

@@ -108,7 +108,7 @@ pub fn check_settings<T: Real>(s: &NewtonSettings<T>) -> Result<(), NewtonError>
 /// resolution, so from cost values it is rounding noise. See
 /// [`super::supervised`] for the one that does.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CostDifferences<T: Real, const N: usize> {
+pub(crate) struct CostDifferences<T: Real, const N: usize> {
     /// `F(P + dP_j) - F(P)`.
     pub first: SVector<T, N>,
     /// The second differences (symmetric; only entries of active pairs are read).
@@ -197,7 +197,7 @@ pub fn newton_iteration<T: Real, const N: usize>(
 /// halvings. `change(q)` returns `(F(q) - F(p), F(q))`; a step is taken when the change is
 /// negative (a caller that computes the change directly decides on its sign without the
 /// cancellation of comparing two nearly equal costs).
-pub fn newton_step<T: Real, const N: usize>(
+pub(crate) fn newton_step<T: Real, const N: usize>(
     d: &CostDifferences<T, N>,
     change: &mut impl FnMut(&SVector<T, N>) -> (T, T),
     p: &SVector<T, N>,
