@@ -23,7 +23,7 @@
 //! - An empty cell or `NaN` in a filtered column is a missing sample: it makes the next
 //!   order + 1 outputs of that column `NaN`, then the filter recovers. Any other cell that
 //!   is not a number is an error naming the file, line and column.
-//! - The file is read by the log reader's line reader ([`crate::io::csv_lines`]): blank
+//! - The file is read by the log reader's line reader (`io::csv_lines`): blank
 //!   lines and `#` comment lines are skipped but counted in line numbers, whitespace
 //!   around a field is trimmed, a quoted field may not span lines.
 //! - Streaming: the file is read twice (once to check the time column and the cells and
