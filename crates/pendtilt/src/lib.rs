@@ -15,4 +15,5 @@ pub mod peers;
 pub mod pipeline;
 pub mod report;
 pub mod sim;
+pub mod sim3d;
 pub mod units;
