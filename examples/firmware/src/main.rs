@@ -17,14 +17,10 @@
 use core::panic::PanicInfo;
 use core::ptr::{addr_of, addr_of_mut, read_volatile, write_volatile};
 
-use pendtilt_core::estimators::accel::{Accel, AccelSettings};
-use pendtilt_core::estimators::alg1::{Alg1, Alg1Settings};
-use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
-use pendtilt_core::estimators::alg3::{Alg3, Alg3Settings};
-use pendtilt_core::estimators::pendulum::{Pendulum, PendulumSettings};
 use pendtilt_core::kalman::tilt::UNUSABLE;
-use pendtilt_core::kalman::{KalmanSettings, TiltKalman};
-use pendtilt_core::{Estimate, Estimator, Micros, PendulumParams, Sample, StepGate};
+// The estimators, their settings, Sample, Estimate, StepGate, Micros (the last rung of the
+// core's examples ladder: crates/pendtilt-core/examples).
+use pendtilt_core::prelude::*;
 
 /// Eq (22) window capacity in samples (if the window source is chosen): 32, not the
 /// library's 256, to keep RAM small.
