@@ -419,6 +419,8 @@ impl std::fmt::Debug for Bank {
 impl Bank {
     /// Every registry entry whose inputs are in `inputs` (and, if `only` is given, whose
     /// name is in it). Errors on a name in `only` that the registry does not know.
+    /// (Long, kept whole: one pass over the registry in which each entry's slot depends on
+    /// the slots built before it: a shared front end, a Kalman filter's sources.)
     pub fn new(
         settings: &BankSettings,
         inputs: Inputs,

@@ -124,6 +124,9 @@ pub fn levenberg_marquardt(
 /// The Levenberg-Marquardt loop (Marquardt's diagonal scaling) on any [`LeastSquares`]
 /// cost from `p0`, moving the `active` parameters; `on_iteration` logs each accepted step
 /// and the last try of a stop on no descent.
+///
+/// (Long, kept whole: one loop whose state, lambda, the linearisation and the counts,
+/// every branch updates; split, the pieces would hand all of it back and forth.)
 pub fn minimise<const N: usize, P: LeastSquares<N>>(
     problem: &P,
     p0: &SVector<f64, N>,

@@ -388,7 +388,42 @@ impl<R: BufRead> LogReader<R> {
         })
     }
 
+    /// Reads the header line and resolves the contract columns: the names, then which
+    /// field feeds each column, then the duplicate check, then the scales.
     fn read_header(&mut self) -> Result<(), LogError> {
+        self.read_names()?;
+        let listing = self.header.join(", ");
+        let statuses = self.resolve_columns(&listing)?;
+        if statuses[Column::T.index()].position.is_none() {
+            return Err(self.missing_time(&statuses, listing));
+        }
+        let used: Vec<usize> = statuses.iter().filter_map(|s| s.position).collect();
+        self.check_duplicates(&used)?;
+        if let Some(u) = self.options.time_unit {
+            self.scale[Column::T.index()] = u.seconds();
+        }
+        for s in &statuses {
+            self.positions[s.column.index()] = s.position;
+            if s.degrees {
+                self.scale[s.column.index()] = std::f64::consts::PI / 180.0;
+            }
+        }
+        self.report = ColumnReport {
+            ignored: self
+                .header
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| !used.contains(i))
+                .map(|(_, h)| h.clone())
+                .collect(),
+            columns: statuses,
+        };
+        Ok(())
+    }
+
+    /// Reads the header line into `self.header` (an error for an empty file, UTF-16 or
+    /// invalid UTF-8).
+    fn read_names(&mut self) -> Result<(), LogError> {
         if !self.next_line()? {
             return Err(self.error(None, None, LogErrorKind::Empty));
         }
@@ -414,10 +449,13 @@ impl<R: BufRead> LogReader<R> {
             });
         }
         self.header = header;
-        let listing = self.header.join(", ");
+        Ok(())
+    }
 
-        // Which header name feeds each contract column: the mapped one, else its own name
-        // unless that header column is mapped onto another contract column.
+    /// Which header field feeds each contract column (in [`Column::ALL`] order): the
+    /// mapped one, else its own name unless that header column is mapped onto another
+    /// contract column. An error for a `--map` source not in the header (`listing`).
+    fn resolve_columns(&mut self, listing: &str) -> Result<Vec<ColumnStatus>, LogError> {
         let mapped_sources: Vec<&str> = Column::ALL
             .into_iter()
             .filter_map(|c| self.options.map.source(c))
@@ -440,7 +478,7 @@ impl<R: BufRead> LogReader<R> {
                     LogErrorKind::MappedSourceMissing {
                         column,
                         source_name: source.unwrap_or_default(),
-                        header: listing,
+                        header: listing.to_string(),
                     },
                 ));
             }
@@ -463,32 +501,36 @@ impl<R: BufRead> LogReader<R> {
             });
         }
 
-        if statuses[Column::T.index()].position.is_none() {
-            let hint = if let Some(s) = &statuses[Column::T.index()].suggestion {
-                format!("; did you mean `{s}`? (--map t={s})")
-            } else if self.header.iter().all(|h| h.parse::<f64>().is_ok()) {
-                "; the first line looks like data: the log needs a header row \
-                 (t,phi,gyro,ax,ay,theta)"
-                    .to_string()
-            } else if self.header.len() == 1 && (listing.contains(';') || listing.contains('\t')) {
-                "; the header is a single field: are the fields separated by `;` or tabs?"
-                    .to_string()
-            } else {
-                "; name the time column with --map t=NAME".to_string()
-            };
-            let line = Some(self.lines.line());
-            return Err(self.error(
-                line,
-                None,
-                LogErrorKind::MissingTime {
-                    header: listing,
-                    hint,
-                },
-            ));
-        }
+        Ok(statuses)
+    }
 
-        // Duplicates: an error when the name feeds a contract column, else a warning.
-        let used: Vec<usize> = statuses.iter().filter_map(|s| s.position).collect();
+    /// The error for a header without a time column, with a hint at the likely cause.
+    fn missing_time(&mut self, statuses: &[ColumnStatus], listing: String) -> LogError {
+        let hint = if let Some(s) = &statuses[Column::T.index()].suggestion {
+            format!("; did you mean `{s}`? (--map t={s})")
+        } else if self.header.iter().all(|h| h.parse::<f64>().is_ok()) {
+            "; the first line looks like data: the log needs a header row \
+             (t,phi,gyro,ax,ay,theta)"
+                .to_string()
+        } else if self.header.len() == 1 && (listing.contains(';') || listing.contains('\t')) {
+            "; the header is a single field: are the fields separated by `;` or tabs?".to_string()
+        } else {
+            "; name the time column with --map t=NAME".to_string()
+        };
+        let line = Some(self.lines.line());
+        self.error(
+            line,
+            None,
+            LogErrorKind::MissingTime {
+                header: listing,
+                hint,
+            },
+        )
+    }
+
+    /// Duplicate header names: an error when the name feeds a contract column (its field
+    /// in `used`), else a warning.
+    fn check_duplicates(&mut self, used: &[usize]) -> Result<(), LogError> {
         for i in 0..self.header.len() {
             let name = &self.header[i];
             if name.is_empty() {
@@ -524,26 +566,6 @@ impl<R: BufRead> LogReader<R> {
                 ),
             );
         }
-
-        if let Some(u) = self.options.time_unit {
-            self.scale[Column::T.index()] = u.seconds();
-        }
-        for s in &statuses {
-            self.positions[s.column.index()] = s.position;
-            if s.degrees {
-                self.scale[s.column.index()] = std::f64::consts::PI / 180.0;
-            }
-        }
-        self.report = ColumnReport {
-            ignored: self
-                .header
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| !used.contains(i))
-                .map(|(_, h)| h.clone())
-                .collect(),
-            columns: statuses,
-        };
         Ok(())
     }
 

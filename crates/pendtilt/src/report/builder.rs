@@ -396,6 +396,7 @@ impl Report {
     /// Draws every figure of the plot view `pv` (in degrees) into `dir`: the family
     /// overview and its errors, each figure group (one per estimator beside the reference
     /// when asked) with its errors, and Fig. 3. Returns the figures and their captions.
+    /// (Long, kept whole: the figures in page order, each a plot call and its caption.)
     fn draw_figures(
         &self,
         dir: &Path,
