@@ -14,7 +14,7 @@ use pendtilt::core::estimators::complementary::{Complementary, ComplementarySett
 use pendtilt::core::estimators::pendulum::{Pendulum, PendulumSettings};
 use pendtilt::core::kalman::tilt::KalmanOn;
 use pendtilt::core::kalman::KalmanSettings;
-use pendtilt::core::supervision::supervised::{SupervisedAlg3, SupervisedAlg3Settings};
+use pendtilt::core::supervision::{SupervisedAlg3, SupervisedAlg3Settings};
 use pendtilt::core::{PendulumParams, PlanarEstimator, Real, Sample, StepGate};
 use pendtilt::sim::{simulate, Scenario};
 

@@ -19,7 +19,7 @@ use pendtilt::core::estimators::pendulum::{Pendulum, PendulumSettings};
 use pendtilt::core::estimators::theta_dd::ThetaDdSource;
 use pendtilt::core::kalman::tilt::KalmanOn;
 use pendtilt::core::kalman::KalmanSettings;
-use pendtilt::core::supervision::supervised::{SupervisedAlg3, SupervisedAlg3Settings};
+use pendtilt::core::supervision::{SupervisedAlg3, SupervisedAlg3Settings};
 use pendtilt::core::{PendulumParams, PlanarEstimator, Real, Sample};
 use proptest::prelude::*;
 

@@ -11,49 +11,26 @@
 //! - [`rls`]: recursive least squares with forgetting (beyond the paper), the cheap
 //!   alternative: the asin argument is linear in K, L, M.
 //! - [`supervised`]: [`SupervisedAlg3`], Algorithm 3 whose K, L, M, N are supervised live
-//!   by either method, with fixed-capacity buffers and no allocation.
+//!   by either method, with fixed-capacity buffers and no allocation; its settings in
+//!   [`settings`].
+//! - Private to the supervisor: `ring` (the window of Eq (29) terms and the passes Newton
+//!   takes over it), `asin` (changes of asin without cancellation), `objective` (what
+//!   Newton minimises, [`Objective`], and its differences).
 //!
 //! Why this is cheap enough to run live: for a fixed differentiator, the per-sample
 //! kinematics (phi, phi', phi'', G_d, G_k) do not depend on K, L, M, N. They are computed
 //! once per sample by the running estimator and kept in a ring buffer; each evaluation
 //! of the cost for new gains is then one pass of Eq (30) over the buffer.
+mod asin;
 pub mod newton;
+mod objective;
+mod ring;
 pub mod rls;
+pub mod settings;
 pub mod supervised;
 
 pub use newton::{NewtonError, NewtonIteration, NewtonSettings};
+pub use objective::Objective;
 pub use rls::{Rls, RlsSettings};
-pub use supervised::{
-    Method, SettingsError, SupervisedAlg3, SupervisedAlg3Settings, SupervisedEstimate,
-    SupervisionFlags, SupervisorSettings,
-};
-
-/// What Newton's method minimises: the paper's RMS (Eqs 23 and 29) or its square.
-///
-/// Both have the same minimiser. The RMS is the paper's; far from its minimum it is
-/// nearly a cone, where Newton's step overshoots and must be halved (see [`newton`]). The
-/// mean square is close to a quadratic in the parameters (the asin argument is linear in
-/// them), so Newton converges on it in very few iterations.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Objective {
-    /// `sqrt(mean(r^2))`, Eqs (23), (29) as printed (default).
-    #[default]
-    Rms,
-    /// `mean(r^2)`.
-    MeanSquare,
-}
-
-impl Objective {
-    /// The objective from a sum of squared residuals over `n` samples (NaN when `n` = 0).
-    #[inline]
-    pub fn from_sum<T: crate::Real>(self, sum_sq: T, n: usize) -> T {
-        if n == 0 {
-            return T::nan();
-        }
-        let ms = sum_sq / T::lit(n as f64);
-        match self {
-            Objective::Rms => ms.sqrt(),
-            Objective::MeanSquare => ms,
-        }
-    }
-}
+pub use settings::{Method, SettingsError, SupervisedAlg3Settings, SupervisorSettings};
+pub use supervised::{SupervisedAlg3, SupervisedEstimate, SupervisionFlags};
