@@ -599,27 +599,9 @@ pub fn fit_output_log(
     let p0 = settings.start_vector()?;
     let problem = output::OutputProblem::new(samples, truth, &settings.output)?;
     let started = Instant::now();
-    // Identifiability: as `sensitivity`, on the output error's Jacobian.
-    let (jtj, _, sum0) = problem.normal_equations(p0[0], p0[1]);
-    let n = problem.len() as f64;
-    let d = nalgebra::Matrix2::new(p0[0], 0.0, 0.0, p0[1]);
-    let eig = (d * jtj * d / n).symmetric_eigen();
-    let k = if eig.eigenvalues[0] <= eig.eigenvalues[1] {
-        0
-    } else {
-        1
-    };
-    let sens = eig.eigenvalues[k].max(0.0).sqrt();
     let threshold = settings.threshold(Cost::Output);
-    if sens.is_nan() || sens < threshold {
-        let v = eig.eigenvectors.column(k);
-        return Err(FitError::Unidentifiable {
-            sensitivity: sens,
-            threshold,
-            unit: "rad",
-            direction: format!("a {:+.2}, b {:+.2}", v[0], v[1]),
-        });
-    }
+    let (sens, sum0) = output_identifiability(&problem, &p0, threshold)?;
+    let n = problem.len() as f64;
     let start_cost = (sum0 / n).sqrt();
     if !start_cost.is_finite() {
         return Err(FitError::NonFiniteCost);
@@ -694,6 +676,36 @@ pub fn fit_output_log(
         cutoff_hz: settings.output.smoothing_hz,
         elapsed,
     })
+}
+
+/// Identifiability of the output-error fit, as [`sensitivity`] on the output error's
+/// Jacobian at `p0`: the sensitivity and the sum of squares there, or
+/// [`FitError::Unidentifiable`] below `threshold`.
+fn output_identifiability(
+    problem: &output::OutputProblem,
+    p0: &Vector4<f64>,
+    threshold: f64,
+) -> Result<(f64, f64), FitError> {
+    let (jtj, _, sum0) = problem.normal_equations(p0[0], p0[1]);
+    let n = problem.len() as f64;
+    let d = nalgebra::Matrix2::new(p0[0], 0.0, 0.0, p0[1]);
+    let eig = (d * jtj * d / n).symmetric_eigen();
+    let k = if eig.eigenvalues[0] <= eig.eigenvalues[1] {
+        0
+    } else {
+        1
+    };
+    let sens = eig.eigenvalues[k].max(0.0).sqrt();
+    if sens.is_nan() || sens < threshold {
+        let v = eig.eigenvectors.column(k);
+        return Err(FitError::Unidentifiable {
+            sensitivity: sens,
+            threshold,
+            unit: "rad",
+            direction: format!("a {:+.2}, b {:+.2}", v[0], v[1]),
+        });
+    }
+    Ok((sens, sum0))
 }
 
 /// Solves `(A + shift) x = b` on the active block with Cholesky (inactive: x = 0).
