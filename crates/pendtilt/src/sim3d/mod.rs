@@ -8,6 +8,7 @@
 //! - [`motion`]: prescribed roll, pitch, yaw and P1 acceleration with analytic derivatives
 //!   (7.1, 7.7).
 //! - [`simulator`]: RK4 on u = (a + roll, b + pitch), starting hanging still (7.3).
+//! - [`sensors`]: encoders, 3-axis gyro and accelerometer (7.5); the log row of 7.6.
 //!
 //! ```
 //! use pendtilt::sim3d::{motion::SineMotion, Pendulum3d, Simulator3d};
@@ -24,9 +25,11 @@
 pub mod dynamics;
 pub mod motion;
 pub mod params;
+pub mod sensors;
 pub mod simulator;
 
 pub use dynamics::{specific_force_at, JointState};
 pub use motion::{BodyKinematics, BodyMotion, SineMotion};
 pub use params::{Normalised3d, Pendulum3d};
+pub use sensors::{LogRow3d, SensorBank3d, Sensors3d};
 pub use simulator::{Simulator3d, Truth3d};

@@ -1,0 +1,293 @@
+//! The 3-axis sensor models of MODEL.md 7.5 and the log row of 7.6 (without `speed`, which
+//! needs the vehicle motion of 7.7, not built yet).
+//!
+//! White-noise density d gives a per-sample sigma d sqrt(rate); random-walk density q gives
+//! steps of sigma q sqrt(dt). Each noise source draws from its own ChaCha8 stream of the
+//! seed, so a shorter run is the start of a longer one and switching one source off leaves
+//! the others unchanged.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
+use std::f64::consts::TAU;
+
+use super::dynamics::specific_force_at;
+use super::simulator::Truth3d;
+
+/// Sensor settings (MODEL.md 7.5), SI units. [`Default`] is ideal: no noise, no bias, no
+/// quantisation, accelerometer at P1.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Sensors3d {
+    /// Encoder resolution: 2^bits steps per turn; 0 = none.
+    pub encoder_bits: u32,
+    /// Encoder white noise, per sample \[rad\], added before rounding.
+    pub encoder_noise: f64,
+    /// Gyro white-noise density \[rad/s/sqrt(Hz)\].
+    pub gyro_noise_density: f64,
+    /// Gyro constant bias, body axes \[rad/s\].
+    pub gyro_bias: [f64; 3],
+    /// Gyro bias random-walk density \[rad/s/sqrt(s)\].
+    pub gyro_bias_walk: f64,
+    /// Accelerometer white-noise density \[m/s^2/sqrt(Hz)\].
+    pub accel_noise_density: f64,
+    /// Accelerometer constant bias, body axes \[m/s^2\].
+    pub accel_bias: [f64; 3],
+    /// Accelerometer position - P1, body axes \[m\] (`[mounting] accel_at`, 7.6).
+    pub accel_at: [f64; 3],
+}
+
+/// One row of the 3-D sensor log (MODEL.md 7.6, columns [`LogRow3d::COLUMNS`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LogRow3d {
+    /// t \[s\].
+    pub t: f64,
+    /// Encoders (phi_x, phi_y) = (-a, -b) with noise and rounding \[rad\].
+    pub phi: [f64; 2],
+    /// Gyro, body axes \[rad/s\].
+    pub gyro: [f64; 3],
+    /// Accelerometer, body axes \[m/s^2\].
+    pub accel: [f64; 3],
+    /// True ZYX roll \[rad\].
+    pub roll: f64,
+    /// True ZYX pitch \[rad\].
+    pub pitch: f64,
+}
+
+impl LogRow3d {
+    /// The CSV header of MODEL.md 7.6 (the optional `speed` left out).
+    pub const COLUMNS: [&'static str; 11] = [
+        "t", "phi_x", "phi_y", "gyro_x", "gyro_y", "gyro_z", "ax", "ay", "az", "roll", "pitch",
+    ];
+
+    /// The values in [`LogRow3d::COLUMNS`] order.
+    pub fn values(&self) -> [f64; 11] {
+        [
+            self.t,
+            self.phi[0],
+            self.phi[1],
+            self.gyro[0],
+            self.gyro[1],
+            self.gyro[2],
+            self.accel[0],
+            self.accel[1],
+            self.accel[2],
+            self.roll,
+            self.pitch,
+        ]
+    }
+}
+
+/// Random stream numbers, one per noise source.
+mod stream {
+    pub const ENCODER: u64 = 11;
+    pub const GYRO: u64 = 12;
+    pub const GYRO_WALK: u64 = 13;
+    pub const ACCEL: u64 = 14;
+}
+
+/// The sensors of one run: settings, their random streams and the gyro's walking bias.
+#[derive(Debug, Clone)]
+pub struct SensorBank3d {
+    s: Sensors3d,
+    /// Per-sample white-noise sigmas: gyro, accelerometer.
+    sigma: [f64; 2],
+    /// Random-walk step sigma.
+    walk_step: f64,
+    walk: [f64; 3],
+    rng: [ChaCha8Rng; 4],
+}
+
+fn rng(seed: u64, stream: u64) -> ChaCha8Rng {
+    let mut r = ChaCha8Rng::seed_from_u64(seed);
+    r.set_stream(stream);
+    r
+}
+
+fn gauss(r: &mut ChaCha8Rng) -> f64 {
+    r.sample(StandardNormal)
+}
+
+impl SensorBank3d {
+    /// Sensors `s` sampled at `rate` Hz, noise drawn from `seed`.
+    pub fn new(s: Sensors3d, rate: f64, seed: u64) -> Self {
+        Self {
+            s,
+            sigma: [
+                s.gyro_noise_density * rate.sqrt(),
+                s.accel_noise_density * rate.sqrt(),
+            ],
+            walk_step: s.gyro_bias_walk / rate.sqrt(),
+            walk: [0.0; 3],
+            rng: [
+                stream::ENCODER,
+                stream::GYRO,
+                stream::GYRO_WALK,
+                stream::ACCEL,
+            ]
+            .map(|k| rng(seed, k)),
+        }
+    }
+
+    /// The log row for the true state `x` (call once per sample, in order).
+    pub fn read(&mut self, x: &Truth3d) -> LogRow3d {
+        let s = &self.s;
+        let q = (s.encoder_bits > 0).then(|| TAU / 2f64.powi(s.encoder_bits as i32));
+        let [er, gr, wr, ar] = &mut self.rng;
+        let phi = x.encoders().map(|v| {
+            let v = v + s.encoder_noise * gauss(er);
+            q.map_or(v, |q| (v / q).round() * q)
+        });
+        let w = x.body.w;
+        let gyro: [f64; 3] = core::array::from_fn(|i| {
+            w[i] + s.gyro_bias[i] + self.walk[i] + self.sigma[0] * gauss(gr)
+        });
+        for b in &mut self.walk {
+            *b += self.walk_step * gauss(wr);
+        }
+        let f = specific_force_at(x.body.f_p1, w, x.body.wd, s.accel_at);
+        let accel: [f64; 3] =
+            core::array::from_fn(|i| f[i] + s.accel_bias[i] + self.sigma[1] * gauss(ar));
+        LogRow3d {
+            t: x.t,
+            phi,
+            gyro,
+            accel,
+            roll: x.body.euler[0][0],
+            pitch: x.body.euler[1][0],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim3d::motion::Component;
+    use crate::sim3d::{Pendulum3d, Simulator3d, SineMotion};
+
+    fn truth(secs: f64) -> Vec<Truth3d> {
+        let m = SineMotion {
+            roll: vec![Component::Sine {
+                amp: 0.3,
+                freq: 0.5,
+                phase: 0.0,
+            }],
+            pitch: vec![Component::Sine {
+                amp: 0.2,
+                freq: 0.7,
+                phase: 1.0,
+            }],
+            yaw: vec![Component::Ramp(0.5)],
+            ..SineMotion::default()
+        };
+        Simulator3d::new(Pendulum3d::default(), m, 1000.0, 2, secs)
+            .unwrap()
+            .collect()
+    }
+
+    /// Ideal sensors read the truth exactly; the accelerometer at P1 reads f_P1.
+    #[test]
+    fn ideal_sensors_read_the_truth() {
+        let mut bank = SensorBank3d::new(Sensors3d::default(), 1000.0, 1);
+        for x in truth(1.0) {
+            let r = bank.read(&x);
+            assert_eq!(r.phi, x.encoders());
+            assert_eq!(r.gyro, x.body.w);
+            assert_eq!(r.accel, x.body.f_p1);
+            assert_eq!((r.roll, r.pitch), (x.body.euler[0][0], x.body.euler[1][0]));
+        }
+    }
+
+    /// Noise sigmas follow d sqrt(rate), biases are means, encoders sit on the 14-bit grid,
+    /// and a shorter run is the start of a longer one.
+    #[test]
+    fn noise_levels_bias_and_quantisation() {
+        let s = Sensors3d {
+            encoder_bits: 14,
+            encoder_noise: 1e-4,
+            gyro_noise_density: 1e-3,
+            gyro_bias: [0.01, -0.02, 0.03],
+            accel_noise_density: 2e-3,
+            accel_bias: [0.2, -0.15, 0.3],
+            ..Sensors3d::default()
+        };
+        let xs = truth(20.0);
+        let mut bank = SensorBank3d::new(s, 1000.0, 7);
+        let rows: Vec<_> = xs.iter().map(|x| bank.read(x)).collect();
+        let q = TAU / 16384.0;
+        let n = rows.len() as f64;
+        for i in 0..3 {
+            let e: Vec<f64> = xs
+                .iter()
+                .zip(&rows)
+                .map(|(x, r)| r.gyro[i] - x.body.w[i])
+                .collect();
+            let mean = e.iter().sum::<f64>() / n;
+            let sd = (e.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+            assert!((mean - s.gyro_bias[i]).abs() < 5e-4, "gyro mean {mean}");
+            assert!(
+                (sd / (1e-3 * 1000f64.sqrt()) - 1.0).abs() < 0.03,
+                "gyro sd {sd}"
+            );
+            let e: Vec<f64> = xs
+                .iter()
+                .zip(&rows)
+                .map(|(x, r)| r.accel[i] - x.body.f_p1[i])
+                .collect();
+            let mean = e.iter().sum::<f64>() / n;
+            let sd = (e.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+            assert!((mean - s.accel_bias[i]).abs() < 1e-3, "accel mean {mean}");
+            assert!(
+                (sd / (2e-3 * 1000f64.sqrt()) - 1.0).abs() < 0.03,
+                "accel sd {sd}"
+            );
+        }
+        for (x, r) in xs.iter().zip(&rows) {
+            for (p, t) in r.phi.iter().zip(x.encoders()) {
+                assert!(((p / q) - (p / q).round()).abs() < 1e-9);
+                assert!((p - t).abs() < 0.5 * q + 6e-4, "{p} {t}");
+            }
+        }
+        let mut short = SensorBank3d::new(s, 1000.0, 7);
+        for (x, r) in xs.iter().zip(&rows).take(500) {
+            assert_eq!(short.read(x), *r);
+        }
+    }
+
+    /// The gyro bias walk: after T s its spread across seeds is q sqrt(T).
+    #[test]
+    fn gyro_bias_walk_spreads_as_sqrt_t() {
+        let s = Sensors3d {
+            gyro_bias_walk: 2e-3,
+            ..Sensors3d::default()
+        };
+        let xs = truth(4.0);
+        let mut ends = Vec::new();
+        for seed in 0..200 {
+            let mut bank = SensorBank3d::new(s, 1000.0, seed);
+            let last = xs.iter().map(|x| bank.read(x)).last().unwrap();
+            ends.push(last.gyro[1] - xs.last().unwrap().body.w[1]);
+        }
+        let sd = (ends.iter().map(|v| v * v).sum::<f64>() / ends.len() as f64).sqrt();
+        let expect = 2e-3 * (3.999f64).sqrt();
+        assert!((sd / expect - 1.0).abs() < 0.15, "{sd} vs {expect}");
+    }
+
+    /// An accelerometer away from P1 reads the rigid-body transfer of f_P1 (7.1).
+    #[test]
+    fn accelerometer_offset_adds_the_lever_arm() {
+        let at = [0.1, -0.05, 0.2];
+        let s = Sensors3d {
+            accel_at: at,
+            ..Sensors3d::default()
+        };
+        let mut bank = SensorBank3d::new(s, 1000.0, 1);
+        for x in truth(0.5) {
+            let r = bank.read(&x);
+            assert_eq!(
+                r.accel,
+                specific_force_at(x.body.f_p1, x.body.w, x.body.wd, at)
+            );
+            assert_ne!(r.accel, x.body.f_p1);
+        }
+    }
+}
