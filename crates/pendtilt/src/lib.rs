@@ -16,4 +16,5 @@ pub mod pipeline;
 pub mod report;
 pub mod sim;
 pub mod sim3d;
+pub mod tune;
 pub mod units;

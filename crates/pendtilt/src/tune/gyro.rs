@@ -1,0 +1,113 @@
+//! Gyro white-noise density and bias from the `gyro` column (and `phi` for the bias when
+//! the body never keeps still).
+//!
+//! - Density, high band: the median of the gyro's spectrum over 0.3-0.45 of the sample
+//!   rate, where a body's motion has no power left but the sensor's white noise keeps its
+//!   level (engine harmonics raise a few bins, not the median). The one-sided density
+//!   `P` of white noise is `2 d^2` for the density `d` of MODEL.md section 6.
+//! - Still stretches: half-second windows whose spread is within 1.5x the high band's
+//!   per-sample noise are the body at rest; if they add up to 2 s or more, the density
+//!   comes from their pooled variance (`d = s / sqrt(rate)`) and the bias from their mean.
+//! - Bias otherwise: the gyro's running integral minus phi (the pendulum reads the tilt,
+//!   its swing averaged out) drifts at the bias: the slope of a straight line fitted to
+//!   their difference's one-second means. The swing's share averages down over the log.
+use super::spectrum::{segment_for, welch};
+
+/// What the log tells of its gyro.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GyroNoise {
+    /// White-noise density \[rad/s/sqrt(Hz)\].
+    pub density: f64,
+    /// Mean bias over the log \[rad/s\], if it could be told.
+    pub bias: Option<f64>,
+    /// Seconds of still stretches found.
+    pub still_seconds: f64,
+    /// How the density and the bias were found.
+    pub method: String,
+}
+
+/// Estimates the gyro's noise from `gyro` and `phi` (NaN for missing) sampled at `rate`.
+pub fn estimate(gyro: &[f64], phi: &[f64], rate: f64) -> Result<GyroNoise, String> {
+    let psd = welch(gyro, rate, segment_for(rate))
+        .ok_or_else(|| "too short for a gyro spectrum (2 s needed)".to_string())?;
+    let floor = psd
+        .band_median(0.3 * rate, 0.45 * rate)
+        .ok_or_else(|| "no high band in the gyro spectrum".to_string())?;
+    let hb_density = (floor / 2.0).sqrt();
+    let sigma_hb = hb_density * rate.sqrt();
+    let win = ((rate / 2.0).round() as usize).max(8);
+    let (mut var_sum, mut mean_sum, mut windows) = (0.0, 0.0, 0usize);
+    for w in gyro.chunks_exact(win) {
+        if !w.iter().all(|v| v.is_finite()) {
+            continue;
+        }
+        let m = w.iter().sum::<f64>() / win as f64;
+        let v = w.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (win - 1) as f64;
+        if v.sqrt() <= 1.5 * sigma_hb {
+            var_sum += v;
+            mean_sum += m;
+            windows += 1;
+        }
+    }
+    let still_seconds = (windows * win) as f64 / rate;
+    if still_seconds >= 2.0 {
+        let d = (var_sum / windows as f64 / rate).sqrt();
+        return Ok(GyroNoise {
+            density: d,
+            bias: Some(mean_sum / windows as f64),
+            still_seconds,
+            method: format!(
+                "{still_seconds:.1} s of still stretches: their pooled variance and mean"
+            ),
+        });
+    }
+    let bias = bias_from_pendulum(gyro, phi, rate);
+    Ok(GyroNoise {
+        density: hb_density,
+        bias,
+        still_seconds,
+        method: format!(
+            "no still stretch ({still_seconds:.1} s): median of the spectrum in {:.0}-{:.0} Hz; \
+             bias: slope of the gyro's integral minus phi",
+            0.3 * rate,
+            0.45 * rate
+        ),
+    })
+}
+
+/// The bias from the gyro's integral and the pendulum's tilt (module documentation).
+fn bias_from_pendulum(gyro: &[f64], phi: &[f64], rate: f64) -> Option<f64> {
+    let w = rate.round() as usize;
+    let n = gyro.len().min(phi.len());
+    if n < 4 * w || w == 0 {
+        return None;
+    }
+    // The gyro's running integral (a missing reading takes the last good one) against
+    // phi, in one-second windows: their difference drifts at the bias.
+    let (mut integral, mut last) = (0.0, 0.0);
+    let (mut st, mut sc, mut stt, mut stc, mut m) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for (k0, (g, p)) in gyro[..n].chunks(w).zip(phi[..n].chunks(w)).enumerate() {
+        let (mut sum, mut count) = (0.0, 0usize);
+        for (gi, pi) in g.iter().zip(p) {
+            if gi.is_finite() {
+                last = *gi;
+            }
+            integral += last / rate;
+            if pi.is_finite() {
+                sum += integral - pi;
+                count += 1;
+            }
+        }
+        if count * 2 > g.len() && g.len() == w {
+            let t = (k0 as f64 + 0.5) * w as f64 / rate;
+            let c = sum / count as f64;
+            st += t;
+            sc += c;
+            stt += t * t;
+            stc += t * c;
+            m += 1.0;
+        }
+    }
+    let den = m * stt - st * st;
+    (m >= 4.0 && den > 0.0).then(|| (m * stc - st * sc) / den)
+}

@@ -1,0 +1,428 @@
+//! Self-tuning: every estimator's settings from the user's own log, with no true angle
+//! (issue 12). One concern per module:
+//!
+//! - [`spectrum`]: Welch power spectral densities (the other estimators read them).
+//! - [`encoder`]: encoder quantisation step and noise.
+//! - [`gyro`]: gyro noise density and bias (still stretches, else the high band).
+//! - [`accel`]: accelerometer noise floor and the vibration level per band.
+//! - [`cutoff`]: the differentiator cutoff of Algorithms 1-3: measured against the
+//!   gyro's integral in the band above 0.2 Hz ([`reference`]) when the log has a gyro,
+//!   else from the encoder's spectrum (a noise/delay trade-off rule).
+//! - [`kalman`]: q_angle, q_bias and R of the `kf_*` filters by maximum likelihood of
+//!   their innovations.
+//! - [`ekf`]: the EKF's process noise, the same way; with no true angle the fit is
+//!   reported but not adopted (it made the EKF worse: see [`ekf`]), so the EKF takes
+//!   the measured sensor noise and keeps its process noise.
+//! - [`search`]: the derivative-free search in log space, the time limit and progress.
+//!
+//! [`tune`] runs them all in that order on a log in memory and returns the plain settings
+//! structs the estimators take, with a [`Note`] per value saying how it was found or
+//! why the default was kept (a log too short or too still for a value keeps its default
+//! and says so).
+//!
+//! ```
+//! use pendtilt::tune::{tune, Options, Start};
+//! use pendtilt::sim::{simulate, Scenario};
+//! let mut sc = Scenario::named("sine").unwrap();
+//! sc.duration = 12.0;
+//! let samples: Vec<_> = simulate(&sc, 1).unwrap().iter().map(|r| r.sample()).collect();
+//! let t = tune(&samples, &Start::default(), &Options::default());
+//! assert!(t.kalman_fit.is_some());
+//! assert!(t.notes.iter().any(|n| n.key == "kalman.q_angle"));
+//! ```
+pub mod accel;
+pub mod cutoff;
+pub mod ekf;
+pub mod encoder;
+pub mod gyro;
+pub mod kalman;
+mod notes;
+pub mod reference;
+pub mod search;
+pub mod spectrum;
+mod targets;
+
+use crate::config::RigConfig;
+use crate::peers::{self, PeerSettings};
+use pendtilt_core::ekf::ModelSettings;
+use pendtilt_core::estimators::accel::{Accel, AccelSettings};
+use pendtilt_core::estimators::alg1::Alg1Settings;
+use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
+use pendtilt_core::filters::diff::DiffSettings;
+use pendtilt_core::kalman::tilt::UNUSABLE;
+use pendtilt_core::kalman::KalmanSettings;
+use pendtilt_core::params::STANDARD_GRAVITY;
+use pendtilt_core::{PendulumParams, PlanarEstimator, Sample};
+use search::Budget;
+use std::time::{Duration, Instant};
+
+/// The settings tuning starts from (and keeps where the log cannot tell).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Start {
+    /// The pendulum's a, b, c.
+    pub params: PendulumParams<f64>,
+    /// Gravity \[m/s^2\].
+    pub gravity: f64,
+    /// The `kf_*` filters.
+    pub kalman: KalmanSettings<f64>,
+    /// Algorithm 1.
+    pub alg1: Alg1Settings<f64>,
+    /// Algorithm 2 (its differentiator is the one of Algorithms 1-3).
+    pub alg2: Alg2Settings<f64>,
+    /// The accelerometer angle (`kf_accel`'s measurement).
+    pub accel: AccelSettings<f64>,
+    /// The EKF.
+    pub ekf: ModelSettings<f64>,
+}
+
+impl Default for Start {
+    fn default() -> Self {
+        Self::from_rig(&RigConfig::default())
+    }
+}
+
+impl Start {
+    /// The settings a rig file gives (the EKF's from the default sensors and environment,
+    /// as `pendtilt estimate` builds it).
+    pub fn from_rig(cfg: &RigConfig) -> Self {
+        let params = cfg.params();
+        let gravity = cfg.physical().map_or(STANDARD_GRAVITY, |p| p.gravity);
+        Self {
+            params,
+            gravity,
+            kalman: cfg.kalman_settings(),
+            alg1: cfg.alg1_settings(),
+            alg2: cfg.alg2_settings(),
+            accel: cfg.accel_settings(),
+            ekf: peers::model_settings(&params, gravity, &PeerSettings::default()),
+        }
+    }
+}
+
+/// What the Kalman filters and the EKF are tuned against.
+#[derive(Debug, Clone, Copy, Default)]
+pub enum Target<'a> {
+    /// The likelihood of their own innovations: no true angle needed.
+    #[default]
+    Likelihood,
+    /// The RMS error against a true angle per row \[rad\] (a calibration ride).
+    Truth(&'a [f64]),
+}
+
+/// How tuning runs.
+pub struct Options<'a> {
+    /// What the filters are tuned against. Default [`Target::Likelihood`].
+    pub target: Target<'a>,
+    /// Stop the fits after this long (the best found so far is kept). Default none.
+    pub time_limit: Option<Duration>,
+    /// Called with the evaluations done and [`planned_evaluations`].
+    pub progress: Option<&'a dyn Fn(u64, u64)>,
+    /// The likelihood fits use at most this much of the log \[s\]. Default 60 s.
+    pub fit_seconds: f64,
+}
+
+impl Default for Options<'_> {
+    fn default() -> Self {
+        Self {
+            target: Target::Likelihood,
+            time_limit: None,
+            progress: None,
+            fit_seconds: 60.0,
+        }
+    }
+}
+
+/// A log shorter than this \[s\] keeps the filters' noise settings at their defaults.
+pub const MIN_FIT_SECONDS: f64 = 10.0;
+/// A log whose tilt (phi's one-second means) spans less than this \[rad\] (1 deg) is too
+/// still to tell how the body moves: the process noises keep their defaults.
+pub const MIN_TILT_RANGE: f64 = 0.017_453_292_519_943_295;
+
+/// How one tuned (or kept) value was found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Note {
+    /// The value's name, `table.key` as in the rig file where it has one.
+    pub key: String,
+    /// The value, formatted with its unit.
+    pub value: String,
+    /// True when the log could not tell and the value is the default.
+    pub kept_default: bool,
+    /// How it was found, or why it was not.
+    pub how: String,
+}
+
+/// Everything tuning found.
+#[derive(Debug, Clone)]
+pub struct Tuned {
+    /// Encoder noise, if the log has enough encoder readings.
+    pub encoder: Result<encoder::EncoderNoise, String>,
+    /// Gyro noise and bias.
+    pub gyro: Result<gyro::GyroNoise, String>,
+    /// Accelerometer noise and vibration.
+    pub accel: Result<accel::AccelNoise, String>,
+    /// The spectral rule's choice.
+    pub cutoff: Result<cutoff::CutoffChoice, String>,
+    /// The cutoff measured against the gyro: (multiple of the natural frequency, RMS
+    /// band error of Algorithms 1-2 there \[rad\]).
+    pub cutoff_by_gyro: Option<(f64, f64)>,
+    /// The differentiator of Algorithms 1-3.
+    pub differentiator: DiffSettings<f64>,
+    /// The `kf_*` filters.
+    pub kalman: KalmanSettings<f64>,
+    /// The EKF.
+    pub ekf: ModelSettings<f64>,
+    /// The Kalman filters' fit on `kf_alg2` (likelihood or truth cost before and after).
+    pub kalman_fit: Option<kalman::Fitted>,
+    /// `kf_accel`'s R fit: (R, cost before, cost after).
+    pub accel_fit: Option<(f64, f64, f64)>,
+    /// The EKF's fit.
+    pub ekf_fit: Option<ekf::EkfFitted>,
+    /// One note per value.
+    pub notes: Vec<Note>,
+    /// `"likelihood"` or `"truth"`: what the filters were tuned against.
+    pub target: &'static str,
+    /// True if the time limit cut a fit short.
+    pub stopped_by_time_limit: bool,
+}
+
+/// Cost evaluations [`tune`] plans (for a progress bar): the Kalman filters' three
+/// parameters, `kf_accel`'s R and the EKF's two, each fit's passes.
+pub fn planned_evaluations() -> u64 {
+    let per = search::EVALS_PER_PARAMETER;
+    let (k, e) = (kalman::ROUNDS as u64, ekf::ROUNDS as u64);
+    (1 + k * 3 * per) + (1 + per) + (1 + e * 2 * per)
+}
+
+/// Sample rate \[Hz\] from the median positive step; `None` without one.
+pub fn sample_rate(samples: &[Sample<f64>]) -> Option<f64> {
+    let mut d: Vec<f64> = samples
+        .iter()
+        .map(|s| s.dt)
+        .filter(|d| d.is_finite() && *d > 0.0)
+        .collect();
+    if d.is_empty() {
+        return None;
+    }
+    d.sort_by(f64::total_cmp);
+    Some(1.0 / d[d.len() / 2])
+}
+
+/// Span of phi's one-second means \[rad\] (how far the body tilted, swing averaged out).
+fn tilt_range(phi: &[f64], rate: f64) -> f64 {
+    let w = (rate.round() as usize).max(1);
+    let means: Vec<f64> = phi
+        .chunks(w)
+        .filter_map(|c| {
+            let f: Vec<f64> = c.iter().copied().filter(|v| v.is_finite()).collect();
+            (!f.is_empty()).then(|| f.iter().sum::<f64>() / f.len() as f64)
+        })
+        .collect();
+    let lo = means.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = means.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if hi >= lo {
+        hi - lo
+    } else {
+        0.0
+    }
+}
+
+/// Every how many rows Algorithm 2's angle is used in the likelihood fit: a Nyquist
+/// interval of the differentiator's cutoff `fc` \[Hz\] at `rate`, at least 1.
+pub fn decimation(rate: f64, fc: f64) -> usize {
+    let m = (rate / (2.0 * fc)).round();
+    if m.is_finite() && m >= 1.0 {
+        m as usize
+    } else {
+        1
+    }
+}
+
+/// Runs `e` over `samples`: the angles, NaN where its flags make it unusable as a
+/// Kalman measurement.
+fn measurements(e: &mut dyn PlanarEstimator<f64>, samples: &[Sample<f64>]) -> Vec<f64> {
+    samples
+        .iter()
+        .map(|s| {
+            let m = e.update(s);
+            if m.flags.intersects(UNUSABLE) {
+                f64::NAN
+            } else {
+                m.theta
+            }
+        })
+        .collect()
+}
+
+/// Tunes every estimator's settings on `samples` (one log, rows in order), starting from
+/// `start`. See the module documentation.
+pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
+    let mut notes = Vec::new();
+    let rate = sample_rate(samples).unwrap_or(1000.0);
+    let col = |f: fn(&Sample<f64>) -> f64| samples.iter().map(f).collect::<Vec<f64>>();
+    let (phi, gyro_v, ax, ay) = (
+        col(|s| s.phi),
+        col(|s| s.gyro),
+        col(|s| s.ax),
+        col(|s| s.ay),
+    );
+    let f_n = start.params.natural_frequency_hz();
+
+    let enc = encoder::estimate(&phi);
+    let gyr = gyro::estimate(&gyro_v, &phi, rate);
+    let acc = accel::estimate(&ax, &ay, rate, f_n);
+    let cut = cutoff::choose(&phi, rate, &start.params, &start.alg2.differentiator);
+    let ekf_start = notes::sensor_settings(&start.ekf, &enc, &gyr, &acc, &mut notes);
+    let duration = samples.len() as f64 / rate;
+    let range = tilt_range(&phi, rate);
+    let why_not = if duration < MIN_FIT_SECONDS {
+        Some(format!(
+            "log too short ({duration:.1} s, at least {MIN_FIT_SECONDS} s needed): kept the default"
+        ))
+    } else if range < MIN_TILT_RANGE {
+        Some(format!(
+            "log too still (tilt spans {:.2} deg, at least 1 deg needed): kept the default",
+            range.to_degrees()
+        ))
+    } else {
+        None
+    };
+    let fit_rows = samples
+        .len()
+        .min((opts.fit_seconds * rate).round() as usize);
+    let fit_samples = &samples[..fit_rows];
+    let skip = (kalman::BURN_IN * rate).round() as usize;
+    let bias = gyr.as_ref().ok().and_then(|g| g.bias);
+    let cutoff_by_gyro = match bias {
+        Some(b) if duration >= MIN_FIT_SECONDS => Some(cutoff::by_gyro_reference(
+            fit_samples,
+            &start.alg1,
+            &start.alg2,
+            b,
+            skip,
+        )),
+        _ => None,
+    };
+    let differentiator = match cutoff_by_gyro {
+        Some((x, _)) => DiffSettings {
+            response: start.alg2.differentiator.response,
+            cutoff: pendtilt_core::filters::diff::Cutoff::TimesNatural(x),
+        },
+        None => cut
+            .as_ref()
+            .map_or(start.alg2.differentiator, |c| c.settings),
+    };
+    notes::cutoff(
+        &cut,
+        cutoff_by_gyro,
+        &start.alg2.differentiator,
+        &start.params,
+        &mut notes,
+    );
+    let mut kalman_s = start.kalman;
+    let mut ekf_s = ekf_start;
+    let (mut kalman_fit, mut accel_fit, mut ekf_fit) = (None, None, None);
+    let planned = planned_evaluations();
+    let tell = |n: u64| {
+        if let Some(p) = opts.progress {
+            p(n, planned);
+        }
+    };
+    let mut budget = Budget {
+        deadline: opts.time_limit.map(|d| Instant::now() + d),
+        evaluations: 0,
+        stopped: false,
+        progress: Some(&tell),
+    };
+    if why_not.is_none() {
+        let alg2_s = Alg2Settings {
+            differentiator,
+            ..start.alg2
+        };
+        let mut z = measurements(&mut Alg2::<f64>::new(alg2_s), fit_samples);
+        // Alg 2's errors are coloured (band-limited by the differentiator): the
+        // likelihood sees them as independent only a Nyquist interval of the cutoff
+        // apart, so it is fitted on every m-th angle and R scaled back by m.
+        let m = match opts.target {
+            Target::Likelihood => decimation(rate, differentiator.cutoff_hz(&start.params)),
+            Target::Truth(_) => 1,
+        };
+        for (k, v) in z.iter_mut().enumerate() {
+            if k % m != 0 {
+                *v = f64::NAN;
+            }
+        }
+        let dt: Vec<f64> = fit_samples.iter().map(|s| s.dt).collect();
+        let g = &gyro_v[..fit_rows];
+        let data = kalman::KalmanData {
+            dt: &dt,
+            gyro: g,
+            z: &z,
+        };
+        let mut f = targets::kalman(
+            &start.kalman,
+            start.kalman.r_pendulum / m as f64,
+            &data,
+            skip,
+            opts,
+            &mut budget,
+        );
+        f.r *= m as f64;
+        kalman_s.q_angle = f.q_angle;
+        kalman_s.q_bias = f.q_bias;
+        kalman_s.r_pendulum = f.r;
+        kalman_fit = Some(f);
+        if ax.iter().any(|v| v.is_finite()) {
+            let za = measurements(&mut Accel::new(start.accel), fit_samples);
+            let data = kalman::KalmanData {
+                dt: &dt,
+                gyro: g,
+                z: &za,
+            };
+            accel_fit = Some(targets::kalman_r(
+                &kalman_s,
+                start.kalman.r_accel,
+                &data,
+                skip,
+                opts,
+                &mut budget,
+            ));
+            kalman_s.r_accel = accel_fit.map_or(kalman_s.r_accel, |a| a.0);
+        }
+        let e = targets::ekf(&ekf_start, fit_samples, skip, opts, &mut budget);
+        // The likelihood fit is reported, not adopted: see `ekf`'s documentation.
+        if let Target::Truth(_) = opts.target {
+            ekf_s = e.settings;
+        }
+        ekf_fit = Some(e);
+    }
+    notes::filters(
+        &start.kalman,
+        &kalman_s,
+        kalman_fit.as_ref(),
+        accel_fit,
+        &ekf_start,
+        ekf_fit.as_ref(),
+        matches!(opts.target, Target::Truth(_)),
+        why_not.as_deref(),
+        &mut notes,
+    );
+    Tuned {
+        encoder: enc,
+        gyro: gyr,
+        accel: acc,
+        cutoff: cut,
+        cutoff_by_gyro,
+        differentiator,
+        kalman: kalman_s,
+        ekf: ekf_s,
+        kalman_fit,
+        accel_fit,
+        ekf_fit,
+        notes,
+        target: match opts.target {
+            Target::Likelihood => "likelihood",
+            Target::Truth(_) => "truth",
+        },
+        stopped_by_time_limit: budget.stopped,
+    }
+}

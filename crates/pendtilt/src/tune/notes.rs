@@ -1,0 +1,319 @@
+//! How each value was found, in words: the [`Note`]s of [`super::Tuned`], and the EKF's
+//! measurement noise set from the noise estimators.
+use super::accel::AccelNoise;
+use super::cutoff::CutoffChoice;
+use super::ekf::EkfFitted;
+use super::encoder::EncoderNoise;
+use super::gyro::GyroNoise;
+use super::kalman::Fitted;
+use super::Note;
+use pendtilt_core::ekf::ModelSettings;
+use pendtilt_core::filters::diff::DiffSettings;
+use pendtilt_core::kalman::KalmanSettings;
+use pendtilt_core::PendulumParams;
+
+fn note(notes: &mut Vec<Note>, key: &str, value: String, kept: bool, how: String) {
+    notes.push(Note {
+        key: key.to_string(),
+        value,
+        kept_default: kept,
+        how,
+    });
+}
+
+/// The EKF's sensor settings from the noise estimates (defaults of `base` where an
+/// estimate failed), with a note per value.
+pub(super) fn sensor_settings(
+    base: &ModelSettings<f64>,
+    enc: &Result<EncoderNoise, String>,
+    gyro: &Result<GyroNoise, String>,
+    acc: &Result<AccelNoise, String>,
+    notes: &mut Vec<Note>,
+) -> ModelSettings<f64> {
+    let mut s = *base;
+    match enc {
+        Ok(e) => {
+            match (e.step, e.bits) {
+                (_, Some(bits)) => s.sensors.encoder_bits = bits,
+                (Some(_), None) | (None, None) => s.sensors.encoder_bits = 0,
+            }
+            // A step that is not 2 pi / 2^bits: its rounding goes into the noise.
+            s.sensors.encoder_noise = if e.bits.is_some() { e.noise } else { e.white };
+            let step = e.step.map_or("not quantised".to_string(), |q| {
+                format!(
+                    "step {q:.4e} rad ({})",
+                    e.bits
+                        .map_or("not a power of two".into(), |b| format!("{b} bits"))
+                )
+            });
+            note(
+                notes,
+                "sensors.encoder_bits",
+                format!("{}", s.sensors.encoder_bits),
+                false,
+                format!("{step}: gaps between the distinct readings"),
+            );
+            note(notes, "sensors.encoder_noise", format!("{:.3e} rad", s.sensors.encoder_noise), false,
+                format!("second differences of phi over {} samples: residual {:.3e} rad RMS, minus the rounding's q^2/12", e.samples, e.white));
+        }
+        Err(why) => note(
+            notes,
+            "sensors.encoder_noise",
+            format!("{:.3e} rad", s.sensors.encoder_noise),
+            true,
+            format!("{why}: kept the default"),
+        ),
+    }
+    match gyro {
+        Ok(g) => {
+            s.sensors.gyro_density = g.density;
+            note(
+                notes,
+                "sensors.gyro_density",
+                format!("{:.3e} rad/s/sqrt(Hz)", g.density),
+                false,
+                g.method.clone(),
+            );
+            match g.bias {
+                Some(b) => {
+                    // The bias's prior spread: what was seen, with a floor of 0.05 deg/s
+                    // (the bias drifts, and the estimate has its own error).
+                    s.sensors.gyro_bias = b.hypot(0.05f64.to_radians());
+                    note(notes, "sensors.gyro_bias", format!("{:.3e} rad/s", s.sensors.gyro_bias), false,
+                        format!("mean bias over the log {b:.3e} rad/s ({:.3} deg/s); the initial bias spread is it and 0.05 deg/s in quadrature", b.to_degrees()));
+                }
+                None => note(notes, "sensors.gyro_bias", format!("{:.3e} rad/s", s.sensors.gyro_bias), true,
+                    "no still stretch and too short for the pendulum's tilt change: kept the default".into()),
+            }
+        }
+        Err(why) => note(
+            notes,
+            "sensors.gyro_density",
+            format!("{:.3e} rad/s/sqrt(Hz)", s.sensors.gyro_density),
+            true,
+            format!("{why}: kept the default"),
+        ),
+    }
+    match acc {
+        Ok(a) => {
+            s.sensors.accel_density = a.density;
+            s.accel_vibration = a.vibration_rms;
+            let bands: Vec<String> = a
+                .bands
+                .iter()
+                .map(|b| {
+                    format!(
+                        "{:.0}-{:.0} Hz: {:.3}/{:.3}",
+                        b.band[0], b.band[1], b.rms[0], b.rms[1]
+                    )
+                })
+                .collect();
+            note(notes, "sensors.accel_density", format!("{:.3e} m/s^2/sqrt(Hz)", a.density), false,
+                "median of the spectrum in the top band (0.3-0.45 x rate); an upper bound while vibration reaches it".into());
+            note(
+                notes,
+                "accel_vibration",
+                format!("{:.3} m/s^2", a.vibration_rms),
+                false,
+                format!(
+                    "RMS above the pendulum's band ({:.1} Hz), larger axis; per band x/y m/s^2: {}",
+                    a.pendulum_band,
+                    bands.join(", ")
+                ),
+            );
+        }
+        Err(why) => note(
+            notes,
+            "sensors.accel_density",
+            format!("{:.3e} m/s^2/sqrt(Hz)", s.sensors.accel_density),
+            true,
+            format!("{why}: kept the default"),
+        ),
+    }
+    s
+}
+
+/// The cutoff's note.
+pub(super) fn cutoff(
+    c: &Result<CutoffChoice, String>,
+    by_gyro: Option<(f64, f64)>,
+    start: &DiffSettings<f64>,
+    params: &PendulumParams<f64>,
+    notes: &mut Vec<Note>,
+) {
+    let rule = match c {
+        Ok(c) => format!(
+            "the spectral rule (valley {:.2} Hz) gave {:.3} Hz",
+            c.valley_hz, c.hz
+        ),
+        Err(why) => format!("no spectral rule: {why}"),
+    };
+    if let Some((x, e)) = by_gyro {
+        let f_n = params.natural_frequency_hz();
+        note(notes, "differentiator.cutoff_hz", format!("{:.3} Hz", x * f_n), false, format!(
+            "{x:.3} x f_n: least error of Algorithms 1-2 against the gyro's integral above {} Hz ({:.4} deg RMS); {rule}",
+            super::reference::CORNER_HZ, e.to_degrees()));
+        return;
+    }
+    match c {
+        Ok(c) => note(notes, "differentiator.cutoff_hz", format!("{:.3} Hz", c.hz), false, format!(
+            "noise/delay rule on the encoder's spectrum: valley between tilt and vibration at {:.2} Hz; predicted error {:.4} deg RMS (the previous {:.3} Hz: {:.4} deg)",
+            c.valley_hz, c.predicted_rms.to_degrees(), start.cutoff_hz(params), c.reference_rms.to_degrees())),
+        Err(why) => note(notes, "differentiator.cutoff_hz", format!("{:.3} Hz", start.cutoff_hz(params)), true, format!("{why}: kept the default")),
+    }
+}
+
+/// The filters' notes.
+#[allow(clippy::too_many_arguments)] // one note per fitted value, all from one run
+pub(super) fn filters(
+    start: &KalmanSettings<f64>,
+    k: &KalmanSettings<f64>,
+    kf: Option<&Fitted>,
+    accel: Option<(f64, f64, f64)>,
+    ekf_start: &ModelSettings<f64>,
+    ekf: Option<&EkfFitted>,
+    truth: bool,
+    why_not: Option<&str>,
+    notes: &mut Vec<Note>,
+) {
+    let cost = |b: f64, a: f64| {
+        format!("mean -log-likelihood (ln S + y^2/S per innovation, or RMS error against the truth) {b:.4} -> {a:.4}")
+    };
+    let why = why_not
+        .unwrap_or("not fitted: kept the default")
+        .to_string();
+    match kf {
+        Some(f) => {
+            let how = format!(
+                "fitted on kf_alg2's innovations; {}",
+                cost(f.nll_before, f.nll_after)
+            );
+            note(
+                notes,
+                "kalman.q_angle",
+                format!("{:.4e} rad^2/s", k.q_angle),
+                false,
+                how.clone(),
+            );
+            note(
+                notes,
+                "kalman.q_bias",
+                format!("{:.4e} (rad/s)^2/s", k.q_bias),
+                false,
+                how.clone(),
+            );
+            note(
+                notes,
+                "kalman.r_pendulum",
+                format!("{:.4e} rad^2", k.r_pendulum),
+                false,
+                how,
+            );
+        }
+        None => {
+            note(
+                notes,
+                "kalman.q_angle",
+                format!("{:.4e} rad^2/s", start.q_angle),
+                true,
+                why.clone(),
+            );
+            note(
+                notes,
+                "kalman.q_bias",
+                format!("{:.4e} (rad/s)^2/s", start.q_bias),
+                true,
+                why.clone(),
+            );
+            note(
+                notes,
+                "kalman.r_pendulum",
+                format!("{:.4e} rad^2", start.r_pendulum),
+                true,
+                why.clone(),
+            );
+        }
+    }
+    match accel {
+        Some((r, b, a)) => note(
+            notes,
+            "kalman.r_accel",
+            format!("{r:.4e} rad^2"),
+            false,
+            format!(
+                "fitted on kf_accel's innovations, q_angle and q_bias as above; {}",
+                cost(b, a)
+            ),
+        ),
+        None => note(
+            notes,
+            "kalman.r_accel",
+            format!("{:.4e} rad^2", start.r_accel),
+            true,
+            if why_not.is_some() {
+                why.clone()
+            } else {
+                "no accelerometer in the log: kept the default".into()
+            },
+        ),
+    }
+    match ekf {
+        Some(e) if truth => {
+            let how = format!(
+                "searched against the true angle; RMS error {:.4} -> {:.4} deg",
+                e.nll_before.to_degrees(),
+                e.nll_after.to_degrees()
+            );
+            let p = e.settings.process;
+            note(
+                notes,
+                "ekf.process.jerk",
+                format!("{:.4e} rad^2/s^5", p.jerk),
+                false,
+                how.clone(),
+            );
+            note(
+                notes,
+                "ekf.process.pendulum",
+                format!("{:.4e} 1/s^3", p.pendulum),
+                false,
+                how,
+            );
+        }
+        Some(e) => {
+            let p = ekf_start.process;
+            let how = format!("kept: the encoder-innovation likelihood fit (mean -log-likelihood {:.4} -> {:.4}) found jerk {:.3e}, pendulum {:.3e}, which made the EKF worse on the simulated scooter ride (0.041 -> 0.35 deg): the encoder cannot tell the floor's translation from tilt", e.nll_before, e.nll_after, e.settings.process.jerk, e.settings.process.pendulum);
+            note(
+                notes,
+                "ekf.process.jerk",
+                format!("{:.4e} rad^2/s^5", p.jerk),
+                true,
+                how.clone(),
+            );
+            note(
+                notes,
+                "ekf.process.pendulum",
+                format!("{:.4e} 1/s^3", p.pendulum),
+                true,
+                how,
+            );
+        }
+        None => {
+            let p = ekf_start.process;
+            note(
+                notes,
+                "ekf.process.jerk",
+                format!("{:.4e} rad^2/s^5", p.jerk),
+                true,
+                why.clone(),
+            );
+            note(
+                notes,
+                "ekf.process.pendulum",
+                format!("{:.4e} 1/s^3", p.pendulum),
+                true,
+                why,
+            );
+        }
+    }
+}

@@ -1,0 +1,253 @@
+//! Self-tuning (issue 12): each noise estimator against the simulator's known noise
+//! figures, the likelihood fit against a linear model with known Q and R, repeatability,
+//! and logs too short or too still to identify a value.
+use pendtilt::core::kalman::KalmanSettings;
+use pendtilt::core::Sample;
+use pendtilt::sim::vibration::{Broadband, Harmonic};
+use pendtilt::sim::{simulate, Scenario};
+use pendtilt::tune::kalman::{fit, KalmanData};
+use pendtilt::tune::search::Budget;
+use pendtilt::tune::{accel, encoder, gyro, tune, Options, Start};
+use rand::SeedableRng;
+use rand_distr::{Distribution, Normal};
+
+const DEG: f64 = std::f64::consts::PI / 180.0;
+
+fn columns(s: &Scenario, seed: u64) -> (Vec<Sample<f64>>, [Vec<f64>; 4]) {
+    let rows = simulate(s, seed).unwrap();
+    let samples: Vec<Sample<f64>> = rows.iter().map(|r| r.sample()).collect();
+    let col = |f: fn(&Sample<f64>) -> f64| samples.iter().map(f).collect::<Vec<f64>>();
+    let c = [
+        col(|s| s.phi),
+        col(|s| s.gyro),
+        col(|s| s.ax),
+        col(|s| s.ay),
+    ];
+    (samples, c)
+}
+
+/// The scooter ride with other sensors: a 14-bit encoder with 0.01 deg of noise, a
+/// 0.01 deg/s/sqrt(Hz) gyro (MODEL.md section 7.8's "noisy" grade).
+fn noisy_scooter(duration: f64) -> Scenario {
+    let mut s = Scenario::named("scooter").unwrap();
+    s.duration = duration;
+    s.sensors.encoder.bits = 14;
+    s.sensors.encoder.noise = 0.01 * DEG;
+    s.sensors.gyro.noise_density = 0.01 * DEG;
+    s
+}
+
+fn within(got: f64, want: f64, tol: f64, what: &str) {
+    eprintln!(
+        "{what}: {got:.4e} (true {want:.4e}, {:+.1} %)",
+        100.0 * (got / want - 1.0)
+    );
+    assert!((got / want - 1.0).abs() <= tol, "{what}: {got} vs {want}");
+}
+
+#[test]
+fn encoder_noise_recovers_the_simulators_figure() {
+    let (_, [phi, ..]) = columns(&noisy_scooter(20.0), 3);
+    let e = encoder::estimate(&phi).unwrap();
+    assert_eq!(e.bits, Some(14));
+    within(e.noise, 0.01 * DEG, 0.2, "encoder noise, 14 bit, scooter");
+    // A coarser encoder, noisier, on a still body.
+    let mut s = Scenario::named("still").unwrap();
+    s.sensors.encoder.bits = 12;
+    s.sensors.encoder.noise = 0.05 * DEG;
+    let (_, [phi, ..]) = columns(&s, 4);
+    let e = encoder::estimate(&phi).unwrap();
+    assert_eq!(e.bits, Some(12));
+    within(e.noise, 0.05 * DEG, 0.2, "encoder noise, 12 bit, still");
+}
+
+#[test]
+fn gyro_density_recovers_the_simulators_figure_with_and_without_still_stretches() {
+    // Moving and vibrating (40 Hz angular vibration): the high band.
+    let (_, [phi, g, ..]) = columns(&noisy_scooter(30.0), 5);
+    let e = gyro::estimate(&g, &phi, 1000.0).unwrap();
+    assert!(e.still_seconds < 2.0, "{e:?}");
+    within(
+        e.density,
+        0.01 * DEG,
+        0.2,
+        "gyro density, scooter (high band)",
+    );
+    // The bias, from the gyro's integral against the pendulum's tilt change (the
+    // simulator's constant bias plus a small walk).
+    let b = e.bias.unwrap();
+    eprintln!("bias {b:.4e} (true constant part {:.4e})", 0.5 * DEG);
+    assert!((b - 0.5 * DEG).abs() < 0.05 * DEG, "bias {b}");
+    // Still: the still stretches.
+    let mut s = Scenario::named("still").unwrap();
+    s.sensors.gyro.noise_density = 0.02 * DEG;
+    s.sensors.gyro.bias_walk = 0.0;
+    let (_, [phi, g, ..]) = columns(&s, 6);
+    let e = gyro::estimate(&g, &phi, 1000.0).unwrap();
+    assert!(
+        e.still_seconds >= 9.0 && e.method.contains("still"),
+        "{e:?}"
+    );
+    within(e.density, 0.02 * DEG, 0.2, "gyro density, still");
+    assert!((e.bias.unwrap() - 0.5 * DEG).abs() < 0.01 * DEG);
+}
+
+#[test]
+fn accelerometer_noise_and_vibration_recover_the_simulators_figures() {
+    // No vibration: the floor is the sensor's own density.
+    let mut s = Scenario::named("sine").unwrap();
+    s.duration = 20.0;
+    s.sensors.accel.noise_density = 300e-6 * 9.80665;
+    let (_, [_, _, ax, ay]) = columns(&s, 7);
+    let e = accel::estimate(&ax, &ay, 1000.0, 2.19).unwrap();
+    within(
+        e.density,
+        300e-6 * 9.80665,
+        0.2,
+        "accel density, no vibration",
+    );
+    // Vibration: broadband 5-200 Hz plus one harmonic per axis, RMS known.
+    s.vibration.broadband = Broadband {
+        rms: [1.0, 2.0],
+        band: [5.0, 200.0],
+    };
+    s.vibration.harmonics = vec![
+        Harmonic {
+            frequency: 35.0,
+            amplitude: 2.0,
+            axis: [1.0, 0.0],
+            phase: 0.0,
+        },
+        Harmonic {
+            frequency: 70.0,
+            amplitude: 1.0,
+            axis: [0.0, 1.0],
+            phase: 0.0,
+        },
+    ];
+    let (_, [_, _, ax, ay]) = columns(&s, 8);
+    let e = accel::estimate(&ax, &ay, 1000.0, 2.19).unwrap();
+    let x = (1.0f64 + 2.0 * 2.0 / 2.0).sqrt();
+    let y = (4.0f64 + 0.5).sqrt();
+    let got_x = e.bands.iter().map(|b| b.rms[0].powi(2)).sum::<f64>().sqrt();
+    within(got_x, x, 0.2, "vibration RMS x");
+    within(e.vibration_rms, y, 0.2, "vibration RMS (larger axis, y)");
+}
+
+/// A linear model with known noise: theta a random walk driven by the gyro, the gyro's
+/// bias a random walk, z = theta + white noise; exactly the filter's model.
+fn linear_log(
+    q_angle: f64,
+    q_bias: f64,
+    r: f64,
+    n: usize,
+    seed: u64,
+) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let dt = 1e-3;
+    let std = Normal::new(0.0, 1.0).unwrap();
+    let (mut th, mut b) = (0.0, 0.01);
+    let (mut dts, mut gyro, mut z) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..n {
+        let u = (k as f64 * dt * 1.3).sin();
+        if k > 0 {
+            th += dt * (u - b) + (q_angle * dt).sqrt() * std.sample(&mut rng);
+            b += (q_bias * dt).sqrt() * std.sample(&mut rng);
+        }
+        dts.push(if k == 0 { 0.0 } else { dt });
+        gyro.push(u);
+        z.push(th + r.sqrt() * std.sample(&mut rng));
+    }
+    (dts, gyro, z)
+}
+
+#[test]
+fn likelihood_fit_recovers_known_q_and_r_on_a_linear_model() {
+    let (qa, qb, r) = (2e-4, 1e-5, 4e-6);
+    let (dt, gyro, z) = linear_log(qa, qb, r, 120_000, 9);
+    let d = KalmanData {
+        dt: &dt,
+        gyro: &gyro,
+        z: &z,
+    };
+    let f = fit(
+        &KalmanSettings::default(),
+        1e-3,
+        &d,
+        2000,
+        &mut Budget::unlimited(),
+    );
+    eprintln!("{f:?}");
+    assert!(f.nll_after < f.nll_before);
+    // Tolerances: R and q_angle are seen in every innovation (10 %, 25 %); q_bias only
+    // through the slow drift of the bias over 120 s (a factor of 2).
+    within(f.r, r, 0.10, "R");
+    within(f.q_angle, qa, 0.25, "q_angle");
+    assert!(
+        f.q_bias > qb / 2.0 && f.q_bias < qb * 2.0,
+        "q_bias {}",
+        f.q_bias
+    );
+}
+
+#[test]
+fn tuning_a_log_twice_gives_the_same_settings() {
+    let (samples, _) = columns(&noisy_scooter(12.0), 10);
+    let a = tune(&samples, &Start::default(), &Options::default());
+    let b = tune(&samples, &Start::default(), &Options::default());
+    assert_eq!(a.kalman, b.kalman);
+    assert_eq!(a.ekf, b.ekf);
+    assert_eq!(a.differentiator, b.differentiator);
+    assert_eq!(a.notes, b.notes);
+    for key in [
+        "kalman.q_angle",
+        "kalman.r_pendulum",
+        "differentiator.cutoff_hz",
+        "sensors.encoder_noise",
+        "sensors.gyro_density",
+    ] {
+        let n = a.notes.iter().find(|n| n.key == key).unwrap();
+        assert!(!n.kept_default, "{n:?}");
+    }
+}
+
+#[test]
+fn a_still_or_short_log_keeps_the_filter_defaults_and_says_so() {
+    let start = Start::default();
+    let (still, _) = columns(&Scenario::named("still").unwrap(), 11);
+    let t = tune(&still, &start, &Options::default());
+    assert_eq!(t.kalman, start.kalman);
+    assert_eq!(t.ekf.process, start.ekf.process);
+    let q = t.notes.iter().find(|n| n.key == "kalman.q_angle").unwrap();
+    assert!(q.kept_default && q.how.contains("too still"), "{q:?}");
+    let j = t
+        .notes
+        .iter()
+        .find(|n| n.key == "ekf.process.jerk")
+        .unwrap();
+    assert!(j.kept_default && j.how.contains("too still"), "{j:?}");
+    // Its sensor noise is still estimated (a still log is the best for that).
+    assert!(t
+        .notes
+        .iter()
+        .any(|n| n.key == "sensors.gyro_density" && !n.kept_default));
+
+    let mut s = Scenario::named("sine").unwrap();
+    s.duration = 1.0;
+    let (short, _) = columns(&s, 12);
+    let t = tune(&short, &start, &Options::default());
+    assert_eq!(t.kalman, start.kalman);
+    assert_eq!(t.differentiator, start.alg2.differentiator);
+    for key in [
+        "kalman.q_angle",
+        "differentiator.cutoff_hz",
+        "sensors.gyro_density",
+        "sensors.accel_density",
+    ] {
+        let n = t.notes.iter().find(|n| n.key == key).unwrap();
+        assert!(
+            n.kept_default && (n.how.contains("short") || n.how.contains("needed")),
+            "{n:?}"
+        );
+    }
+}
