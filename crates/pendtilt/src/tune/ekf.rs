@@ -17,18 +17,44 @@
 //! angle.
 //!
 //! [`nll`] runs the estimator's filter the way [`pendtilt_core::ekf::Ekf`] does: the same
-//! process model, start and measurement models from the engine, steps split at
+//! process model and start, the same linear readings (`phi`; `theta' + bias`), steps split at
 //! [`ModelSettings::max_step`]; it leaves out the innovation gate (the likelihood must see
 //! every reading) and restarts after a gap. The fitted parameters are the three process
 //! noise densities of the tilt jerk and the pendulum forcing (the bias walk and the
 //! sensors' noise come from the noise estimators and the defaults).
 use super::search::{coordinate_log, Budget};
-use pendtilt_core::ekf::measurement::{Encoder, Gyro};
-use pendtilt_core::ekf::model::{Cov, State, ALPHA, BIAS, DPHI, OMEGA, PHI, THETA};
-use pendtilt_core::ekf::sensor::Sensor;
+use nalgebra::{SMatrix, Vector1};
+use pendtilt_core::ekf::model::{Cov, State, ALPHA, BIAS, DPHI, N, OMEGA, PHI, THETA};
 use pendtilt_core::ekf::{ExtendedKalman, ModelSettings};
-use pendtilt_core::engine::{measurement::row, Gate, GaussianFilter, ProcessModel};
+use pendtilt_core::engine::{Gate, GaussianFilter, Measurement, ProcessModel};
 use pendtilt_core::Sample;
+
+/// A scalar reading of the sum of some state entries with variance `r`: the encoder
+/// (`phi`) and the gyro (`theta' + bias`), as the EKF's own measurement models read them.
+struct Sum {
+    idx: &'static [usize],
+    r: f64,
+}
+
+impl Measurement<f64, State<f64>, N, 1> for Sum {
+    const LINEAR: bool = true;
+
+    fn predict(&self, x: &State<f64>) -> Vector1<f64> {
+        Vector1::new(self.idx.iter().map(|&i| x[i]).sum())
+    }
+
+    fn jacobian(&self, _x: &State<f64>) -> SMatrix<f64, 1, N> {
+        let mut h = SMatrix::<f64, 1, N>::zeros();
+        for &i in self.idx {
+            h[i] = 1.0;
+        }
+        h
+    }
+
+    fn variance(&self) -> Vector1<f64> {
+        Vector1::new(self.r)
+    }
+}
 
 /// Passes of the coordinate search (each EKF run costs far more than a Kalman one).
 pub const ROUNDS: usize = 3;
@@ -56,22 +82,17 @@ fn start(st: &ModelSettings<f64>, s: &Sample<f64>, r_enc: f64) -> ExtendedKalman
     ExtendedKalman::<f64>::start(x, p)
 }
 
-/// Applies `sensor`'s reading of `s` without a gate, adding its `ln S + y^2 / S` to
-/// `acc` when `score`.
-fn sense<Z: Sensor<f64, 1>>(
-    f: &mut ExtendedKalman<f64>,
-    sensor: &Z,
-    s: &Sample<f64>,
-    score: bool,
-    acc: &mut (f64, usize),
-) {
-    let Some((z, _)) = sensor.reading(s, f.state()) else {
+/// Applies reading `z` (if finite) of `sensor` without a gate, adding its
+/// `ln S + y^2 / S` to `acc` when `score`.
+fn sense(f: &mut ExtendedKalman<f64>, sensor: &Sum, z: f64, score: bool, acc: &mut (f64, usize)) {
+    if !z.is_finite() {
         return;
-    };
-    let y = z[0] - sensor.predict(f.state())[0];
-    let h = row(sensor, f.state(), 0);
-    let sk = h.dot(&(f.covariance() * h)) + sensor.variance()[0];
-    if f.update(sensor, &z, Gate::off()).is_ok() && score && sk > 0.0 && y.is_finite() {
+    }
+    let y = z - sensor.predict(f.state())[0];
+    let h = sensor.jacobian(f.state()).transpose();
+    let sk = h.dot(&(f.covariance() * h)) + sensor.r;
+    if f.update(sensor, &Vector1::new(z), Gate::off()).is_ok() && score && sk > 0.0 && y.is_finite()
+    {
         acc.0 += sk.ln() + y * y / sk;
         acc.1 += 1;
     }
@@ -83,7 +104,10 @@ fn sense<Z: Sensor<f64, 1>>(
 pub fn nll(st: &ModelSettings<f64>, samples: &[Sample<f64>], skip: usize) -> f64 {
     let model = st.process_model();
     let r_enc = st.sensors.encoder_variance().max(1e-14);
-    let encoder = Encoder { r: r_enc };
+    let encoder = Sum {
+        idx: &[PHI],
+        r: r_enc,
+    };
     let mut filter: Option<ExtendedKalman<f64>> = None;
     let (mut q_step, mut q) = (0.0, Cov::<f64>::zeros());
     let mut acc = (0.0, 0usize);
@@ -108,13 +132,13 @@ pub fn nll(st: &ModelSettings<f64>, samples: &[Sample<f64>], skip: usize) -> f64
             f.predict(&model, &(), h, &q);
         }
         let d = st.sensors.gyro_density;
-        let gyro = Gyro {
+        let gyro = Sum {
+            idx: &[OMEGA, BIAS],
             r: (d * d / dt.max(1e-9)).max(1e-14),
-            gate_floor: 0.0,
         };
         let score = k >= skip;
-        sense(f, &gyro, s, false, &mut acc);
-        sense(f, &encoder, s, score, &mut acc);
+        sense(f, &gyro, s.gyro, false, &mut acc);
+        sense(f, &encoder, s.phi, score, &mut acc);
         let finite = f.x.iter().all(|v| v.is_finite()) && (0..6).all(|i| f.p[(i, i)].is_finite());
         if !finite {
             return f64::INFINITY;
