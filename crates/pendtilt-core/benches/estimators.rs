@@ -63,10 +63,9 @@ fn bench_type<T: Real>(c: &mut Criterion, name: &str) {
     g.bench_function(BenchmarkId::from_parameter("alg2"), |b| {
         b.iter(|| run(&mut a2, &s))
     });
-    let mut a2w = Alg2::<T>::new(Alg2Settings {
-        theta_dd: ThetaDdSource::Window { span: T::lit(0.02) },
-        ..Alg2Settings::default()
-    });
+    let mut window = Alg2Settings::default();
+    window.front_end.theta_dd = ThetaDdSource::Window { span: T::lit(0.02) };
+    let mut a2w = Alg2::<T>::new(window);
     g.bench_function(BenchmarkId::from_parameter("alg2_eq22_window"), |b| {
         b.iter(|| run(&mut a2w, &s))
     });

@@ -1,4 +1,6 @@
-//! Pendulum parameters: physical values and the normalised a, b, c the estimators use.
+//! Rig parameters: the pendulum (physical values and the normalised a, b, c the estimators
+//! use) and the sensors' limits ([`GyroSettings`]), each defined once and composed into
+//! the settings of every estimator that needs it.
 
 use crate::Real;
 
@@ -124,5 +126,28 @@ mod tests {
         p.b = 1e-3;
         p.a = -1.0;
         assert!(!p.is_physical());
+    }
+}
+
+/// The rate gyro as the estimators need to know it (the rig file's `[gyro]` table). One
+/// definition, composed into the settings of every estimator that reads the gyro
+/// ([`crate::estimators::shared::FrontEndSettings::gyro`],
+/// [`crate::kalman::KalmanSettings::gyro`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct GyroSettings<T> {
+    /// Full scale [rad/s]: a reading at or beyond it is flagged
+    /// [`Flags::SATURATED`](crate::Flags::SATURATED). It is still used as the rate (its
+    /// sign is right, its size the closest bound to the truth), but not as if it were
+    /// exact: Algorithms 2 and 3 hold theta'' at its last good value rather than read
+    /// the clipped plateau as zero, and the Kalman filters grow the angle variance by
+    /// `(full_scale dt)^2` so that their measurement carries the angle through.
+    /// Default `None` (unknown: no check; a value that is not positive is no check too).
+    pub full_scale: Option<T>,
+}
+
+impl<T: Real> GyroSettings<T> {
+    /// The full scale if it is a usable bound (positive), for the per-sample check.
+    pub fn checked_full_scale(&self) -> Option<T> {
+        self.full_scale.filter(|f| crate::real::is_positive(*f))
     }
 }

@@ -137,9 +137,9 @@ fn alg_errors(cutoff_hz: f64) -> (f64, f64) {
     use pendtilt_core::filters::diff::Cutoff;
     let rows = integrate(sigmoid, 5.0, 1000.0, 4);
     let mut s1 = Alg1Settings::from_params(params());
-    s1.differentiator.cutoff = Cutoff::Hz(cutoff_hz);
+    s1.front_end.differentiator.cutoff = Cutoff::Hz(cutoff_hz);
     let mut s2 = Alg2Settings::from_params(params());
-    s2.differentiator.cutoff = Cutoff::Hz(cutoff_hz);
+    s2.front_end.differentiator.cutoff = Cutoff::Hz(cutoff_hz);
     (
         rms(&mut Alg1::new(s1), &rows, 0.5),
         rms(&mut Alg2::<f64>::new(s2), &rows, 0.5),

@@ -173,7 +173,7 @@ fn live(c: &mut Criterion) {
             }),
             ..SupervisedAlg3Settings::default()
         };
-        set.alg3.differentiator.cutoff = Cutoff::Hz(1.7 * t.natural_frequency_hz());
+        set.alg3.front_end.differentiator.cutoff = Cutoff::Hz(1.7 * t.natural_frequency_hz());
         set.supervisor.method = method;
         set.supervisor.refit_interval = interval;
         set.supervisor.objective = objective;

@@ -7,6 +7,7 @@
 use pendtilt::sim::{simulate, Scenario};
 use pendtilt_core::estimators::alg1::{Alg1, Alg1Settings};
 use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
+use pendtilt_core::estimators::shared::FrontEndSettings;
 use pendtilt_core::estimators::theta_dd::ThetaDdSource;
 use pendtilt_core::estimators::PhiSource;
 use pendtilt_core::filters::diff::{Cutoff, Response};
@@ -59,11 +60,12 @@ fn main() -> anyhow::Result<()> {
                     cutoff: Cutoff::TimesNatural(ratio),
                 };
                 let mut cols = Vec::new();
-                let s1 = Alg1Settings {
+                let fe = FrontEndSettings {
                     differentiator: diff,
                     phi,
-                    ..Alg1Settings::from_params(params)
+                    ..FrontEndSettings::from_params(params)
                 };
+                let s1 = Alg1Settings { front_end: fe };
                 cols.push(
                     rides
                         .iter()
@@ -78,9 +80,10 @@ fn main() -> anyhow::Result<()> {
                     ThetaDdSource::Window { span: 0.060 },
                 ] {
                     let s2 = Alg2Settings {
-                        differentiator: diff,
-                        phi,
-                        theta_dd: src,
+                        front_end: FrontEndSettings {
+                            theta_dd: src,
+                            ..fe
+                        },
                         ..Alg2Settings::from_params(params)
                     };
                     cols.push(
@@ -92,8 +95,7 @@ fn main() -> anyhow::Result<()> {
                     );
                 }
                 let s2 = Alg2Settings {
-                    differentiator: diff,
-                    phi,
+                    front_end: fe,
                     delay_compensation: true,
                     ..Alg2Settings::from_params(params)
                 };

@@ -207,18 +207,18 @@ pub static REGISTRY: &[Entry] = &[
             // Algorithm 1 reads neither theta'' nor the gyro: take Algorithm 2's gyro
             // settings so they can share a front end.
             let fe = FrontEndSettings {
-                theta_dd: s.alg2.theta_dd,
-                gyro_full_scale: s.alg2.gyro_full_scale,
-                ..s.alg1.front_end()
+                theta_dd: s.alg2.front_end.theta_dd,
+                gyro: s.alg2.front_end.gyro,
+                ..s.alg1.front_end
             };
-            (fe, Equation::Alg1(s.alg1.params))
+            (fe, s.alg1.equation())
         }),
         about: "Algorithm 1, Eq (20)",
     },
     Entry {
         name: "alg2",
         needs: PHI_GYRO,
-        kind: Kind::Inversion(|s| (s.alg2.front_end(), s.alg2.equation())),
+        kind: Kind::Inversion(|s| (s.alg2.front_end, s.alg2.equation())),
         about: "Algorithm 2, Eqs (21)-(22)",
     },
     Entry {
@@ -229,7 +229,7 @@ pub static REGISTRY: &[Entry] = &[
                 pivot_offset: true,
                 ..s.alg2
             };
-            (a.front_end(), a.equation())
+            (a.front_end, a.equation())
         }),
         about: "Algorithm 2 with the pivot-offset term (not in the paper)",
     },
@@ -241,14 +241,14 @@ pub static REGISTRY: &[Entry] = &[
                 delay_compensation: true,
                 ..s.alg2
             };
-            (a.front_end(), a.equation())
+            (a.front_end, a.equation())
         }),
         about: "Algorithm 2 with the differentiator's delay removed by the gyro (not in the paper)",
     },
     Entry {
         name: "alg3",
         needs: PHI_GYRO,
-        kind: Kind::Inversion(|s| (s.alg3.front_end(), Equation::Alg3(s.alg3.gains))),
+        kind: Kind::Inversion(|s| (s.alg3.front_end, Equation::Alg3(s.alg3.gains))),
         about: "Algorithm 3's Eq (30) with the configured K, L, M, N",
     },
     Entry {
@@ -749,12 +749,12 @@ mod tests {
         for alg1_cutoff in [None, Some(4.0)] {
             let mut s = BankSettings::from_params(p);
             if let Some(f) = alg1_cutoff {
-                s.alg1.differentiator.cutoff = Cutoff::Hz(f);
+                s.alg1.front_end.differentiator.cutoff = Cutoff::Hz(f);
             }
             s.alg3.gains.n = 0.003;
             // As a rig file from `simulate` has it: alg1 must still share.
-            s.alg2.gyro_full_scale = Some(0.15);
-            s.alg3.gyro_full_scale = Some(0.15);
+            s.alg2.front_end.gyro.full_scale = Some(0.15);
+            s.alg3.front_end.gyro.full_scale = Some(0.15);
             let mut b = Bank::new(&s, Inputs::ALL, None).unwrap();
             let shared = b
                 .slots

@@ -86,8 +86,11 @@ use pendtilt_core::estimators::alg1::Alg1Settings;
 use pendtilt_core::estimators::alg2::Alg2Settings;
 use pendtilt_core::estimators::alg3::Alg3Settings;
 use pendtilt_core::estimators::equations::Alg3Gains;
+use pendtilt_core::estimators::shared::FrontEndSettings;
+use pendtilt_core::estimators::theta_dd::ThetaDdSource;
 use pendtilt_core::filters::diff::DiffSettings;
 use pendtilt_core::kalman::KalmanSettings;
+use pendtilt_core::params::GyroSettings;
 use pendtilt_core::{PendulumParams, PhysicalParams};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
@@ -354,7 +357,7 @@ impl RigConfig {
         self.alg3.gains(&self.params())
     }
 
-    /// Settings of the Kalman filters (`kf_*`), from `[kalman]`.
+    /// Settings of the Kalman filters (`kf_*`), from `[kalman]` and `[gyro]`.
     pub fn kalman_settings(&self) -> KalmanSettings<f64> {
         let k = &self.kalman;
         KalmanSettings {
@@ -364,7 +367,14 @@ impl RigConfig {
             r_pendulum: k.r_pendulum,
             p0_angle: k.p0_angle,
             p0_bias: k.p0_bias,
-            gyro_full_scale: self.gyro.full_scale,
+            gyro: self.gyro_settings(),
+        }
+    }
+
+    /// The gyro's settings, from `[gyro]`.
+    pub fn gyro_settings(&self) -> GyroSettings<f64> {
+        GyroSettings {
+            full_scale: self.gyro.full_scale,
         }
     }
 
@@ -378,39 +388,43 @@ impl RigConfig {
         self.accel.settings()
     }
 
+    /// The front end of Algorithms 1-3 from `[pendulum]`, `[differentiator]` and `[gyro]`,
+    /// with `phi` and `theta_dd` from an algorithm's table.
+    fn front_end(&self, phi: PhiChoice, theta_dd: ThetaDdSource<f64>) -> FrontEndSettings<f64> {
+        FrontEndSettings {
+            params: self.params(),
+            differentiator: self.diff_settings(),
+            phi: phi.into(),
+            theta_dd,
+            gyro: self.gyro_settings(),
+        }
+    }
+
     /// Settings of `alg1`, from `[pendulum]`, `[differentiator]` and `[alg1]`.
     pub fn alg1_settings(&self) -> Alg1Settings<f64> {
         Alg1Settings {
-            differentiator: self.diff_settings(),
-            phi: self.alg1.phi.into(),
-            ..Alg1Settings::from_params(self.params())
+            // Algorithm 1 reads neither theta'' nor the gyro.
+            front_end: self.front_end(self.alg1.phi, ThetaDdSource::default()),
         }
     }
 
-    /// Settings of `alg2`, from `[pendulum]`, `[differentiator]` and `[alg2]`.
+    /// Settings of `alg2`, from `[pendulum]`, `[differentiator]`, `[gyro]` and `[alg2]`.
     pub fn alg2_settings(&self) -> Alg2Settings<f64> {
+        let a = &self.alg2;
         Alg2Settings {
-            differentiator: self.diff_settings(),
-            phi: self.alg2.phi.into(),
-            theta_dd: estimators::theta_dd(self.alg2.theta_dd, self.alg2.window),
-            pivot_offset: self.alg2.pivot_offset,
-            delay_compensation: self.alg2.delay_compensation,
-            gyro_full_scale: self.gyro.full_scale,
-            ..Alg2Settings::from_params(self.params())
+            front_end: self.front_end(a.phi, estimators::theta_dd(a.theta_dd, a.window)),
+            pivot_offset: a.pivot_offset,
+            delay_compensation: a.delay_compensation,
         }
     }
 
-    /// Settings of `alg3`, from `[pendulum]`, `[differentiator]` and `[alg3]` (gains left
-    /// out of `[alg3]` are K = a, L = b, M = -b, N = 0).
+    /// Settings of `alg3`, from `[pendulum]`, `[differentiator]`, `[gyro]` and `[alg3]`
+    /// (gains left out of `[alg3]` are K = a, L = b, M = -b, N = 0).
     pub fn alg3_settings(&self) -> Alg3Settings<f64> {
-        let params = self.params();
+        let a = &self.alg3;
         Alg3Settings {
-            gains: self.alg3.gains(&params),
-            differentiator: self.diff_settings(),
-            phi: self.alg3.phi.into(),
-            theta_dd: estimators::theta_dd(self.alg3.theta_dd, self.alg3.window),
-            gyro_full_scale: self.gyro.full_scale,
-            ..Alg3Settings::from_params(params)
+            front_end: self.front_end(a.phi, estimators::theta_dd(a.theta_dd, a.window)),
+            gains: a.gains(&self.params()),
         }
     }
 

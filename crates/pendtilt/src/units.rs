@@ -388,7 +388,7 @@ pub fn check_settings_against_rate(settings: &BankSettings, dt: f64) -> Result<(
     let nyquist = rate / 2.0;
     let f_n = settings.params.natural_frequency_hz();
     let floor = MIN_DIFF_CUTOFF_TIMES_NATURAL * f_n;
-    let diff = settings.alg1.front_end().differentiator;
+    let diff = settings.alg1.front_end.differentiator;
     let hz = diff.cutoff_hz(&settings.params);
     let what = match diff.cutoff {
         pendtilt_core::filters::diff::Cutoff::Hz(_) => {

@@ -349,21 +349,24 @@ fn estimator_tables_map_onto_core_settings() {
     assert_eq!(d.cutoff, Cutoff::Hz(3.0));
     let a = cfg.accel_settings();
     assert_eq!((a.prefilter_hz, a.full_scale), (Some(5.0), Some(78.5)));
-    assert_eq!(cfg.alg1_settings().phi, PhiSource::Filtered);
-    assert_eq!(cfg.alg1_settings().differentiator, d);
+    assert_eq!(cfg.alg1_settings().front_end.phi, PhiSource::Filtered);
+    assert_eq!(cfg.alg1_settings().front_end.differentiator, d);
     let s2 = cfg.alg2_settings();
-    assert_eq!(s2.theta_dd, ThetaDdSource::Window { span: 0.03 });
+    assert_eq!(s2.front_end.theta_dd, ThetaDdSource::Window { span: 0.03 });
     assert!(s2.pivot_offset);
-    assert_eq!(s2.params.a, 0.04);
+    assert_eq!(s2.front_end.params.a, 0.04);
     let g = cfg.alg3_settings().gains;
     // K and N given; L and M from b.
     assert_eq!((g.k, g.l, g.m, g.n), (0.1, 0.005, -0.005, 0.002));
-    assert_eq!(cfg.alg3_settings().theta_dd, ThetaDdSource::Matched);
+    assert_eq!(
+        cfg.alg3_settings().front_end.theta_dd,
+        ThetaDdSource::Matched
+    );
     assert_eq!(cfg.kalman_settings().r_pendulum, 0.002);
     // The gyro's full scale reaches every estimator that reads the gyro.
-    assert_eq!(s2.gyro_full_scale, Some(8.7));
-    assert_eq!(cfg.alg3_settings().gyro_full_scale, Some(8.7));
-    assert_eq!(cfg.kalman_settings().gyro_full_scale, Some(8.7));
+    assert_eq!(s2.front_end.gyro.full_scale, Some(8.7));
+    assert_eq!(cfg.alg3_settings().front_end.gyro.full_scale, Some(8.7));
+    assert_eq!(cfg.kalman_settings().gyro.full_scale, Some(8.7));
     // And the whole file round-trips.
     let back = RigConfig::from_toml_str(&cfg.to_toml_string(), "again.toml").unwrap();
     assert_eq!(back, cfg, "{}", cfg.to_toml_string());

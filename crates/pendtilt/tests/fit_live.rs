@@ -46,7 +46,7 @@ fn supervised(method: Method) -> SupervisedAlg3<f64, 1024> {
         alg3: Alg3Settings::from_params(start),
         ..SupervisedAlg3Settings::default()
     };
-    set.alg3.differentiator.cutoff = Cutoff::Hz(1.7 * t.natural_frequency_hz());
+    set.alg3.front_end.differentiator.cutoff = Cutoff::Hz(1.7 * t.natural_frequency_hz());
     set.supervisor.method = method;
     set.supervisor.window = 1000;
     set.supervisor.refit_interval = 250;
@@ -163,7 +163,7 @@ fn f32_rls_supervisor_runs_and_converges_roughly() {
         alg3: Alg3Settings::from_params(start),
         ..SupervisedAlg3Settings::default()
     };
-    set.alg3.differentiator.cutoff = Cutoff::Hz(1.7 * t.natural_frequency_hz());
+    set.alg3.front_end.differentiator.cutoff = Cutoff::Hz(1.7 * t.natural_frequency_hz());
     set.supervisor.method = Method::Rls;
     set.supervisor.refit_interval = 250;
     let mut e = SupervisedAlg3::<f32, 64>::new(SupervisedAlg3Settings {

@@ -16,6 +16,7 @@ use pendtilt::core::estimators::alg2::{Alg2, Alg2Settings};
 use pendtilt::core::estimators::alg3::{Alg3, Alg3Settings};
 use pendtilt::core::estimators::complementary::{Complementary, ComplementarySettings};
 use pendtilt::core::estimators::pendulum::{Pendulum, PendulumSettings};
+use pendtilt::core::estimators::shared::FrontEndSettings;
 use pendtilt::core::estimators::theta_dd::ThetaDdSource;
 use pendtilt::core::kalman::tilt::KalmanOn;
 use pendtilt::core::kalman::KalmanSettings;
@@ -120,11 +121,14 @@ fn all_estimators<T: Real>(s: &[Sample<T>]) -> Result<(), String> {
         "alg2_offset_eq22",
         Alg2::<T>::new(Alg2Settings {
             pivot_offset: true,
-            theta_dd: ThetaDdSource::Window { span: T::lit(0.02) },
-            ..Alg2Settings::from_params(PendulumParams {
-                c: T::lit(0.005),
-                ..p
-            })
+            front_end: FrontEndSettings {
+                theta_dd: ThetaDdSource::Window { span: T::lit(0.02) },
+                ..FrontEndSettings::from_params(PendulumParams {
+                    c: T::lit(0.005),
+                    ..p
+                })
+            },
+            delay_compensation: false,
         }),
         s,
     )?;

@@ -18,7 +18,8 @@ pub struct AccelSettings<T> {
     pub full_scale: Option<T>,
 }
 
-/// Eq (1) as a streaming estimator.
+/// Eq (1) as a streaming estimator. [`Estimator::reset`] restarts the low-passes and
+/// the clock; the settings and the low-passes' design stay.
 #[derive(Debug, Clone)]
 pub struct Accel<T: Real> {
     settings: AccelSettings<T>,
@@ -39,6 +40,11 @@ impl<T: Real> Accel<T> {
             clock: StepClock::new(),
             last: T::nan(),
         }
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> &AccelSettings<T> {
+        &self.settings
     }
 }
 
@@ -99,7 +105,10 @@ impl<T: Real> Estimator for Accel<T> {
     }
 
     fn reset(&mut self) {
-        *self = Self::new(self.settings);
+        self.lx.reset();
+        self.ly.reset();
+        self.clock.restart();
+        self.last = T::nan();
     }
 }
 

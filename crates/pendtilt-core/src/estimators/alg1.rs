@@ -1,21 +1,16 @@
 //! Algorithm 1, pendulum only: Eq (20), `theta = phi + asin(a phi' + b phi'')` (sign
 //! corrected; see [`super::equations`]). It neglects the body's angular acceleration, so it
 //! errs where theta'' is large (the paper's Fig 5).
-use super::inverter::{Inverter, PhiSource};
+use super::inverter::Inverter;
 use super::shared::{Equation, FrontEndSettings};
-use super::theta_dd::ThetaDdSource;
-use crate::filters::diff::DiffSettings;
 use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 
-/// Settings of [`Alg1`].
+/// Settings of [`Alg1`]: its front end, nothing of its own.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Alg1Settings<T> {
-    /// The pendulum's normalised parameters a, b. Default: the MODEL.md rig.
-    pub params: PendulumParams<T>,
-    /// Differentiator for phi' and phi''. Default: Butterworth at 1.3 f_n.
-    pub differentiator: DiffSettings<T>,
-    /// Which phi enters the equation. Default [`PhiSource::Raw`].
-    pub phi: PhiSource,
+    /// The pendulum, the differentiator and which phi enters the equation (the front
+    /// end's theta'' and gyro settings are not read by Algorithm 1).
+    pub front_end: FrontEndSettings<T>,
 }
 
 impl<T: Real> Default for Alg1Settings<T> {
@@ -25,24 +20,16 @@ impl<T: Real> Default for Alg1Settings<T> {
 }
 
 impl<T: Real> Alg1Settings<T> {
-    /// The front end these settings describe (theta'' unused by Algorithm 1: default).
-    pub fn front_end(&self) -> FrontEndSettings<T> {
-        FrontEndSettings {
-            params: self.params,
-            differentiator: self.differentiator,
-            phi: self.phi,
-            theta_dd: ThetaDdSource::default(),
-            gyro_full_scale: None,
-        }
-    }
-
     /// Default settings for a pendulum with parameters `params`.
     pub fn from_params(params: PendulumParams<T>) -> Self {
         Self {
-            params,
-            differentiator: DiffSettings::default(),
-            phi: PhiSource::default(),
+            front_end: FrontEndSettings::from_params(params),
         }
+    }
+
+    /// The equation these settings describe.
+    pub fn equation(&self) -> Equation<T> {
+        Equation::Alg1(self.front_end.params)
     }
 }
 
@@ -57,7 +44,7 @@ impl<T: Real> Alg1<T> {
     /// A new estimator.
     pub fn new(settings: Alg1Settings<T>) -> Self {
         Self {
-            inv: Inverter::new(&settings.front_end(), false),
+            inv: Inverter::new(&settings.front_end, false),
             settings,
         }
     }
@@ -74,7 +61,7 @@ impl<T: Real> Estimator for Alg1<T> {
 
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
-        self.inv.run(s, &Equation::Alg1(self.settings.params)).0
+        self.inv.run(s, &self.settings.equation()).0
     }
 
     fn reset(&mut self) {

@@ -2,29 +2,16 @@
 //! with theta'' = `G_d` from the gyro (Eq 22, or the matched differentiator; see
 //! [`super::theta_dd`]). Optionally with the pivot-offset term the paper dropped
 //! ([`Alg2Settings::pivot_offset`], output `alg2_offset`).
-use super::inverter::{Inverter, PhiSource};
+use super::inverter::Inverter;
 use super::shared::{Equation, FrontEndSettings};
-use super::theta_dd::{ThetaDdSource, DEFAULT_WINDOW_CAPACITY};
-use crate::filters::diff::DiffSettings;
+use super::theta_dd::DEFAULT_WINDOW_CAPACITY;
 use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 
-/// Settings of [`Alg2`].
+/// Settings of [`Alg2`]: its front end and its own two options.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Alg2Settings<T> {
-    /// The pendulum's normalised parameters a, b (and c with `pivot_offset`).
-    pub params: PendulumParams<T>,
-    /// Differentiator for phi', phi'' (and the gyro when matched). Default: Butterworth at
-    /// 1.3 f_n.
-    pub differentiator: DiffSettings<T>,
-    /// Which phi enters the equation. Default [`PhiSource::Raw`].
-    pub phi: PhiSource,
-    /// Where theta'' comes from. Default [`ThetaDdSource::Matched`].
-    pub theta_dd: ThetaDdSource<T>,
-    /// Gyro full scale [rad/s]: a reading at or beyond it is flagged
-    /// [`Flags::SATURATED`](crate::Flags::SATURATED); it is still used as the rate (the
-    /// closest bound to the truth), but theta'' is held at its last good value rather than
-    /// read off the clipped plateau as zero. Default `None` (unknown: no check).
-    pub gyro_full_scale: Option<T>,
+    /// The pendulum, the differentiator, phi, theta'' and the gyro.
+    pub front_end: FrontEndSettings<T>,
     /// Add `c (theta'' cos phi - theta'^2 sin phi)`, c = l12 / g (MODEL.md section 3).
     /// Default false (the paper's Eq 21).
     pub pivot_offset: bool,
@@ -45,21 +32,10 @@ impl<T: Real> Default for Alg2Settings<T> {
 }
 
 impl<T: Real> Alg2Settings<T> {
-    /// The front end these settings describe.
-    pub fn front_end(&self) -> FrontEndSettings<T> {
-        FrontEndSettings {
-            params: self.params,
-            differentiator: self.differentiator,
-            phi: self.phi,
-            theta_dd: self.theta_dd,
-            gyro_full_scale: self.gyro_full_scale,
-        }
-    }
-
     /// The equation these settings describe.
     pub fn equation(&self) -> Equation<T> {
         Equation::Alg2 {
-            params: self.params,
+            params: self.front_end.params,
             pivot_offset: self.pivot_offset,
             delay_compensation: self.delay_compensation,
         }
@@ -68,11 +44,7 @@ impl<T: Real> Alg2Settings<T> {
     /// Default settings for a pendulum with parameters `params`.
     pub fn from_params(params: PendulumParams<T>) -> Self {
         Self {
-            params,
-            differentiator: DiffSettings::default(),
-            phi: PhiSource::default(),
-            theta_dd: ThetaDdSource::default(),
-            gyro_full_scale: None,
+            front_end: FrontEndSettings::from_params(params),
             pivot_offset: false,
             delay_compensation: false,
         }
@@ -90,7 +62,7 @@ impl<T: Real, const W: usize> Alg2<T, W> {
     /// A new estimator.
     pub fn new(settings: Alg2Settings<T>) -> Self {
         Self {
-            inv: Inverter::new(&settings.front_end(), true),
+            inv: Inverter::new(&settings.front_end, true),
             settings,
         }
     }

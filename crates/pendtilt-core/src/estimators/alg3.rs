@@ -3,30 +3,20 @@
 //! L = b, M = -b, N = 0 it equals [`super::alg2`]. The gains can be changed between
 //! samples with [`Alg3::set_gains`]: that is what live supervision (Eq 29) drives.
 use super::equations::Alg3Gains;
-use super::inverter::{Inverter, PhiSource};
+use super::inverter::Inverter;
 use super::shared::{Equation, FrontEndSettings};
-use super::theta_dd::{ThetaDdSource, DEFAULT_WINDOW_CAPACITY};
-use crate::filters::diff::DiffSettings;
+use super::theta_dd::DEFAULT_WINDOW_CAPACITY;
 use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 
-/// Settings of [`Alg3`].
+/// Settings of [`Alg3`]: its front end and its gains.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Alg3Settings<T> {
-    /// The pendulum's parameters: set the differentiator's cutoff (relative to f_n).
-    pub params: PendulumParams<T>,
-    /// K, L, M, N. Default: those that make Eq (30) equal Eq (21).
+    /// The pendulum (its natural frequency sets a relative differentiator cutoff), the
+    /// differentiator, phi, G_d (theta'') and the gyro.
+    pub front_end: FrontEndSettings<T>,
+    /// K, L, M, N. Default: those that make Eq (30) equal Eq (21) (K = a, L = b, M = -b,
+    /// N = 0).
     pub gains: Alg3Gains<T>,
-    /// Differentiator for phi', phi''. Default: Butterworth at 1.3 f_n.
-    pub differentiator: DiffSettings<T>,
-    /// Which phi enters the equation. Default [`PhiSource::Raw`].
-    pub phi: PhiSource,
-    /// Where G_d comes from. Default [`ThetaDdSource::Matched`].
-    pub theta_dd: ThetaDdSource<T>,
-    /// Gyro full scale [rad/s]: a reading at or beyond it is flagged
-    /// [`Flags::SATURATED`](crate::Flags::SATURATED); it is still used as the rate (the
-    /// closest bound to the truth), but theta'' is held at its last good value rather than
-    /// read off the clipped plateau as zero. Default `None` (unknown: no check).
-    pub gyro_full_scale: Option<T>,
 }
 
 impl<T: Real> Default for Alg3Settings<T> {
@@ -36,26 +26,11 @@ impl<T: Real> Default for Alg3Settings<T> {
 }
 
 impl<T: Real> Alg3Settings<T> {
-    /// The front end these settings describe.
-    pub fn front_end(&self) -> FrontEndSettings<T> {
-        FrontEndSettings {
-            params: self.params,
-            differentiator: self.differentiator,
-            phi: self.phi,
-            theta_dd: self.theta_dd,
-            gyro_full_scale: self.gyro_full_scale,
-        }
-    }
-
     /// Default settings for a pendulum with parameters `params` (gains K=a, L=b, M=-b, N=0).
     pub fn from_params(params: PendulumParams<T>) -> Self {
         Self {
-            params,
+            front_end: FrontEndSettings::from_params(params),
             gains: Alg3Gains::from_params(&params),
-            differentiator: DiffSettings::default(),
-            phi: PhiSource::default(),
-            theta_dd: ThetaDdSource::default(),
-            gyro_full_scale: None,
         }
     }
 }
@@ -91,7 +66,7 @@ impl<T: Real, const W: usize> Alg3<T, W> {
     /// A new estimator.
     pub fn new(settings: Alg3Settings<T>) -> Self {
         Self {
-            inv: Inverter::new(&settings.front_end(), true),
+            inv: Inverter::new(&settings.front_end, true),
             settings,
         }
     }

@@ -43,6 +43,8 @@ impl<T: Real> Default for ComplementarySettings<T> {
 #[derive(Debug, Clone)]
 pub struct Complementary<T: Real> {
     settings: ComplementarySettings<T>,
+    /// The crossover time constant, negative ones taken as 0 (a coefficient).
+    tau: T,
     lx: LowPass2<T>,
     ly: LowPass2<T>,
     input: InputHold<T>,
@@ -54,6 +56,7 @@ impl<T: Real> Complementary<T> {
     pub fn new(settings: ComplementarySettings<T>) -> Self {
         let f = settings.accel_prefilter_hz.unwrap_or(T::one());
         Self {
+            tau: settings.time_constant.max(T::zero()),
             settings,
             lx: LowPass2::new(f),
             ly: LowPass2::new(f),
@@ -126,7 +129,7 @@ impl<T: Real> Estimator for Complementary<T> {
         }
         self.theta = match self.accel(s, dt) {
             Some(a) => {
-                let tau = self.settings.time_constant.max(T::zero());
+                let tau = self.tau;
                 let alpha = tau / (tau + dt);
                 // Blend on the circle: the accelerometer angle taken within half a turn.
                 let mut d = a - predicted;
@@ -150,7 +153,10 @@ impl<T: Real> Estimator for Complementary<T> {
     }
 
     fn reset(&mut self) {
-        *self = Self::new(self.settings);
+        self.lx.reset();
+        self.ly.reset();
+        self.input = InputHold::new();
+        self.theta = T::nan();
     }
 }
 

@@ -76,9 +76,7 @@ impl<T: Real, const W: usize, const C: usize> Inverter<T, W, C> {
             delay: diff.response.dc_delay(d.cutoff_rad_s()),
             phi_source: settings.phi,
             gyro: with_gyro.then(|| ThetaDd::new(settings.theta_dd)),
-            gyro_full_scale: settings
-                .gyro_full_scale
-                .filter(|f| crate::real::is_positive(*f)),
+            gyro_full_scale: settings.gyro.checked_full_scale(),
             gyro_seen: false,
             diff: d,
             clock: StepClock::new(),

@@ -57,6 +57,8 @@ impl<T: Real> Estimator for Pendulum<T> {
     }
 
     fn reset(&mut self) {
-        *self = Self::new(PendulumSettings {});
+        self.last = T::nan();
+        self.encoder = Unwrapper::new();
+        self.clock.restart();
     }
 }

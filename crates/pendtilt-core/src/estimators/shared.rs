@@ -13,6 +13,7 @@ use super::equations::{self, Alg3Gains, Inversion};
 use super::inverter::{Inverter, Kinematics, PhiSource};
 use super::theta_dd::{ThetaDdSource, DEFAULT_WINDOW_CAPACITY};
 use crate::filters::diff::DiffSettings;
+use crate::params::GyroSettings;
 use crate::{Estimate, Flags, PendulumParams, Real, Sample};
 
 /// One inversion equation of the paper (or a variant), evaluated on the front end's
@@ -86,24 +87,37 @@ impl<T: Real> Equation<T> {
 /// The most equations one [`SharedFrontEnd`] evaluates.
 pub const MAX_EQUATIONS: usize = 8;
 
-/// Settings of the front end the equations share.
+/// Settings of the front end Algorithms 1-3 share, each defined here once: the
+/// algorithms' settings hold one ([`Alg1Settings::front_end`],
+/// [`Alg2Settings::front_end`], [`Alg3Settings::front_end`]) beside their own.
+///
+/// [`Alg1Settings::front_end`]: super::alg1::Alg1Settings::front_end
+/// [`Alg2Settings::front_end`]: super::alg2::Alg2Settings::front_end
+/// [`Alg3Settings::front_end`]: super::alg3::Alg3Settings::front_end
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrontEndSettings<T> {
-    /// The pendulum (its natural frequency sets a [`Cutoff::TimesNatural`] cutoff).
+    /// The pendulum's normalised parameters a, b (and c, for Algorithm 2's pivot-offset
+    /// term). Its natural frequency sets a [`Cutoff::TimesNatural`] cutoff. Default: the
+    /// MODEL.md rig ([`PendulumParams::default`]).
     ///
     /// [`Cutoff::TimesNatural`]: crate::filters::diff::Cutoff::TimesNatural
     pub params: PendulumParams<T>,
-    /// The differentiator of phi and the gyro. Default: Butterworth at 1.3 f_n.
+    /// The differentiator of phi (and of the gyro, for a matched theta''). Default:
+    /// Butterworth at 1.3 f_n ([`DiffSettings::default`]).
     pub differentiator: DiffSettings<T>,
-    /// Which phi enters the equations. Default [`PhiSource::Raw`].
+    /// Which phi enters the equation. Default [`PhiSource::Raw`].
     pub phi: PhiSource,
-    /// Where theta'' comes from. Default [`ThetaDdSource::Matched`].
+    /// Where theta'' (G_d) comes from. Default [`ThetaDdSource::Matched`]. Not read by
+    /// Algorithm 1.
     pub theta_dd: ThetaDdSource<T>,
-    /// Gyro full scale [rad/s]: a reading at or beyond it is flagged
-    /// [`Flags::SATURATED`](crate::Flags::SATURATED); it is still used as the rate (the
-    /// closest bound to the truth), but theta'' is held at its last good value rather than
-    /// read off the clipped plateau as zero. Default `None` (unknown: no check).
-    pub gyro_full_scale: Option<T>,
+    /// The gyro (its full scale). Default: unknown full scale. Not read by Algorithm 1.
+    pub gyro: GyroSettings<T>,
+}
+
+impl<T: Real> Default for FrontEndSettings<T> {
+    fn default() -> Self {
+        Self::from_params(PendulumParams::default())
+    }
 }
 
 impl<T: Real> FrontEndSettings<T> {
@@ -114,7 +128,7 @@ impl<T: Real> FrontEndSettings<T> {
             differentiator: DiffSettings::default(),
             phi: PhiSource::default(),
             theta_dd: ThetaDdSource::default(),
-            gyro_full_scale: None,
+            gyro: GyroSettings::default(),
         }
     }
 }
@@ -252,7 +266,7 @@ mod tests {
                 ..FrontEndSettings::from_params(p)
             };
             let a2 = Alg2Settings {
-                theta_dd,
+                front_end: fe,
                 ..Alg2Settings::from_params(p)
             };
             let g = Alg3Gains {
@@ -272,8 +286,7 @@ mod tests {
                 })),
                 Box::new(Alg3::<f64>::new(Alg3Settings {
                     gains: g,
-                    theta_dd,
-                    ..Alg3Settings::from_params(p)
+                    front_end: fe,
                 })),
             ];
             let eq2 = |pivot_offset, delay_compensation| Equation::Alg2 {

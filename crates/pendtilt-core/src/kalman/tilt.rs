@@ -8,6 +8,7 @@ use super::measurement::AngleMeasurement;
 use super::process::AngleBias;
 use super::KalmanFilter;
 use crate::engine::{Gate, GaussianFilter, ProcessModel};
+use crate::params::GyroSettings;
 use crate::{Estimate, Estimator, Flags, PlanarEstimator, Real, Sample, StepClock};
 use nalgebra::{Matrix2, Vector1, Vector2};
 
@@ -27,13 +28,11 @@ pub struct KalmanSettings<T> {
     pub p0_angle: T,
     /// Initial bias variance [(rad/s)^2]. Default 0.01.
     pub p0_bias: T,
-    /// Gyro full scale [rad/s]: a reading at or beyond it is flagged
-    /// [`Flags::SATURATED`]; the prediction still uses it (its sign is right, its size a
-    /// lower bound), and the angle variance grows by `(full_scale dt)^2` for the sample so
-    /// that the measurement, not the clipped rate, carries the angle through. Default
-    /// `None` (unknown: no check). Not a key of the `[kalman]` table: the rig file's
-    /// `[gyro] full_scale` sets it.
-    pub gyro_full_scale: Option<T>,
+    /// The gyro (its full scale: a saturated reading still drives the prediction, and
+    /// the angle variance grows so that the measurement carries the angle through).
+    /// Default: unknown full scale. Not a key of the `[kalman]` table: the rig file's
+    /// `[gyro]` table sets it.
+    pub gyro: GyroSettings<T>,
 }
 
 impl<T: Real> Default for KalmanSettings<T> {
@@ -47,38 +46,64 @@ impl<T: Real> Default for KalmanSettings<T> {
             r_pendulum: T::lit(0.001),
             p0_angle: T::lit(0.01),
             p0_bias: T::lit(0.01),
-            gyro_full_scale: None,
+            gyro: GyroSettings::default(),
         }
     }
 }
 
 /// The angle + bias filter itself, fed measurements explicitly.
+///
+/// Settings, the coefficients derived from them and the state are kept apart, so that
+/// [`TiltKalman::reset`] rebuilds the state and nothing else.
 #[derive(Debug, Clone)]
 pub struct TiltKalman<T: Real> {
     settings: KalmanSettings<T>,
+    coefficients: Coefficients<T>,
+    state: State<T>,
+}
+
+/// What [`KalmanSettings`] give once: the process model and the gyro's usable full scale.
+#[derive(Debug, Clone, Copy)]
+struct Coefficients<T: Real> {
     process: AngleBias<T>,
+    gyro_full_scale: Option<T>,
+}
+
+/// Everything a run changes.
+#[derive(Debug, Clone)]
+struct State<T: Real> {
     kf: KalmanFilter<T>,
     clock: StepClock<T>,
     started: bool,
     last_gyro: T,
 }
 
+impl<T: Real> State<T> {
+    fn new(s: &KalmanSettings<T>) -> Self {
+        let p0 = Matrix2::new(s.p0_angle, T::zero(), T::zero(), s.p0_bias);
+        Self {
+            kf: KalmanFilter::start(Vector2::zeros(), p0),
+            clock: StepClock::new(),
+            started: false,
+            last_gyro: T::zero(),
+        }
+    }
+}
+
 impl<T: Real> TiltKalman<T> {
     /// A new filter.
     pub fn new(settings: KalmanSettings<T>) -> Self {
-        Self {
+        let coefficients = Coefficients {
             process: AngleBias {
                 q_angle: settings.q_angle,
                 q_bias: settings.q_bias,
             },
-            kf: KalmanFilter::start(
-                Vector2::zeros(),
-                Matrix2::new(settings.p0_angle, T::zero(), T::zero(), settings.p0_bias),
-            ),
+            gyro_full_scale: settings.gyro.checked_full_scale(),
+        };
+        Self {
+            state: State::new(&settings),
             settings,
-            clock: StepClock::new(),
-            started: false,
-            last_gyro: T::zero(),
+            coefficients,
         }
     }
 
@@ -89,12 +114,13 @@ impl<T: Real> TiltKalman<T> {
 
     /// The underlying filter (state `[theta, bias]` and covariance).
     pub fn filter(&self) -> &KalmanFilter<T> {
-        &self.kf
+        &self.state.kf
     }
 
-    /// Forgets everything.
+    /// Forgets the run: back to the state before the first sample (the settings and
+    /// the coefficients derived from them stay).
     pub fn reset(&mut self) {
-        *self = Self::new(self.settings);
+        self.state = State::new(&self.settings);
     }
 
     /// One sample: `dt` seconds after the previous one ([`Sample::dt`]), gyro `gyro` [rad/s], and `(z, r)` angle measurements
@@ -102,8 +128,10 @@ impl<T: Real> TiltKalman<T> {
     /// [`Flags::MEASUREMENT_SKIPPED`]). A missing gyro uses the last good one
     /// ([`Flags::SAMPLE_MISSING`]).
     pub fn step(&mut self, dt: T, gyro: T, measurements: &[(T, T)]) -> Estimate<T> {
+        let c = &self.coefficients;
+        let st = &mut self.state;
         let mut flags = Flags::empty();
-        let Ok(step) = self.clock.offer(dt) else {
+        let Ok(step) = st.clock.offer(dt) else {
             return Estimate {
                 theta: self.angle(),
                 flags: Flags::BAD_TIME_STEP,
@@ -111,26 +139,23 @@ impl<T: Real> TiltKalman<T> {
         };
         let mut saturated = false;
         let u = if gyro.is_finite() {
-            saturated = self
-                .settings
-                .gyro_full_scale
-                .is_some_and(|fs| crate::real::is_positive(fs) && gyro.abs() >= fs);
+            saturated = c.gyro_full_scale.is_some_and(|fs| gyro.abs() >= fs);
             if saturated {
                 flags |= Flags::SATURATED;
             }
-            self.last_gyro = gyro;
+            st.last_gyro = gyro;
             gyro
         } else {
             flags |= Flags::SAMPLE_MISSING;
-            self.last_gyro
+            st.last_gyro
         };
-        if !self.started {
+        if !st.started {
             // x0 = [z0, 0] from the first usable measurement.
             match measurements.iter().find(|(z, _)| z.is_finite()) {
                 Some(&(z0, _)) => {
-                    self.kf.x = Vector2::new(z0, T::zero());
-                    self.started = true;
-                    self.clock.accept();
+                    st.kf.x = Vector2::new(z0, T::zero());
+                    st.started = true;
+                    st.clock.accept();
                     return Estimate {
                         theta: z0,
                         flags: flags | Flags::INITIALISING,
@@ -145,16 +170,16 @@ impl<T: Real> TiltKalman<T> {
             }
         }
         let dt = step.unwrap_or(T::zero());
-        self.clock.accept();
-        let (x_prev, p_prev) = (self.kf.x, self.kf.p);
-        self.kf.predict(&self.process, &u, dt, &self.process.q(dt));
+        st.clock.accept();
+        let (x_prev, p_prev) = (st.kf.x, st.kf.p);
+        st.kf.predict(&c.process, &u, dt, &c.process.q(dt));
         if saturated {
-            let fs = self.settings.gyro_full_scale.unwrap_or(T::zero());
-            self.kf.p[(0, 0)] += (fs * dt) * (fs * dt);
+            let fs = c.gyro_full_scale.unwrap_or(T::zero());
+            st.kf.p[(0, 0)] += (fs * dt) * (fs * dt);
         }
         for &(z, r) in measurements {
             let ok = z.is_finite()
-                && self
+                && st
                     .kf
                     .update(&AngleMeasurement { r }, &Vector1::new(z), Gate::off())
                     .is_ok();
@@ -162,11 +187,11 @@ impl<T: Real> TiltKalman<T> {
                 flags |= Flags::MEASUREMENT_SKIPPED;
             }
         }
-        if !(self.kf.x.iter().all(|v| v.is_finite()) && self.kf.p.iter().all(|v| v.is_finite())) {
+        if !(st.kf.x.iter().all(|v| v.is_finite()) && st.kf.p.iter().all(|v| v.is_finite())) {
             // A rate or step near the type's largest value overflowed the prediction (found
             // by fuzzing): drop this sample, keep the previous state, flag it.
-            self.kf.x = x_prev;
-            self.kf.p = p_prev;
+            st.kf.x = x_prev;
+            st.kf.p = p_prev;
             flags |= Flags::SATURATED | Flags::SAMPLE_MISSING;
         }
         Estimate {
@@ -177,8 +202,8 @@ impl<T: Real> TiltKalman<T> {
 
     /// The current angle estimate (NaN before the first measurement).
     pub fn angle(&self) -> T {
-        if self.started {
-            self.kf.x[0]
+        if self.state.started {
+            self.state.kf.x[0]
         } else {
             T::nan()
         }
@@ -186,7 +211,7 @@ impl<T: Real> TiltKalman<T> {
 
     /// The current gyro-bias estimate [rad/s].
     pub fn bias(&self) -> T {
-        self.kf.x[1]
+        self.state.kf.x[1]
     }
 }
 
@@ -254,7 +279,7 @@ mod tests {
             r_pendulum: 0.001,
             p0_angle: 0.01,
             p0_bias: 0.01,
-            gyro_full_scale: None,
+            gyro: GyroSettings::default(),
         };
         let mut kf = TiltKalman::<f64>::new(s);
         // k = 0: x = [0.1, 0], output z0.
@@ -398,7 +423,9 @@ mod tests {
         // scale flags every sample and follows the (exact) measurement more closely.
         let fs = 1.0;
         let told = KalmanSettings {
-            gyro_full_scale: Some(fs),
+            gyro: GyroSettings {
+                full_scale: Some(fs),
+            },
             ..KalmanSettings::default()
         };
         let mut a = TiltKalman::<f64>::new(told);

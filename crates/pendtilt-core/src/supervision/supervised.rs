@@ -370,7 +370,10 @@ impl<T: Real, const CAP: usize, const W: usize> Estimator for SupervisedAlg3<T, 
 
     /// Forgets all history and returns to the start gains.
     fn reset(&mut self) {
-        self.alg3 = Alg3::new(self.settings.alg3);
+        // The estimator's state restarts and its gains return to the start ones (checked
+        // finite by `new`); its coefficients stay.
+        self.alg3.reset();
+        self.alg3.set_gains(self.settings.alg3.gains);
         self.ring.clear();
         let q0 = Self::to_scaled(&self.settings.alg3.gains, &self.scale);
         self.rls = Rls::new(

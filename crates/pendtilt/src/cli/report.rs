@@ -159,7 +159,7 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
         .iter()
         .find(|v| v.view == pooled_names_probe.claims_view)
         .unwrap_or(&pooled_names_probe.views[0]);
-    let diff = settings.alg2.differentiator;
+    let diff = settings.alg2.front_end.differentiator;
     let cutoff_hz = diff.cutoff_hz(&settings.params);
     let info = DifferentiatorInfo {
         cutoff_hz,

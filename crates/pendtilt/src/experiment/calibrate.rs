@@ -94,9 +94,9 @@ pub fn fit_ab_with_cost(
         start,
         ..FitSettings::default()
     };
-    ab.kinematics.differentiator = defaults.alg2.differentiator;
-    ab.kinematics.phi = defaults.alg2.phi;
-    ab.kinematics.theta_dd = defaults.alg2.theta_dd;
+    ab.kinematics.differentiator = defaults.alg2.front_end.differentiator;
+    ab.kinematics.phi = defaults.alg2.front_end.phi;
+    ab.kinematics.theta_dd = defaults.alg2.front_end.theta_dd;
     ab.kinematics.matched_target = true;
     fit::fit_log(&ride.samples, Some(&ride.theta), &ab, |_| {})
 }
@@ -184,9 +184,9 @@ pub fn calibrate(
         start_gains: Some(start_gains),
         ..FitSettings::default()
     };
-    g.kinematics.differentiator = settings.alg3.differentiator;
-    g.kinematics.phi = settings.alg3.phi;
-    g.kinematics.theta_dd = settings.alg3.theta_dd;
+    g.kinematics.differentiator = settings.alg3.front_end.differentiator;
+    g.kinematics.phi = settings.alg3.front_end.phi;
+    g.kinematics.theta_dd = settings.alg3.front_end.theta_dd;
     g.kinematics.matched_target = false;
     let (gains, gains_fitted) = match fit::fit_log(&ride.samples, Some(&ride.theta), &g, |_| {}) {
         Ok(r) if r.params.iter().all(|v| v.is_finite()) => {

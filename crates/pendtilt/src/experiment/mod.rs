@@ -408,7 +408,7 @@ fn ride_report(
 /// The differentiator's cut-off, DC delay and the pendulum's natural frequency, for the
 /// claims and the intro.
 fn differentiator_info(settings: &crate::bank::BankSettings) -> claims::DifferentiatorInfo {
-    let diff = settings.alg2.differentiator;
+    let diff = settings.alg2.front_end.differentiator;
     let cutoff_hz = diff.cutoff_hz(&settings.params);
     claims::DifferentiatorInfo {
         cutoff_hz,
@@ -429,7 +429,7 @@ fn intro(
     info: &claims::DifferentiatorInfo,
     scooter: &ReportOutput,
 ) -> Vec<String> {
-    let response = match settings.alg2.differentiator.response {
+    let response = match settings.alg2.front_end.differentiator.response {
         Response::Butterworth => "Butterworth",
         Response::Bessel => "Bessel",
         Response::CriticallyDamped => "critically damped",

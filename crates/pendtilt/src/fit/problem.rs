@@ -131,13 +131,13 @@ impl Problem {
         let kin = kin.resolved(start);
         let cutoff_hz = kin.differentiator.cutoff_hz(start);
         let mut settings = Alg3Settings::from_params(*start);
-        settings.differentiator = kin.differentiator;
-        settings.phi = if kin.matched_target {
+        settings.front_end.differentiator = kin.differentiator;
+        settings.front_end.phi = if kin.matched_target {
             PhiSource::Filtered
         } else {
             kin.phi
         };
-        settings.theta_dd = kin.theta_dd;
+        settings.front_end.theta_dd = kin.theta_dd;
         // The target's own low-pass (same response and cutoff as phi's), when matched.
         let mut target_lp =
             SmoothingDifferentiator::<f64>::new(kin.differentiator.response, cutoff_hz);
