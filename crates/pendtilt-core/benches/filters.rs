@@ -1,6 +1,6 @@
 //! Per-sample cost of the streaming FIR low-pass (the paper's 51 taps, 20 Hz at 1 kHz),
-//! f64 and f32, as `Fir<T, 51>` (taps in the struct) and `FirSlice` (borrowed buffers, the
-//! `pendtilt filter` path).
+//! f64 and f32, over buffers in the struct (`PaperFir<T>`) and over lent buffers
+//! (`FirSlice`, the `pendtilt filter` path).
 //!
 //! `cargo bench -p pendtilt-core --bench filters`; throughput is one element per sample, so
 //! criterion's time divided by 4096 is the time per sample (it prints elements/s too).
@@ -38,7 +38,11 @@ fn bench_type<T: Real>(c: &mut Criterion, name: &str) {
         })
     });
 
-    let taps = *PaperFir::<T>::paper(1000.0).expect("valid design").taps();
+    let taps: [T; PAPER_TAPS] = PaperFir::<T>::paper(1000.0)
+        .expect("valid design")
+        .taps()
+        .try_into()
+        .expect("51 taps");
     let mut hist = [T::zero(); PAPER_TAPS];
     let mut slice = FirSlice::new(&taps, &mut hist).expect("same length");
     g.bench_function(BenchmarkId::from_parameter("FirSlice"), |b| {

@@ -1,6 +1,6 @@
 //! The standard report of a record with a true angle: the one `pendtilt report` writes and
 //! `pendtilt reproduce` writes for each ride.
-use pendtilt_core::filters::fir::Fir;
+use pendtilt_core::filters::fir::PaperFir;
 
 use crate::report::fig3::Fig3Config;
 use crate::report::{FigureGroup, Report, ReportError, ViewFn};
@@ -13,11 +13,11 @@ pub const FIR_VIEW: &str = "FIR 20 Hz";
 /// The paper's 50th-order 20 Hz FIR (section V) applied to a whole series, causally, as a
 /// [`ViewFn`]; `None` when the rate is too low for a 20 Hz low-pass.
 pub fn fir_view(rate_hz: f64) -> Option<ViewFn> {
-    Fir::<f64, 51>::paper(rate_hz).ok()?;
+    PaperFir::<f64>::paper(rate_hz).ok()?;
     Some(Box::new(move |v: &[f64]| {
         // The rate was checked above, so the design cannot fail here; an empty filter
         // output would be caught by the report's length check anyway.
-        match Fir::<f64, 51>::paper(rate_hz) {
+        match PaperFir::<f64>::paper(rate_hz) {
             Ok(mut f) => v.iter().map(|&x| f.update(x)).collect(),
             Err(_) => Vec::new(),
         }
