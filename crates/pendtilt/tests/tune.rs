@@ -237,7 +237,7 @@ fn a_still_or_short_log_keeps_the_filter_defaults_and_says_so() {
     let (short, _) = columns(&s, 12);
     let t = tune(&short, &start, &Options::default());
     assert_eq!(t.kalman, start.kalman);
-    assert_eq!(t.differentiator, start.alg2.differentiator);
+    assert_eq!(t.differentiator, start.alg2.front_end.differentiator);
     for key in [
         "kalman.q_angle",
         "differentiator.cutoff_hz",

@@ -147,6 +147,7 @@ pub fn by_gyro_reference(
 ) -> (f64, f64) {
     use pendtilt_core::estimators::alg1::Alg1;
     use pendtilt_core::estimators::alg2::Alg2;
+    use pendtilt_core::estimators::shared::FrontEndSettings;
     use pendtilt_core::PlanarEstimator;
     let reference = super::reference::integral(samples, bias);
     let run = |e: &mut dyn PlanarEstimator<f64>| -> f64 {
@@ -155,18 +156,23 @@ pub fn by_gyro_reference(
     };
     let cost = |x: f64| {
         let d = DiffSettings {
-            response: alg2.differentiator.response,
+            response: alg2.front_end.differentiator.response,
             cutoff: Cutoff::TimesNatural(x),
         };
         let e1 = run(&mut Alg1::<f64>::new(
             pendtilt_core::estimators::alg1::Alg1Settings {
-                differentiator: d,
-                ..*alg1
+                front_end: FrontEndSettings {
+                    differentiator: d,
+                    ..alg1.front_end
+                },
             },
         ));
         let e2 = run(&mut Alg2::<f64>::new(
             pendtilt_core::estimators::alg2::Alg2Settings {
-                differentiator: d,
+                front_end: FrontEndSettings {
+                    differentiator: d,
+                    ..alg2.front_end
+                },
                 ..*alg2
             },
         ));

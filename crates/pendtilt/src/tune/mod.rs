@@ -270,7 +270,12 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
     let enc = encoder::estimate(&phi);
     let gyr = gyro::estimate(&gyro_v, &phi, rate);
     let acc = accel::estimate(&ax, &ay, rate, f_n);
-    let cut = cutoff::choose(&phi, rate, &start.params, &start.alg2.differentiator);
+    let cut = cutoff::choose(
+        &phi,
+        rate,
+        &start.params,
+        &start.alg2.front_end.differentiator,
+    );
     let ekf_start = notes::sensor_settings(&start.ekf, &enc, &gyr, &acc, &mut notes);
     let duration = samples.len() as f64 / rate;
     let range = tilt_range(&phi, rate);
@@ -304,17 +309,17 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
     };
     let differentiator = match cutoff_by_gyro {
         Some((x, _)) => DiffSettings {
-            response: start.alg2.differentiator.response,
+            response: start.alg2.front_end.differentiator.response,
             cutoff: pendtilt_core::filters::diff::Cutoff::TimesNatural(x),
         },
         None => cut
             .as_ref()
-            .map_or(start.alg2.differentiator, |c| c.settings),
+            .map_or(start.alg2.front_end.differentiator, |c| c.settings),
     };
     notes::cutoff(
         &cut,
         cutoff_by_gyro,
-        &start.alg2.differentiator,
+        &start.alg2.front_end.differentiator,
         &start.params,
         &mut notes,
     );
@@ -334,10 +339,8 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         progress: Some(&tell),
     };
     if why_not.is_none() {
-        let alg2_s = Alg2Settings {
-            differentiator,
-            ..start.alg2
-        };
+        let mut alg2_s = start.alg2;
+        alg2_s.front_end.differentiator = differentiator;
         let mut z = measurements(&mut Alg2::<f64>::new(alg2_s), fit_samples);
         // Alg 2's errors are coloured (band-limited by the differentiator): the
         // likelihood sees them as independent only a Nyquist interval of the cutoff
