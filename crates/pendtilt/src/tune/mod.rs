@@ -6,7 +6,7 @@
 //! - [`gyro`]: gyro noise density and bias (still stretches, else the high band).
 //! - [`accel`]: accelerometer noise floor and the vibration level per band.
 //! - [`cutoff`]: the differentiator cutoff of Algorithms 1-3: measured against the
-//!   gyro's integral in the band above 0.2 Hz ([`reference`]) when the log has a gyro,
+//!   gyro's integral in the band above 0.2 Hz ([`mod@reference`]) when the log has a gyro,
 //!   else from the encoder's spectrum (a noise/delay trade-off rule).
 //! - [`kalman`]: q_angle, q_bias and R of the `kf_*` filters by maximum likelihood of
 //!   their innovations.
