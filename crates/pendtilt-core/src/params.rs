@@ -133,7 +133,12 @@ mod tests {
 /// definition, composed into the settings of every estimator that reads the gyro
 /// ([`crate::estimators::shared::FrontEndSettings::gyro`],
 /// [`crate::kalman::KalmanSettings::gyro`]).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields, default)
+)]
 pub struct GyroSettings<T> {
     /// Full scale [rad/s]: a reading at or beyond it is flagged
     /// [`Flags::SATURATED`](crate::Flags::SATURATED). It is still used as the rate (its
@@ -142,7 +147,14 @@ pub struct GyroSettings<T> {
     /// the clipped plateau as zero, and the Kalman filters grow the angle variance by
     /// `(full_scale dt)^2` so that their measurement carries the angle through.
     /// Default `None` (unknown: no check; a value that is not positive is no check too).
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
     pub full_scale: Option<T>,
+}
+
+impl<T> Default for GyroSettings<T> {
+    fn default() -> Self {
+        Self { full_scale: None }
+    }
 }
 
 impl<T: Real> GyroSettings<T> {

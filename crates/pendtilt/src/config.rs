@@ -77,8 +77,7 @@ use std::path::Path;
 mod estimators;
 
 pub use estimators::{
-    AccelConfig, Alg1Config, Alg2Config, Alg3Config, DifferentiatorConfig, GyroConfig, PhiChoice,
-    ResponseChoice, ThetaDdChoice, DEFAULT_GD_WINDOW,
+    Alg1Config, Alg2Config, Alg3Config, DifferentiatorConfig, ThetaDdChoice, DEFAULT_GD_WINDOW,
 };
 
 use pendtilt_core::estimators::accel::AccelSettings;
@@ -88,6 +87,7 @@ use pendtilt_core::estimators::alg3::Alg3Settings;
 use pendtilt_core::estimators::equations::Alg3Gains;
 use pendtilt_core::estimators::shared::FrontEndSettings;
 use pendtilt_core::estimators::theta_dd::ThetaDdSource;
+use pendtilt_core::estimators::PhiSource;
 use pendtilt_core::filters::diff::DiffSettings;
 use pendtilt_core::kalman::KalmanSettings;
 use pendtilt_core::params::GyroSettings;
@@ -224,40 +224,6 @@ impl PendulumConfig {
     }
 }
 
-/// Settings of the angle+bias Kalman filter (MODEL.md section 4), the `[kalman]` table.
-///
-/// `Q = diag(q_angle, q_bias) * dt`, `R` is `r_accel` for the accelerometer angle and
-/// `r_pendulum` for a pendulum algorithm's angle, `P0 = diag(p0_angle, p0_bias)`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct KalmanConfig {
-    /// Angle process noise spectral density \[rad^2/s\], multiplied by dt. Default 0.001.
-    pub q_angle: f64,
-    /// Gyro-bias process noise spectral density \[(rad/s)^2/s\], multiplied by dt. Default 0.003.
-    pub q_bias: f64,
-    /// Measurement variance of the accelerometer angle (Eq 1) \[rad^2\]. Default 0.03.
-    pub r_accel: f64,
-    /// Measurement variance of a pendulum algorithm's angle \[rad^2\]. Default 0.001.
-    pub r_pendulum: f64,
-    /// Initial angle variance \[rad^2\]. Default 0.01.
-    pub p0_angle: f64,
-    /// Initial gyro-bias variance \[(rad/s)^2\]. Default 0.01.
-    pub p0_bias: f64,
-}
-
-impl Default for KalmanConfig {
-    fn default() -> Self {
-        Self {
-            q_angle: 0.001,
-            q_bias: 0.003,
-            r_accel: 0.03,
-            r_pendulum: 0.001,
-            p0_angle: 0.01,
-            p0_bias: 0.01,
-        }
-    }
-}
-
 /// A whole rig file: the pendulum and the estimator settings.
 ///
 /// Build it with [`RigConfig::load`], [`RigConfig::from_toml_str`],
@@ -268,14 +234,15 @@ impl Default for KalmanConfig {
 pub struct RigConfig {
     /// The `[pendulum]` table.
     pub pendulum: PendulumConfig,
-    /// The `[kalman]` table.
-    pub kalman: KalmanConfig,
+    /// The `[kalman]` table: the core's [`KalmanSettings`], read and written by its serde
+    /// derive (its `gyro` is not a key: [`RigConfig::kalman_settings`] takes `[gyro]`).
+    pub kalman: KalmanSettings<f64>,
     /// The `[differentiator]` table (phi', phi'' for alg1, alg2, alg3).
     pub differentiator: DifferentiatorConfig,
-    /// The `[accel]` table (Eq 1).
-    pub accel: AccelConfig,
-    /// The `[gyro]` table (the rate gyro's full scale).
-    pub gyro: GyroConfig,
+    /// The `[accel]` table (Eq 1): the core's [`AccelSettings`].
+    pub accel: AccelSettings<f64>,
+    /// The `[gyro]` table (the rate gyro's full scale): the core's [`GyroSettings`].
+    pub gyro: GyroSettings<f64>,
     /// The `[alg1]` table (Eq 20).
     pub alg1: Alg1Config,
     /// The `[alg2]` table (Eqs 21-22).
@@ -359,23 +326,15 @@ impl RigConfig {
 
     /// Settings of the Kalman filters (`kf_*`), from `[kalman]` and `[gyro]`.
     pub fn kalman_settings(&self) -> KalmanSettings<f64> {
-        let k = &self.kalman;
         KalmanSettings {
-            q_angle: k.q_angle,
-            q_bias: k.q_bias,
-            r_accel: k.r_accel,
-            r_pendulum: k.r_pendulum,
-            p0_angle: k.p0_angle,
-            p0_bias: k.p0_bias,
-            gyro: self.gyro_settings(),
+            gyro: self.gyro,
+            ..self.kalman
         }
     }
 
     /// The gyro's settings, from `[gyro]`.
     pub fn gyro_settings(&self) -> GyroSettings<f64> {
-        GyroSettings {
-            full_scale: self.gyro.full_scale,
-        }
+        self.gyro
     }
 
     /// Settings of the phi differentiator, from `[differentiator]`.
@@ -385,16 +344,16 @@ impl RigConfig {
 
     /// Settings of `accel`, from `[accel]`.
     pub fn accel_settings(&self) -> AccelSettings<f64> {
-        self.accel.settings()
+        self.accel
     }
 
     /// The front end of Algorithms 1-3 from `[pendulum]`, `[differentiator]` and `[gyro]`,
     /// with `phi` and `theta_dd` from an algorithm's table.
-    fn front_end(&self, phi: PhiChoice, theta_dd: ThetaDdSource<f64>) -> FrontEndSettings<f64> {
+    fn front_end(&self, phi: PhiSource, theta_dd: ThetaDdSource<f64>) -> FrontEndSettings<f64> {
         FrontEndSettings {
             params: self.params(),
             differentiator: self.diff_settings(),
-            phi: phi.into(),
+            phi,
             theta_dd,
             gyro: self.gyro_settings(),
         }
@@ -582,10 +541,10 @@ impl From<&PendulumConfig> for RawPendulum {
 #[derive(Serialize)]
 struct RawFile {
     pendulum: RawPendulum,
-    kalman: KalmanConfig,
+    kalman: KalmanSettings<f64>,
     differentiator: DifferentiatorConfig,
-    accel: AccelConfig,
-    gyro: GyroConfig,
+    accel: AccelSettings<f64>,
+    gyro: GyroSettings<f64>,
     alg1: Alg1Config,
     alg2: Alg2Config,
     alg3: Alg3Config,
@@ -676,7 +635,7 @@ fn check_pendulum(p: &PendulumConfig, issues: &mut Vec<Issue>) {
     }
 }
 
-fn check_kalman(k: &KalmanConfig, issues: &mut Vec<Issue>) {
+fn check_kalman(k: &KalmanSettings<f64>, issues: &mut Vec<Issue>) {
     let nonneg = "a noise density must be >= 0";
     require(
         issues,

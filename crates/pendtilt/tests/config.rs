@@ -1,5 +1,6 @@
 //! The rig file: defaults, round trips, and every error naming file, line, key and why.
-use pendtilt::config::{ConfigErrorKind, KalmanConfig, PendulumConfig, RigConfig};
+use pendtilt::config::{ConfigErrorKind, PendulumConfig, RigConfig};
+use pendtilt::core::kalman::KalmanSettings;
 use pendtilt::core::{PendulumParams, PhysicalParams};
 
 fn err(text: &str) -> pendtilt::config::ConfigError {
@@ -26,7 +27,7 @@ fn empty_file_gives_documented_defaults() {
         ),
         (0.001, 0.003, 0.03, 0.001, 0.01, 0.01)
     );
-    assert_eq!(k, KalmanConfig::default());
+    assert_eq!(k, KalmanSettings::default());
 }
 
 #[test]

@@ -8,14 +8,30 @@ use crate::filters::biquad::LowPass2;
 use crate::{Estimate, Estimator, Flags, Real, Sample, StepClock};
 
 /// Settings of [`Accel`].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields, default)
+)]
 pub struct AccelSettings<T> {
     /// Cutoff \[Hz\] of a 2nd-order Butterworth low-pass on ax and ay before atan2.
     /// Default `None` (the paper's Eq 1 on raw samples).
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
     pub prefilter_hz: Option<T>,
     /// Accelerometer full scale [m/s^2]: samples at or beyond it are flagged
     /// [`Flags::SATURATED`]. Default `None` (unknown).
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
     pub full_scale: Option<T>,
+}
+
+impl<T> Default for AccelSettings<T> {
+    fn default() -> Self {
+        Self {
+            prefilter_hz: None,
+            full_scale: None,
+        }
+    }
 }
 
 /// Eq (1) as a streaming estimator. [`Estimator::reset`] restarts the low-passes and

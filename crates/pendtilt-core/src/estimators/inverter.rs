@@ -17,6 +17,11 @@ use crate::{Estimate, Flags, Real, Sample, StepClock};
 /// the differentiator's low-passed phi is used: in the small-angle regime the estimate is
 /// then exactly the body tilt through the low-pass (a clean delay), smoother but later.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum PhiSource {
     /// The encoder reading as measured (default).
     #[default]

@@ -34,6 +34,11 @@ use nalgebra::{Matrix4, RowSVector, SMatrix, Vector4};
 
 /// The shape of the 4th-order low-pass. All are normalised to -3 dB at the cutoff.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum Response {
     /// Maximally flat magnitude: sharpest cut-off of the three, about 11 % step overshoot,
     /// DC delay `2.61 / w_c`.

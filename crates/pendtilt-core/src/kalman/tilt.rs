@@ -14,6 +14,15 @@ use nalgebra::{Matrix2, Vector1, Vector2};
 
 /// Settings: the rig file's `[kalman]` table.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        deny_unknown_fields,
+        default,
+        bound(deserialize = "T: Real + serde::Deserialize<'de>")
+    )
+)]
 pub struct KalmanSettings<T> {
     /// Angle process noise density [rad^2/s]; Q_angle = q_angle dt. Default 0.001.
     pub q_angle: T,
@@ -32,6 +41,7 @@ pub struct KalmanSettings<T> {
     /// the angle variance grows so that the measurement carries the angle through).
     /// Default: unknown full scale. Not a key of the `[kalman]` table: the rig file's
     /// `[gyro]` table sets it.
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub gyro: GyroSettings<T>,
 }
 

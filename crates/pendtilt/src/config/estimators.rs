@@ -2,56 +2,12 @@
 //! `[alg2]`, `[alg3]`. Each key maps onto a field of a core settings struct
 //! ([`pendtilt_core::estimators`], [`pendtilt_core::filters::diff`]); every key is
 //! optional and its default is the core's default.
-use pendtilt_core::estimators::accel::AccelSettings;
 use pendtilt_core::estimators::equations::Alg3Gains;
 use pendtilt_core::estimators::theta_dd::ThetaDdSource;
 use pendtilt_core::estimators::PhiSource;
 use pendtilt_core::filters::diff::{Cutoff, DiffSettings, Response};
 use pendtilt_core::PendulumParams;
 use serde::{Deserialize, Serialize};
-
-/// Shape of the smoothing differentiator's 4th-order low-pass (`response = "..."`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ResponseChoice {
-    /// `"butterworth"` (default): sharpest cut-off, about 11 % overshoot.
-    #[default]
-    Butterworth,
-    /// `"bessel"`: flat group delay, no ringing.
-    Bessel,
-    /// `"critically_damped"`: four equal poles, no overshoot, shortest delay.
-    CriticallyDamped,
-}
-
-impl From<ResponseChoice> for Response {
-    fn from(r: ResponseChoice) -> Self {
-        match r {
-            ResponseChoice::Butterworth => Response::Butterworth,
-            ResponseChoice::Bessel => Response::Bessel,
-            ResponseChoice::CriticallyDamped => Response::CriticallyDamped,
-        }
-    }
-}
-
-/// Which phi enters `theta = phi + asin(...)` (`phi = "raw"` or `"filtered"`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum PhiChoice {
-    /// `"raw"` (default): the encoder reading as measured.
-    #[default]
-    Raw,
-    /// `"filtered"`: the differentiator's low-passed phi (smoother, later).
-    Filtered,
-}
-
-impl From<PhiChoice> for PhiSource {
-    fn from(p: PhiChoice) -> Self {
-        match p {
-            PhiChoice::Raw => PhiSource::Raw,
-            PhiChoice::Filtered => PhiSource::Filtered,
-        }
-    }
-}
 
 /// Where theta'' (G_d) comes from in Algorithms 2 and 3 (`theta_dd = "..."`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -74,8 +30,9 @@ pub enum ThetaDdChoice {
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DifferentiatorConfig {
-    /// Filter shape. Default `"butterworth"`.
-    pub response: ResponseChoice,
+    /// Filter shape, `response = "butterworth" | "bessel" | "critically_damped"`: the
+    /// core's [`Response`] (default [`Response::Butterworth`]).
+    pub response: Response,
     /// Fixed cutoff \[Hz\], > 0. Default: unset (relative cutoff).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cutoff_hz: Option<f64>,
@@ -89,7 +46,7 @@ impl DifferentiatorConfig {
     pub fn settings(&self) -> DiffSettings<f64> {
         let default = DiffSettings::<f64>::default();
         DiffSettings {
-            response: self.response.into(),
+            response: self.response,
             cutoff: match (self.cutoff_hz, self.cutoff_times_natural) {
                 (Some(hz), _) => Cutoff::Hz(hz),
                 (None, Some(k)) => Cutoff::TimesNatural(k),
@@ -99,48 +56,13 @@ impl DifferentiatorConfig {
     }
 }
 
-/// The `[accel]` table: Eq (1), `theta = atan2(ax, ay)` (also the measurement of
-/// `kf_accel` and `kf_fused`).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct AccelConfig {
-    /// Cutoff \[Hz\] of a 2nd-order low-pass on ax, ay before atan2, > 0. Default: unset
-    /// (off: the paper's Eq 1 on raw samples).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub prefilter_hz: Option<f64>,
-    /// Accelerometer full scale \[m/s^2\], > 0: samples at or beyond it are flagged
-    /// `saturated`. Default: unset (unknown).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub full_scale: Option<f64>,
-}
-
-impl AccelConfig {
-    /// The core settings.
-    pub fn settings(&self) -> AccelSettings<f64> {
-        AccelSettings {
-            prefilter_hz: self.prefilter_hz,
-            full_scale: self.full_scale,
-        }
-    }
-}
-
-/// The `[gyro]` table: the rate gyro that alg2, alg3 and the Kalman filters read.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct GyroConfig {
-    /// Gyro full scale \[rad/s\], > 0: readings at or beyond it are flagged `saturated`;
-    /// alg2 and alg3 hold the last good rate, the Kalman filters lean on their
-    /// measurement. Default: unset (unknown).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub full_scale: Option<f64>,
-}
-
 /// The `[alg1]` table: Eq (20).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Alg1Config {
-    /// Which phi enters the equation. Default `"raw"`.
-    pub phi: PhiChoice,
+    /// Which phi enters the equation, `phi = "raw" | "filtered"`: the core's
+    /// [`PhiSource`] (default [`PhiSource::Raw`]).
+    pub phi: PhiSource,
 }
 
 /// Default Eq (22) window \[s\] when `theta_dd = "window"`.
@@ -154,8 +76,9 @@ fn default_window() -> f64 {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Alg2Config {
-    /// Which phi enters the equation. Default `"raw"`.
-    pub phi: PhiChoice,
+    /// Which phi enters the equation, `phi = "raw" | "filtered"`: the core's
+    /// [`PhiSource`] (default [`PhiSource::Raw`]).
+    pub phi: PhiSource,
     /// Where theta'' comes from. Default `"matched"`.
     pub theta_dd: ThetaDdChoice,
     /// Eq (22) window \[s\], > 0, used with `theta_dd = "window"`. Default 0.02.
@@ -172,7 +95,7 @@ pub struct Alg2Config {
 impl Default for Alg2Config {
     fn default() -> Self {
         Self {
-            phi: PhiChoice::Raw,
+            phi: PhiSource::Raw,
             theta_dd: ThetaDdChoice::Matched,
             window: DEFAULT_GD_WINDOW,
             pivot_offset: false,
@@ -207,8 +130,9 @@ pub struct Alg3Config {
     /// N, multiplies the gyro G_k outside the asin \[s\]. Default 0.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub n: Option<f64>,
-    /// Which phi enters the equation. Default `"raw"`.
-    pub phi: PhiChoice,
+    /// Which phi enters the equation, `phi = "raw" | "filtered"`: the core's
+    /// [`PhiSource`] (default [`PhiSource::Raw`]).
+    pub phi: PhiSource,
     /// Where G_d comes from. Default `"matched"`.
     pub theta_dd: ThetaDdChoice,
     /// Eq (22) window \[s\], > 0, used with `theta_dd = "window"`. Default 0.02.
@@ -223,7 +147,7 @@ impl Default for Alg3Config {
             l: None,
             m: None,
             n: None,
-            phi: PhiChoice::Raw,
+            phi: PhiSource::Raw,
             theta_dd: ThetaDdChoice::Matched,
             window: DEFAULT_GD_WINDOW,
         }
