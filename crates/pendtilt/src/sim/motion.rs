@@ -384,8 +384,9 @@ pub enum MotionFn {
     Chirp(Chirp),
 }
 
-/// S, S', S'' of the logistic function, without overflow for large |x|.
-fn logistic(x: f64) -> [f64; 3] {
+/// S and its first three derivatives of the logistic function, without overflow for large
+/// |x| (the 3-D motion, `sim3d::motion`, needs the third for the body's angular acceleration).
+pub(crate) fn logistic(x: f64) -> [f64; 4] {
     let s = if x >= 0.0 {
         1.0 / (1.0 + (-x).exp())
     } else {
@@ -393,7 +394,8 @@ fn logistic(x: f64) -> [f64; 3] {
         e / (1.0 + e)
     };
     let d1 = s * (1.0 - s);
-    [s, d1, d1 * (1.0 - 2.0 * s)]
+    let d2 = d1 * (1.0 - 2.0 * s);
+    [s, d1, d2, d2 * (1.0 - 2.0 * s) - 2.0 * d1 * d1]
 }
 
 /// theta = A tanh(u / A) and its derivatives, from u, u', u''.

@@ -5,6 +5,7 @@
 //! exact time derivative, so the dynamics never see a finite difference. The translation of
 //! P1 is a sum of sines per world axis, plus an optional vibration given in body axes.
 
+use crate::sim::motion::logistic;
 use std::f64::consts::TAU;
 
 /// One term of an angle's time function; every variant has exact 1st and 2nd derivatives
@@ -42,19 +43,6 @@ pub enum Component {
         /// Time constant \[s\].
         tau: f64,
     },
-}
-
-/// S and its first three derivatives with respect to x, without overflow for large |x|.
-fn logistic(x: f64) -> [f64; 4] {
-    let s = if x >= 0.0 {
-        1.0 / (1.0 + (-x).exp())
-    } else {
-        let e = x.exp();
-        e / (1.0 + e)
-    };
-    let d1 = s * (1.0 - s);
-    let d2 = d1 * (1.0 - 2.0 * s);
-    [s, d1, d2, d2 * (1.0 - 2.0 * s) - 2.0 * d1 * d1]
 }
 
 impl Component {
