@@ -162,6 +162,30 @@ pub struct EkfFitted {
     pub nll_after: f64,
 }
 
+impl EkfFitted {
+    /// The fit `fitted` if it lowered the likelihood below `before`, else `start` unchanged.
+    pub(crate) fn better_of(
+        start: &ModelSettings<f64>,
+        fitted: ModelSettings<f64>,
+        before: f64,
+        after: f64,
+    ) -> Self {
+        if after < before {
+            Self {
+                settings: fitted,
+                nll_before: before,
+                nll_after: after,
+            }
+        } else {
+            Self {
+                settings: *start,
+                nll_before: before,
+                nll_after: before,
+            }
+        }
+    }
+}
+
 /// The fitted parameters of `s`: the tilt-jerk and pendulum-forcing densities, floored at
 /// a tiny positive value (the search is in log space).
 pub fn parameters(s: &ModelSettings<f64>) -> [f64; 2] {
@@ -193,17 +217,5 @@ pub fn fit(
         ROUNDS,
         budget,
     );
-    if after < before {
-        EkfFitted {
-            settings: with_parameters(start, &x),
-            nll_before: before,
-            nll_after: after,
-        }
-    } else {
-        EkfFitted {
-            settings: *start,
-            nll_before: before,
-            nll_after: before,
-        }
-    }
+    EkfFitted::better_of(start, with_parameters(start, &x), before, after)
 }

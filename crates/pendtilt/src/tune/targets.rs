@@ -114,17 +114,5 @@ pub(super) fn ekf(
         ekf::ROUNDS,
         budget,
     );
-    if after < before {
-        EkfFitted {
-            settings: at(&x),
-            nll_before: before,
-            nll_after: after,
-        }
-    } else {
-        EkfFitted {
-            settings: *start,
-            nll_before: before,
-            nll_after: before,
-        }
-    }
+    EkfFitted::better_of(start, at(&x), before, after)
 }
