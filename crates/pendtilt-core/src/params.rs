@@ -131,7 +131,7 @@ mod tests {
 
 /// The rate gyro as the estimators need to know it (the rig file's `[gyro]` table). One
 /// definition, composed into the settings of every estimator that reads the gyro
-/// ([`crate::estimators::shared::FrontEndSettings::gyro`],
+/// ([`crate::estimators::front_end::FrontEndSettings::gyro`],
 /// [`crate::kalman::KalmanSettings::gyro`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(

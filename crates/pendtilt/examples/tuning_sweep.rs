@@ -7,7 +7,7 @@
 use pendtilt::sim::{simulate, Scenario};
 use pendtilt_core::estimators::alg1::{Alg1, Alg1Settings};
 use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
-use pendtilt_core::estimators::shared::FrontEndSettings;
+use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::estimators::theta_dd::ThetaDdSource;
 use pendtilt_core::estimators::PhiSource;
 use pendtilt_core::filters::diff::{Cutoff, Response};

@@ -85,7 +85,7 @@ use pendtilt_core::estimators::alg1::Alg1Settings;
 use pendtilt_core::estimators::alg2::Alg2Settings;
 use pendtilt_core::estimators::alg3::Alg3Settings;
 use pendtilt_core::estimators::equations::Alg3Gains;
-use pendtilt_core::estimators::shared::FrontEndSettings;
+use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::estimators::theta_dd::ThetaDdSource;
 use pendtilt_core::estimators::PhiSource;
 use pendtilt_core::filters::diff::DiffSettings;

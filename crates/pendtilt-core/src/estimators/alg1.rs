@@ -1,8 +1,8 @@
 //! Algorithm 1, pendulum only: Eq (20), `theta = phi + asin(a phi' + b phi'')` (sign
 //! corrected; see [`super::equations`]). It neglects the body's angular acceleration, so it
 //! errs where theta'' is large (the paper's Fig 5).
-use super::inverter::Inverter;
-use super::shared::{Equation, FrontEndSettings};
+use super::equations::Equation;
+use super::front_end::{FrontEnd, FrontEndSettings};
 use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 
 /// Settings of [`Alg1`]: its front end, nothing of its own.
@@ -37,14 +37,14 @@ impl<T: Real> Alg1Settings<T> {
 #[derive(Debug, Clone)]
 pub struct Alg1<T: Real> {
     settings: Alg1Settings<T>,
-    inv: Inverter<T, 1, 1>,
+    inv: FrontEnd<T, 1, 1>,
 }
 
 impl<T: Real> Alg1<T> {
     /// A new estimator.
     pub fn new(settings: Alg1Settings<T>) -> Self {
         Self {
-            inv: Inverter::new(&settings.front_end, false),
+            inv: FrontEnd::new(&settings.front_end, false),
             settings,
         }
     }

@@ -2,8 +2,8 @@
 //! with theta'' = `G_d` from the gyro (Eq 22, or the matched differentiator; see
 //! [`super::theta_dd`]). Optionally with the pivot-offset term the paper dropped
 //! ([`Alg2Settings::pivot_offset`], output `alg2_offset`).
-use super::inverter::Inverter;
-use super::shared::{Equation, FrontEndSettings};
+use super::equations::Equation;
+use super::front_end::{FrontEnd, FrontEndSettings};
 use super::theta_dd::DEFAULT_WINDOW_CAPACITY;
 use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 
@@ -55,14 +55,14 @@ impl<T: Real> Alg2Settings<T> {
 #[derive(Debug, Clone)]
 pub struct Alg2<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
     settings: Alg2Settings<T>,
-    inv: Inverter<T, W>,
+    inv: FrontEnd<T, W>,
 }
 
 impl<T: Real, const W: usize> Alg2<T, W> {
     /// A new estimator.
     pub fn new(settings: Alg2Settings<T>) -> Self {
         Self {
-            inv: Inverter::new(&settings.front_end, true),
+            inv: FrontEnd::new(&settings.front_end, true),
             settings,
         }
     }

@@ -2,9 +2,8 @@
 //! `theta = phi + asin(K phi' + L phi'' + M G_d) + N G_k` (sign corrected). With K = a,
 //! L = b, M = -b, N = 0 it equals [`super::alg2`]. The gains can be changed between
 //! samples with [`Alg3::set_gains`]: that is what live supervision (Eq 29) drives.
-use super::equations::Alg3Gains;
-use super::inverter::Inverter;
-use super::shared::{Equation, FrontEndSettings};
+use super::equations::{Alg3Gains, Equation};
+use super::front_end::{FrontEnd, FrontEndSettings};
 use super::theta_dd::DEFAULT_WINDOW_CAPACITY;
 use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 
@@ -39,7 +38,7 @@ impl<T: Real> Alg3Settings<T> {
 #[derive(Debug, Clone)]
 pub struct Alg3<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
     settings: Alg3Settings<T>,
-    inv: Inverter<T, W>,
+    inv: FrontEnd<T, W>,
 }
 
 /// The signals Eq (30) combines at one sample, for supervisors that refit K, L, M, N.
@@ -66,7 +65,7 @@ impl<T: Real, const W: usize> Alg3<T, W> {
     /// A new estimator.
     pub fn new(settings: Alg3Settings<T>) -> Self {
         Self {
-            inv: Inverter::new(&settings.front_end, true),
+            inv: FrontEnd::new(&settings.front_end, true),
             settings,
         }
     }

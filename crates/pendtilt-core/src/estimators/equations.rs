@@ -1,9 +1,12 @@
-//! The paper's estimation equations as pure functions (MODEL.md section 3).
+//! The paper's estimation equations (MODEL.md section 3): as pure functions, and as values
+//! ([`Equation`]) evaluated on what the front end hands them ([`Kinematics`], from
+//! [`super::front_end`]).
 //!
 //! Sign: the paper prints `phi - asin(...)` in Eqs (20), (21), (30); solving its own
 //! Eq (18), `C phi' + I (phi'' - theta'') + m g l sin(phi - theta) = 0`, for theta gives
 //! `theta = phi + asin(a phi' + b (phi'' - theta''))`. These functions use the plus sign.
-use crate::{PendulumParams, Real};
+use super::encoder::wrap_angle;
+use crate::{Flags, PendulumParams, Real};
 
 /// An inverted angle and whether its asin argument had to be clamped to [-1, 1].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -132,6 +135,98 @@ pub(crate) fn windowed_rate<T: Real>(g_now: T, t_now: T, g_old: T, t_old: T) -> 
         (g_now - g_old) / span
     } else {
         T::zero()
+    }
+}
+
+/// What the front end hands an inversion equation for one sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Kinematics<T> {
+    /// The phi that enters `theta = phi + asin(...)` ([`PhiSource`](super::front_end::PhiSource)) \[rad\].
+    pub phi: T,
+    /// phi' through the differentiator [rad/s].
+    pub dphi: T,
+    /// phi'' through the differentiator [rad/s^2].
+    pub ddphi: T,
+    /// Gyro rate (last good one if missing), theta' [rad/s].
+    pub gyro: T,
+    /// theta'' [rad/s^2] from the gyro source (0 without a gyro).
+    pub theta_dd: T,
+    /// The gyro through the phi low-pass (0 without a gyro) [rad/s].
+    pub gyro_filtered: T,
+    /// DC delay of the phi low-pass \[s\].
+    pub delay: T,
+    /// Time since the previous accepted sample \[s\] (0 on the first).
+    pub dt: T,
+    /// Flags of the gyro path alone (missing gyro sample, Eq (22) window filling): the
+    /// algorithms that read the gyro add them, Algorithm 1 does not.
+    pub gyro_flags: Flags,
+}
+
+/// One inversion equation of the paper (or a variant), evaluated on the front end's
+/// [`Kinematics`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Equation<T> {
+    /// Eq (20), Algorithm 1: `phi + asin(a phi' + b phi'')`.
+    Alg1(PendulumParams<T>),
+    /// Eq (21), Algorithm 2: `phi + asin(a phi' + b (phi'' - theta''))`, optionally with the
+    /// pivot-offset term and the delay compensation (see
+    /// [`super::alg2::Alg2Settings`]).
+    Alg2 {
+        /// a, b (and c with `pivot_offset`).
+        params: PendulumParams<T>,
+        /// Add the pivot-offset term (output `alg2_offset`).
+        pivot_offset: bool,
+        /// Remove the differentiator's first-order delay with the gyro (`alg2_dc`).
+        delay_compensation: bool,
+    },
+    /// Eq (30), Algorithm 3: `phi + asin(K phi' + L phi'' + M G_d) + N G_k`.
+    Alg3(Alg3Gains<T>),
+}
+
+impl<T: Real> Equation<T> {
+    /// True when the equation reads the gyro (its flags then include the gyro's).
+    pub fn reads_gyro(&self) -> bool {
+        !matches!(self, Equation::Alg1(_))
+    }
+
+    /// The unwrapped estimate for one sample's kinematics.
+    // Always inlined: the stand-alone estimators pass a known variant, and the match then
+    // folds away (measured: out of line it was a fifth of Algorithm 2's per-sample time).
+    #[inline(always)]
+    pub fn evaluate(&self, k: &Kinematics<T>) -> Inversion<T> {
+        match self {
+            Equation::Alg1(p) => alg1(p, k.phi, k.dphi, k.ddphi),
+            Equation::Alg2 {
+                params: p,
+                pivot_offset,
+                delay_compensation,
+            } => {
+                let mut r = if *pivot_offset {
+                    alg2_offset(p, k.phi, k.dphi, k.ddphi, k.gyro, k.theta_dd)
+                } else {
+                    alg2(p, k.phi, k.dphi, k.ddphi, k.theta_dd)
+                };
+                if *delay_compensation {
+                    r.theta -= k.delay * (k.dphi - k.gyro_filtered);
+                }
+                r
+            }
+            Equation::Alg3(g) => alg3(g, k.phi, k.dphi, k.ddphi, k.theta_dd, k.gyro),
+        }
+    }
+
+    /// The estimate and its flags for one sample, from the front end's output.
+    #[inline(always)]
+    pub(crate) fn estimate(&self, k: &Kinematics<T>, phi_flags: Flags) -> (T, Flags) {
+        let r = self.evaluate(k);
+        let mut flags = phi_flags;
+        if self.reads_gyro() {
+            flags |= k.gyro_flags;
+        }
+        if r.clamped {
+            flags |= Flags::ASIN_CLAMPED;
+        }
+        (wrap_angle(r.theta), flags)
     }
 }
 

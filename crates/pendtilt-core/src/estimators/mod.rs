@@ -12,7 +12,7 @@
 //!
 //! The equations themselves, free of any state, are in [`equations`] so that they can be
 //! checked against hand computations and reused by fitting code. Algorithms 1-3 are each
-//! "front end + equation"; [`shared`] runs several equations on one front end.
+//! "front end + equation" ([`front_end`]), and one front end can run several equations.
 //!
 //! Common behaviour: a sample whose time does not increase is flagged
 //! [`crate::Flags::BAD_TIME_STEP`] and the previous estimate is returned; a sample whose
@@ -25,11 +25,10 @@ pub mod alg3;
 pub mod complementary;
 mod encoder;
 pub mod equations;
+pub mod front_end;
 pub mod input_hold;
-mod inverter;
 pub mod pendulum;
-pub mod shared;
 pub mod theta_dd;
 
 pub use encoder::PHI_LIMIT;
-pub use inverter::{Kinematics, PhiSource};
+pub use front_end::PhiSource;

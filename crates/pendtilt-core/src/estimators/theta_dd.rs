@@ -36,7 +36,7 @@ pub const DEFAULT_WINDOW_CAPACITY: usize = 256;
 /// Streaming theta'' from gyro samples. `W` bounds the Eq (22) window (no allocation).
 ///
 /// The matched source needs no state of its own: it is the derivative output of the gyro
-/// signal of the `Inverter`'s two-signal differentiator, handed in on
+/// signal of the front end's two-signal differentiator, handed in on
 /// each update. The window source keeps the gyro history.
 #[derive(Debug, Clone)]
 pub(crate) struct ThetaDd<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {

@@ -147,7 +147,7 @@ pub fn by_gyro_reference(
 ) -> (f64, f64) {
     use pendtilt_core::estimators::alg1::Alg1;
     use pendtilt_core::estimators::alg2::Alg2;
-    use pendtilt_core::estimators::shared::FrontEndSettings;
+    use pendtilt_core::estimators::front_end::FrontEndSettings;
     use pendtilt_core::PlanarEstimator;
     let reference = super::reference::integral(samples, bias);
     let run = |e: &mut dyn PlanarEstimator<f64>| -> f64 {

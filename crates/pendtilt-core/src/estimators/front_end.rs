@@ -1,91 +1,42 @@
-//! Algorithms 1-3 on one front end: the inversion equations as values ([`Equation`]) and
-//! [`SharedFrontEnd`], which runs the differentiator once per sample and evaluates several
-//! equations on its [`Kinematics`].
+//! The front end Algorithms 1-3 share, and several inversion equations on one front end.
 //!
-//! Every algorithm is "front end + equation": the front end (time checks, encoder
-//! unwrapping, the phi and gyro differentiator, theta'') is the expensive part and is the
-//! same for every equation with the same differentiator settings. Running Algorithms 1, 2
-//! (with its variants) and 3 side by side, as `pendtilt estimate` does, then costs one
-//! front end and a few asin: each output is the same number the stand-alone estimator
-//! gives (test `shared_outputs_equal_the_stand_alone_estimators`).
-use super::encoder::wrap_angle;
-use super::equations::{self, Alg3Gains, Inversion};
-use super::inverter::{Inverter, Kinematics, PhiSource};
-use super::theta_dd::{ThetaDdSource, DEFAULT_WINDOW_CAPACITY};
-use crate::filters::diff::DiffSettings;
+//! The front end ([`FrontEndSettings`]; the crate-internal `FrontEnd`) does the time-step
+//! checks, encoder unwrapping, the phi (and gyro) differentiator, theta'' from the gyro
+//! and hold-on-missing. Its output, [`Kinematics`], is what every inversion equation
+//! ([`Equation`]) reads. Every algorithm is "front end + equation", and the front end is
+//! the expensive part: [`SharedFrontEnd`] runs it once per sample and evaluates several
+//! equations on its output. Running Algorithms 1, 2 (with its variants) and 3 side by
+//! side, as `pendtilt estimate` does, then costs one front end and a few asin: each
+//! output is the same number the stand-alone estimator gives (test
+//! `shared_outputs_equal_the_stand_alone_estimators`).
+use super::encoder::{is_reading, Unwrapper};
+use super::equations::{Equation, Kinematics};
+use super::theta_dd::{ThetaDd, ThetaDdSource, DEFAULT_WINDOW_CAPACITY};
+use crate::filters::diff::{DiffSettings, SmoothingDifferentiator};
 use crate::params::GyroSettings;
-use crate::{Estimate, Flags, PendulumParams, Real, Sample};
+use crate::{Estimate, Flags, PendulumParams, Real, Sample, StepClock};
 
-/// One inversion equation of the paper (or a variant), evaluated on the front end's
-/// [`Kinematics`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Equation<T> {
-    /// Eq (20), Algorithm 1: `phi + asin(a phi' + b phi'')`.
-    Alg1(PendulumParams<T>),
-    /// Eq (21), Algorithm 2: `phi + asin(a phi' + b (phi'' - theta''))`, optionally with the
-    /// pivot-offset term and the delay compensation (see
-    /// [`super::alg2::Alg2Settings`]).
-    Alg2 {
-        /// a, b (and c with `pivot_offset`).
-        params: PendulumParams<T>,
-        /// Add the pivot-offset term (output `alg2_offset`).
-        pivot_offset: bool,
-        /// Remove the differentiator's first-order delay with the gyro (`alg2_dc`).
-        delay_compensation: bool,
-    },
-    /// Eq (30), Algorithm 3: `phi + asin(K phi' + L phi'' + M G_d) + N G_k`.
-    Alg3(Alg3Gains<T>),
+/// Which phi enters `theta = phi + asin(...)`.
+///
+/// The derivatives always come from the differentiator. With [`PhiSource::Raw`] the
+/// measured phi is used: the pendulum's own (mechanically low-passed) reading plus a
+/// low-passed correction, whose error for slow motion is second order in frequency
+/// (`(1 - H_lp)(P - 1) theta`, both factors vanish at DC). With [`PhiSource::Filtered`]
+/// the differentiator's low-passed phi is used: in the small-angle regime the estimate is
+/// then exactly the body tilt through the low-pass (a clean delay), smoother but later.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "snake_case")
+)]
+pub enum PhiSource {
+    /// The encoder reading as measured (default).
+    #[default]
+    Raw,
+    /// The differentiator's low-passed phi.
+    Filtered,
 }
-
-impl<T: Real> Equation<T> {
-    /// True when the equation reads the gyro (its flags then include the gyro's).
-    pub fn reads_gyro(&self) -> bool {
-        !matches!(self, Equation::Alg1(_))
-    }
-
-    /// The unwrapped estimate for one sample's kinematics.
-    // Always inlined: the stand-alone estimators pass a known variant, and the match then
-    // folds away (measured: out of line it was a fifth of Algorithm 2's per-sample time).
-    #[inline(always)]
-    pub fn evaluate(&self, k: &Kinematics<T>) -> Inversion<T> {
-        match self {
-            Equation::Alg1(p) => equations::alg1(p, k.phi, k.dphi, k.ddphi),
-            Equation::Alg2 {
-                params: p,
-                pivot_offset,
-                delay_compensation,
-            } => {
-                let mut r = if *pivot_offset {
-                    equations::alg2_offset(p, k.phi, k.dphi, k.ddphi, k.gyro, k.theta_dd)
-                } else {
-                    equations::alg2(p, k.phi, k.dphi, k.ddphi, k.theta_dd)
-                };
-                if *delay_compensation {
-                    r.theta -= k.delay * (k.dphi - k.gyro_filtered);
-                }
-                r
-            }
-            Equation::Alg3(g) => equations::alg3(g, k.phi, k.dphi, k.ddphi, k.theta_dd, k.gyro),
-        }
-    }
-
-    /// The estimate and its flags for one sample, from the front end's output.
-    #[inline(always)]
-    pub(crate) fn estimate(&self, k: &Kinematics<T>, phi_flags: Flags) -> (T, Flags) {
-        let r = self.evaluate(k);
-        let mut flags = phi_flags;
-        if self.reads_gyro() {
-            flags |= k.gyro_flags;
-        }
-        if r.clamped {
-            flags |= Flags::ASIN_CLAMPED;
-        }
-        (wrap_angle(r.theta), flags)
-    }
-}
-
-/// The most equations one [`SharedFrontEnd`] evaluates.
-pub const MAX_EQUATIONS: usize = 8;
 
 /// Settings of the front end Algorithms 1-3 share, each defined here once: the
 /// algorithms' settings hold one ([`Alg1Settings::front_end`],
@@ -133,13 +84,175 @@ impl<T: Real> FrontEndSettings<T> {
     }
 }
 
+/// The front end itself, one per estimator (or per [`SharedFrontEnd`]). `W` is the Eq (22) window capacity; `C` the number of
+/// differentiated signals: 1 (phi) for Algorithm 1, 2 (phi and the gyro) with a gyro.
+#[derive(Debug, Clone)]
+pub(crate) struct FrontEnd<T: Real, const W: usize, const C: usize = 2> {
+    phi_source: PhiSource,
+    // Signal 0 is phi, signal 1 the gyro: one discretisation, one step check, and both
+    // carry the same delay by construction.
+    diff: SmoothingDifferentiator<T, C>,
+    gyro: Option<ThetaDd<T, W>>,
+    gyro_full_scale: Option<T>,
+    gyro_seen: bool,
+    clock: StepClock<T>,
+    encoder: Unwrapper<T>,
+    last_gyro: T,
+    delay: T,
+    last_theta: T,
+}
+
+impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
+    /// The front end of `settings`; `with_gyro` false for Algorithm 1 (no theta'').
+    pub fn new(settings: &FrontEndSettings<T>, with_gyro: bool) -> Self {
+        let diff = &settings.differentiator;
+        let d = SmoothingDifferentiator::new(diff.response, diff.cutoff_hz(&settings.params));
+        Self {
+            delay: diff.response.dc_delay(d.cutoff_rad_s()),
+            phi_source: settings.phi,
+            gyro: with_gyro.then(|| ThetaDd::new(settings.theta_dd)),
+            gyro_full_scale: settings.gyro.checked_full_scale(),
+            gyro_seen: false,
+            diff: d,
+            clock: StepClock::new(),
+            encoder: Unwrapper::new(),
+            last_gyro: T::zero(),
+            last_theta: T::nan(),
+        }
+    }
+
+    pub fn reset(&mut self) {
+        self.diff.reset();
+        if let Some(g) = self.gyro.as_mut() {
+            g.reset();
+        }
+        self.gyro_seen = false;
+        self.clock.restart();
+        self.encoder = Unwrapper::new();
+        self.last_gyro = T::zero();
+        self.last_theta = T::nan();
+    }
+
+    /// Processes the sample; `Err(flags)` means "hold the previous estimate". The flags
+    /// returned with the kinematics are those of the phi path ([`Kinematics::gyro_flags`]
+    /// has the gyro's).
+    #[inline]
+    pub fn step(&mut self, s: &Sample<T>) -> Result<(Kinematics<T>, Flags), Flags> {
+        let mut flags = Flags::empty();
+        let step = self.clock.offer(s.dt)?;
+        let first = step.is_none();
+        let dt = step.unwrap_or(T::zero());
+        if !is_reading(s.phi) {
+            let f = Flags::SAMPLE_MISSING
+                | if first {
+                    Flags::INITIALISING
+                } else {
+                    Flags::empty()
+                };
+            return Err(f);
+        }
+        let (phi, wrapped) = self.encoder.unwrap(s.phi);
+        if wrapped {
+            flags |= Flags::ENCODER_WRAPPED;
+        }
+        self.clock.accept();
+        // A missing gyro sample is held (zero-order hold) so the two signals stay in step.
+        // A saturated one still enters as the rate (its sign is right and its size the
+        // closest bound to the truth), but the derivative of its clipped plateau is not
+        // theta'': theta'' is held instead.
+        let reading = self.gyro.is_some() && s.gyro.is_finite();
+        let saturated = reading && self.gyro_full_scale.is_some_and(|fs| s.gyro.abs() >= fs);
+        let gyro_ok = reading && !saturated;
+        if reading {
+            self.last_gyro = s.gyro;
+            if !self.gyro_seen && !first {
+                // The gyro starts later than phi: start its signal at rest on it.
+                self.diff.restart_signal(1, s.gyro);
+            }
+            self.gyro_seen = true;
+        }
+        let mut u = [self.last_gyro; C];
+        u[0] = phi;
+        if first {
+            flags |= Flags::INITIALISING;
+            self.diff.start_all(u);
+        } else {
+            self.diff.update_all(u, dt);
+        }
+        let d = self.diff.signal(0);
+        let mut theta_dd = T::zero();
+        let mut gyro_filtered = T::zero();
+        let mut gyro_flags = Flags::empty();
+        if let Some(g) = self.gyro.as_mut() {
+            let gd = self.diff.signal(1);
+            gyro_filtered = gd.value;
+            g.advance(dt);
+            if gyro_ok {
+                let (v, init) = g.update(s.gyro, &gd);
+                theta_dd = v;
+                if init {
+                    gyro_flags |= Flags::INITIALISING;
+                }
+            } else {
+                theta_dd = g.last();
+                gyro_flags |= if saturated {
+                    Flags::SATURATED
+                } else {
+                    Flags::SAMPLE_MISSING
+                };
+            }
+        }
+        let phi_used = match self.phi_source {
+            PhiSource::Raw => phi,
+            PhiSource::Filtered => d.value,
+        };
+        Ok((
+            Kinematics {
+                phi: phi_used,
+                dphi: d.d1,
+                ddphi: d.d2,
+                gyro: self.last_gyro,
+                theta_dd,
+                gyro_filtered,
+                delay: self.delay,
+                dt,
+                gyro_flags,
+            },
+            flags,
+        ))
+    }
+
+    /// One sample through the front end and `eq`: the estimate (held on a bad sample)
+    /// and, when the sample was usable, its kinematics.
+    #[inline]
+    pub fn run(&mut self, s: &Sample<T>, eq: &Equation<T>) -> (Estimate<T>, Option<Kinematics<T>>) {
+        match self.step(s) {
+            Ok((k, phi_flags)) => {
+                let (theta, flags) = eq.estimate(&k, phi_flags);
+                self.last_theta = theta;
+                (Estimate { theta, flags }, Some(k))
+            }
+            Err(flags) => (
+                Estimate {
+                    theta: self.last_theta,
+                    flags,
+                },
+                None,
+            ),
+        }
+    }
+}
+
+/// The most equations one [`SharedFrontEnd`] evaluates.
+pub const MAX_EQUATIONS: usize = 8;
+
 /// Several inversion equations on one front end; no allocation (at most
 /// [`MAX_EQUATIONS`]). Each output holds its own previous estimate on a bad sample, like
 /// the stand-alone estimators.
 #[derive(Debug, Clone)]
 pub struct SharedFrontEnd<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
     settings: FrontEndSettings<T>,
-    front: Inverter<T, W, 2>,
+    front: FrontEnd<T, W, 2>,
     equations: [Equation<T>; MAX_EQUATIONS],
     last: [T; MAX_EQUATIONS],
     len: usize,
@@ -156,7 +269,7 @@ impl<T: Real, const W: usize> SharedFrontEnd<T, W> {
         eqs[..equations.len()].copy_from_slice(equations);
         Some(Self {
             settings: *settings,
-            front: Inverter::new(settings, true),
+            front: FrontEnd::new(settings, true),
             equations: eqs,
             last: [T::nan(); MAX_EQUATIONS],
             len: equations.len(),
@@ -225,6 +338,7 @@ mod tests {
     use crate::estimators::alg1::{Alg1, Alg1Settings};
     use crate::estimators::alg2::{Alg2, Alg2Settings};
     use crate::estimators::alg3::{Alg3, Alg3Settings};
+    use crate::estimators::equations::Alg3Gains;
     use std::boxed::Box;
     use std::vec::Vec;
 
