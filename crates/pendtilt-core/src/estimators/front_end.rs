@@ -138,70 +138,18 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
     /// has the gyro's).
     #[inline]
     pub fn step(&mut self, s: &Sample<T>) -> Result<(Kinematics<T>, Flags), Flags> {
-        let mut flags = Flags::empty();
-        let step = self.clock.offer(s.dt)?;
-        let first = step.is_none();
-        let dt = step.unwrap_or(T::zero());
-        if !is_reading(s.phi) {
-            let f = Flags::SAMPLE_MISSING
-                | if first {
-                    Flags::INITIALISING
-                } else {
-                    Flags::empty()
-                };
-            return Err(f);
-        }
-        let (phi, wrapped) = self.encoder.unwrap(s.phi);
-        if wrapped {
-            flags |= Flags::ENCODER_WRAPPED;
-        }
-        self.clock.accept();
-        // A missing gyro sample is held (zero-order hold) so the two signals stay in step.
-        // A saturated one still enters as the rate (its sign is right and its size the
-        // closest bound to the truth), but the derivative of its clipped plateau is not
-        // theta'': theta'' is held instead.
-        let reading = self.gyro.is_some() && s.gyro.is_finite();
-        let saturated = reading && self.gyro_full_scale.is_some_and(|fs| s.gyro.abs() >= fs);
-        let gyro_ok = reading && !saturated;
-        if reading {
-            self.last_gyro = s.gyro;
-            if !self.gyro_seen && !first {
-                // The gyro starts later than phi: start its signal at rest on it.
-                self.diff.restart_signal(1, s.gyro);
-            }
-            self.gyro_seen = true;
-        }
+        let (phi, dt, flags) = self.accept_phi(s)?;
+        let first = flags.contains(Flags::INITIALISING);
+        let gyro = self.read_gyro(s.gyro, first);
         let mut u = [self.last_gyro; C];
         u[0] = phi;
         if first {
-            flags |= Flags::INITIALISING;
             self.diff.start_all(u);
         } else {
             self.diff.update_all(u, dt);
         }
+        let (theta_dd, gyro_filtered, gyro_flags) = self.theta_dd(s.gyro, gyro, dt);
         let d = self.diff.signal(0);
-        let mut theta_dd = T::zero();
-        let mut gyro_filtered = T::zero();
-        let mut gyro_flags = Flags::empty();
-        if let Some(g) = self.gyro.as_mut() {
-            let gd = self.diff.signal(1);
-            gyro_filtered = gd.value;
-            g.advance(dt);
-            if gyro_ok {
-                let (v, init) = g.update(s.gyro, &gd);
-                theta_dd = v;
-                if init {
-                    gyro_flags |= Flags::INITIALISING;
-                }
-            } else {
-                theta_dd = g.last();
-                gyro_flags |= if saturated {
-                    Flags::SATURATED
-                } else {
-                    Flags::SAMPLE_MISSING
-                };
-            }
-        }
         let phi_used = match self.phi_source {
             PhiSource::Raw => phi,
             PhiSource::Filtered => d.value,
@@ -220,6 +168,76 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
             },
             flags,
         ))
+    }
+
+    /// The time step and the unwrapped phi of a usable sample (the clock then accepts
+    /// it), with the phi path's flags (`INITIALISING` on the first sample); `Err` with the
+    /// flags of a sample to hold on.
+    #[inline]
+    fn accept_phi(&mut self, s: &Sample<T>) -> Result<(T, T, Flags), Flags> {
+        let step = self.clock.offer(s.dt)?;
+        let first = if step.is_none() {
+            Flags::INITIALISING
+        } else {
+            Flags::empty()
+        };
+        if !is_reading(s.phi) {
+            return Err(Flags::SAMPLE_MISSING | first);
+        }
+        let (phi, wrapped) = self.encoder.unwrap(s.phi);
+        self.clock.accept();
+        let mut flags = first;
+        if wrapped {
+            flags |= Flags::ENCODER_WRAPPED;
+        }
+        Ok((phi, step.unwrap_or(T::zero()), flags))
+    }
+
+    /// Records a gyro reading and says what it is. A missing one is held (zero-order hold)
+    /// so phi and the gyro stay in step. A saturated one still enters as the rate (its sign
+    /// is right and its size the closest bound to the truth), but the derivative of its
+    /// clipped plateau is not theta'': theta'' is held instead.
+    #[inline]
+    fn read_gyro(&mut self, gyro: T, first: bool) -> GyroReading {
+        let reading = self.gyro.is_some() && gyro.is_finite();
+        if !reading {
+            return GyroReading::Missing;
+        }
+        self.last_gyro = gyro;
+        if !self.gyro_seen && !first {
+            // The gyro starts later than phi: start its signal at rest on it.
+            self.diff.restart_signal(1, gyro);
+        }
+        self.gyro_seen = true;
+        if self.gyro_full_scale.is_some_and(|fs| gyro.abs() >= fs) {
+            GyroReading::Saturated
+        } else {
+            GyroReading::Good
+        }
+    }
+
+    /// theta'', the gyro through the phi low-pass, and the gyro path's flags (all zero and
+    /// empty without a gyro), once the differentiator has taken this sample.
+    #[inline]
+    fn theta_dd(&mut self, gyro: T, reading: GyroReading, dt: T) -> (T, T, Flags) {
+        let Some(g) = self.gyro.as_mut() else {
+            return (T::zero(), T::zero(), Flags::empty());
+        };
+        let gd = self.diff.signal(1);
+        g.advance(dt);
+        match reading {
+            GyroReading::Good => {
+                let (v, init) = g.update(gyro, &gd);
+                let flags = if init {
+                    Flags::INITIALISING
+                } else {
+                    Flags::empty()
+                };
+                (v, gd.value, flags)
+            }
+            GyroReading::Saturated => (g.last(), gd.value, Flags::SATURATED),
+            GyroReading::Missing => (g.last(), gd.value, Flags::SAMPLE_MISSING),
+        }
     }
 
     /// One sample through the front end and `eq`: the estimate (held on a bad sample)
@@ -241,6 +259,17 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
             ),
         }
     }
+}
+
+/// What one sample's gyro cell is, for the front end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum GyroReading {
+    /// A finite reading below the full scale.
+    Good,
+    /// A finite reading at or beyond the full scale: the rate, but not its derivative.
+    Saturated,
+    /// Not a number (or no gyro in this front end).
+    Missing,
 }
 
 /// The most equations one [`SharedFrontEnd`] evaluates.

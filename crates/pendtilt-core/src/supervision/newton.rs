@@ -209,9 +209,23 @@ pub(crate) fn newton_step<T: Real, const N: usize>(
     if !f0.is_finite() {
         return Err(NewtonError::NonFiniteCost);
     }
-    let dp = s.dp;
-    let mut evaluations = d.evaluations;
-    // Eq (25): the forward-difference gradient.
+    let g = gradient(d, active, s.dp)?;
+    let hess = hessian(d, active, s.dp)?;
+    let (step, shift) = regularised_solve(&hess, &g, active)?;
+    let mut it = step_halving(change, p, f0, &step, s);
+    it.gradient = g;
+    it.shift = shift;
+    it.evaluations += d.evaluations;
+    Ok(it)
+}
+
+/// Eq (25): the forward-difference gradient `first / dp` (0 for inactive parameters).
+#[inline]
+fn gradient<T: Real, const N: usize>(
+    d: &CostDifferences<T, N>,
+    active: &[bool; N],
+    dp: T,
+) -> Result<SVector<T, N>, NewtonError> {
     let mut g = SVector::<T, N>::zeros();
     for j in 0..N {
         if active[j] {
@@ -221,7 +235,17 @@ pub(crate) fn newton_step<T: Real, const N: usize>(
             g[j] = d.first[j] / dp;
         }
     }
-    // Eqs (26), (28): the second difference with dP_jk = dP_j + dP_k.
+    Ok(g)
+}
+
+/// Eqs (26), (28): the Hessian `second / dp^2` with dP_jk = dP_j + dP_k (the identity's
+/// rows and columns for inactive parameters).
+#[inline]
+fn hessian<T: Real, const N: usize>(
+    d: &CostDifferences<T, N>,
+    active: &[bool; N],
+    dp: T,
+) -> Result<SMatrix<T, N, N>, NewtonError> {
     let mut hess = SMatrix::<T, N, N>::identity();
     let dp2 = dp * dp;
     for j in 0..N {
@@ -240,7 +264,17 @@ pub(crate) fn newton_step<T: Real, const N: usize>(
             hess[(k, j)] = v / dp2;
         }
     }
-    // Solve F'' s = F' (Cholesky), shifting F'' by mu I until it is positive definite.
+    Ok(hess)
+}
+
+/// Solves `F'' s = F'` (Cholesky), shifting F'' by `mu I` (on the active diagonal) until
+/// it is positive definite: the step `s` and the shift used.
+#[inline]
+fn regularised_solve<T: Real, const N: usize>(
+    hess: &SMatrix<T, N, N>,
+    g: &SVector<T, N>,
+    active: &[bool; N],
+) -> Result<(SVector<T, N>, T), NewtonError> {
     let mut scale = T::zero();
     for j in 0..N {
         if active[j] {
@@ -255,28 +289,37 @@ pub(crate) fn newton_step<T: Real, const N: usize>(
     }
     let mut shift = T::zero();
     let mut mu = scale * T::lit(1e-9);
-    let mut step = None;
     for _ in 0..24 {
-        let mut m = hess;
+        let mut m = *hess;
         for j in 0..N {
             if active[j] {
                 m[(j, j)] += shift;
             }
         }
         if let Some(ch) = m.cholesky() {
-            let sol = ch.solve(&g);
+            let sol = ch.solve(g);
             if sol.iter().all(|v| v.is_finite()) {
-                step = Some(sol);
-                break;
+                return Ok((sol, shift));
             }
         }
         shift = mu;
         mu *= T::lit(10.0);
     }
-    let Some(step) = step else {
-        return Err(NewtonError::FlatCost);
-    };
-    // Eq (24) with step h, halved while the cost does not go down.
+    Err(NewtonError::FlatCost)
+}
+
+/// Eq (24) with step factor h, halved while the cost does not go down: the first point
+/// that lowers it, or `p` itself, stalled. The gradient and shift are the caller's to
+/// fill in; `evaluations` counts the changes evaluated here.
+#[inline]
+fn step_halving<T: Real, const N: usize>(
+    change: &mut impl FnMut(&SVector<T, N>) -> (T, T),
+    p: &SVector<T, N>,
+    f0: T,
+    step: &SVector<T, N>,
+    s: &NewtonSettings<T>,
+) -> NewtonIteration<T, N> {
+    let mut evaluations = 0;
     let mut t = s.h;
     let half = T::lit(0.5);
     for _ in 0..=s.max_halvings {
@@ -284,27 +327,27 @@ pub(crate) fn newton_step<T: Real, const N: usize>(
         let (dq, fq) = change(&q);
         evaluations += 1;
         if dq.is_finite() && fq.is_finite() && dq < T::zero() {
-            return Ok(NewtonIteration {
+            return NewtonIteration {
                 params: q,
                 cost: fq,
-                gradient: g,
+                gradient: SVector::zeros(),
                 step_scale: t,
-                shift,
+                shift: T::zero(),
                 evaluations,
                 stalled: false,
-            });
+            };
         }
         t *= half;
     }
-    Ok(NewtonIteration {
+    NewtonIteration {
         params: *p,
         cost: f0,
-        gradient: g,
+        gradient: SVector::zeros(),
         step_scale: T::zero(),
-        shift,
+        shift: T::zero(),
         evaluations,
         stalled: true,
-    })
+    }
 }
 
 /// True when the step from `p0` to `p1` (costs `f0`, `f1`) meets the tolerances of `s`.
