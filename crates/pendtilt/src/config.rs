@@ -26,7 +26,7 @@
 //!
 //! [differentiator]      # phi', phi'' for alg1, alg2, alg3 (filters::diff)
 //! response = "butterworth"      # or "bessel", "critically_damped"
-//! # cutoff_times_natural = 1.7  # cutoff / natural frequency (default 1.7) ...
+//! # cutoff_times_natural = 1.3  # cutoff / natural frequency (default 1.3) ...
 //! # cutoff_hz = 3.0             # ... or a fixed cutoff [Hz]; never both
 //!
 //! [accel]               # Eq (1)
@@ -55,6 +55,10 @@
 //! window = 0.02
 //! ```
 //!
+//! The tables are the fields of [`RigConfig`], listed there once: reading, writing and the
+//! list of valid names in an error all come from its serde form. Each key sets one field
+//! of a core settings struct and is documented there.
+//!
 //! Every key is optional and has the default shown (the pendulum defaults are
 //! [`PhysicalParams::default`]). A `[pendulum]` table is in one of two forms, decided by
 //! its keys: the physical form (any of `mass`, `length`, `inertia`, `damping`,
@@ -74,11 +78,8 @@
 use std::fmt;
 use std::path::Path;
 
-mod estimators;
-
-pub use estimators::{
-    Alg1Config, Alg2Config, Alg3Config, DifferentiatorConfig, ThetaDdChoice, DEFAULT_GD_WINDOW,
-};
+mod checks;
+mod tables;
 
 use pendtilt_core::estimators::accel::AccelSettings;
 use pendtilt_core::estimators::alg1::Alg1Settings;
@@ -86,18 +87,13 @@ use pendtilt_core::estimators::alg2::Alg2Settings;
 use pendtilt_core::estimators::alg3::Alg3Settings;
 use pendtilt_core::estimators::equations::Alg3Gains;
 use pendtilt_core::estimators::front_end::FrontEndSettings;
-use pendtilt_core::estimators::theta_dd::ThetaDdSource;
-use pendtilt_core::estimators::PhiSource;
 use pendtilt_core::filters::diff::DiffSettings;
 use pendtilt_core::kalman::KalmanSettings;
 use pendtilt_core::params::GyroSettings;
 use pendtilt_core::{PendulumParams, PhysicalParams};
-use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
-
-use estimators::Issue;
 
 /// Where a configuration error is: the file, the position in it, and the dotted key.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -192,7 +188,8 @@ impl ConfigError {
 }
 
 /// The pendulum of a rig file, in the form the file gave it.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "RawPendulum", into = "RawPendulum")]
 pub enum PendulumConfig {
     /// Physical values (m_p, l_p, I_p, C, l12, g).
     Physical(PhysicalParams<f64>),
@@ -224,31 +221,49 @@ impl PendulumConfig {
     }
 }
 
-/// A whole rig file: the pendulum and the estimator settings.
+/// A whole rig file: the pendulum and the estimator settings, one field per table.
 ///
+/// This struct is the one list of the file's tables: its serde form is the file (unknown
+/// tables and keys are refused, every key left out takes the core's default). Each table
+/// is a core settings struct; the keys that set a field are documented on that field.
 /// Build it with [`RigConfig::load`], [`RigConfig::from_toml_str`],
 /// [`RigConfig::from_physical`] or [`RigConfig::from_params`]; write it with
 /// [`RigConfig::to_toml_string`] or [`RigConfig::save`] (the text loads back to an equal
 /// value). The public fields may be changed freely; [`RigConfig::validate`] checks them.
-#[derive(Debug, Clone, PartialEq, Default)]
+///
+/// The settings one table shares with others are not keys of it, and are not read from
+/// it: [`KalmanSettings::gyro`] and the `params`, `differentiator` and `gyro` of an
+/// algorithm's `front_end` come from `[gyro]`, `[pendulum]` and `[differentiator]`
+/// ([`RigConfig::kalman_settings`], [`RigConfig::alg2_settings`], ...).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
 pub struct RigConfig {
-    /// The `[pendulum]` table.
+    /// `[pendulum]`: physical values or the normalised a, b, c (never both).
     pub pendulum: PendulumConfig,
-    /// The `[kalman]` table: the core's [`KalmanSettings`], read and written by its serde
-    /// derive (its `gyro` is not a key: [`RigConfig::kalman_settings`] takes `[gyro]`).
+    /// `[kalman]`: the angle+bias filter of every `kf_*` output.
     pub kalman: KalmanSettings<f64>,
-    /// The `[differentiator]` table (phi', phi'' for alg1, alg2, alg3).
-    pub differentiator: DifferentiatorConfig,
-    /// The `[accel]` table (Eq 1): the core's [`AccelSettings`].
+    /// `[differentiator]`: phi' and phi'' for alg1, alg2, alg3; the cutoff is the key
+    /// `cutoff_hz` ([`Cutoff::Hz`]) or `cutoff_times_natural` ([`Cutoff::TimesNatural`]).
+    ///
+    /// [`Cutoff::Hz`]: pendtilt_core::filters::diff::Cutoff::Hz
+    /// [`Cutoff::TimesNatural`]: pendtilt_core::filters::diff::Cutoff::TimesNatural
+    #[serde(with = "tables::differentiator")]
+    pub differentiator: DiffSettings<f64>,
+    /// `[accel]`: Eq (1).
     pub accel: AccelSettings<f64>,
-    /// The `[gyro]` table (the rate gyro's full scale): the core's [`GyroSettings`].
+    /// `[gyro]`: the rate gyro, for alg2, alg3 and every `kf_*`.
     pub gyro: GyroSettings<f64>,
-    /// The `[alg1]` table (Eq 20).
-    pub alg1: Alg1Config,
-    /// The `[alg2]` table (Eqs 21-22).
-    pub alg2: Alg2Config,
-    /// The `[alg3]` table (Eq 30: gains K, L, M, N).
-    pub alg3: Alg3Config,
+    /// `[alg1]`, Eq (20): the key `phi` ([`FrontEndSettings::phi`]).
+    #[serde(with = "tables::alg1")]
+    pub alg1: Alg1Settings<f64>,
+    /// `[alg2]`, Eqs (21)-(22): `phi`, `theta_dd = "matched" | "window"` with `window`
+    /// \[s\] ([`FrontEndSettings::theta_dd`]), `pivot_offset`, `delay_compensation`.
+    #[serde(with = "tables::alg2")]
+    pub alg2: Alg2Settings<f64>,
+    /// `[alg3]`, Eq (30): the gains `k`, `l`, `m`, `n` (those left out of a file are
+    /// K = a, L = b, M = -b, N = 0 of its `[pendulum]`), `phi`, `theta_dd`, `window`.
+    #[serde(with = "tables::alg3")]
+    pub alg3: Alg3Settings<f64>,
 }
 
 /// Name used in errors for configurations built in memory rather than read from a file.
@@ -287,13 +302,21 @@ impl RigConfig {
         Parser::new(text, origin)?.parse()
     }
 
+    /// Default settings for `pendulum`, unchecked (Algorithm 3's gains its Eq (21)
+    /// equivalent).
+    pub fn with_pendulum(pendulum: PendulumConfig) -> Self {
+        let mut cfg = Self {
+            pendulum,
+            ..Self::default()
+        };
+        cfg.alg3.gains = Alg3Gains::from_params(&cfg.params());
+        cfg
+    }
+
     /// A rig with these physical pendulum values and default estimator settings.
     /// Errors if a value is impossible (see [`RigConfig::validate`]).
     pub fn from_physical(p: PhysicalParams<f64>) -> Result<Self, ConfigError> {
-        let cfg = Self {
-            pendulum: PendulumConfig::Physical(p),
-            ..Self::default()
-        };
+        let cfg = Self::with_pendulum(PendulumConfig::Physical(p));
         cfg.validate()?;
         Ok(cfg)
     }
@@ -301,10 +324,7 @@ impl RigConfig {
     /// A rig with these normalised a, b, c (a fit result) and default estimator settings.
     /// Errors if a value is impossible (a < 0, b <= 0, or not finite).
     pub fn from_params(p: PendulumParams<f64>) -> Result<Self, ConfigError> {
-        let cfg = Self {
-            pendulum: PendulumConfig::Normalised(p),
-            ..Self::default()
-        };
+        let cfg = Self::with_pendulum(PendulumConfig::Normalised(p));
         cfg.validate()?;
         Ok(cfg)
     }
@@ -319,9 +339,22 @@ impl RigConfig {
         self.pendulum.physical()
     }
 
-    /// Algorithm 3's gains: those of `[alg3]`, the ones left out K = a, L = b, M = -b, N = 0.
+    /// Gravity \[m/s^2\]: the physical pendulum's, else standard gravity (the normalised
+    /// form has none).
+    pub fn gravity(&self) -> f64 {
+        self.physical()
+            .map_or(pendtilt_core::params::STANDARD_GRAVITY, |p| p.gravity)
+    }
+
+    /// Algorithm 3's gains (`[alg3]`).
     pub fn alg3_gains(&self) -> Alg3Gains<f64> {
-        self.alg3.gains(&self.params())
+        self.alg3.gains
+    }
+
+    /// True when Algorithm 3's gains are those under which Eq (30) is Eq (21) for this
+    /// pendulum (K = a, L = b, M = -b, N = 0), as when `[alg3]` gives none.
+    pub fn alg3_gains_are_eq21(&self) -> bool {
+        self.alg3.gains == Alg3Gains::from_params(&self.params())
     }
 
     /// Settings of the Kalman filters (`kf_*`), from `[kalman]` and `[gyro]`.
@@ -339,7 +372,7 @@ impl RigConfig {
 
     /// Settings of the phi differentiator, from `[differentiator]`.
     pub fn diff_settings(&self) -> DiffSettings<f64> {
-        self.differentiator.settings()
+        self.differentiator
     }
 
     /// Settings of `accel`, from `[accel]`.
@@ -347,53 +380,43 @@ impl RigConfig {
         self.accel
     }
 
-    /// The front end of Algorithms 1-3 from `[pendulum]`, `[differentiator]` and `[gyro]`,
-    /// with `phi` and `theta_dd` from an algorithm's table.
-    fn front_end(&self, phi: PhiSource, theta_dd: ThetaDdSource<f64>) -> FrontEndSettings<f64> {
+    /// An algorithm's front end: `phi` and `theta_dd` from its table, the rest from
+    /// `[pendulum]`, `[differentiator]` and `[gyro]`.
+    fn front_end(&self, table: &FrontEndSettings<f64>) -> FrontEndSettings<f64> {
         FrontEndSettings {
             params: self.params(),
-            differentiator: self.diff_settings(),
-            phi,
-            theta_dd,
-            gyro: self.gyro_settings(),
+            differentiator: self.differentiator,
+            gyro: self.gyro,
+            ..*table
         }
     }
 
-    /// Settings of `alg1`, from `[pendulum]`, `[differentiator]` and `[alg1]`.
+    /// Settings of `alg1`, from `[pendulum]`, `[differentiator]`, `[gyro]` and `[alg1]`.
     pub fn alg1_settings(&self) -> Alg1Settings<f64> {
         Alg1Settings {
-            // Algorithm 1 reads neither theta'' nor the gyro.
-            front_end: self.front_end(self.alg1.phi, ThetaDdSource::default()),
+            front_end: self.front_end(&self.alg1.front_end),
         }
     }
 
     /// Settings of `alg2`, from `[pendulum]`, `[differentiator]`, `[gyro]` and `[alg2]`.
     pub fn alg2_settings(&self) -> Alg2Settings<f64> {
-        let a = &self.alg2;
         Alg2Settings {
-            front_end: self.front_end(a.phi, estimators::theta_dd(a.theta_dd, a.window)),
-            pivot_offset: a.pivot_offset,
-            delay_compensation: a.delay_compensation,
+            front_end: self.front_end(&self.alg2.front_end),
+            ..self.alg2
         }
     }
 
-    /// Settings of `alg3`, from `[pendulum]`, `[differentiator]`, `[gyro]` and `[alg3]`
-    /// (gains left out of `[alg3]` are K = a, L = b, M = -b, N = 0).
+    /// Settings of `alg3`, from `[pendulum]`, `[differentiator]`, `[gyro]` and `[alg3]`.
     pub fn alg3_settings(&self) -> Alg3Settings<f64> {
-        let a = &self.alg3;
         Alg3Settings {
-            front_end: self.front_end(a.phi, estimators::theta_dd(a.theta_dd, a.window)),
-            gains: a.gains(&self.params()),
+            front_end: self.front_end(&self.alg3.front_end),
+            ..self.alg3
         }
     }
 
     /// Checks every value as [`RigConfig::load`] does; errors name [`IN_MEMORY`] as the file.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        let mut issues = Vec::new();
-        check_pendulum(&self.pendulum, &mut issues);
-        check_kalman(&self.kalman, &mut issues);
-        estimators::check_estimators(self, &mut issues);
-        match issues.into_iter().next() {
+        match checks::issues(self).into_iter().next() {
             None => Ok(()),
             Some((key, value, why)) => Err(ConfigError::new(
                 Location {
@@ -410,15 +433,11 @@ impl RigConfig {
     /// The rig as TOML text, every value written out with a comment giving its unit.
     /// [`RigConfig::from_toml_str`] reads it back to an equal value.
     pub fn to_toml_string(&self) -> String {
-        let file = RawFile {
-            pendulum: RawPendulum::from(&self.pendulum),
-            kalman: self.kalman,
-            differentiator: self.differentiator,
-            accel: self.accel,
-            gyro: self.gyro,
-            alg1: self.alg1,
-            alg2: self.alg2,
-            alg3: self.alg3,
+        // alg3 with its pendulum, so that gains that are its Eq (21) equivalent are left
+        // out, as in a file that gives none.
+        let file = Self {
+            alg3: self.alg3_settings(),
+            ..self.clone()
         };
         // Serialising plain structs of finite floats cannot fail; fall back to an empty
         // body rather than panic if it ever did.
@@ -458,7 +477,8 @@ impl RigConfig {
     }
 }
 
-/// The unit and meaning of each key, for the comments of [`RigConfig::to_toml_string`].
+/// The unit and meaning of each key, for the comments of [`RigConfig::to_toml_string`]
+/// (test `every_written_key_has_a_comment`).
 fn key_comment(table: &str, key: &str) -> Option<&'static str> {
     Some(match (table, key) {
         ("pendulum", "mass") => "m_p [kg]",
@@ -476,22 +496,26 @@ fn key_comment(table: &str, key: &str) -> Option<&'static str> {
         ("kalman", "r_pendulum") => "pendulum angle variance [rad^2]",
         ("kalman", "p0_angle") => "initial angle variance [rad^2]",
         ("kalman", "p0_bias") => "initial bias variance [(rad/s)^2]",
-        _ => return estimators::key_comment(table, key),
+        ("differentiator", "response") => "butterworth | bessel | critically_damped",
+        ("differentiator", "cutoff_hz") => "fixed cutoff [Hz]",
+        ("differentiator", "cutoff_times_natural") => "cutoff / natural frequency",
+        ("accel", "prefilter_hz") => "low-pass on ax, ay before atan2 [Hz]",
+        ("accel", "full_scale") => "accelerometer full scale [m/s^2]",
+        ("gyro", "full_scale") => "gyro full scale [rad/s]",
+        ("alg1" | "alg2" | "alg3", "phi") => "raw | filtered",
+        ("alg2" | "alg3", "theta_dd") => "matched | window (Eq 22)",
+        ("alg2" | "alg3", "window") => "Eq (22) window [s]",
+        ("alg2", "pivot_offset") => "add the l12 term to alg2",
+        ("alg2", "delay_compensation") => "remove the differentiator delay with the gyro",
+        ("alg3", "k") => "K, times phi' [s]",
+        ("alg3", "l") => "L, times phi'' [s^2]",
+        ("alg3", "m") => "M, times G_d [s^2]",
+        ("alg3", "n") => "N, times G_k [s]",
+        _ => return None,
     })
 }
 
-const TABLES: [&str; 8] = [
-    "pendulum",
-    "kalman",
-    "differentiator",
-    "accel",
-    "gyro",
-    "alg1",
-    "alg2",
-    "alg3",
-];
-
-/// The `[pendulum]` table as written: every key optional.
+/// The `[pendulum]` table as written: every key optional, the form decided by the keys.
 #[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 struct RawPendulum {
@@ -515,8 +539,69 @@ struct RawPendulum {
     c: Option<f64>,
 }
 
-impl From<&PendulumConfig> for RawPendulum {
-    fn from(p: &PendulumConfig) -> Self {
+impl RawPendulum {
+    /// The physical keys given and the normalised keys given.
+    fn forms(&self) -> (Vec<&'static str>, Vec<&'static str>) {
+        let present = |list: &[(&'static str, Option<f64>)]| -> Vec<&'static str> {
+            list.iter()
+                .filter(|(_, v)| v.is_some())
+                .map(|(k, _)| *k)
+                .collect()
+        };
+        let physical = present(&[
+            ("mass", self.mass),
+            ("length", self.length),
+            ("inertia", self.inertia),
+            ("damping", self.damping),
+            ("pivot_offset", self.pivot_offset),
+            ("gravity", self.gravity),
+        ]);
+        let normalised = present(&[("a", self.a), ("b", self.b), ("c", self.c)]);
+        (physical, normalised)
+    }
+
+    /// The error of a table that mixes the two forms, if it does.
+    fn mixed(&self) -> Option<ConfigErrorKind> {
+        let (physical, normalised) = self.forms();
+        (!physical.is_empty() && !normalised.is_empty()).then(|| {
+            ConfigErrorKind::MixedPendulumForms {
+                physical: physical.join(", "),
+                normalised: normalised.join(", "),
+            }
+        })
+    }
+}
+
+impl TryFrom<RawPendulum> for PendulumConfig {
+    type Error = ConfigErrorKind;
+
+    fn try_from(raw: RawPendulum) -> Result<Self, ConfigErrorKind> {
+        if let Some(mixed) = raw.mixed() {
+            return Err(mixed);
+        }
+        Ok(if raw.a.or(raw.b).or(raw.c).is_none() {
+            let d = PhysicalParams::<f64>::default();
+            PendulumConfig::Physical(PhysicalParams {
+                mass: raw.mass.unwrap_or(d.mass),
+                length: raw.length.unwrap_or(d.length),
+                inertia: raw.inertia.unwrap_or(d.inertia),
+                damping: raw.damping.unwrap_or(d.damping),
+                pivot_offset: raw.pivot_offset.unwrap_or(d.pivot_offset),
+                gravity: raw.gravity.unwrap_or(d.gravity),
+            })
+        } else {
+            let d = PendulumParams::<f64>::default();
+            PendulumConfig::Normalised(PendulumParams {
+                a: raw.a.unwrap_or(d.a),
+                b: raw.b.unwrap_or(d.b),
+                c: raw.c.unwrap_or(d.c),
+            })
+        })
+    }
+}
+
+impl From<PendulumConfig> for RawPendulum {
+    fn from(p: PendulumConfig) -> Self {
         match p {
             PendulumConfig::Physical(p) => Self {
                 mass: Some(p.mass),
@@ -535,134 +620,6 @@ impl From<&PendulumConfig> for RawPendulum {
             },
         }
     }
-}
-
-/// The whole file for writing.
-#[derive(Serialize)]
-struct RawFile {
-    pendulum: RawPendulum,
-    kalman: KalmanSettings<f64>,
-    differentiator: DifferentiatorConfig,
-    accel: AccelSettings<f64>,
-    gyro: GyroSettings<f64>,
-    alg1: Alg1Config,
-    alg2: Alg2Config,
-    alg3: Alg3Config,
-}
-
-fn require(issues: &mut Vec<Issue>, key: &str, value: f64, ok: bool, why: &str) {
-    if !value.is_finite() {
-        issues.push((
-            key.to_string(),
-            value,
-            "must be a finite number".to_string(),
-        ));
-    } else if !ok {
-        issues.push((key.to_string(), value, why.to_string()));
-    }
-}
-
-fn check_pendulum(p: &PendulumConfig, issues: &mut Vec<Issue>) {
-    match p {
-        PendulumConfig::Physical(p) => {
-            require(
-                issues,
-                "pendulum.mass",
-                p.mass,
-                p.mass > 0.0,
-                "mass must be > 0 [kg]",
-            );
-            require(
-                issues,
-                "pendulum.length",
-                p.length,
-                p.length > 0.0,
-                "length (pivot to centre of gravity) must be > 0 [m]",
-            );
-            require(
-                issues,
-                "pendulum.inertia",
-                p.inertia,
-                p.inertia > 0.0,
-                "inertia about the pivot must be > 0 [kg m^2]",
-            );
-            require(
-                issues,
-                "pendulum.damping",
-                p.damping,
-                p.damping >= 0.0,
-                "damping (viscous friction) must be >= 0 [N m s/rad]",
-            );
-            require(issues, "pendulum.pivot_offset", p.pivot_offset, true, "");
-            require(
-                issues,
-                "pendulum.gravity",
-                p.gravity,
-                p.gravity > 0.0,
-                "gravity must be > 0 [m/s^2]",
-            );
-            let point = p.mass * p.length * p.length;
-            if issues.is_empty() && p.inertia < point * (1.0 - 1e-12) {
-                // Six significant digits, written plainly (0.00015, not 0.00015000000000000001).
-                let shown: f64 = format!("{point:.5e}").parse().unwrap_or(point);
-                issues.push((
-                    "pendulum.inertia".to_string(),
-                    p.inertia,
-                    format!(
-                        "inertia about the pivot must be >= mass * length^2 = {shown} kg m^2 \
-                         (a point mass at the centre of gravity)"
-                    ),
-                ));
-            }
-        }
-        PendulumConfig::Normalised(p) => {
-            require(
-                issues,
-                "pendulum.a",
-                p.a,
-                p.a >= 0.0,
-                "a = C / (m_p g l_p) must be >= 0 [s]",
-            );
-            require(
-                issues,
-                "pendulum.b",
-                p.b,
-                p.b > 0.0,
-                "b = I_p / (m_p g l_p) must be > 0 [s^2]",
-            );
-            require(issues, "pendulum.c", p.c, true, "");
-        }
-    }
-}
-
-fn check_kalman(k: &KalmanSettings<f64>, issues: &mut Vec<Issue>) {
-    let nonneg = "a noise density must be >= 0";
-    require(
-        issues,
-        "kalman.q_angle",
-        k.q_angle,
-        k.q_angle >= 0.0,
-        nonneg,
-    );
-    require(issues, "kalman.q_bias", k.q_bias, k.q_bias >= 0.0, nonneg);
-    let pos = "a measurement variance must be > 0";
-    require(issues, "kalman.r_accel", k.r_accel, k.r_accel > 0.0, pos);
-    require(
-        issues,
-        "kalman.r_pendulum",
-        k.r_pendulum,
-        k.r_pendulum > 0.0,
-        pos,
-    );
-    let var = "an initial variance must be >= 0";
-    require(
-        issues,
-        "kalman.p0_angle",
-        k.p0_angle,
-        k.p0_angle >= 0.0,
-        var,
-    );
-    require(issues, "kalman.p0_bias", k.p0_bias, k.p0_bias >= 0.0, var);
 }
 
 /// 1-based (line, column in characters) of a byte offset.
@@ -686,6 +643,8 @@ struct Parser<'a> {
     spans: Spanned<DeTable<'a>>,
     values: toml::Table,
 }
+
+type Span = std::ops::Range<usize>;
 
 impl<'a> Parser<'a> {
     fn new(text: &'a str, origin: &'a str) -> Result<Self, ConfigError> {
@@ -717,7 +676,7 @@ impl<'a> Parser<'a> {
         })
     }
 
-    fn at(&self, span: Option<std::ops::Range<usize>>, key: Option<String>) -> Location {
+    fn at(&self, span: Option<Span>, key: Option<String>) -> Location {
         let (line, column) = match span {
             Some(s) => {
                 let (l, c) = line_column(self.text, s.start);
@@ -733,168 +692,152 @@ impl<'a> Parser<'a> {
         }
     }
 
-    /// The key and value spans of `table.key` (or of the top-level `table` when `key` is
-    /// `None`).
-    fn spans_of(
-        &self,
-        table: &str,
-        key: Option<&str>,
-    ) -> Option<(std::ops::Range<usize>, std::ops::Range<usize>)> {
+    /// The (key span, value span) of each key of `table` (or of the top level when
+    /// `table` is `None`), in file order.
+    fn entries(&self, table: Option<&str>) -> Vec<(String, Span, Span)> {
         let top = self.spans.get_ref();
-        let (tk, tv) = top.iter().find(|(k, _)| k.get_ref().as_ref() == table)?;
-        match key {
-            None => Some((tk.span(), tv.span())),
-            Some(key) => match tv.get_ref() {
-                DeValue::Table(t) => t
-                    .iter()
-                    .find(|(k, _)| k.get_ref().as_ref() == key)
-                    .map(|(k, v)| (k.span(), v.span())),
-                _ => None,
-            },
+        let map = match table {
+            None => Some(top),
+            Some(name) => top
+                .iter()
+                .find(|(k, _)| k.get_ref().as_ref() == name)
+                .and_then(|(_, v)| match v.get_ref() {
+                    DeValue::Table(t) => Some(t),
+                    _ => None,
+                }),
+        };
+        let mut out: Vec<_> = map
+            .into_iter()
+            .flat_map(|m| m.iter())
+            .map(|(k, v)| (k.get_ref().to_string(), k.span(), v.span()))
+            .collect();
+        out.sort_by_key(|(_, k, _)| k.start);
+        out
+    }
+
+    fn key_span(&self, table: &str, key: &str) -> Option<Span> {
+        let entries = self.entries(Some(table));
+        entries.into_iter().find(|e| e.0 == key).map(|e| e.1)
+    }
+
+    fn value_span(&self, table: &str, key: &str) -> Option<Span> {
+        let entries = self.entries(Some(table));
+        entries.into_iter().find(|e| e.0 == key).map(|e| e.2)
+    }
+
+    /// The file's values for `name` alone read as a whole rig file (the serde form of
+    /// [`RigConfig`]).
+    fn read_alone(name: &str, table: toml::Table) -> Result<RigConfig, toml::de::Error> {
+        let mut file = toml::Table::new();
+        file.insert(name.to_string(), toml::Value::Table(table));
+        RigConfig::deserialize(toml::Value::Table(file))
+    }
+
+    /// Checks one top-level entry: a known table name, a table, and then its keys one more
+    /// at a time in file order, so that an error names the key that made the table
+    /// unreadable and its position.
+    fn check_table(
+        &self,
+        name: &str,
+        name_span: Span,
+        value_span: Span,
+    ) -> Result<(), ConfigError> {
+        if let Err(e) = Self::read_alone(name, toml::Table::new()) {
+            // The only error an empty table can give: a name that is not a table's.
+            return Err(ConfigError::new(
+                self.at(Some(name_span), Some(name.to_string())),
+                ConfigErrorKind::UnknownKey {
+                    allowed: allowed(e.message(), true),
+                },
+            ));
         }
-    }
-
-    fn key_span(&self, table: &str, key: &str) -> Option<std::ops::Range<usize>> {
-        self.spans_of(table, Some(key)).map(|(k, _)| k)
-    }
-
-    fn value_span(&self, table: &str, key: &str) -> Option<std::ops::Range<usize>> {
-        self.spans_of(table, Some(key)).map(|(_, v)| v)
-    }
-
-    /// Reads one table into its serde struct, checking each key on its own so that the
-    /// error names the key and its position.
-    fn section<T: DeserializeOwned + Default>(&self, name: &str) -> Result<T, ConfigError> {
         let Some(value) = self.values.get(name) else {
-            return Ok(T::default());
+            return Ok(());
         };
         let toml::Value::Table(table) = value else {
             return Err(ConfigError::new(
-                self.at(
-                    self.spans_of(name, None).map(|(_, v)| v),
-                    Some(name.to_string()),
-                ),
+                self.at(Some(value_span), Some(name.to_string())),
                 ConfigErrorKind::WrongType(format!(
                     "`{name}` must be a table ([{name}]), found a {}",
                     value.type_str()
                 )),
             ));
         };
-        for (key, v) in table {
-            let mut one = toml::Table::new();
-            one.insert(key.clone(), v.clone());
-            if let Err(e) = T::deserialize(toml::Value::Table(one)) {
-                let message = e.message().trim().to_string();
-                let dotted = format!("{name}.{key}");
-                return Err(if message.starts_with("unknown field") {
-                    let allowed = message
-                        .split_once("expected ")
-                        .map(|(_, rest)| rest.trim_start_matches("one of ").to_string())
-                        .unwrap_or_default();
-                    ConfigError::new(
-                        self.at(self.key_span(name, key), Some(dotted)),
-                        ConfigErrorKind::UnknownKey { allowed },
-                    )
-                } else if message.starts_with("unknown variant") {
-                    ConfigError::new(
-                        self.at(self.value_span(name, key), Some(dotted)),
-                        ConfigErrorKind::BadChoice(message),
-                    )
-                } else {
-                    ConfigError::new(
-                        self.at(self.value_span(name, key), Some(dotted)),
-                        ConfigErrorKind::WrongType(message),
-                    )
-                });
+        let mut read = toml::Table::new();
+        for (key, _, _) in self.entries(Some(name)) {
+            let Some(v) = table.get(&key) else { continue };
+            read.insert(key.clone(), v.clone());
+            if let Err(e) = Self::read_alone(name, read.clone()) {
+                return Err(self.key_error(name, &key, &read, e.message().trim()));
             }
         }
-        T::deserialize(value.clone()).map_err(|e| {
-            ConfigError::new(
-                self.at(
-                    self.spans_of(name, None).map(|(k, _)| k),
-                    Some(name.to_string()),
-                ),
-                ConfigErrorKind::WrongType(e.message().trim().to_string()),
-            )
-        })
+        Ok(())
+    }
+
+    /// The error of `table.key`, the key whose addition to `read` gave `message`.
+    fn key_error(&self, table: &str, key: &str, read: &toml::Table, message: &str) -> ConfigError {
+        let dotted = format!("{table}.{key}");
+        let at_value = self.at(self.value_span(table, key), Some(dotted.clone()));
+        let kind = if message.starts_with("unknown field") {
+            return ConfigError::new(
+                self.at(self.key_span(table, key), Some(dotted)),
+                ConfigErrorKind::UnknownKey {
+                    allowed: allowed(message, false),
+                },
+            );
+        } else if message.starts_with("unknown variant") {
+            ConfigErrorKind::BadChoice(message.to_string())
+        } else if ["invalid ", "missing ", "duplicate "]
+            .iter()
+            .any(|p| message.starts_with(p))
+        {
+            ConfigErrorKind::WrongType(message.to_string())
+        } else if let Some(mixed) = (table == "pendulum")
+            .then(|| RawPendulum::deserialize(toml::Value::Table(read.clone())).ok())
+            .flatten()
+            .and_then(|raw| raw.mixed())
+        {
+            let location = self.at(self.key_span(table, key), Some(table.to_string()));
+            return ConfigError::new(location, mixed);
+        } else {
+            // A rule of the table's file form (tables.rs): an impossible value.
+            let v = read.get(key);
+            match v.and_then(|v| v.as_float().or(v.as_integer().map(|i| i as f64))) {
+                Some(value) => ConfigErrorKind::Impossible {
+                    value,
+                    why: message.to_string(),
+                },
+                None => ConfigErrorKind::WrongType(message.to_string()),
+            }
+        };
+        ConfigError::new(at_value, kind)
     }
 
     fn parse(self) -> Result<RigConfig, ConfigError> {
-        for (key, _) in self.spans.get_ref().iter() {
-            let key_name = key.get_ref().as_ref();
-            if !TABLES.contains(&key_name) {
-                return Err(ConfigError::new(
-                    self.at(Some(key.span()), Some(key_name.to_string())),
-                    ConfigErrorKind::UnknownKey {
-                        allowed: TABLES
-                            .iter()
-                            .map(|t| format!("[{t}]"))
-                            .collect::<Vec<_>>()
-                            .join(", "),
-                    },
-                ));
+        for (name, name_span, value_span) in self.entries(None) {
+            self.check_table(&name, name_span, value_span)?;
+        }
+        let mut cfg =
+            RigConfig::deserialize(toml::Value::Table(self.values.clone())).map_err(|e| {
+                ConfigError::new(
+                    self.at(None, None),
+                    ConfigErrorKind::WrongType(e.message().trim().to_string()),
+                )
+            })?;
+        // Gains left out are the Eq (21) equivalent of this file's pendulum (tables::alg3).
+        let eq21 = Alg3Gains::from_params(&cfg.params());
+        let given = |key: &str| self.values.get("alg3").and_then(|t| t.get(key)).is_some();
+        let g = &mut cfg.alg3.gains;
+        for ((gain, key), value) in [&mut g.k, &mut g.l, &mut g.m, &mut g.n]
+            .into_iter()
+            .zip(tables::alg3::GAINS)
+            .zip([eq21.k, eq21.l, eq21.m, eq21.n])
+        {
+            if !given(key) {
+                *gain = value;
             }
         }
-        let raw: RawPendulum = self.section("pendulum")?;
-        let physical_given = [
-            ("mass", raw.mass),
-            ("length", raw.length),
-            ("inertia", raw.inertia),
-            ("damping", raw.damping),
-            ("pivot_offset", raw.pivot_offset),
-            ("gravity", raw.gravity),
-        ];
-        let normalised_given = [("a", raw.a), ("b", raw.b), ("c", raw.c)];
-        let present = |list: &[(&'static str, Option<f64>)]| -> Vec<&'static str> {
-            list.iter()
-                .filter(|(_, v)| v.is_some())
-                .map(|(k, _)| *k)
-                .collect()
-        };
-        let phys = present(&physical_given);
-        let norm = present(&normalised_given);
-        if !phys.is_empty() && !norm.is_empty() {
-            return Err(ConfigError::new(
-                self.at(self.key_span("pendulum", norm[0]), Some("pendulum".into())),
-                ConfigErrorKind::MixedPendulumForms {
-                    physical: phys.join(", "),
-                    normalised: norm.join(", "),
-                },
-            ));
-        }
-        let pendulum = if norm.is_empty() {
-            let d = PhysicalParams::<f64>::default();
-            PendulumConfig::Physical(PhysicalParams {
-                mass: raw.mass.unwrap_or(d.mass),
-                length: raw.length.unwrap_or(d.length),
-                inertia: raw.inertia.unwrap_or(d.inertia),
-                damping: raw.damping.unwrap_or(d.damping),
-                pivot_offset: raw.pivot_offset.unwrap_or(d.pivot_offset),
-                gravity: raw.gravity.unwrap_or(d.gravity),
-            })
-        } else {
-            let d = PendulumParams::<f64>::default();
-            PendulumConfig::Normalised(PendulumParams {
-                a: raw.a.unwrap_or(d.a),
-                b: raw.b.unwrap_or(d.b),
-                c: raw.c.unwrap_or(d.c),
-            })
-        };
-        let cfg = RigConfig {
-            pendulum,
-            kalman: self.section("kalman")?,
-            differentiator: self.section("differentiator")?,
-            accel: self.section("accel")?,
-            gyro: self.section("gyro")?,
-            alg1: self.section("alg1")?,
-            alg2: self.section("alg2")?,
-            alg3: self.section("alg3")?,
-        };
-        let mut issues = Vec::new();
-        check_pendulum(&cfg.pendulum, &mut issues);
-        check_kalman(&cfg.kalman, &mut issues);
-        estimators::check_estimators(&cfg, &mut issues);
-        if let Some((key, value, why)) = issues.into_iter().next() {
+        if let Some((key, value, why)) = checks::issues(&cfg).into_iter().next() {
             let (table, k) = key.split_once('.').unwrap_or((key.as_str(), ""));
             let span = self.value_span(table, k);
             let why = if span.is_none() {
@@ -908,6 +851,29 @@ impl<'a> Parser<'a> {
             ));
         }
         Ok(cfg)
+    }
+}
+
+/// The names serde's "unknown field `x`, expected one of `a`, `b`" allows, as `a, b`
+/// (`[a], [b]` for the tables of the top level).
+fn allowed(message: &str, tables: bool) -> String {
+    let list = message
+        .split_once("expected ")
+        .map_or("", |(_, rest)| rest.trim_start_matches("one of "));
+    let names = list
+        .split(", ")
+        .map(|n| n.trim().trim_matches('`'))
+        .filter(|n| !n.is_empty());
+    if tables {
+        names
+            .map(|n| format!("[{n}]"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    } else {
+        names
+            .map(|n| format!("`{n}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 

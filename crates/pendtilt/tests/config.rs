@@ -388,7 +388,7 @@ fn fitted_alg3_gains_round_trip() {
         m: -0.0058,
         n: 1.0e-3,
     };
-    cfg.alg3.set_gains(g);
+    cfg.alg3.gains = g;
     let text = cfg.to_toml_string();
     let back = RigConfig::from_toml_str(&text, "fit.toml").unwrap();
     assert_eq!(back.alg3_settings().gains, g, "{text}");
@@ -398,13 +398,16 @@ fn fitted_alg3_gains_round_trip() {
     );
     assert_eq!(back.alg3_gains(), g);
     let other = RigConfig {
-        alg3: pendtilt::config::Alg3Config::from_gains(&g),
+        alg3: pendtilt::core::estimators::alg3::Alg3Settings {
+            gains: g,
+            ..Default::default()
+        },
         ..RigConfig::default()
     };
     assert_eq!(other.alg3_gains(), g);
     assert_eq!(
-        other.alg3.theta_dd,
-        pendtilt::config::ThetaDdChoice::Matched
+        other.alg3_settings().front_end.theta_dd,
+        pendtilt::core::estimators::theta_dd::ThetaDdSource::Matched
     );
 }
 
@@ -493,4 +496,70 @@ fn dotted_keys_at_top_level_are_read_and_located() {
     let e = err("pendulum.mass = -1\n");
     assert_eq!(e.location.key.as_deref(), Some("pendulum.mass"));
     assert_eq!(e.location.line, Some(1));
+}
+
+#[test]
+fn the_tables_are_listed_once_and_every_use_agrees() {
+    // The unknown-table error, reading and writing all come from RigConfig's fields.
+    let e = err("[kalmann]\n");
+    let ConfigErrorKind::UnknownKey { allowed } = &*e.kind else {
+        panic!("{e}");
+    };
+    let listed: Vec<&str> = allowed
+        .split(", ")
+        .map(|t| t.trim_start_matches('[').trim_end_matches(']'))
+        .collect();
+    assert_eq!(
+        listed,
+        [
+            "pendulum",
+            "kalman",
+            "differentiator",
+            "accel",
+            "gyro",
+            "alg1",
+            "alg2",
+            "alg3"
+        ]
+    );
+    let written: Vec<String> = RigConfig::default()
+        .to_toml_string()
+        .lines()
+        .filter_map(|l| l.strip_prefix('[').and_then(|l| l.strip_suffix(']')))
+        .map(str::to_string)
+        .collect();
+    assert_eq!(
+        written, listed,
+        "the written file has every table, in order"
+    );
+    for table in listed {
+        let cfg = RigConfig::from_toml_str(&format!("[{table}]\n"), "rig.toml").unwrap();
+        assert_eq!(cfg, RigConfig::default(), "[{table}] empty is the defaults");
+    }
+}
+
+#[test]
+fn alg3_gains_left_out_follow_the_files_pendulum() {
+    use pendtilt::core::estimators::equations::Alg3Gains;
+    // L and M from this file's b (not the default pendulum's), N = 0.
+    let cfg = RigConfig::from_toml_str("[alg3]\nk = 0.1\n[pendulum]\na = 0.04\nb = 0.007\n", "r")
+        .unwrap();
+    assert_eq!(
+        cfg.alg3_gains(),
+        Alg3Gains {
+            k: 0.1,
+            l: 0.007,
+            m: -0.007,
+            n: 0.0
+        }
+    );
+    assert!(!cfg.alg3_gains_are_eq21());
+    // None given: the Eq (21) equivalent, and none written back.
+    let cfg = RigConfig::from_toml_str("[pendulum]\na = 0.04\nb = 0.007\n", "r").unwrap();
+    assert!(cfg.alg3_gains_are_eq21());
+    let text = cfg.to_toml_string();
+    assert!(!text.contains("\nk = "), "{text}");
+    // A matched theta'' keeps no window, and writes the default one.
+    let cfg = RigConfig::from_toml_str("[alg2]\nwindow = 0.05\n", "r").unwrap();
+    assert!(cfg.to_toml_string().contains("window = 0.02 "));
 }

@@ -13,6 +13,7 @@ use std::process::Command;
 use pendtilt::bank::{Bank, Inputs};
 use pendtilt::cli::options::rig_bank_settings;
 use pendtilt::config::RigConfig;
+use pendtilt::core::filters::diff::Cutoff;
 use pendtilt::core::{Estimate, Flags};
 use pendtilt::io::{EstimatesWriter, LogReader, LogWarning, ReaderOptions, TimeUnit, WarningKind};
 use pendtilt::pipeline::{self, PassError, PassSummary};
@@ -604,7 +605,7 @@ fn cutoffs_above_nyquist_or_below_the_floor_are_refused_with_the_valid_range() {
         }
     };
     refuse(
-        &|r| r.differentiator.cutoff_hz = Some(1000.0),
+        &|r| r.differentiator.cutoff = Cutoff::Hz(1000.0),
         &[
             "ride.csv: [differentiator] cutoff_hz = 1000 Hz is at or above the Nyquist frequency 500 Hz",
             "valid range: 1.09",
@@ -612,15 +613,15 @@ fn cutoffs_above_nyquist_or_below_the_floor_are_refused_with_the_valid_range() {
         ],
     );
     refuse(
-        &|r| r.differentiator.cutoff_hz = Some(500.0),
+        &|r| r.differentiator.cutoff = Cutoff::Hz(500.0),
         &["Nyquist frequency 500 Hz"],
     );
     refuse(
-        &|r| r.differentiator.cutoff_hz = Some(0.2),
+        &|r| r.differentiator.cutoff = Cutoff::Hz(0.2),
         &["cutoff_hz = 0.2 Hz is below 0.5 f_n", "f_n = 2.186 Hz"],
     );
     refuse(
-        &|r| r.differentiator.cutoff_times_natural = Some(300.0),
+        &|r| r.differentiator.cutoff = Cutoff::TimesNatural(300.0),
         &["cutoff_times_natural = 300", "Nyquist"],
     );
     refuse(
@@ -630,7 +631,7 @@ fn cutoffs_above_nyquist_or_below_the_floor_are_refused_with_the_valid_range() {
     // Accepted: anything inside the range.
     for hz in [1.2, 2.8, 40.0, 400.0] {
         let mut r = rig.clone();
-        r.differentiator.cutoff_hz = Some(hz);
+        r.differentiator.cutoff = Cutoff::Hz(hz);
         assert!(run(&log, &r).result.is_ok(), "{hz} Hz refused");
     }
     // At 100 Hz, 60 Hz is above Nyquist; 40 Hz is not.
@@ -639,13 +640,13 @@ fn cutoffs_above_nyquist_or_below_the_floor_are_refused_with_the_valid_range() {
     s.duration = 2.0;
     let slow = text(&cells(&simulate(&s, 1).unwrap()));
     let mut r = rig.clone();
-    r.differentiator.cutoff_hz = Some(60.0);
+    r.differentiator.cutoff = Cutoff::Hz(60.0);
     assert!(run(&slow, &r)
         .result
         .unwrap_err()
         .to_string()
         .contains("Nyquist frequency 50 Hz"));
-    r.differentiator.cutoff_hz = Some(40.0);
+    r.differentiator.cutoff = Cutoff::Hz(40.0);
     assert!(run(&slow, &r).result.is_ok());
 }
 

@@ -9,6 +9,7 @@ use crate::config::RigConfig;
 use crate::fit::{self, Algorithm, Cost, FitSettings, Iteration, Method, Target};
 use crate::io::output::{self, NamedPath};
 use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions};
+use pendtilt_core::filters::diff::Cutoff;
 use pendtilt_core::supervision::Objective;
 
 /// Options of `pendtilt fit`.
@@ -258,7 +259,7 @@ fn fit_settings(
         cost: args.cost,
         start,
         start_gains: (args.algorithm == Algorithm::Alg3 && args.a.is_none() && args.b.is_none())
-            .then(|| rig.alg3.gains(&start)),
+            .then(|| rig.alg3_gains()),
         objective: if args.mean_square {
             Objective::MeanSquare
         } else {
@@ -417,16 +418,11 @@ fn fitted_rig(
     // `pendtilt estimate` with this file computes exactly what was fitted.
     // (The output cost uses no differentiator: the rig's own settings are kept.)
     if let Some(problem) = problem {
-        differentiator.cutoff_hz = Some(problem.cutoff_hz());
-        differentiator.cutoff_times_natural = None;
+        differentiator.cutoff = Cutoff::Hz(problem.cutoff_hz());
     }
     rig.differentiator = differentiator;
     if args.algorithm == Algorithm::Alg3 {
-        let g = report.gains();
-        rig.alg3.k = Some(g.k);
-        rig.alg3.l = Some(g.l);
-        rig.alg3.m = Some(g.m);
-        rig.alg3.n = Some(g.n);
+        rig.alg3.gains = report.gains();
     }
     rig.validate()?;
     Ok(rig)

@@ -169,11 +169,10 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
             * 1e3,
         natural_hz: settings.params.natural_frequency_hz(),
     };
-    let a3 = &rig.alg3;
-    let gains = if a3.k.is_some() && a3.l.is_some() && a3.m.is_some() && a3.n.is_some() {
-        paper::Alg3Gains::FromRig
-    } else {
+    let gains = if rig.alg3_gains_are_eq21() {
         paper::Alg3Gains::Eq21Equivalent
+    } else {
+        paper::Alg3Gains::FromRig
     };
     for c in paper::paper_claims(&view.metrics, false, &info, gains) {
         report = report.claim(c);
