@@ -21,6 +21,10 @@
 //!   [`kalman::tilt`] assembles it over any measurement source.
 //! - [`ekf`]: the pendulum dynamics and its sensors as models on the engine, and the
 //!   model-based estimators `ekf` and `ukf` (the paper's future work).
+//! - [`spatial`]: the spatial model (MODEL.md section 7): a two-axis pendulum on a Cardan
+//!   joint with a 3-axis gyro and accelerometer; its own sample and attitude types on the
+//!   same [`Estimator`] trait, and `pendulum3d`, `accel3d` and the quaternion
+//!   `ekf3d`/`ukf3d` on the same filter engine.
 //!
 //! ## Getting started
 //! `use pendtilt_core::prelude::*;` brings in what a firmware or application needs: the
@@ -55,6 +59,7 @@ pub mod params;
 pub mod prelude;
 mod real;
 mod sample;
+pub mod spatial;
 pub mod step;
 pub mod supervision;
 

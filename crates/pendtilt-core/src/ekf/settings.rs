@@ -265,6 +265,35 @@ impl<T: Real> ModelSettings<T> {
     }
 }
 
+impl<T: Real> SensorNoise<T> {
+    /// The same figures in another scalar type.
+    pub fn cast<U: Real>(&self) -> SensorNoise<U> {
+        let c = |x: T| U::lit(x.to_f64());
+        SensorNoise {
+            encoder_bits: self.encoder_bits,
+            encoder_noise: c(self.encoder_noise),
+            gyro_density: c(self.gyro_density),
+            gyro_bias_walk: c(self.gyro_bias_walk),
+            gyro_bias: c(self.gyro_bias),
+            accel_density: c(self.accel_density),
+        }
+    }
+}
+
+impl<T: Real> Environment<T> {
+    /// The same figures in another scalar type.
+    pub fn cast<U: Real>(&self) -> Environment<U> {
+        let c = |x: T| U::lit(x.to_f64());
+        Environment {
+            tilt_rms: c(self.tilt_rms),
+            tilt_bandwidth_hz: c(self.tilt_bandwidth_hz),
+            vibration_density: c(self.vibration_density),
+            vibration_rms: c(self.vibration_rms),
+            angular_vibration_rms: c(self.angular_vibration_rms),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -23,7 +23,7 @@ pub mod alg1;
 pub mod alg2;
 pub mod alg3;
 pub mod complementary;
-mod encoder;
+pub(crate) mod encoder;
 pub mod equations;
 pub mod front_end;
 pub mod input_hold;

