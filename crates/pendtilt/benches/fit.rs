@@ -12,6 +12,7 @@ use pendtilt::fit::{fit, prepare, Algorithm, FitSettings, Method, Target};
 use pendtilt::sim::motion::{Chirp, Motion};
 use pendtilt::sim::{simulate, Scenario};
 use pendtilt_core::estimators::alg3::Alg3Settings;
+use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::filters::diff::Cutoff;
 use pendtilt_core::supervision::{
     Method as LiveMethod, Objective, SupervisedAlg3, SupervisedAlg3Settings,
@@ -54,11 +55,11 @@ fn settings(method: Method) -> FitSettings {
         algorithm: Algorithm::Alg2,
         target: Target::Truth,
         method,
-        start: PendulumParams {
+        front_end: FrontEndSettings::from_params(PendulumParams {
             a: 1.5 * t.a,
             b: 0.5 * t.b,
             c: 0.0,
-        },
+        }),
         ..FitSettings::default()
     }
 }

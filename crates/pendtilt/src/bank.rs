@@ -6,19 +6,17 @@
 //! Adding an estimator is adding an entry. An entry whose inputs the log lacks is skipped
 //! and reported ([`Bank::skipped`]), never a failure.
 use pendtilt_core::ekf::{Ekf, Ukf};
-use pendtilt_core::estimators::accel::{Accel, AccelSettings};
-use pendtilt_core::estimators::alg1::Alg1Settings;
+use pendtilt_core::estimators::accel::Accel;
 use pendtilt_core::estimators::alg2::Alg2Settings;
-use pendtilt_core::estimators::alg3::Alg3Settings;
 use pendtilt_core::estimators::complementary::Complementary;
 use pendtilt_core::estimators::equations::Equation;
 use pendtilt_core::estimators::front_end::{FrontEndSettings, SharedFrontEnd};
 use pendtilt_core::estimators::pendulum::{Pendulum, PendulumSettings};
 use pendtilt_core::kalman::tilt::UNUSABLE;
 use pendtilt_core::kalman::{KalmanSettings, TiltKalman};
-use pendtilt_core::params::STANDARD_GRAVITY;
 use pendtilt_core::{Estimate, Estimator, Flags, PendulumParams, PlanarEstimator, Sample};
 
+use crate::config::{PendulumConfig, RigConfig};
 use crate::peers::{self, ahrs_planar, PeerSettings};
 
 /// The sensors a log provides.
@@ -75,23 +73,17 @@ impl Inputs {
     }
 }
 
-/// Settings of every estimator in the bank (f64, SI).
+/// Settings of every estimator in the bank (f64, SI), each defined once: the rig's
+/// settings are the rig file's ([`RigConfig`]), and each entry builds its estimator's
+/// settings from them ([`RigConfig::alg2_settings`], [`RigConfig::kalman_settings`], ...).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BankSettings {
-    /// The pendulum (a, b, c).
-    pub params: PendulumParams<f64>,
-    /// `accel` (Eq 1).
-    pub accel: AccelSettings<f64>,
-    /// `alg1` (Eq 20).
-    pub alg1: Alg1Settings<f64>,
-    /// `alg2` (Eqs 21-22); `alg2_offset` is the same with the pivot-offset term on.
-    pub alg2: Alg2Settings<f64>,
-    /// `alg3` (Eq 30) with fixed gains.
-    pub alg3: Alg3Settings<f64>,
-    /// Every `kf_*` output.
-    pub kalman: KalmanSettings<f64>,
-    /// Gravity [m/s^2] (the EKF/UKF model).
-    pub gravity: f64,
+    /// The pendulum and the paper's estimators: `accel`, `alg1`-`alg3` (and their
+    /// variants), every `kf_*`.
+    pub rig: RigConfig,
+    /// Gravity \[m/s^2\] of the EKF/UKF model when it is not the rig's
+    /// ([`RigConfig::gravity`]): a normalised pendulum has none. Default `None`.
+    pub gravity: Option<f64>,
     /// `ekf`, `ukf`, `madgwick`, `mahony`, `complementary` (beyond the paper).
     pub peers: PeerSettings,
     /// A sensor whose readings were all missing for longer than this \[s\] (a gap in the
@@ -107,19 +99,30 @@ pub struct BankSettings {
 pub const RESTART_GAP: f64 = 0.5;
 
 impl BankSettings {
-    /// Defaults for a pendulum with parameters `params`.
-    pub fn from_params(params: PendulumParams<f64>) -> Self {
+    /// The rig's settings and the defaults of the rest.
+    pub fn from_rig(rig: RigConfig) -> Self {
         Self {
-            params,
-            accel: AccelSettings::default(),
-            alg1: Alg1Settings::from_params(params),
-            alg2: Alg2Settings::from_params(params),
-            alg3: Alg3Settings::from_params(params),
-            kalman: KalmanSettings::default(),
-            gravity: STANDARD_GRAVITY,
+            rig,
+            gravity: None,
             peers: PeerSettings::default(),
             restart_gap: RESTART_GAP,
         }
+    }
+
+    /// Defaults for a pendulum with parameters `params`.
+    pub fn from_params(params: PendulumParams<f64>) -> Self {
+        Self::from_rig(RigConfig::with_pendulum(PendulumConfig::Normalised(params)))
+    }
+
+    /// The pendulum (a, b, c).
+    pub fn params(&self) -> PendulumParams<f64> {
+        self.rig.params()
+    }
+
+    /// Gravity \[m/s^2\] of the EKF/UKF model: [`BankSettings::gravity`] if set, else the
+    /// rig's.
+    pub fn gravity(&self) -> f64 {
+        self.gravity.unwrap_or_else(|| self.rig.gravity())
     }
 }
 
@@ -192,7 +195,7 @@ pub static REGISTRY: &[Entry] = &[
             gyro: false,
             accel: true,
         },
-        kind: Kind::Direct(|s| Box::new(Accel::new(s.accel))),
+        kind: Kind::Direct(|s| Box::new(Accel::new(s.rig.accel))),
         about: "accelerometer, Eq (1)",
     },
     Entry {
@@ -205,21 +208,24 @@ pub static REGISTRY: &[Entry] = &[
         name: "alg1",
         needs: PHI,
         kind: Kind::Inversion(|s| {
-            // Algorithm 1 reads neither theta'' nor the gyro: take Algorithm 2's gyro
-            // settings so they can share a front end.
+            // Algorithm 1 does not read theta'': take Algorithm 2's source so that they
+            // can share a front end.
+            let a = s.rig.alg1_settings();
             let fe = FrontEndSettings {
-                theta_dd: s.alg2.front_end.theta_dd,
-                gyro: s.alg2.front_end.gyro,
-                ..s.alg1.front_end
+                theta_dd: s.rig.alg2.front_end.theta_dd,
+                ..a.front_end
             };
-            (fe, s.alg1.equation())
+            (fe, a.equation())
         }),
         about: "Algorithm 1, Eq (20)",
     },
     Entry {
         name: "alg2",
         needs: PHI_GYRO,
-        kind: Kind::Inversion(|s| (s.alg2.front_end, s.alg2.equation())),
+        kind: Kind::Inversion(|s| {
+            let a = s.rig.alg2_settings();
+            (a.front_end, a.equation())
+        }),
         about: "Algorithm 2, Eqs (21)-(22)",
     },
     Entry {
@@ -228,7 +234,7 @@ pub static REGISTRY: &[Entry] = &[
         kind: Kind::Inversion(|s| {
             let a = Alg2Settings {
                 pivot_offset: true,
-                ..s.alg2
+                ..s.rig.alg2_settings()
             };
             (a.front_end, a.equation())
         }),
@@ -240,7 +246,7 @@ pub static REGISTRY: &[Entry] = &[
         kind: Kind::Inversion(|s| {
             let a = Alg2Settings {
                 delay_compensation: true,
-                ..s.alg2
+                ..s.rig.alg2_settings()
             };
             (a.front_end, a.equation())
         }),
@@ -249,7 +255,10 @@ pub static REGISTRY: &[Entry] = &[
     Entry {
         name: "alg3",
         needs: PHI_GYRO,
-        kind: Kind::Inversion(|s| (s.alg3.front_end, Equation::Alg3(s.alg3.gains))),
+        kind: Kind::Inversion(|s| {
+            let a = s.rig.alg3_settings();
+            (a.front_end, Equation::Alg3(a.gains))
+        }),
         about: "Algorithm 3's Eq (30) with the configured K, L, M, N",
     },
     Entry {
@@ -287,7 +296,9 @@ pub static REGISTRY: &[Entry] = &[
         needs: PHI_GYRO,
         kind: Kind::Direct(|s| {
             Box::new(Ekf::new(peers::model_settings(
-                &s.params, s.gravity, &s.peers,
+                &s.params(),
+                s.gravity(),
+                &s.peers,
             )))
         }),
         about: "EKF on the pendulum's own dynamics with l12 (the paper's future work)",
@@ -297,7 +308,9 @@ pub static REGISTRY: &[Entry] = &[
         needs: PHI_GYRO,
         kind: Kind::Direct(|s| {
             Box::new(Ukf::new(peers::model_settings(
-                &s.params, s.gravity, &s.peers,
+                &s.params(),
+                s.gravity(),
+                &s.peers,
             )))
         }),
         about: "UKF on the same model",
@@ -487,6 +500,7 @@ impl Bank {
                     }
                 }
                 Kind::Kalman(sources) => {
+                    let kalman = settings.rig.kalman_settings();
                     let mut idx = Vec::new();
                     for (src, r) in sources.iter() {
                         // A source not otherwise requested is added (hidden outputs
@@ -500,10 +514,10 @@ impl Bank {
                                 ))
                             }
                         };
-                        idx.push((i, r(&settings.kalman)));
+                        idx.push((i, r(&kalman)));
                     }
                     Slot::Kalman {
-                        kf: TiltKalman::new(settings.kalman),
+                        kf: TiltKalman::new(kalman),
                         sources: idx,
                     }
                 }
@@ -735,52 +749,58 @@ mod tests {
     }
 
     /// Algorithms 1-3 in the bank share a front end; each output must equal its
-    /// stand-alone estimator's, also when Algorithm 1's differentiator differs (then it
-    /// gets a front end of its own).
+    /// stand-alone estimator's, also when Algorithm 1's front end differs (its phi
+    /// filtered: then it gets a front end of its own).
     #[test]
     fn shared_front_end_outputs_equal_the_stand_alone_estimators() {
         use pendtilt_core::estimators::alg1::Alg1;
         use pendtilt_core::estimators::alg2::Alg2;
         use pendtilt_core::estimators::alg3::Alg3;
+        use pendtilt_core::estimators::PhiSource;
         use pendtilt_core::filters::diff::Cutoff;
         let p = PendulumParams {
             c: 0.02,
             ..Default::default()
         };
-        for alg1_cutoff in [None, Some(4.0)] {
+        for alg1_filtered in [false, true] {
             let mut s = BankSettings::from_params(p);
-            if let Some(f) = alg1_cutoff {
-                s.alg1.front_end.differentiator.cutoff = Cutoff::Hz(f);
+            if alg1_filtered {
+                s.rig.alg1.front_end.phi = PhiSource::Filtered;
             }
-            s.alg3.gains.n = 0.003;
+            s.rig.alg3.gains.n = 0.003;
             // As a rig file from `simulate` has it: alg1 must still share.
-            s.alg2.front_end.gyro.full_scale = Some(0.15);
-            s.alg3.front_end.gyro.full_scale = Some(0.15);
+            s.rig.gyro.full_scale = Some(0.15);
+            s.rig.differentiator.cutoff = Cutoff::Hz(4.0);
             let mut b = Bank::new(&s, Inputs::ALL, None).unwrap();
             let shared = b
                 .slots
                 .iter()
                 .filter(|x| matches!(x, Slot::Shared(_)))
                 .count();
-            assert_eq!(shared, if alg1_cutoff.is_some() { 2 } else { 1 });
+            assert_eq!(shared, if alg1_filtered { 2 } else { 1 });
+            let (alg1, alg2, alg3) = (
+                s.rig.alg1_settings(),
+                s.rig.alg2_settings(),
+                s.rig.alg3_settings(),
+            );
             let mut alone: Vec<(&str, Box<dyn PlanarEstimator<f64>>)> = vec![
-                ("alg1", Box::new(Alg1::new(s.alg1))),
-                ("alg2", Box::new(Alg2::<f64>::new(s.alg2))),
+                ("alg1", Box::new(Alg1::new(alg1))),
+                ("alg2", Box::new(Alg2::<f64>::new(alg2))),
                 (
                     "alg2_offset",
                     Box::new(Alg2::<f64>::new(Alg2Settings {
                         pivot_offset: true,
-                        ..s.alg2
+                        ..alg2
                     })),
                 ),
                 (
                     "alg2_dc",
                     Box::new(Alg2::<f64>::new(Alg2Settings {
                         delay_compensation: true,
-                        ..s.alg2
+                        ..alg2
                     })),
                 ),
-                ("alg3", Box::new(Alg3::<f64>::new(s.alg3))),
+                ("alg3", Box::new(Alg3::<f64>::new(alg3))),
             ];
             let col = |n: &str| b.names().iter().position(|x| *x == n).unwrap();
             let cols: Vec<usize> = alone.iter().map(|(n, _)| col(n)).collect();

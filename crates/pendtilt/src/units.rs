@@ -152,7 +152,7 @@ impl UnitCheck {
     /// A check for a log with `inputs` (and a `theta` column if `with_theta`), for the
     /// pendulum of `settings`.
     pub fn new(settings: &BankSettings, inputs: Inputs) -> Self {
-        let f_n = settings.params.natural_frequency_hz();
+        let f_n = settings.params().natural_frequency_hz();
         let cutoff = if f_n.is_finite() && f_n > 0.0 {
             CUTOFF_TIMES_NATURAL * f_n
         } else {
@@ -386,10 +386,10 @@ pub fn check_settings_against_rate(settings: &BankSettings, dt: f64) -> Result<(
     }
     let rate = 1.0 / dt;
     let nyquist = rate / 2.0;
-    let f_n = settings.params.natural_frequency_hz();
+    let f_n = settings.params().natural_frequency_hz();
     let floor = MIN_DIFF_CUTOFF_TIMES_NATURAL * f_n;
-    let diff = settings.alg1.front_end.differentiator;
-    let hz = diff.cutoff_hz(&settings.params);
+    let diff = settings.rig.differentiator;
+    let hz = diff.cutoff_hz(&settings.params());
     let what = match diff.cutoff {
         pendtilt_core::filters::diff::Cutoff::Hz(_) => {
             format!("[differentiator] cutoff_hz = {hz} Hz")
@@ -413,7 +413,7 @@ pub fn check_settings_against_rate(settings: &BankSettings, dt: f64) -> Result<(
              {floor:.3} Hz up to below {nyquist} Hz"
         ));
     }
-    if let Some(p) = settings.accel.prefilter_hz {
+    if let Some(p) = settings.rig.accel.prefilter_hz {
         if p >= nyquist {
             return Err(format!(
                 "[accel] prefilter_hz = {p} Hz is at or above the Nyquist frequency \

@@ -239,9 +239,7 @@ fn ride() -> (Vec<Sample<f64>>, Vec<f64>) {
 fn bank(gyro_full_scale: Option<f64>) -> Bank {
     let p = Scenario::named("scooter").unwrap().physical().normalised();
     let mut s = BankSettings::from_params(p);
-    s.alg2.front_end.gyro.full_scale = gyro_full_scale;
-    s.alg3.front_end.gyro.full_scale = gyro_full_scale;
-    s.kalman.gyro.full_scale = gyro_full_scale;
+    s.rig.gyro.full_scale = gyro_full_scale;
     Bank::new(&s, Inputs::ALL, None).unwrap()
 }
 

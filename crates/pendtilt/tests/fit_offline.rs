@@ -2,6 +2,7 @@
 use pendtilt::fit::{fit_log, Algorithm, Cost, FitError, FitSettings, Method, Target};
 use pendtilt::sim::motion::{Chirp, Motion};
 use pendtilt::sim::{simulate, Scenario};
+use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::{PendulumParams, Sample};
 
 type Log = (Vec<Sample<f64>>, Vec<f64>);
@@ -46,11 +47,11 @@ fn settings(alg: Algorithm, target: Target, method: Method) -> FitSettings {
         method,
         cost: Cost::Inverse,
         // 50 % off in both directions.
-        start: PendulumParams {
+        front_end: FrontEndSettings::from_params(PendulumParams {
             a: 1.5 * t.a,
             b: 0.5 * t.b,
             c: 0.0,
-        },
+        }),
         ..FitSettings::default()
     }
 }
@@ -130,7 +131,7 @@ fn bad_starts_are_clear_errors() {
         (0.04, f64::NAN),
     ] {
         let mut set = settings(Algorithm::Alg2, Target::Truth, Method::Newton);
-        set.start = PendulumParams { a, b, c: 0.0 };
+        set.front_end.params = PendulumParams { a, b, c: 0.0 };
         let e = fit_log(&s, Some(&th), &set, |_| {}).unwrap_err();
         assert!(matches!(e, FitError::InvalidStart { .. }), "{a} {b}: {e}");
         let msg = e.to_string();

@@ -9,6 +9,7 @@ use crate::config::RigConfig;
 use crate::fit::{self, Algorithm, Cost, FitSettings, Iteration, Method, Target};
 use crate::io::output::{self, NamedPath};
 use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions};
+use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::filters::diff::Cutoff;
 use pendtilt_core::supervision::Objective;
 
@@ -257,7 +258,10 @@ fn fit_settings(
         target: args.target,
         method: args.method,
         cost: args.cost,
-        start,
+        front_end: FrontEndSettings {
+            differentiator: rig.diff_settings(),
+            ..FrontEndSettings::from_params(start)
+        },
         start_gains: (args.algorithm == Algorithm::Alg3 && args.a.is_none() && args.b.is_none())
             .then(|| rig.alg3_gains()),
         objective: if args.mean_square {
@@ -267,7 +271,6 @@ fn fit_settings(
         },
         ..FitSettings::default()
     };
-    settings.kinematics.differentiator = rig.diff_settings();
     settings.kinematics.skip = args.skip;
     settings.kinematics.matched_target = !args.unmatched;
     settings.newton.h = args.h;

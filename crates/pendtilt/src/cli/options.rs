@@ -115,17 +115,5 @@ impl BankOptions {
 
 /// The bank settings a rig file gives: every table of it.
 pub fn rig_bank_settings(rig: &RigConfig) -> BankSettings {
-    BankSettings {
-        params: rig.params(),
-        accel: rig.accel_settings(),
-        alg1: rig.alg1_settings(),
-        alg2: rig.alg2_settings(),
-        alg3: rig.alg3_settings(),
-        kalman: rig.kalman_settings(),
-        gravity: rig
-            .physical()
-            .map_or(pendtilt_core::params::STANDARD_GRAVITY, |p| p.gravity),
-        peers: crate::peers::PeerSettings::default(),
-        restart_gap: crate::bank::RESTART_GAP,
-    }
+    BankSettings::from_rig(rig.clone())
 }

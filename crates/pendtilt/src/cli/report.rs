@@ -159,15 +159,15 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
         .iter()
         .find(|v| v.view == pooled_names_probe.claims_view)
         .unwrap_or(&pooled_names_probe.views[0]);
-    let diff = settings.alg2.front_end.differentiator;
-    let cutoff_hz = diff.cutoff_hz(&settings.params);
+    let diff = settings.rig.differentiator;
+    let cutoff_hz = diff.cutoff_hz(&settings.params());
     let info = DifferentiatorInfo {
         cutoff_hz,
         delay_ms: diff
             .response
             .dc_delay(2.0 * std::f64::consts::PI * cutoff_hz)
             * 1e3,
-        natural_hz: settings.params.natural_frequency_hz(),
+        natural_hz: settings.params().natural_frequency_hz(),
     };
     let gains = if rig.alg3_gains_are_eq21() {
         paper::Alg3Gains::Eq21Equivalent

@@ -2,6 +2,7 @@
 //! default cost, the output error, which vibration does not bias) and of Algorithm 3's
 //! K, L, M, N (Newton on the paper's Eq 23), on a separate ride with a true angle.
 use pendtilt_core::estimators::equations::Alg3Gains;
+use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::PendulumParams;
 
 use crate::bank::BankSettings;
@@ -35,8 +36,8 @@ impl Calibration {
         kalman: pendtilt_core::kalman::KalmanSettings<f64>,
     ) -> BankSettings {
         let mut s = BankSettings::from_params(self.params);
-        s.alg3.gains = self.gains;
-        s.kalman = kalman;
+        s.rig.alg3.gains = self.gains;
+        s.rig.kalman = kalman;
         s
     }
 }
@@ -91,12 +92,13 @@ pub fn fit_ab_with_cost(
         target: Target::Truth,
         method: Method::Newton,
         cost,
-        start,
+        // The estimator's front end, started from `start`.
+        front_end: FrontEndSettings {
+            params: start,
+            ..defaults.rig.alg2_settings().front_end
+        },
         ..FitSettings::default()
     };
-    ab.kinematics.differentiator = defaults.alg2.front_end.differentiator;
-    ab.kinematics.phi = defaults.alg2.front_end.phi;
-    ab.kinematics.theta_dd = defaults.alg2.front_end.theta_dd;
     ab.kinematics.matched_target = true;
     fit::fit_log(&ride.samples, Some(&ride.theta), &ab, |_| {})
 }
@@ -180,13 +182,10 @@ pub fn calibrate(
         algorithm: Algorithm::Alg3,
         target: Target::Truth,
         method: Method::Newton,
-        start: params,
+        front_end: settings.rig.alg3_settings().front_end,
         start_gains: Some(start_gains),
         ..FitSettings::default()
     };
-    g.kinematics.differentiator = settings.alg3.front_end.differentiator;
-    g.kinematics.phi = settings.alg3.front_end.phi;
-    g.kinematics.theta_dd = settings.alg3.front_end.theta_dd;
     g.kinematics.matched_target = false;
     let (gains, gains_fitted) = match fit::fit_log(&ride.samples, Some(&ride.theta), &g, |_| {}) {
         Ok(r) if r.params.iter().all(|v| v.is_finite()) => {

@@ -25,7 +25,7 @@ pub fn alg2_delay_compensated(settings: &BankSettings) -> Extra {
         name: ALG2_DELAY_COMPENSATED.to_string(),
         estimator: Box::new(Alg2::<f64>::new(Alg2Settings {
             delay_compensation: true,
-            ..settings.alg2
+            ..settings.rig.alg2_settings()
         })),
     }
 }

@@ -408,15 +408,15 @@ fn ride_report(
 /// The differentiator's cut-off, DC delay and the pendulum's natural frequency, for the
 /// claims and the intro.
 fn differentiator_info(settings: &crate::bank::BankSettings) -> claims::DifferentiatorInfo {
-    let diff = settings.alg2.front_end.differentiator;
-    let cutoff_hz = diff.cutoff_hz(&settings.params);
+    let diff = settings.rig.differentiator;
+    let cutoff_hz = diff.cutoff_hz(&settings.params());
     claims::DifferentiatorInfo {
         cutoff_hz,
         delay_ms: diff
             .response
             .dc_delay(2.0 * std::f64::consts::PI * cutoff_hz)
             * 1e3,
-        natural_hz: settings.params.natural_frequency_hz(),
+        natural_hz: settings.params().natural_frequency_hz(),
     }
 }
 
@@ -429,7 +429,7 @@ fn intro(
     info: &claims::DifferentiatorInfo,
     scooter: &ReportOutput,
 ) -> Vec<String> {
-    let response = match settings.alg2.front_end.differentiator.response {
+    let response = match settings.rig.differentiator.response {
         Response::Butterworth => "Butterworth",
         Response::Bessel => "Bessel",
         Response::CriticallyDamped => "critically damped",

@@ -65,12 +65,13 @@ use std::time::{Duration, Instant};
 
 use nalgebra::{SMatrix, SVector, Vector4};
 use pendtilt_core::estimators::equations::Alg3Gains;
+use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::supervision::newton::{converged, newton_iteration, NewtonError};
 use pendtilt_core::supervision::{NewtonSettings, Objective};
 use pendtilt_core::{PendulumParams, Sample};
 
 pub use lm::LmSettings;
-pub use problem::{KinematicsSettings, Problem};
+pub use problem::{fixed_cutoff, KinematicsSettings, Problem};
 
 /// Which estimator's parameters are fitted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -220,11 +221,14 @@ pub struct FitSettings {
     pub cost: Cost,
     /// Settings of the output-error cost ([`Cost::Output`]).
     pub output: output::OutputSettings,
-    /// Start a, b (alg1, alg2; also the differentiator cutoff). Default: the MODEL.md rig.
-    pub start: PendulumParams<f64>,
+    /// The estimator's front end the kinematics are computed with (the phi
+    /// differentiator, whose cutoff relative to f_n is fixed in Hz from the start; which
+    /// phi; theta''), and in its `params` the start a, b (alg1, alg2). Default:
+    /// [`FrontEndSettings::default`] (the MODEL.md rig).
+    pub front_end: FrontEndSettings<f64>,
     /// Start K, L, M, N for alg3. Default (None): K = a, L = b, M = -b, N = 0.
     pub start_gains: Option<Alg3Gains<f64>>,
-    /// How the kinematics are computed.
+    /// What the kinematics' cost reads of them.
     pub kinematics: KinematicsSettings,
     /// Newton's h, dp (absolute), tolerances, iteration limit. Default h = 1, dp = 1e-6,
     /// ftol 1e-10, xtol 1e-8, 100 iterations.
@@ -250,7 +254,7 @@ impl Default for FitSettings {
             method: Method::Newton,
             cost: Cost::Auto,
             output: output::OutputSettings::default(),
-            start: PendulumParams::default(),
+            front_end: FrontEndSettings::default(),
             start_gains: None,
             kinematics: KinematicsSettings::default(),
             newton: NewtonSettings::default(),
@@ -279,15 +283,16 @@ impl FitSettings {
         };
         match self.algorithm {
             Algorithm::Alg1 | Algorithm::Alg2 => {
-                check("a", self.start.a, true)?;
-                check("b", self.start.b, true)?;
-                Ok(Vector4::new(self.start.a, self.start.b, 0.0, 0.0))
+                let start = &self.front_end.params;
+                check("a", start.a, true)?;
+                check("b", start.b, true)?;
+                Ok(Vector4::new(start.a, start.b, 0.0, 0.0))
             }
             Algorithm::Alg3 => {
-                check("b", self.start.b, true)?;
+                check("b", self.front_end.params.b, true)?;
                 let g = self
                     .start_gains
-                    .unwrap_or_else(|| Alg3Gains::from_params(&self.start));
+                    .unwrap_or_else(|| Alg3Gains::from_params(&self.front_end.params));
                 check("K", g.k, true)?;
                 check("L", g.l, true)?;
                 check("M", g.m, false)?;
@@ -424,7 +429,7 @@ pub fn prepare(
         truth,
         settings.algorithm,
         settings.target,
-        &settings.start,
+        &settings.front_end,
         &settings.kinematics,
     )
 }

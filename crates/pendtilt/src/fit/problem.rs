@@ -3,7 +3,7 @@
 //! # Why fitting is fast
 //! For a fixed differentiator the per-sample kinematics (phi, phi', phi'', G_d, G_k) do
 //! not depend on the parameters being fitted: the cutoff is fixed in Hz from the start
-//! parameters ([`KinematicsSettings::resolved`]), so [`Problem::new`] runs the estimator's
+//! parameters ([`fixed_cutoff`]), so [`Problem::new`] runs the estimator's
 //! front end once over the log and keeps the terms. Each cost evaluation is then one cheap
 //! pass of the pure Eq (20)/(21)/(30) over the cached arrays, and the analytic Jacobian
 //! for Levenberg-Marquardt is one more multiply per term.
@@ -16,22 +16,16 @@
 use super::{Algorithm, FitError, Target};
 use nalgebra::{Matrix4, Vector4};
 use pendtilt_core::estimators::alg3::{Alg3, Alg3Settings};
-use pendtilt_core::estimators::theta_dd::ThetaDdSource;
+use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::estimators::PhiSource;
 use pendtilt_core::filters::diff::{Cutoff, DiffSettings, SmoothingDifferentiator};
 use pendtilt_core::supervision::Objective;
-use pendtilt_core::{PendulumParams, Sample};
+use pendtilt_core::Sample;
 
-/// How the kinematics are computed from the log.
+/// What the cost reads of the kinematics (the front end they are computed with is
+/// [`super::FitSettings::front_end`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct KinematicsSettings {
-    /// The phi differentiator. A cutoff relative to the natural frequency is fixed in Hz
-    /// from the start parameters. Default: Butterworth at 1.7 f_n (as the estimators).
-    pub differentiator: DiffSettings<f64>,
-    /// Which phi enters the equations. Default [`PhiSource::Raw`].
-    pub phi: PhiSource,
-    /// Where theta'' (G_d) comes from. Default [`ThetaDdSource::Matched`].
-    pub theta_dd: ThetaDdSource<f64>,
     /// Seconds at the start of the log left out of the cost while the differentiators
     /// settle. Default 0.5 s.
     pub skip: f64,
@@ -41,7 +35,7 @@ pub struct KinematicsSettings {
     /// of a percent) instead of values bent to make up for the differentiator's delay, and
     /// the Eq (29) residual is not swamped by the encoder's quantisation steps turned
     /// into rate. Default true. With false, the cost is exactly the paper's: the
-    /// estimator's output as it runs (phi as in [`KinematicsSettings::phi`]) against the
+    /// estimator's output as it runs (phi as in [`FrontEndSettings::phi`]) against the
     /// raw target.
     pub matched_target: bool,
 }
@@ -49,25 +43,19 @@ pub struct KinematicsSettings {
 impl Default for KinematicsSettings {
     fn default() -> Self {
         Self {
-            differentiator: DiffSettings::default(),
-            phi: PhiSource::Raw,
-            theta_dd: ThetaDdSource::Matched,
             skip: 0.5,
             matched_target: true,
         }
     }
 }
 
-impl KinematicsSettings {
-    /// The same settings with the cutoff fixed in Hz for a pendulum with parameters `p`.
-    pub fn resolved(&self, p: &PendulumParams<f64>) -> Self {
-        Self {
-            differentiator: DiffSettings {
-                response: self.differentiator.response,
-                cutoff: Cutoff::Hz(self.differentiator.cutoff_hz(p)),
-            },
-            ..*self
-        }
+/// `front_end`'s differentiator with its cutoff fixed in Hz for its own pendulum (the
+/// start a, b).
+pub fn fixed_cutoff(front_end: &FrontEndSettings<f64>) -> DiffSettings<f64> {
+    let d = front_end.differentiator;
+    DiffSettings {
+        response: d.response,
+        cutoff: Cutoff::Hz(d.cutoff_hz(&front_end.params)),
     }
 }
 
@@ -101,9 +89,10 @@ impl Problem {
         truth: Option<&[f64]>,
         algorithm: Algorithm,
         target: Target,
-        start: &PendulumParams<f64>,
+        front_end: &FrontEndSettings<f64>,
         kin: &KinematicsSettings,
     ) -> Result<Self, FitError> {
+        let start = &front_end.params;
         if !(start.b.is_finite() && start.b > 0.0) {
             return Err(FitError::InvalidStart {
                 name: "b",
@@ -128,19 +117,20 @@ impl Problem {
         if needs_gyro && !samples.iter().any(|s| s.gyro.is_finite()) {
             return Err(FitError::MissingColumn("gyro"));
         }
-        let kin = kin.resolved(start);
-        let cutoff_hz = kin.differentiator.cutoff_hz(start);
+        let differentiator = fixed_cutoff(front_end);
+        let cutoff_hz = differentiator.cutoff_hz(start);
         let mut settings = Alg3Settings::from_params(*start);
-        settings.front_end.differentiator = kin.differentiator;
-        settings.front_end.phi = if kin.matched_target {
-            PhiSource::Filtered
-        } else {
-            kin.phi
+        settings.front_end = FrontEndSettings {
+            differentiator,
+            phi: if kin.matched_target {
+                PhiSource::Filtered
+            } else {
+                front_end.phi
+            },
+            ..*front_end
         };
-        settings.front_end.theta_dd = kin.theta_dd;
         // The target's own low-pass (same response and cutoff as phi's), when matched.
-        let mut target_lp =
-            SmoothingDifferentiator::<f64>::new(kin.differentiator.response, cutoff_hz);
+        let mut target_lp = SmoothingDifferentiator::<f64>::new(differentiator.response, cutoff_hz);
         let mut since_lp: Option<f64> = None;
         let mut est = Alg3::<f64>::new(settings);
         let n = samples.len();

@@ -83,7 +83,7 @@ pub fn build(
     peer: &PeerSettings,
 ) -> Option<BoxedEstimator> {
     let settings = BankSettings {
-        gravity,
+        gravity: Some(gravity),
         peers: *peer,
         ..BankSettings::from_params(*params)
     };
