@@ -245,3 +245,46 @@ fn missing_readings_are_flagged_bridged_or_restarted() {
         "{worst_gyro} {gyro_after} {after}"
     );
 }
+
+/// Issue 14's comparison on this log: each 3-D peer and ekf3d tuned by the same search
+/// (20 golden steps of one setting on a log scale, scored by the inclination RMS against
+/// the truth: the peers' main gain, ekf3d's vibration density), and ekf3d at least 5
+/// times better than the best of them.
+#[test]
+fn ekf3d_is_five_times_better_than_the_best_fairly_tuned_peer() {
+    use pendtilt::peers::spatial::{madgwick3d, mahony3d, vqf};
+    use pendtilt::peers::tune::golden_log;
+    let rows = log(30.0, 5);
+    let from = 5.0;
+    let rms = |e: &mut dyn SpatialEstimator<f64>| score(&rows, e, from).0;
+    let tuned = [
+        (
+            "vqf tau_acc",
+            golden_log(|t| rms(&mut vqf(t)), 0.05, 100.0, 20),
+        ),
+        (
+            "madgwick3d beta",
+            golden_log(|b| rms(&mut madgwick3d(b)), 1e-4, 10.0, 20),
+        ),
+        (
+            "mahony3d kp",
+            golden_log(|k| rms(&mut mahony3d(k, 0.0)), 1e-3, 100.0, 20),
+        ),
+    ];
+    let ekf_with = |d: f64| {
+        let mut s = settings();
+        s.environment.vibration_density = d;
+        Ekf::new(s)
+    };
+    let (d, ekf) = golden_log(|d| rms(&mut ekf_with(d)), 1e-4, 1.0, 20);
+    println!("ekf3d vibration_density = {d:.4}");
+    for (name, (gain, err)) in &tuned {
+        println!("{name} = {gain:.4}: {err:.3} deg RMS");
+    }
+    println!("ekf3d: {ekf:.4} deg RMS");
+    let best = tuned.iter().map(|t| t.1 .1).fold(f64::INFINITY, f64::min);
+    assert!(
+        ekf <= best / 5.0,
+        "ekf3d {ekf} against the best peer {best}"
+    );
+}

@@ -1,0 +1,288 @@
+//! The 3-D peers (issue 14 item 3): the IMU filters a user would run instead of a
+//! pendulum, on the same spatial samples, as [`SpatialEstimator`]s: VQF (the `vqf-rs`
+//! port of Laidig and Seel's reference implementation, 6D: gyro + accelerometer),
+//! Madgwick's and Mahony's filters (the `ahrs` crate's IMU updates).
+//!
+//! Common to all (one wrapper, [`Imu6`]): a sample whose time step is refused is held
+//! and flagged; the filter starts on the first sample with a usable accelerometer reading,
+//! at its roll and pitch (Madgwick and Mahony; VQF starts itself); a missing gyro reading
+//! is bridged by the gyro's recent mean (as the planar peers do, see
+//! [`super::ahrs_planar::MISSING_RATE_TAU`]); a missing accelerometer reading skips the
+//! correction (flagged). Roll and pitch are those of the filter's up direction in body
+//! axes.
+use ahrs::Ahrs;
+use nalgebra_ahrs::{UnitQuaternion, Vector3};
+use pendtilt_core::spatial::attitude::roll_pitch_from_up;
+use pendtilt_core::spatial::{Attitude, SpatialEstimator, SpatialSample};
+use pendtilt_core::{Estimator, Flags, StepClock};
+
+use super::ahrs_planar::MISSING_RATE_TAU;
+
+/// An IMU filter the wrapper [`Imu6`] drives.
+pub trait ImuFilter {
+    /// One gyro + accelerometer step of `dt`; `accel` is `None` when missing. Returns
+    /// `false` if the filter skipped the correction.
+    fn step(&mut self, gyro: [f64; 3], accel: Option<[f64; 3]>, dt: f64) -> bool;
+    /// The world's up direction in body axes.
+    fn up(&self) -> [f64; 3];
+}
+
+fn up_of(q: &UnitQuaternion<f64>) -> [f64; 3] {
+    let u = q.inverse_transform_vector(&Vector3::z());
+    [u[0], u[1], u[2]]
+}
+
+impl ImuFilter for ahrs::Madgwick<f64> {
+    fn step(&mut self, gyro: [f64; 3], accel: Option<[f64; 3]>, dt: f64) -> bool {
+        *self.sample_period_mut() = dt;
+        let g = Vector3::from(gyro);
+        match accel {
+            Some(a) => self.update_imu(&g, &Vector3::from(a)).is_ok(),
+            None => {
+                self.update_gyro(&g);
+                false
+            }
+        }
+    }
+    fn up(&self) -> [f64; 3] {
+        up_of(&self.quat())
+    }
+}
+
+impl ImuFilter for ahrs::Mahony<f64> {
+    fn step(&mut self, gyro: [f64; 3], accel: Option<[f64; 3]>, dt: f64) -> bool {
+        *self.sample_period_mut() = dt;
+        let g = Vector3::from(gyro);
+        match accel {
+            Some(a) => self.update_imu(&g, &Vector3::from(a)).is_ok(),
+            None => {
+                self.update_gyro(&g);
+                false
+            }
+        }
+    }
+    fn up(&self) -> [f64; 3] {
+        up_of(&self.quat())
+    }
+}
+
+impl ImuFilter for vqf_rs::VQF {
+    fn step(&mut self, gyro: [f64; 3], accel: Option<[f64; 3]>, dt: f64) -> bool {
+        self.update_gyr_with_ts(gyro, dt);
+        match accel {
+            Some(a) => {
+                self.update_acc(a);
+                true
+            }
+            None => false,
+        }
+    }
+    fn up(&self) -> [f64; 3] {
+        // VQF's quaternion turns body (sensor) vectors into world (earth) vectors.
+        let q = self.quat_6d();
+        vqf_rs::Quaternion(q.0, -q.1, -q.2, -q.3).rotate([0.0, 0.0, 1.0])
+    }
+}
+
+/// How a filter is built on the first usable sample: from its roll, pitch and step.
+pub type MakeFilter<F> = fn(roll: f64, pitch: f64, dt: f64, gains: &[f64; 2]) -> F;
+
+/// An [`ImuFilter`] as a [`SpatialEstimator`] (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct Imu6<F> {
+    make: MakeFilter<F>,
+    gains: [f64; 2],
+    filter: Option<F>,
+    clock: StepClock<f64>,
+    mean_rate: Option<[f64; 3]>,
+    last: Attitude<f64>,
+}
+
+impl<F: ImuFilter> Imu6<F> {
+    /// A wrapper that builds its filter with `make(roll, pitch, dt, gains)`.
+    pub fn new(make: MakeFilter<F>, gains: [f64; 2]) -> Self {
+        Self {
+            make,
+            gains,
+            filter: None,
+            clock: StepClock::new(),
+            mean_rate: None,
+            last: Attitude {
+                roll: f64::NAN,
+                pitch: f64::NAN,
+                flags: Flags::empty(),
+            },
+        }
+    }
+
+    /// The gains it was built with.
+    pub fn gains(&self) -> [f64; 2] {
+        self.gains
+    }
+
+    fn hold(&self, flags: Flags) -> Attitude<f64> {
+        Attitude { flags, ..self.last }
+    }
+}
+
+fn usable(v: &[f64; 3]) -> bool {
+    v.iter().all(|x| x.is_finite()) && v.iter().any(|x| *x != 0.0)
+}
+
+impl<F: ImuFilter> Estimator for Imu6<F> {
+    type Input = SpatialSample<f64>;
+    type Output = Attitude<f64>;
+
+    fn update(&mut self, s: &SpatialSample<f64>) -> Attitude<f64> {
+        let step = match self.clock.offer(s.dt) {
+            Ok(step) => step,
+            Err(flags) => return self.hold(flags),
+        };
+        let accel = usable(&s.accel).then_some(s.accel);
+        let gyro_ok = s.gyro.iter().all(|x| x.is_finite());
+        let mut flags = Flags::empty();
+        let Some(dt) = step.filter(|_| self.filter.is_some()) else {
+            // Not started: start on a usable accelerometer reading.
+            let Some(a) = accel else {
+                return self.hold(Flags::INITIALISING | Flags::SAMPLE_MISSING);
+            };
+            let (roll, pitch) = roll_pitch_from_up(a);
+            let dt = step.unwrap_or(1e-3);
+            self.filter = Some((self.make)(roll, pitch, dt, &self.gains));
+            self.mean_rate = gyro_ok.then_some(s.gyro);
+            self.clock.accept();
+            self.last = Attitude {
+                roll,
+                pitch,
+                flags: Flags::INITIALISING,
+            };
+            return self.last;
+        };
+        let gyro = if gyro_ok {
+            let k = (dt / MISSING_RATE_TAU).min(1.0);
+            let m = self.mean_rate.unwrap_or(s.gyro);
+            self.mean_rate = Some(core::array::from_fn(|i| m[i] + k * (s.gyro[i] - m[i])));
+            s.gyro
+        } else {
+            flags |= Flags::SAMPLE_MISSING;
+            self.mean_rate.unwrap_or([0.0; 3])
+        };
+        if accel.is_none() {
+            flags |= Flags::SAMPLE_MISSING;
+        }
+        self.clock.accept();
+        let Some(f) = self.filter.as_mut() else {
+            return self.hold(flags);
+        };
+        if !f.step(gyro, accel, dt) && accel.is_some() {
+            flags |= Flags::MEASUREMENT_SKIPPED;
+        }
+        let (roll, pitch) = roll_pitch_from_up(f.up());
+        if roll.is_finite() && pitch.is_finite() {
+            self.last = Attitude { roll, pitch, flags };
+            self.last
+        } else {
+            // Never seen with finite input; start again rather than output NaN forever.
+            self.filter = None;
+            self.hold(flags | Flags::INITIALISING)
+        }
+    }
+
+    fn reset(&mut self) {
+        *self = Self::new(self.make, self.gains);
+    }
+}
+
+/// Madgwick's gain (`beta` [rad/s]) in 3-D: the planar search's value until the 3-D search
+/// (issue 14's fair tuning) replaces it.
+pub const MADGWICK3D_BETA: f64 = super::ahrs_planar::MADGWICK_BETA;
+/// Mahony's gains (`kp` [1/s], `ki` [1/s^2]) in 3-D, likewise.
+pub const MAHONY3D_GAINS: [f64; 2] = super::ahrs_planar::MAHONY_GAINS;
+/// VQF's accelerometer time constant `tau_acc` \[s\]: the authors' default, 3 s.
+pub const VQF_TAU_ACC: f64 = 3.0;
+
+/// Madgwick's IMU filter (column `madgwick3d`), gain `beta`.
+pub fn madgwick3d(beta: f64) -> Imu6<ahrs::Madgwick<f64>> {
+    Imu6::new(
+        |r, p, dt, g| {
+            ahrs::Madgwick::new_with_quat(dt, g[0], UnitQuaternion::from_euler_angles(r, p, 0.0))
+        },
+        [beta, 0.0],
+    )
+}
+
+/// Mahony's IMU filter (column `mahony3d`), gains `kp`, `ki`.
+pub fn mahony3d(kp: f64, ki: f64) -> Imu6<ahrs::Mahony<f64>> {
+    Imu6::new(
+        |r, p, dt, g| {
+            ahrs::Mahony::new_with_quat(
+                dt,
+                g[0],
+                g[1],
+                UnitQuaternion::from_euler_angles(r, p, 0.0),
+            )
+        },
+        [kp, ki],
+    )
+}
+
+/// VQF, 6D with its rest and motion bias estimation (column `vqf`), `tau_acc` \[s\]; its
+/// other parameters at the authors' defaults. It starts itself (from the identity, its
+/// accelerometer low-pass aligning within a few `tau_acc`), so roll and pitch are not
+/// imposed; its sample time is the log's first step.
+pub fn vqf(tau_acc: f64) -> Imu6<vqf_rs::VQF> {
+    Imu6::new(
+        |_, _, dt, g| {
+            let params = vqf_rs::Params {
+                tau_acc: g[0],
+                ..Default::default()
+            };
+            vqf_rs::VQF::new(dt, None, None, Some(params))
+        },
+        [tau_acc, 0.0],
+    )
+}
+
+/// Every 3-D peer with its default gains, by column name.
+pub fn peers() -> Vec<(&'static str, Box<dyn SpatialEstimator<f64>>)> {
+    vec![
+        ("vqf", Box::new(vqf(VQF_TAU_ACC))),
+        ("madgwick3d", Box::new(madgwick3d(MADGWICK3D_BETA))),
+        (
+            "mahony3d",
+            Box::new(mahony3d(MAHONY3D_GAINS[0], MAHONY3D_GAINS[1])),
+        ),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pendtilt_core::spatial::attitude::up_from_roll_pitch;
+
+    /// On a still, tilted body with an ideal IMU every peer reads its roll and pitch (the
+    /// quaternion conventions agree with MODEL.md 7.1).
+    #[test]
+    fn every_peer_reads_a_still_tilt() {
+        let (roll, pitch) = (0.3, -0.2);
+        let f = up_from_roll_pitch(roll, pitch).map(|v| v * 9.81);
+        for (name, mut e) in peers() {
+            let mut a = None;
+            for k in 0..20_000 {
+                let s = SpatialSample {
+                    dt: if k == 0 { 0.0 } else { 1e-3 },
+                    phi: [f64::NAN; 2],
+                    gyro: [0.0; 3],
+                    accel: f,
+                    speed: f64::NAN,
+                };
+                a = Some(e.update(&s));
+            }
+            let a = a.unwrap();
+            assert!(
+                (a.roll - roll).abs() < 1e-3 && (a.pitch - pitch).abs() < 1e-3,
+                "{name}: {a:?}"
+            );
+        }
+    }
+}
