@@ -15,12 +15,12 @@
 //! - alg3 (Eq 30): x = (phi', phi'', G_d), p = (K, L, M, N).
 use super::{Algorithm, FitError, Target};
 use nalgebra::{Matrix4, Vector4};
-use pendtilt_core::estimators::alg3::{Alg3, Alg3Settings};
+use pendtilt_core::estimators::alg3::{Alg3, Alg3Settings, Alg3Terms};
 use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::estimators::PhiSource;
 use pendtilt_core::filters::diff::{Cutoff, DiffSettings, SmoothingDifferentiator};
 use pendtilt_core::supervision::Objective;
-use pendtilt_core::Sample;
+use pendtilt_core::{PendulumParams, Sample};
 
 /// What the cost reads of the kinematics (the front end they are computed with is
 /// [`super::FitSettings::front_end`]).
@@ -93,46 +93,11 @@ impl Problem {
         kin: &KinematicsSettings,
     ) -> Result<Self, FitError> {
         let start = &front_end.params;
-        if !(start.b.is_finite() && start.b > 0.0) {
-            return Err(FitError::InvalidStart {
-                name: "b",
-                value: start.b,
-                why: "b = I_p / (m_p g l_p) must be finite and > 0 (it sets the differentiator's cutoff)",
-            });
-        }
-        let truth = match (target, truth) {
-            (Target::Truth, None) => return Err(FitError::MissingColumn("theta")),
-            (_, t) => t,
-        };
-        if let Some(t) = truth {
-            if t.len() != samples.len() {
-                return Err(FitError::BadSettings(format!(
-                    "{} truth values for {} samples",
-                    t.len(),
-                    samples.len()
-                )));
-            }
-        }
-        let needs_gyro = target == Target::Gyro || algorithm != Algorithm::Alg1;
-        if needs_gyro && !samples.iter().any(|s| s.gyro.is_finite()) {
-            return Err(FitError::MissingColumn("gyro"));
-        }
+        let truth = check_inputs(samples, truth, algorithm, target, start)?;
         let differentiator = fixed_cutoff(front_end);
         let cutoff_hz = differentiator.cutoff_hz(start);
-        let mut settings = Alg3Settings::from_params(*start);
-        settings.front_end = FrontEndSettings {
-            differentiator,
-            phi: if kin.matched_target {
-                PhiSource::Filtered
-            } else {
-                front_end.phi
-            },
-            ..*front_end
-        };
-        // The target's own low-pass (same response and cutoff as phi's), when matched.
-        let mut target_lp = SmoothingDifferentiator::<f64>::new(differentiator.response, cutoff_hz);
-        let mut since_lp: Option<f64> = None;
-        let mut est = Alg3::<f64>::new(settings);
+        let mut est = Alg3::<f64>::new(estimator_settings(front_end, differentiator, kin));
+        let mut target_lp = TargetFilter::new(kin.matched_target, differentiator, cutoff_hz);
         let n = samples.len();
         let mut p = Self {
             algorithm,
@@ -144,63 +109,26 @@ impl Problem {
             count: 0,
             cutoff_hz,
         };
-        // Time since the first row with a good stamp, and since the last target sample.
+        // Time since the first row with a good stamp.
         let mut elapsed: Option<f64> = None;
-        let mut prev: Option<(f64, f64)> = None; // phi, gyro of the previous row
+        let mut prev: Option<(f64, f64)> = None; // phi, target of the previous row
         for (i, s) in samples.iter().enumerate() {
             let (_, terms) = est.update_with_terms(s);
-            let good_time = s.dt.is_finite();
-            if good_time {
+            if s.dt.is_finite() {
                 elapsed = Some(elapsed.map_or(0.0, |e| e + s.dt));
-                if let Some(lp) = since_lp.as_mut() {
-                    *lp += s.dt;
-                }
             }
             let raw_target = match target {
                 Target::Truth => truth.map_or(f64::NAN, |t| t[i]),
                 Target::Gyro => s.gyro,
             };
-            // The target through the low-pass (held over missing values).
-            let target_value = if kin.matched_target {
-                if raw_target.is_finite() && good_time {
-                    let dt = since_lp.unwrap_or(1.0);
-                    if dt > 0.0 {
-                        since_lp = Some(0.0);
-                        target_lp.update(raw_target, dt).value
-                    } else {
-                        f64::NAN
-                    }
-                } else {
-                    f64::NAN
-                }
-            } else {
-                raw_target
-            };
+            let target_value = target_lp.value(raw_target, s.dt);
             let Some(k) = terms else {
                 continue;
             };
-            let x = match algorithm {
-                Algorithm::Alg1 => [k.dphi, k.ddphi, 0.0, k.gk],
-                Algorithm::Alg2 => [k.dphi, k.ddphi - k.gd, 0.0, k.gk],
-                Algorithm::Alg3 => [k.dphi, k.ddphi, k.gd, k.gk],
-            };
             let settled = elapsed.is_some_and(|e| e >= kin.skip);
-            let (y, inv_dt, used) = match target {
-                Target::Truth => {
-                    let th = target_value;
-                    (th - k.phi, 0.0, settled && th.is_finite())
-                }
-                Target::Gyro => match prev {
-                    Some((phip, gp)) if target_value.is_finite() && gp.is_finite() => {
-                        let inv = 1.0 / k.dt;
-                        let y = 0.5 * (target_value + gp) - (k.phi - phip) * inv;
-                        (y, inv, settled && y.is_finite() && inv.is_finite())
-                    }
-                    _ => (0.0, 0.0, false),
-                },
-            };
+            let (y, inv_dt, used) = residual(target, &k, target_value, prev, settled);
             prev = Some((k.phi, target_value));
-            p.x.push(x);
+            p.x.push(features(algorithm, &k));
             p.y.push(y);
             p.inv_dt.push(inv_dt);
             p.used.push(used);
@@ -333,5 +261,136 @@ fn s_and_grad(p: &Vector4<f64>, x: &[f64; 4]) -> (f64, Vector4<f64>) {
             u.clamp(-1.0, 1.0).asin() + p[3] * x[3],
             Vector4::new(0.0, 0.0, 0.0, x[3]),
         )
+    }
+}
+
+/// Checks the start and the columns the fit needs: the truth (one per sample) for
+/// [`Target::Truth`], the gyro for [`Target::Gyro`] and Algorithms 2-3.
+fn check_inputs<'a>(
+    samples: &[Sample<f64>],
+    truth: Option<&'a [f64]>,
+    algorithm: Algorithm,
+    target: Target,
+    start: &PendulumParams<f64>,
+) -> Result<Option<&'a [f64]>, FitError> {
+    if !(start.b.is_finite() && start.b > 0.0) {
+        return Err(FitError::InvalidStart {
+            name: "b",
+            value: start.b,
+            why:
+                "b = I_p / (m_p g l_p) must be finite and > 0 (it sets the differentiator's cutoff)",
+        });
+    }
+    let truth = match (target, truth) {
+        (Target::Truth, None) => return Err(FitError::MissingColumn("theta")),
+        (_, t) => t,
+    };
+    if let Some(t) = truth {
+        if t.len() != samples.len() {
+            return Err(FitError::BadSettings(format!(
+                "{} truth values for {} samples",
+                t.len(),
+                samples.len()
+            )));
+        }
+    }
+    let needs_gyro = target == Target::Gyro || algorithm != Algorithm::Alg1;
+    if needs_gyro && !samples.iter().any(|s| s.gyro.is_finite()) {
+        return Err(FitError::MissingColumn("gyro"));
+    }
+    Ok(truth)
+}
+
+/// The estimator whose terms the fit reads: Eq (30) on `front_end` with the fixed-cutoff
+/// `differentiator` (and the low-passed phi when the target is matched).
+fn estimator_settings(
+    front_end: &FrontEndSettings<f64>,
+    differentiator: DiffSettings<f64>,
+    kin: &KinematicsSettings,
+) -> Alg3Settings<f64> {
+    let mut settings = Alg3Settings::from_params(front_end.params);
+    settings.front_end = FrontEndSettings {
+        differentiator,
+        phi: if kin.matched_target {
+            PhiSource::Filtered
+        } else {
+            front_end.phi
+        },
+        ..*front_end
+    };
+    settings
+}
+
+/// The target through phi's own low-pass (same response and cutoff) when matched, held
+/// over missing values; as it is otherwise.
+struct TargetFilter {
+    lp: Option<SmoothingDifferentiator<f64>>,
+    /// Time since the last filtered target value (`None` before the first).
+    since: Option<f64>,
+}
+
+impl TargetFilter {
+    fn new(matched: bool, differentiator: DiffSettings<f64>, cutoff_hz: f64) -> Self {
+        let lp = matched
+            .then(|| SmoothingDifferentiator::<f64>::new(differentiator.response, cutoff_hz));
+        Self { lp, since: None }
+    }
+
+    /// The target value of a row with raw target `raw` and step `dt` (NaN when missing).
+    fn value(&mut self, raw: f64, dt: f64) -> f64 {
+        let Some(lp) = self.lp.as_mut() else {
+            return raw;
+        };
+        let good_time = dt.is_finite();
+        if good_time {
+            if let Some(since) = self.since.as_mut() {
+                *since += dt;
+            }
+        }
+        if !(raw.is_finite() && good_time) {
+            return f64::NAN;
+        }
+        let step = self.since.unwrap_or(1.0);
+        if step > 0.0 {
+            self.since = Some(0.0);
+            lp.update(raw, step).value
+        } else {
+            f64::NAN
+        }
+    }
+}
+
+/// x0, x1, x2, G_k of one row for `algorithm`.
+fn features(algorithm: Algorithm, k: &Alg3Terms<f64>) -> [f64; 4] {
+    match algorithm {
+        Algorithm::Alg1 => [k.dphi, k.ddphi, 0.0, k.gk],
+        Algorithm::Alg2 => [k.dphi, k.ddphi - k.gd, 0.0, k.gk],
+        Algorithm::Alg3 => [k.dphi, k.ddphi, k.gd, k.gk],
+    }
+}
+
+/// One row's residual target y, 1 / dt (gyro target) and whether it enters the cost:
+/// `theta - phi` against the truth; against the gyro, the mean of this and the previous
+/// row's rate minus phi's difference quotient (`prev`: phi and target of the row before).
+fn residual(
+    target: Target,
+    k: &Alg3Terms<f64>,
+    target_value: f64,
+    prev: Option<(f64, f64)>,
+    settled: bool,
+) -> (f64, f64, bool) {
+    match target {
+        Target::Truth => {
+            let th = target_value;
+            (th - k.phi, 0.0, settled && th.is_finite())
+        }
+        Target::Gyro => match prev {
+            Some((phip, gp)) if target_value.is_finite() && gp.is_finite() => {
+                let inv = 1.0 / k.dt;
+                let y = 0.5 * (target_value + gp) - (k.phi - phip) * inv;
+                (y, inv, settled && y.is_finite() && inv.is_finite())
+            }
+            _ => (0.0, 0.0, false),
+        },
     }
 }

@@ -109,6 +109,16 @@ pub enum Target<'a> {
     Truth(&'a [f64]),
 }
 
+impl Target<'_> {
+    /// `"likelihood"` or `"truth"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Target::Likelihood => "likelihood",
+            Target::Truth(_) => "truth",
+        }
+    }
+}
+
 /// How tuning runs.
 pub struct Options<'a> {
     /// What the filters are tuned against. Default [`Target::Likelihood`].
@@ -253,6 +263,159 @@ fn measurements(e: &mut dyn PlanarEstimator<f64>, samples: &[Sample<f64>]) -> Ve
         .collect()
 }
 
+/// Why the filters cannot be fitted on a log of `duration` \[s\] whose tilt spans
+/// `range` \[rad\] (`None`: they can).
+fn why_not_fit(duration: f64, range: f64) -> Option<String> {
+    if duration < MIN_FIT_SECONDS {
+        Some(format!(
+            "log too short ({duration:.1} s, at least {MIN_FIT_SECONDS} s needed): kept the default"
+        ))
+    } else if range < MIN_TILT_RANGE {
+        Some(format!(
+            "log too still (tilt spans {:.2} deg, at least 1 deg needed): kept the default",
+            range.to_degrees()
+        ))
+    } else {
+        None
+    }
+}
+
+/// The differentiator adopted: the gyro-referenced cutoff when there is one, else the
+/// spectral rule's, else the start's.
+fn adopted_differentiator(
+    start: &Start,
+    cutoff_by_gyro: Option<(f64, f64)>,
+    cut: &Result<cutoff::CutoffChoice, String>,
+) -> DiffSettings<f64> {
+    let current = start.alg2.front_end.differentiator;
+    match cutoff_by_gyro {
+        Some((x, _)) => DiffSettings {
+            response: current.response,
+            cutoff: pendtilt_core::filters::diff::Cutoff::TimesNatural(x),
+        },
+        None => cut.as_ref().map_or(current, |c| c.settings),
+    }
+}
+
+/// The filters' settings after fitting (or as they started) and the fits made.
+struct FilterFits {
+    kalman: KalmanSettings<f64>,
+    ekf: ModelSettings<f64>,
+    kalman_fit: Option<kalman::Fitted>,
+    accel_fit: Option<(f64, f64, f64)>,
+    ekf_fit: Option<ekf::EkfFitted>,
+    stopped_by_time_limit: bool,
+}
+
+/// What [`fit_filters`] fits on.
+struct FitData<'a> {
+    /// The rows fitted on.
+    samples: &'a [Sample<f64>],
+    /// Their steps \[s\].
+    dt: Vec<f64>,
+    /// Their gyro \[rad/s\].
+    gyro: &'a [f64],
+    /// Rows left out of the costs at the start.
+    skip: usize,
+    /// Sample rate \[Hz\].
+    rate: f64,
+    /// True when the log has an accelerometer reading.
+    has_accel: bool,
+}
+
+/// Fits the `kf_*` filters' Q and R on Algorithm 2's angle (with `differentiator`),
+/// `kf_accel`'s R when the log has an accelerometer, and the EKF from `ekf_start`,
+/// within the time limit of `opts`.
+fn fit_filters(
+    start: &Start,
+    ekf_start: ModelSettings<f64>,
+    differentiator: DiffSettings<f64>,
+    d: &FitData,
+    opts: &Options,
+) -> FilterFits {
+    let planned = planned_evaluations();
+    let tell = |n: u64| {
+        if let Some(p) = opts.progress {
+            p(n, planned);
+        }
+    };
+    let mut budget = Budget {
+        deadline: opts.time_limit.map(|d| Instant::now() + d),
+        evaluations: 0,
+        stopped: false,
+        progress: Some(&tell),
+    };
+    let budget = &mut budget;
+    let (mut kalman_s, f) = fit_kalman(start, differentiator, d, opts, budget);
+    let mut accel_fit = None;
+    if d.has_accel {
+        let za = measurements(&mut Accel::new(start.accel), d.samples);
+        let data = kalman::KalmanData {
+            dt: &d.dt,
+            gyro: d.gyro,
+            z: &za,
+        };
+        let r0 = start.kalman.r_accel;
+        accel_fit = Some(targets::kalman_r(
+            &kalman_s, r0, &data, d.skip, opts, budget,
+        ));
+        kalman_s.r_accel = accel_fit.map_or(kalman_s.r_accel, |a| a.0);
+    }
+    let e = targets::ekf(&ekf_start, d.samples, d.skip, opts, budget);
+    // The likelihood fit is reported, not adopted: see `ekf`'s documentation.
+    let ekf = match opts.target {
+        Target::Truth(_) => e.settings,
+        Target::Likelihood => ekf_start,
+    };
+    FilterFits {
+        kalman: kalman_s,
+        ekf,
+        kalman_fit: Some(f),
+        accel_fit,
+        ekf_fit: Some(e),
+        stopped_by_time_limit: budget.stopped,
+    }
+}
+
+/// The Kalman filters' Q and R fitted on Algorithm 2's angle: the settings with them and
+/// the fit.
+fn fit_kalman(
+    start: &Start,
+    differentiator: DiffSettings<f64>,
+    d: &FitData,
+    opts: &Options,
+    budget: &mut Budget,
+) -> (KalmanSettings<f64>, kalman::Fitted) {
+    let mut alg2_s = start.alg2;
+    alg2_s.front_end.differentiator = differentiator;
+    let mut z = measurements(&mut Alg2::<f64>::new(alg2_s), d.samples);
+    // Alg 2's errors are coloured (band-limited by the differentiator): the
+    // likelihood sees them as independent only a Nyquist interval of the cutoff
+    // apart, so it is fitted on every m-th angle and R scaled back by m.
+    let m = match opts.target {
+        Target::Likelihood => decimation(d.rate, differentiator.cutoff_hz(&start.params)),
+        Target::Truth(_) => 1,
+    };
+    for (k, v) in z.iter_mut().enumerate() {
+        if k % m != 0 {
+            *v = f64::NAN;
+        }
+    }
+    let data = kalman::KalmanData {
+        dt: &d.dt,
+        gyro: d.gyro,
+        z: &z,
+    };
+    let r0 = start.kalman.r_pendulum / m as f64;
+    let mut f = targets::kalman(&start.kalman, r0, &data, d.skip, opts, budget);
+    f.r *= m as f64;
+    let mut kalman_s = start.kalman;
+    kalman_s.q_angle = f.q_angle;
+    kalman_s.q_bias = f.q_bias;
+    kalman_s.r_pendulum = f.r;
+    (kalman_s, f)
+}
+
 /// Tunes every estimator's settings on `samples` (one log, rows in order), starting from
 /// `start`. See the module documentation.
 pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
@@ -266,145 +429,54 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         col(|s| s.ay),
     );
     let f_n = start.params.natural_frequency_hz();
+    let start_diff = start.alg2.front_end.differentiator;
 
     let enc = encoder::estimate(&phi);
     let gyr = gyro::estimate(&gyro_v, &phi, rate);
     let acc = accel::estimate(&ax, &ay, rate, f_n);
-    let cut = cutoff::choose(
-        &phi,
-        rate,
-        &start.params,
-        &start.alg2.front_end.differentiator,
-    );
+    let cut = cutoff::choose(&phi, rate, &start.params, &start_diff);
     let ekf_start = notes::sensor_settings(&start.ekf, &enc, &gyr, &acc, &mut notes);
     let duration = samples.len() as f64 / rate;
-    let range = tilt_range(&phi, rate);
-    let why_not = if duration < MIN_FIT_SECONDS {
-        Some(format!(
-            "log too short ({duration:.1} s, at least {MIN_FIT_SECONDS} s needed): kept the default"
-        ))
-    } else if range < MIN_TILT_RANGE {
-        Some(format!(
-            "log too still (tilt spans {:.2} deg, at least 1 deg needed): kept the default",
-            range.to_degrees()
-        ))
-    } else {
-        None
-    };
+    let why_not = why_not_fit(duration, tilt_range(&phi, rate));
     let fit_rows = samples
         .len()
         .min((opts.fit_seconds * rate).round() as usize);
     let fit_samples = &samples[..fit_rows];
     let skip = (kalman::BURN_IN * rate).round() as usize;
     let bias = gyr.as_ref().ok().and_then(|g| g.bias);
-    let cutoff_by_gyro = match bias {
-        Some(b) if duration >= MIN_FIT_SECONDS => Some(cutoff::by_gyro_reference(
-            fit_samples,
-            &start.alg1,
-            &start.alg2,
-            b,
-            skip,
-        )),
-        _ => None,
-    };
-    let differentiator = match cutoff_by_gyro {
-        Some((x, _)) => DiffSettings {
-            response: start.alg2.front_end.differentiator.response,
-            cutoff: pendtilt_core::filters::diff::Cutoff::TimesNatural(x),
-        },
-        None => cut
-            .as_ref()
-            .map_or(start.alg2.front_end.differentiator, |c| c.settings),
-    };
-    notes::cutoff(
-        &cut,
-        cutoff_by_gyro,
-        &start.alg2.front_end.differentiator,
-        &start.params,
-        &mut notes,
-    );
-    let mut kalman_s = start.kalman;
-    let mut ekf_s = ekf_start;
-    let (mut kalman_fit, mut accel_fit, mut ekf_fit) = (None, None, None);
-    let planned = planned_evaluations();
-    let tell = |n: u64| {
-        if let Some(p) = opts.progress {
-            p(n, planned);
-        }
-    };
-    let mut budget = Budget {
-        deadline: opts.time_limit.map(|d| Instant::now() + d),
-        evaluations: 0,
-        stopped: false,
-        progress: Some(&tell),
-    };
-    if why_not.is_none() {
-        let mut alg2_s = start.alg2;
-        alg2_s.front_end.differentiator = differentiator;
-        let mut z = measurements(&mut Alg2::<f64>::new(alg2_s), fit_samples);
-        // Alg 2's errors are coloured (band-limited by the differentiator): the
-        // likelihood sees them as independent only a Nyquist interval of the cutoff
-        // apart, so it is fitted on every m-th angle and R scaled back by m.
-        let m = match opts.target {
-            Target::Likelihood => decimation(rate, differentiator.cutoff_hz(&start.params)),
-            Target::Truth(_) => 1,
-        };
-        for (k, v) in z.iter_mut().enumerate() {
-            if k % m != 0 {
-                *v = f64::NAN;
-            }
-        }
-        let dt: Vec<f64> = fit_samples.iter().map(|s| s.dt).collect();
-        let g = &gyro_v[..fit_rows];
-        let data = kalman::KalmanData {
-            dt: &dt,
-            gyro: g,
-            z: &z,
-        };
-        let mut f = targets::kalman(
-            &start.kalman,
-            start.kalman.r_pendulum / m as f64,
-            &data,
-            skip,
-            opts,
-            &mut budget,
-        );
-        f.r *= m as f64;
-        kalman_s.q_angle = f.q_angle;
-        kalman_s.q_bias = f.q_bias;
-        kalman_s.r_pendulum = f.r;
-        kalman_fit = Some(f);
-        if ax.iter().any(|v| v.is_finite()) {
-            let za = measurements(&mut Accel::new(start.accel), fit_samples);
-            let data = kalman::KalmanData {
-                dt: &dt,
-                gyro: g,
-                z: &za,
-            };
-            accel_fit = Some(targets::kalman_r(
-                &kalman_s,
-                start.kalman.r_accel,
-                &data,
+    let cutoff_by_gyro = bias
+        .filter(|_| duration >= MIN_FIT_SECONDS)
+        .map(|b| cutoff::by_gyro_reference(fit_samples, &start.alg1, &start.alg2, b, skip));
+    let differentiator = adopted_differentiator(start, cutoff_by_gyro, &cut);
+    notes::cutoff(&cut, cutoff_by_gyro, &start_diff, &start.params, &mut notes);
+    let fits = match why_not {
+        None => {
+            let data = FitData {
+                samples: fit_samples,
+                dt: fit_samples.iter().map(|s| s.dt).collect(),
+                gyro: &gyro_v[..fit_rows],
                 skip,
-                opts,
-                &mut budget,
-            ));
-            kalman_s.r_accel = accel_fit.map_or(kalman_s.r_accel, |a| a.0);
+                rate,
+                has_accel: ax.iter().any(|v| v.is_finite()),
+            };
+            fit_filters(start, ekf_start, differentiator, &data, opts)
         }
-        let e = targets::ekf(&ekf_start, fit_samples, skip, opts, &mut budget);
-        // The likelihood fit is reported, not adopted: see `ekf`'s documentation.
-        if let Target::Truth(_) = opts.target {
-            ekf_s = e.settings;
-        }
-        ekf_fit = Some(e);
-    }
+        Some(_) => FilterFits {
+            kalman: start.kalman,
+            ekf: ekf_start,
+            kalman_fit: None,
+            accel_fit: None,
+            ekf_fit: None,
+            stopped_by_time_limit: false,
+        },
+    };
     notes::filters(
         &start.kalman,
-        &kalman_s,
-        kalman_fit.as_ref(),
-        accel_fit,
+        &fits.kalman,
+        fits.kalman_fit.as_ref(),
+        fits.accel_fit,
         &ekf_start,
-        ekf_fit.as_ref(),
+        fits.ekf_fit.as_ref(),
         matches!(opts.target, Target::Truth(_)),
         why_not.as_deref(),
         &mut notes,
@@ -416,16 +488,13 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         cutoff: cut,
         cutoff_by_gyro,
         differentiator,
-        kalman: kalman_s,
-        ekf: ekf_s,
-        kalman_fit,
-        accel_fit,
-        ekf_fit,
+        kalman: fits.kalman,
+        ekf: fits.ekf,
+        kalman_fit: fits.kalman_fit,
+        accel_fit: fits.accel_fit,
+        ekf_fit: fits.ekf_fit,
         notes,
-        target: match opts.target {
-            Target::Likelihood => "likelihood",
-            Target::Truth(_) => "truth",
-        },
-        stopped_by_time_limit: budget.stopped,
+        target: opts.target.name(),
+        stopped_by_time_limit: fits.stopped_by_time_limit,
     }
 }

@@ -31,6 +31,18 @@ pub(super) fn sensor_settings(
     notes: &mut Vec<Note>,
 ) -> ModelSettings<f64> {
     let mut s = *base;
+    encoder_noise(&mut s, enc, notes);
+    gyro_noise(&mut s, gyro, notes);
+    accel_noise(&mut s, acc, notes);
+    s
+}
+
+/// The encoder's resolution and noise into `s`, from its estimate.
+fn encoder_noise(
+    s: &mut ModelSettings<f64>,
+    enc: &Result<EncoderNoise, String>,
+    notes: &mut Vec<Note>,
+) {
     match enc {
         Ok(e) => {
             match (e.step, e.bits) {
@@ -64,6 +76,10 @@ pub(super) fn sensor_settings(
             format!("{why}: kept the default"),
         ),
     }
+}
+
+/// The gyro's noise density and bias spread into `s`, from its estimate.
+fn gyro_noise(s: &mut ModelSettings<f64>, gyro: &Result<GyroNoise, String>, notes: &mut Vec<Note>) {
     match gyro {
         Ok(g) => {
             s.sensors.gyro_density = g.density;
@@ -94,6 +110,14 @@ pub(super) fn sensor_settings(
             format!("{why}: kept the default"),
         ),
     }
+}
+
+/// The accelerometer's noise density and vibration into `s`, from its estimate.
+fn accel_noise(
+    s: &mut ModelSettings<f64>,
+    acc: &Result<AccelNoise, String>,
+    notes: &mut Vec<Note>,
+) {
     match acc {
         Ok(a) => {
             s.sensors.accel_density = a.density;
@@ -130,7 +154,6 @@ pub(super) fn sensor_settings(
             format!("{why}: kept the default"),
         ),
     }
-    s
 }
 
 /// The cutoff's note.
@@ -182,58 +205,7 @@ pub(super) fn filters(
     let why = why_not
         .unwrap_or("not fitted: kept the default")
         .to_string();
-    match kf {
-        Some(f) => {
-            let how = format!(
-                "fitted on kf_alg2's innovations; {}",
-                cost(f.nll_before, f.nll_after)
-            );
-            note(
-                notes,
-                "kalman.q_angle",
-                format!("{:.4e} rad^2/s", k.q_angle),
-                false,
-                how.clone(),
-            );
-            note(
-                notes,
-                "kalman.q_bias",
-                format!("{:.4e} (rad/s)^2/s", k.q_bias),
-                false,
-                how.clone(),
-            );
-            note(
-                notes,
-                "kalman.r_pendulum",
-                format!("{:.4e} rad^2", k.r_pendulum),
-                false,
-                how,
-            );
-        }
-        None => {
-            note(
-                notes,
-                "kalman.q_angle",
-                format!("{:.4e} rad^2/s", start.q_angle),
-                true,
-                why.clone(),
-            );
-            note(
-                notes,
-                "kalman.q_bias",
-                format!("{:.4e} (rad/s)^2/s", start.q_bias),
-                true,
-                why.clone(),
-            );
-            note(
-                notes,
-                "kalman.r_pendulum",
-                format!("{:.4e} rad^2", start.r_pendulum),
-                true,
-                why.clone(),
-            );
-        }
-    }
+    kalman_notes(start, k, kf, &cost, &why, notes);
     match accel {
         Some((r, b, a)) => note(
             notes,
@@ -257,63 +229,61 @@ pub(super) fn filters(
             },
         ),
     }
-    match ekf {
-        Some(e) if truth => {
-            let how = format!(
+    ekf_notes(ekf_start, ekf, truth, &why, notes);
+}
+
+/// The notes of the Kalman filters' Q and R: fitted (`kf`) or kept for `why`.
+fn kalman_notes(
+    start: &KalmanSettings<f64>,
+    k: &KalmanSettings<f64>,
+    kf: Option<&Fitted>,
+    cost: &dyn Fn(f64, f64) -> String,
+    why: &str,
+    notes: &mut Vec<Note>,
+) {
+    let (set, kept, how) = match kf {
+        Some(f) => (
+            k,
+            false,
+            format!(
+                "fitted on kf_alg2's innovations; {}",
+                cost(f.nll_before, f.nll_after)
+            ),
+        ),
+        None => (start, true, why.to_string()),
+    };
+    let q_angle = format!("{:.4e} rad^2/s", set.q_angle);
+    note(notes, "kalman.q_angle", q_angle, kept, how.clone());
+    let q_bias = format!("{:.4e} (rad/s)^2/s", set.q_bias);
+    note(notes, "kalman.q_bias", q_bias, kept, how.clone());
+    let r = format!("{:.4e} rad^2", set.r_pendulum);
+    note(notes, "kalman.r_pendulum", r, kept, how);
+}
+
+/// The notes of the EKF's process noise: searched against the truth (adopted), fitted
+/// on the likelihood (reported, kept) or not fitted for `why`.
+fn ekf_notes(
+    ekf_start: &ModelSettings<f64>,
+    ekf: Option<&EkfFitted>,
+    truth: bool,
+    why: &str,
+    notes: &mut Vec<Note>,
+) {
+    let (p, kept, how) = match ekf {
+        Some(e) if truth => (
+            e.settings.process,
+            false,
+            format!(
                 "searched against the true angle; RMS error {:.4} -> {:.4} deg",
                 e.nll_before.to_degrees(),
                 e.nll_after.to_degrees()
-            );
-            let p = e.settings.process;
-            note(
-                notes,
-                "ekf.process.jerk",
-                format!("{:.4e} rad^2/s^5", p.jerk),
-                false,
-                how.clone(),
-            );
-            note(
-                notes,
-                "ekf.process.pendulum",
-                format!("{:.4e} 1/s^3", p.pendulum),
-                false,
-                how,
-            );
-        }
-        Some(e) => {
-            let p = ekf_start.process;
-            let how = format!("kept: the encoder-innovation likelihood fit (mean -log-likelihood {:.4} -> {:.4}) found jerk {:.3e}, pendulum {:.3e}, which made the EKF worse on the simulated scooter ride (0.041 -> 0.35 deg): the encoder cannot tell the floor's translation from tilt", e.nll_before, e.nll_after, e.settings.process.jerk, e.settings.process.pendulum);
-            note(
-                notes,
-                "ekf.process.jerk",
-                format!("{:.4e} rad^2/s^5", p.jerk),
-                true,
-                how.clone(),
-            );
-            note(
-                notes,
-                "ekf.process.pendulum",
-                format!("{:.4e} 1/s^3", p.pendulum),
-                true,
-                how,
-            );
-        }
-        None => {
-            let p = ekf_start.process;
-            note(
-                notes,
-                "ekf.process.jerk",
-                format!("{:.4e} rad^2/s^5", p.jerk),
-                true,
-                why.clone(),
-            );
-            note(
-                notes,
-                "ekf.process.pendulum",
-                format!("{:.4e} 1/s^3", p.pendulum),
-                true,
-                why,
-            );
-        }
-    }
+            ),
+        ),
+        Some(e) => (ekf_start.process, true, format!("kept: the encoder-innovation likelihood fit (mean -log-likelihood {:.4} -> {:.4}) found jerk {:.3e}, pendulum {:.3e}, which made the EKF worse on the simulated scooter ride (0.041 -> 0.35 deg): the encoder cannot tell the floor's translation from tilt", e.nll_before, e.nll_after, e.settings.process.jerk, e.settings.process.pendulum)),
+        None => (ekf_start.process, true, why.to_string()),
+    };
+    let jerk = format!("{:.4e} rad^2/s^5", p.jerk);
+    note(notes, "ekf.process.jerk", jerk, kept, how.clone());
+    let pendulum = format!("{:.4e} 1/s^3", p.pendulum);
+    note(notes, "ekf.process.pendulum", pendulum, kept, how);
 }
