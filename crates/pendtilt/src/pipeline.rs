@@ -148,60 +148,10 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
     std::thread::scope(|scope| {
         let (tx, rx) = mpsc::sync_channel::<Batch>(2);
         let (recycle, recycled) = mpsc::channel::<Vec<LogRecord>>();
-        scope.spawn(move || loop {
-            let mut records = recycled
-                .try_recv()
-                .unwrap_or_else(|_| Vec::with_capacity(BATCH_ROWS));
-            records.clear();
-            let mut error = None;
-            let mut end = false;
-            while records.len() < BATCH_ROWS {
-                match log.next_record() {
-                    Ok(Some(r)) => records.push(r),
-                    Ok(None) => {
-                        end = true;
-                        break;
-                    }
-                    Err(e) => {
-                        error = Some(e);
-                        break;
-                    }
-                }
-            }
-            let last = end || error.is_some();
-            let warnings = log.drain_warnings().collect();
-            // A send fails when the consumer stopped (a write error): stop reading too.
-            if tx
-                .send(Batch {
-                    records,
-                    warnings,
-                    error,
-                })
-                .is_err()
-                || last
-            {
-                return;
-            }
-        });
+        scope.spawn(move || read_batches(log, &tx, &recycled));
         let (to_writer, rows_in) = mpsc::sync_channel::<Rows>(2);
         let (rows_back, spare_rows) = mpsc::channel::<Rows>();
-        let writer = out.map(|w| {
-            scope.spawn(move || -> std::io::Result<()> {
-                for rows in rows_in {
-                    for ((t, theta), est) in rows
-                        .t
-                        .iter()
-                        .zip(&rows.theta)
-                        .zip(rows.estimates.chunks_exact(width.max(1)))
-                    {
-                        w.write(*t, &est[..width], *theta)?;
-                    }
-                    // The bank thread may have finished: then the rows are dropped.
-                    let _ = rows_back.send(rows);
-                }
-                w.flush()
-            })
-        });
+        let writer = out.map(|w| scope.spawn(move || write_rows(w, rows_in, &rows_back, width)));
         let mut result = Ok(());
         for batch in rx {
             for w in &batch.warnings {
@@ -244,6 +194,74 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
         result
     })?;
     pass.finish(bank, None::<&mut EstimatesWriter<W>>, &mut warn)
+}
+
+/// The reading thread of [`run_parallel`]: the log in batches of [`BATCH_ROWS`] rows (in
+/// recycled vectors), each with the reader's warnings, until the end, an error, or the
+/// consumer stops.
+fn read_batches<R: BufRead>(
+    log: &mut LogReader<R>,
+    tx: &mpsc::SyncSender<Batch>,
+    recycled: &mpsc::Receiver<Vec<LogRecord>>,
+) {
+    loop {
+        let mut records = recycled
+            .try_recv()
+            .unwrap_or_else(|_| Vec::with_capacity(BATCH_ROWS));
+        records.clear();
+        let mut error = None;
+        let mut end = false;
+        while records.len() < BATCH_ROWS {
+            match log.next_record() {
+                Ok(Some(r)) => records.push(r),
+                Ok(None) => {
+                    end = true;
+                    break;
+                }
+                Err(e) => {
+                    error = Some(e);
+                    break;
+                }
+            }
+        }
+        let last = end || error.is_some();
+        let warnings = log.drain_warnings().collect();
+        // A send fails when the consumer stopped (a write error): stop reading too.
+        if tx
+            .send(Batch {
+                records,
+                warnings,
+                error,
+            })
+            .is_err()
+            || last
+        {
+            return;
+        }
+    }
+}
+
+/// The writing thread of [`run_parallel`]: each batch of rows (`width` estimates a row)
+/// to `w`, the vectors sent back for reuse.
+fn write_rows<W: Write>(
+    w: &mut EstimatesWriter<W>,
+    rows_in: mpsc::Receiver<Rows>,
+    rows_back: &mpsc::Sender<Rows>,
+    width: usize,
+) -> std::io::Result<()> {
+    for rows in rows_in {
+        for ((t, theta), est) in rows
+            .t
+            .iter()
+            .zip(&rows.theta)
+            .zip(rows.estimates.chunks_exact(width.max(1)))
+        {
+            w.write(*t, &est[..width], *theta)?;
+        }
+        // The bank thread may have finished: then the rows are dropped.
+        let _ = rows_back.send(rows);
+    }
+    w.flush()
 }
 
 /// Time steps whose median is checked against the bank's frequency settings.

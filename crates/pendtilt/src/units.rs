@@ -241,29 +241,32 @@ impl UnitCheck {
         self.pairs[c as usize].fit()
     }
 
+    /// The factor of comparison `c` when it correlates and is near 1, deg or 1/deg.
+    fn verdict(&self, c: Comparison) -> Option<(Fit, f64)> {
+        let f = self.fit(c)?;
+        if f.correlation < MIN_CORRELATION {
+            return None;
+        }
+        let k = f.factor;
+        let near = |target: f64| k / target < FACTOR_TOLERANCE && target / k < FACTOR_TOLERANCE;
+        if near(DEG) {
+            Some((f, DEG))
+        } else if near(1.0 / DEG) {
+            Some((f, 1.0 / DEG))
+        } else if near(1.0) {
+            Some((f, 1.0))
+        } else {
+            None
+        }
+    }
+
     /// The columns found in degrees (or converted twice), each with its factor and fix.
     /// Empty for a log that is right, or too short or too still to tell.
     pub fn findings(&self) -> Vec<Finding> {
         if self.duration < MIN_DURATION {
             return Vec::new();
         }
-        let verdict = |c: Comparison| -> Option<(Fit, f64)> {
-            let f = self.fit(c)?;
-            if f.correlation < MIN_CORRELATION {
-                return None;
-            }
-            let k = f.factor;
-            let near = |target: f64| k / target < FACTOR_TOLERANCE && target / k < FACTOR_TOLERANCE;
-            if near(DEG) {
-                Some((f, DEG))
-            } else if near(1.0 / DEG) {
-                Some((f, 1.0 / DEG))
-            } else if near(1.0) {
-                Some((f, 1.0))
-            } else {
-                None
-            }
-        };
+        let verdict = |c| self.verdict(c);
         let mut out = Vec::new();
         // The encoder against the accelerometer (whose unit is fixed).
         let phi = verdict(Comparison::EncoderAccel);
@@ -274,19 +277,6 @@ impl UnitCheck {
             }
         }
         // The gyro against the encoder's derivative, else the accelerometer's.
-        let follows_deg_phi = |col: &'static str, c: Comparison, f: Fit| Finding {
-            column: col,
-            comparison: c,
-            fit: f,
-            message: format!(
-                "{col} follows {} (factor {:.2}, r = {:.2}) and phi is in degrees: is \
-                 {col} in {} too? read it with --deg {col}",
-                if col == "gyro" { "d(phi)/dt" } else { "phi" },
-                f.factor,
-                f.correlation,
-                if col == "gyro" { "deg/s" } else { "degrees" }
-            ),
-        };
         let by_accel = verdict(Comparison::GyroAccelRate);
         match verdict(Comparison::GyroEncoderRate) {
             Some((f, k)) if k == DEG && !phi_deg => {
@@ -325,6 +315,24 @@ impl UnitCheck {
             _ => {}
         }
         out
+    }
+}
+
+/// `col` (the gyro or the true angle) follows phi (or its rate) one to one while phi is
+/// in degrees: it probably is too.
+fn follows_deg_phi(col: &'static str, c: Comparison, f: Fit) -> Finding {
+    Finding {
+        column: col,
+        comparison: c,
+        fit: f,
+        message: format!(
+            "{col} follows {} (factor {:.2}, r = {:.2}) and phi is in degrees: is \
+             {col} in {} too? read it with --deg {col}",
+            if col == "gyro" { "d(phi)/dt" } else { "phi" },
+            f.factor,
+            f.correlation,
+            if col == "gyro" { "deg/s" } else { "degrees" }
+        ),
     }
 }
 

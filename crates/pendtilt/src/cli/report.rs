@@ -153,32 +153,14 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
     let (mut report, _) = standard_report(&title, ride.t, ride.theta, series)
         .with_context(|| format!("{label}: cannot build the report"))?;
     // The paper's claims, on this log's metrics (claim 4's overshoot only on a step).
-    let pooled_names_probe = report.compute()?;
-    let view = pooled_names_probe
+    let computed = report.compute()?;
+    let view = computed
         .views
         .iter()
-        .find(|v| v.view == pooled_names_probe.claims_view)
-        .unwrap_or(&pooled_names_probe.views[0]);
-    let diff = settings.rig.differentiator;
-    let cutoff_hz = diff.cutoff_hz(&settings.params());
-    let info = DifferentiatorInfo {
-        cutoff_hz,
-        delay_ms: diff
-            .response
-            .dc_delay(2.0 * std::f64::consts::PI * cutoff_hz)
-            * 1e3,
-        natural_hz: settings.params().natural_frequency_hz(),
-    };
-    let gains = if rig.alg3_gains_are_eq21() {
-        paper::Alg3Gains::Eq21Equivalent
-    } else {
-        paper::Alg3Gains::FromRig
-    };
-    for c in paper::paper_claims(&view.metrics, false, &info, gains) {
+        .find(|v| v.view == computed.claims_view)
+        .unwrap_or(&computed.views[0]);
+    for c in paper_claims(&view.metrics, &settings, &rig) {
         report = report.claim(c);
-    }
-    if view.metrics.iter().any(|m| m.name == paper_dc()) {
-        report = report.claim(paper::delay_compensation_claim(&view.metrics));
     }
     let out = report
         .write(dir)
@@ -195,6 +177,26 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
         );
     }
     Ok(out.html)
+}
+
+/// The paper's claims on `metrics` (claim 4 with the rig's gains unless they are Eq 21's),
+/// and the delay-compensation claim when its estimator ran.
+fn paper_claims(
+    metrics: &[crate::report::metrics::Metrics],
+    settings: &crate::bank::BankSettings,
+    rig: &RigConfig,
+) -> Vec<crate::report::claims::ClaimSpec> {
+    let info = DifferentiatorInfo::of(settings);
+    let gains = if rig.alg3_gains_are_eq21() {
+        paper::Alg3Gains::Eq21Equivalent
+    } else {
+        paper::Alg3Gains::FromRig
+    };
+    let mut claims = paper::paper_claims(metrics, false, &info, gains);
+    if metrics.iter().any(|m| m.name == paper_dc()) {
+        claims.push(paper::delay_compensation_claim(metrics));
+    }
+    claims
 }
 
 fn paper_dc() -> &'static str {

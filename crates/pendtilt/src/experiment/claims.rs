@@ -23,6 +23,22 @@ pub struct DifferentiatorInfo {
     pub natural_hz: f64,
 }
 
+impl DifferentiatorInfo {
+    /// The differentiator of `settings` (every pendulum algorithm's) and its pendulum.
+    pub fn of(settings: &crate::bank::BankSettings) -> Self {
+        let diff = settings.rig.differentiator;
+        let cutoff_hz = diff.cutoff_hz(&settings.params());
+        Self {
+            cutoff_hz,
+            delay_ms: diff
+                .response
+                .dc_delay(2.0 * std::f64::consts::PI * cutoff_hz)
+                * 1e3,
+            natural_hz: settings.params().natural_frequency_hz(),
+        }
+    }
+}
+
 fn get(m: &[Metrics], name: &str, kind: MetricKind) -> Option<f64> {
     m.iter()
         .find(|x| x.name == name)
@@ -60,6 +76,8 @@ pub enum Alg3Gains {
 /// The five claims of the paper, numbered as in the issue, on pooled metrics (see [`pool`]):
 /// with `has_step`, claim 4's overshoot is taken from the step ride; `gains` says where
 /// Algorithm 3's gains came from (claim 4 is not applicable without them).
+// Long because it is a table: the five claims' wording, one builder per claim in the
+// paper's order, sharing the metric look-ups above it.
 pub fn paper_claims(
     pooled: &[Metrics],
     has_step: bool,

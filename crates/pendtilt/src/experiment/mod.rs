@@ -178,6 +178,28 @@ fn fig5_note(ride: &Ride, alg1: &[f64]) -> Option<String> {
     ))
 }
 
+/// The paper's claims and the delay-compensation claim on the pooled metrics (claim 4
+/// with the fitted gains when `gains_fitted`).
+fn evaluate_claims(
+    pooled: &[Metrics],
+    info: &claims::DifferentiatorInfo,
+    gains_fitted: bool,
+) -> Vec<Claim> {
+    let gains = if gains_fitted {
+        claims::Alg3Gains::Fitted
+    } else {
+        claims::Alg3Gains::Eq21Equivalent
+    };
+    let mut specs = claims::paper_claims(pooled, true, info, gains);
+    specs.push(claims::delay_compensation_claim(pooled));
+    claims::evaluate(&specs, pooled)
+}
+
+/// A top-page metrics table: its heading (the ride and the view) and rows.
+fn view_table(ride: &str, view: &ViewMetrics) -> (String, Vec<Metrics>) {
+    (format!("{ride}, {}", view.view), view.metrics.clone())
+}
+
 /// Runs the experiment and writes everything under `out`: `index.html`, `report.md`,
 /// `claims.json`, and the full reports `scooter/` and `sigmoid/`.
 pub fn reproduce(
@@ -214,15 +236,8 @@ pub fn reproduce(
     let main_view = claims_view(&scooter);
     let step_view = claims_view(&sigmoid);
     let pooled = claims::pool(&main_view.metrics, Some(&step_view.metrics));
-    let info = differentiator_info(&settings);
-    let gains = if calibration.gains_fitted {
-        claims::Alg3Gains::Fitted
-    } else {
-        claims::Alg3Gains::Eq21Equivalent
-    };
-    let mut specs = claims::paper_claims(&pooled, true, &info, gains);
-    specs.push(claims::delay_compensation_claim(&pooled));
-    let claims_table = claims::evaluate(&specs, &pooled);
+    let info = claims::DifferentiatorInfo::of(&settings);
+    let claims_table = evaluate_claims(&pooled, &info, calibration.gains_fitted);
     let top = page::TopPage {
         title: "pendtilt reproduce: the paper's claims on simulated data".into(),
         intro: intro(cfg, &calibration, &settings, &info, &scooter),
@@ -231,14 +246,8 @@ pub fn reproduce(
             ("sigmoid/index.html".into(), "sigmoid (Fig. 5)".into()),
         ],
         tables: vec![
-            (
-                format!("scooter test ride, {}", main_view.view),
-                main_view.metrics.clone(),
-            ),
-            (
-                format!("sigmoid, {}", step_view.view),
-                step_view.metrics.clone(),
-            ),
+            view_table("scooter test ride", main_view),
+            view_table("sigmoid", step_view),
         ],
         claims: claims_table.clone(),
         figures: figure_picks(&scooter, &sigmoid),
@@ -403,21 +412,6 @@ fn ride_report(
         .with_context(|| format!("writing the {which} report into {}", dir.display()))?;
     timings.report += started.elapsed();
     Ok((written, fig5))
-}
-
-/// The differentiator's cut-off, DC delay and the pendulum's natural frequency, for the
-/// claims and the intro.
-fn differentiator_info(settings: &crate::bank::BankSettings) -> claims::DifferentiatorInfo {
-    let diff = settings.rig.differentiator;
-    let cutoff_hz = diff.cutoff_hz(&settings.params());
-    claims::DifferentiatorInfo {
-        cutoff_hz,
-        delay_ms: diff
-            .response
-            .dc_delay(2.0 * std::f64::consts::PI * cutoff_hz)
-            * 1e3,
-        natural_hz: settings.params().natural_frequency_hz(),
-    }
 }
 
 /// The top page's introduction: what was simulated, how the algorithms ran, and the

@@ -464,23 +464,14 @@ pub fn sensitivity(problem: &Problem, p0: &Vector4<f64>, active: [bool; 4]) -> (
     (lmin.max(0.0).sqrt(), dir)
 }
 
-/// Fits the parameters of `problem` as `settings` say; `on_iteration` sees every
-/// iteration as it is made (iteration 0 is the start).
-pub fn fit(
+/// Identifiability of the inverse fit ([`sensitivity`] at `p0`): the sensitivity, its
+/// threshold and unit, or [`FitError::Unidentifiable`] with the flat direction.
+fn inverse_identifiability(
     problem: &Problem,
     settings: &FitSettings,
-    mut on_iteration: impl FnMut(&Iteration),
-) -> Result<FitReport, FitError> {
-    if problem.algorithm() != settings.algorithm || problem.target() != settings.target {
-        return Err(FitError::BadSettings(
-            "the problem was prepared for another algorithm or target".into(),
-        ));
-    }
-    let p0 = settings.start_vector()?;
-    let active = settings.algorithm.active();
-    let n_active = settings.algorithm.names().len();
-    let started = Instant::now();
-    let (sens, dir) = sensitivity(problem, &p0, active);
+    p0: &Vector4<f64>,
+) -> Result<(f64, f64, &'static str), FitError> {
+    let (sens, dir) = sensitivity(problem, p0, settings.algorithm.active());
     let threshold = settings.threshold(Cost::Inverse);
     let unit = match settings.target {
         Target::Truth => "rad",
@@ -501,6 +492,40 @@ pub fn fit(
             direction,
         });
     }
+    Ok((sens, threshold, unit))
+}
+
+impl Iteration {
+    /// The record of one Levenberg-Marquardt iteration (its step is the damping).
+    fn from_lm<const N: usize>(it: &lm::LmIteration<N>, params: Vec<f64>) -> Self {
+        Self {
+            n: it.n,
+            params,
+            cost: it.rms,
+            gradient_norm: it.gradient_norm,
+            step: it.lambda,
+            evaluations: it.evaluations,
+        }
+    }
+}
+
+/// Fits the parameters of `problem` as `settings` say; `on_iteration` sees every
+/// iteration as it is made (iteration 0 is the start).
+pub fn fit(
+    problem: &Problem,
+    settings: &FitSettings,
+    mut on_iteration: impl FnMut(&Iteration),
+) -> Result<FitReport, FitError> {
+    if problem.algorithm() != settings.algorithm || problem.target() != settings.target {
+        return Err(FitError::BadSettings(
+            "the problem was prepared for another algorithm or target".into(),
+        ));
+    }
+    let p0 = settings.start_vector()?;
+    let active = settings.algorithm.active();
+    let n_active = settings.algorithm.names().len();
+    let started = Instant::now();
+    let (sens, threshold, unit) = inverse_identifiability(problem, settings, &p0)?;
     let start_cost = problem.cost(&p0, Objective::Rms);
     if !start_cost.is_finite() {
         return Err(FitError::NonFiniteCost);
@@ -534,14 +559,7 @@ pub fn fit(
         }
         Method::Lm => {
             let out = lm::levenberg_marquardt(problem, &p0, &active, &settings.lm, |it| {
-                let rec = Iteration {
-                    n: it.n,
-                    params: take(&it.params),
-                    cost: it.rms,
-                    gradient_norm: it.gradient_norm,
-                    step: it.lambda,
-                    evaluations: it.evaluations,
-                };
+                let rec = Iteration::from_lm(it, take(&it.params));
                 on_iteration(&rec);
                 iterations.push(rec);
             })?;
@@ -625,14 +643,7 @@ pub fn fit_output_log(
     let (p, stop) = match settings.method {
         Method::Lm => {
             let out = output::fit_output(&problem, p0[0], p0[1], &settings.lm, |it| {
-                let rec = Iteration {
-                    n: it.n,
-                    params: vec![it.params[0], it.params[1]],
-                    cost: it.rms,
-                    gradient_norm: it.gradient_norm,
-                    step: it.lambda,
-                    evaluations: it.evaluations,
-                };
+                let rec = Iteration::from_lm(it, vec![it.params[0], it.params[1]]);
                 on_iteration(&rec);
                 iterations.push(rec);
             })?;

@@ -123,6 +123,46 @@ pub struct OutputProblem {
     vibration: Option<f64>,
 }
 
+/// The leading run of complete rows (t, phi and the truth finite) with increasing time.
+fn usable_rows(samples: &[Sample<f64>], truth: &[f64]) -> usize {
+    samples
+        .iter()
+        .zip(truth)
+        .enumerate()
+        .take_while(|(n, (x, th))| {
+            x.dt.is_finite() && x.phi.is_finite() && th.is_finite() && (*n == 0 || x.dt > 0.0)
+        })
+        .count()
+}
+
+/// `x` through a first-order low-pass at `hz` forward then backward (zero phase);
+/// `step[k]` is the time from row k - 1 to row k (`step[0]` unused).
+fn zero_phase_low_pass(x: &[f64], step: &[f64], hz: f64) -> Vec<f64> {
+    let n = x.len();
+    let wc = 2.0 * std::f64::consts::PI * hz;
+    let mut th = x.to_vec();
+    for k in 1..n {
+        let al = 1.0 - (-wc * step[k]).exp();
+        th[k] = th[k - 1] + al * (th[k] - th[k - 1]);
+    }
+    for k in (0..n.saturating_sub(1)).rev() {
+        let al = 1.0 - (-wc * step[k + 1]).exp();
+        th[k] = th[k + 1] + al * (th[k] - th[k + 1]);
+    }
+    th
+}
+
+/// The accelerometer in units of g, per row: the drive of the accelerometer-driven
+/// simulation; an error if a reading is missing.
+fn accel_drive(samples: &[Sample<f64>]) -> Result<Vec<[f64; 2]>, FitError> {
+    let g = pendtilt_core::PhysicalParams::<f64>::default().gravity;
+    let f: Vec<[f64; 2]> = samples.iter().map(|x| [x.ax / g, x.ay / g]).collect();
+    if !f.iter().all(|v| v[0].is_finite() && v[1].is_finite()) {
+        return Err(FitError::MissingColumn("ax` and `ay"));
+    }
+    Ok(f)
+}
+
 impl OutputProblem {
     /// Caches theta' and theta - phi. Rows whose t, phi or truth is not finite end the
     /// usable log there (the simulation cannot cross a gap); a log needs a `theta`.
@@ -144,18 +184,7 @@ impl OutputProblem {
                 "output cost: smoothing_hz must be > 0 and skip >= 0".into(),
             ));
         }
-        // The leading run of complete rows with increasing time.
-        let mut n = 0;
-        while n < samples.len() {
-            let ok = samples[n].dt.is_finite()
-                && samples[n].phi.is_finite()
-                && truth[n].is_finite()
-                && (n == 0 || samples[n].dt > 0.0);
-            if !ok {
-                break;
-            }
-            n += 1;
-        }
+        let n = usable_rows(samples, truth);
         if n < MIN_ROWS {
             return Err(FitError::TooFewSamples {
                 have: n,
@@ -164,17 +193,7 @@ impl OutputProblem {
         }
         // step[k] = t_k - t_(k-1) (step[0] unused).
         let step: Vec<f64> = samples[..n].iter().map(|x| x.dt).collect();
-        // Zero-phase first-order low-pass of the truth (forward then backward).
-        let wc = 2.0 * std::f64::consts::PI * s.smoothing_hz;
-        let mut th: Vec<f64> = truth[..n].to_vec();
-        for k in 1..n {
-            let al = 1.0 - (-wc * step[k]).exp();
-            th[k] = th[k - 1] + al * (th[k] - th[k - 1]);
-        }
-        for k in (0..n - 1).rev() {
-            let al = 1.0 - (-wc * step[k + 1]).exp();
-            th[k] = th[k + 1] + al * (th[k] - th[k + 1]);
-        }
+        let th = zero_phase_low_pass(&truth[..n], &step, s.smoothing_hz);
         let omega: Vec<f64> = (0..n)
             .map(|k| {
                 let (i, j) = (k.saturating_sub(1), (k + 1).min(n - 1));
@@ -187,13 +206,8 @@ impl OutputProblem {
         let y: Vec<f64> = (0..n).map(|k| truth[k] - samples[k].phi).collect();
         let vibration = vibration_rms(&samples[..n]);
         let accel = s.accel || (s.auto_accel && vibration.is_some_and(|v| v > VIBRATION_RMS));
-        let f: Vec<[f64; 2]> = if accel {
-            let g = pendtilt_core::PhysicalParams::<f64>::default().gravity;
-            let f: Vec<[f64; 2]> = samples[..n].iter().map(|x| [x.ax / g, x.ay / g]).collect();
-            if !f.iter().all(|v| v[0].is_finite() && v[1].is_finite()) {
-                return Err(FitError::MissingColumn("ax` and `ay"));
-            }
-            f
+        let f = if accel {
+            accel_drive(&samples[..n])?
         } else {
             Vec::new()
         };

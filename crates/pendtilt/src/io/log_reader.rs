@@ -586,65 +586,10 @@ impl<R: BufRead> LogReader<R> {
             return Ok(None);
         }
         self.split()?;
-        let expected = self.header.len();
-        let found = self.lines.ranges().len();
         let mut issues = RowIssues::default();
-        if found > expected {
-            let extra_nonempty = self.lines.ranges()[expected..].iter().any(|&(a, b)| b > a);
-            if extra_nonempty {
-                let line = Some(self.lines.line());
-                return Err(self.error(
-                    line,
-                    None,
-                    LogErrorKind::TooManyFields { found, expected },
-                ));
-            }
-        } else if found < expected {
-            issues.truncated = true;
-            self.warn(
-                WarningKind::TruncatedRow,
-                None,
-                None,
-                format!(
-                    "{found} fields, the header has {expected} (a truncated line?): \
-                     the absent cells read as missing"
-                ),
-            );
-        }
-
-        // Parse the used cells first: the line is checked for UTF-8 once, and every field
-        // (cut at ASCII delimiters and blanks) is then valid text too.
-        let mut parsed = [None; 6];
-        {
-            let whole = std::str::from_utf8(self.lines.bytes()).ok();
-            for column in Column::ALL {
-                let Some(&(a, b)) =
-                    self.positions[column.index()].and_then(|p| self.lines.ranges().get(p))
-                else {
-                    continue;
-                };
-                let text = match whole {
-                    Some(w) => w.get(a..b),
-                    None => std::str::from_utf8(&self.lines.bytes()[a..b]).ok(),
-                };
-                parsed[column.index()] = text.and_then(|t| t.parse::<f64>().ok());
-            }
-        }
-        let mut values = [f64::NAN; 6];
-        let mut unchecked = [f64::NAN; 6];
-        for column in Column::ALL {
-            let Some(pos) = self.positions[column.index()] else {
-                continue;
-            };
-            // The time scale of --time-unit lives in `scale` like the degree factors.
-            let value = self.cell(column, pos, parsed[column.index()], &mut issues)?;
-            values[column.index()] = value;
-            unchecked[column.index()] = if issues.implausible[column.index()] {
-                parsed[column.index()].unwrap_or(f64::NAN) * self.scale[column.index()]
-            } else {
-                value
-            };
-        }
+        self.check_field_count(&mut issues)?;
+        let parsed = self.parse_used();
+        let (values, unchecked) = self.used_cells(&parsed, &mut issues)?;
 
         self.check_time(values[Column::T.index()], &mut issues);
         if self.first_dts.len() == NOMINAL_DT_SAMPLES {
@@ -675,6 +620,85 @@ impl<R: BufRead> LogReader<R> {
             issues,
             unchecked,
         }))
+    }
+
+    /// A row with more (non-empty) fields than the header is an error; one with fewer is
+    /// read with the absent cells missing, and a warning.
+    #[inline]
+    fn check_field_count(&mut self, issues: &mut RowIssues) -> Result<(), LogError> {
+        let expected = self.header.len();
+        let found = self.lines.ranges().len();
+        if found > expected {
+            let extra_nonempty = self.lines.ranges()[expected..].iter().any(|&(a, b)| b > a);
+            if extra_nonempty {
+                let line = Some(self.lines.line());
+                return Err(self.error(
+                    line,
+                    None,
+                    LogErrorKind::TooManyFields { found, expected },
+                ));
+            }
+        } else if found < expected {
+            issues.truncated = true;
+            self.warn(
+                WarningKind::TruncatedRow,
+                None,
+                None,
+                format!(
+                    "{found} fields, the header has {expected} (a truncated line?): \
+                     the absent cells read as missing"
+                ),
+            );
+        }
+        Ok(())
+    }
+
+    /// The used cells of the row as numbers (`None`: absent or not a number). The line is
+    /// checked for UTF-8 once, and every field (cut at ASCII delimiters and blanks) is
+    /// then valid text too.
+    #[inline]
+    fn parse_used(&self) -> [Option<f64>; 6] {
+        let mut parsed = [None; 6];
+        let whole = std::str::from_utf8(self.lines.bytes()).ok();
+        for column in Column::ALL {
+            let Some(&(a, b)) =
+                self.positions[column.index()].and_then(|p| self.lines.ranges().get(p))
+            else {
+                continue;
+            };
+            let text = match whole {
+                Some(w) => w.get(a..b),
+                None => std::str::from_utf8(&self.lines.bytes()[a..b]).ok(),
+            };
+            parsed[column.index()] = text.and_then(|t| t.parse::<f64>().ok());
+        }
+        parsed
+    }
+
+    /// The used cells in SI units (NaN where missing or implausible), and the same before
+    /// the plausibility check (an implausible reading as it was).
+    #[inline]
+    fn used_cells(
+        &mut self,
+        parsed: &[Option<f64>; 6],
+        issues: &mut RowIssues,
+    ) -> Result<([f64; 6], [f64; 6]), LogError> {
+        let mut values = [f64::NAN; 6];
+        let mut unchecked = [f64::NAN; 6];
+        for column in Column::ALL {
+            let Some(pos) = self.positions[column.index()] else {
+                continue;
+            };
+            // The time scale of --time-unit lives in `scale` like the degree factors.
+            let value = self.cell(column, pos, parsed[column.index()], issues)?;
+            values[column.index()] = value;
+            unchecked[column.index()] = if issues.implausible[column.index()] {
+                parsed[column.index()].unwrap_or(f64::NAN) * self.scale[column.index()]
+            } else {
+                value
+            };
+        }
+        Ok((values, unchecked))
     }
 
     /// One used cell (`parsed`: its number, `None` if it is not one): a finite value in SI

@@ -101,51 +101,20 @@ impl HtmlPage {
             h.push_str(&format!("<p>{}</p>\n", escape(p)));
         }
         for t in &self.tables {
-            h.push_str(&format!(
-                "<h2>Metrics: {}</h2>\n<table>\n<tr>",
-                escape(&t.heading)
-            ));
-            for c in METRIC_COLUMNS {
-                h.push_str(&format!("<th>{}</th>", escape(c)));
-            }
-            h.push_str("</tr>\n");
-            for m in &t.rows {
-                let cells = metric_cells(m);
-                h.push_str(&format!(
-                    "<tr><td class=\"name\"><span class=\"sw\" style=\"background:{}\"></span>{}</td>",
-                    palette.css(&m.name),
-                    escape(&cells[0])
-                ));
-                for c in &cells[1..] {
-                    h.push_str(&format!("<td>{}</td>", escape(c)));
-                }
-                h.push_str("</tr>\n");
-            }
-            h.push_str("</table>\n");
-            if let Some(m) = t.rows.first() {
-                h.push_str("<dl class=\"defs\">\n");
-                for (col, def) in metric_definitions(m.tolerance_deg) {
-                    h.push_str(&format!(
-                        "<dt>{}</dt><dd>{}</dd>\n",
-                        escape(col),
-                        escape(&def)
-                    ));
-                }
-                h.push_str("</dl>\n");
-            }
-            let row_notes: Vec<String> = t
-                .rows
-                .iter()
-                .flat_map(|m| m.notes.iter().map(move |n| format!("{}: {n}", m.name)))
-                .collect();
-            if !row_notes.is_empty() {
-                h.push_str("<ul class=\"notes\">\n");
-                for n in row_notes {
-                    h.push_str(&format!("<li>{}</li>\n", escape(&n)));
-                }
-                h.push_str("</ul>\n");
-            }
+            metrics_section(&mut h, t, palette);
         }
+        self.claims_section(&mut h);
+        self.figures_section(&mut h);
+        self.notes_section(&mut h);
+        h.push_str(&format!(
+            "<p style=\"color:#888;font-size:.85em\">Written by pendtilt {}.</p>\n</body>\n</html>\n",
+            env!("CARGO_PKG_VERSION")
+        ));
+        h
+    }
+
+    /// The claims table (nothing without claims).
+    fn claims_section(&self, h: &mut String) {
         if !self.claims.is_empty() {
             h.push_str("<h2>Claims</h2>\n<table>\n<tr><th>claim</th><th>measured</th>");
             h.push_str("<th>holds</th><th>why</th></tr>\n");
@@ -158,7 +127,7 @@ impl HtmlPage {
                 };
                 h.push_str(&format!(
                     "<tr><td class=\"text\">{}</td><td class=\"text\">{}</td>\
-                     <td class=\"{cls}\">{word}</td><td class=\"text\">{}</td></tr>\n",
+                 <td class=\"{cls}\">{word}</td><td class=\"text\">{}</td></tr>\n",
                     escape(&c.claim),
                     escape(&c.measured),
                     escape(&c.why)
@@ -166,6 +135,10 @@ impl HtmlPage {
             }
             h.push_str("</table>\n");
         }
+    }
+
+    /// The figures, each linking its SVG when there is one.
+    fn figures_section(&self, h: &mut String) {
         if !self.figures.is_empty() {
             h.push_str("<h2>Figures</h2>\n");
         }
@@ -184,6 +157,10 @@ impl HtmlPage {
                 escape(&f.caption)
             ));
         }
+    }
+
+    /// The page's notes (nothing without notes).
+    fn notes_section(&self, h: &mut String) {
         if !self.notes.is_empty() {
             h.push_str("<h2>Notes</h2>\n<ul class=\"notes\">\n");
             for n in &self.notes {
@@ -191,11 +168,6 @@ impl HtmlPage {
             }
             h.push_str("</ul>\n");
         }
-        h.push_str(&format!(
-            "<p style=\"color:#888;font-size:.85em\">Written by pendtilt {}.</p>\n</body>\n</html>\n",
-            env!("CARGO_PKG_VERSION")
-        ));
-        h
     }
 
     /// Writes the page to `dir/file_name` after checking that every file it references is a
@@ -255,6 +227,55 @@ pub fn referenced_paths(html: &str) -> Vec<String> {
         }
     }
     out
+}
+
+/// One metrics table with its column definitions and per-row notes; `palette` gives each
+/// estimator's colour swatch.
+fn metrics_section(h: &mut String, t: &MetricsTable, palette: &Palette) {
+    h.push_str(&format!(
+        "<h2>Metrics: {}</h2>\n<table>\n<tr>",
+        escape(&t.heading)
+    ));
+    for c in METRIC_COLUMNS {
+        h.push_str(&format!("<th>{}</th>", escape(c)));
+    }
+    h.push_str("</tr>\n");
+    for m in &t.rows {
+        let cells = metric_cells(m);
+        h.push_str(&format!(
+            "<tr><td class=\"name\"><span class=\"sw\" style=\"background:{}\"></span>{}</td>",
+            palette.css(&m.name),
+            escape(&cells[0])
+        ));
+        for c in &cells[1..] {
+            h.push_str(&format!("<td>{}</td>", escape(c)));
+        }
+        h.push_str("</tr>\n");
+    }
+    h.push_str("</table>\n");
+    if let Some(m) = t.rows.first() {
+        h.push_str("<dl class=\"defs\">\n");
+        for (col, def) in metric_definitions(m.tolerance_deg) {
+            h.push_str(&format!(
+                "<dt>{}</dt><dd>{}</dd>\n",
+                escape(col),
+                escape(&def)
+            ));
+        }
+        h.push_str("</dl>\n");
+    }
+    let row_notes: Vec<String> = t
+        .rows
+        .iter()
+        .flat_map(|m| m.notes.iter().map(move |n| format!("{}: {n}", m.name)))
+        .collect();
+    if !row_notes.is_empty() {
+        h.push_str("<ul class=\"notes\">\n");
+        for n in row_notes {
+            h.push_str(&format!("<li>{}</li>\n", escape(&n)));
+        }
+        h.push_str("</ul>\n");
+    }
 }
 
 #[cfg(test)]

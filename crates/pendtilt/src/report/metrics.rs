@@ -268,6 +268,48 @@ pub struct LagEstimate {
     pub peak_correlation: f64,
 }
 
+/// `s` minus its mean over its finite values.
+fn centred(s: &[f64]) -> Vec<f64> {
+    let (sum, cnt) = s
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold((0.0, 0usize), |(a, c), v| (a + v, c + 1));
+    let m = if cnt > 0 { sum / cnt as f64 } else { 0.0 };
+    s.iter().map(|v| v - m).collect()
+}
+
+/// Pearson's correlation of the pairs (e\[k\], x\[k - lag\]) where both are finite; NaN
+/// with fewer than two pairs or a constant side.
+fn correlation_at(e: &[f64], x: &[f64], lag: isize) -> f64 {
+    let n = x.len();
+    let k0 = lag.max(0) as usize;
+    let k1 = (n as isize + lag.min(0)) as usize;
+    let (mut c, mut se, mut sx, mut see, mut sxx, mut sex) = (0.0f64, 0.0, 0.0, 0.0, 0.0, 0.0);
+    for k in k0..k1 {
+        let a = e[k];
+        let b = x[(k as isize - lag) as usize];
+        if a.is_finite() && b.is_finite() {
+            c += 1.0;
+            se += a;
+            sx += b;
+            see += a * a;
+            sxx += b * b;
+            sex += a * b;
+        }
+    }
+    if c < 2.0 {
+        return f64::NAN;
+    }
+    let cov = sex - se * sx / c;
+    let ve = see - se * se / c;
+    let vx = sxx - sx * sx / c;
+    if ve > 0.0 && vx > 0.0 {
+        cov / (ve * vx).sqrt()
+    } else {
+        f64::NAN
+    }
+}
+
 /// Delay of `estimate` behind `truth` by cross-correlation.
 ///
 /// For every integer lag L in \[-W, W\] (W = `max_lag_s * rate_hz` rounded, at most n/2 so that
@@ -303,45 +345,10 @@ pub fn lag_by_xcorr(
     }
     // Centre both signals on their means over finite samples: keeps the sums well
     // conditioned for slow signals far from zero.
-    let centre = |s: &[f64]| {
-        let (sum, cnt) = s
-            .iter()
-            .filter(|v| v.is_finite())
-            .fold((0.0, 0usize), |(a, c), v| (a + v, c + 1));
-        let m = if cnt > 0 { sum / cnt as f64 } else { 0.0 };
-        s.iter().map(|v| v - m).collect::<Vec<f64>>()
-    };
-    let e = centre(estimate);
-    let x = centre(truth);
+    let e = centred(estimate);
+    let x = centred(truth);
     let wi = w as isize;
-    let mut r = vec![f64::NAN; 2 * w + 1];
-    for (slot, lag) in (-wi..=wi).enumerate() {
-        // estimate[k] pairs with truth[k - lag]
-        let k0 = lag.max(0) as usize;
-        let k1 = (n as isize + lag.min(0)) as usize;
-        let (mut c, mut se, mut sx, mut see, mut sxx, mut sex) = (0.0f64, 0.0, 0.0, 0.0, 0.0, 0.0);
-        for k in k0..k1 {
-            let a = e[k];
-            let b = x[(k as isize - lag) as usize];
-            if a.is_finite() && b.is_finite() {
-                c += 1.0;
-                se += a;
-                sx += b;
-                see += a * a;
-                sxx += b * b;
-                sex += a * b;
-            }
-        }
-        if c < 2.0 {
-            continue;
-        }
-        let cov = sex - se * sx / c;
-        let ve = see - se * se / c;
-        let vx = sxx - sx * sx / c;
-        if ve > 0.0 && vx > 0.0 {
-            r[slot] = cov / (ve * vx).sqrt();
-        }
-    }
+    let r: Vec<f64> = (-wi..=wi).map(|lag| correlation_at(&e, &x, lag)).collect();
     let (best, &peak) = r
         .iter()
         .enumerate()
