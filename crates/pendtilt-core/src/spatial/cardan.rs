@@ -67,6 +67,40 @@ pub struct Joints<T> {
     pub b_dot: T,
 }
 
+/// Sines and cosines of the joint angles a and b.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointTrig<T> {
+    /// sin a.
+    pub sa: T,
+    /// cos a.
+    pub ca: T,
+    /// sin b.
+    pub sb: T,
+    /// cos b.
+    pub cb: T,
+}
+
+impl<T: Real> JointTrig<T> {
+    /// Of the angles `a`, `b`.
+    #[inline]
+    pub fn of(a: T, b: T) -> Self {
+        let (sa, ca) = a.sin_cos();
+        let (sb, cb) = b.sin_cos();
+        Self { sa, ca, sb, cb }
+    }
+
+    /// Of `a + d_a` and `b + d_b` for small shifts given by their sines and cosines.
+    #[inline]
+    pub fn shifted(&self, (sda, cda): (T, T), (sdb, cdb): (T, T)) -> Self {
+        Self {
+            sa: self.sa * cda + self.ca * sda,
+            ca: self.ca * cda - self.sa * sda,
+            sb: self.sb * cdb + self.cb * sdb,
+            cb: self.cb * cdb - self.sb * sdb,
+        }
+    }
+}
+
 impl<T: Real> CardanParams<T> {
     /// The same parameters in another scalar type.
     pub fn cast<U: Real>(&self) -> CardanParams<U> {
@@ -97,11 +131,26 @@ impl<T: Real> CardanParams<T> {
     /// axes.
     #[inline]
     pub fn joint_accelerations(&self, s: &Joints<T>, w: [T; 3], wd: [T; 3], f: [T; 3]) -> [T; 2] {
+        let trig = JointTrig::of(s.a, s.b);
+        self.joint_accelerations_with(&trig, s.a_dot, s.b_dot, w, wd, f)
+    }
+
+    /// [`Self::joint_accelerations`] with the joint angles' sines and cosines given (a
+    /// filter that differentiates it by perturbing the angles shifts them by angle
+    /// addition instead of calling the trigonometry again).
+    #[inline]
+    pub fn joint_accelerations_with(
+        &self,
+        trig: &JointTrig<T>,
+        ad: T,
+        bd: T,
+        w: [T; 3],
+        wd: [T; 3],
+        f: [T; 3],
+    ) -> [T; 2] {
         let (bx, by, bz, br) = (self.b_x, self.b_y, self.b_z, self.b_ring);
         let inv_g = T::one() / self.gravity;
-        let (sa, ca) = s.a.sin_cos();
-        let (sb, cb) = s.b.sin_cos();
-        let (ad, bd) = (s.a_dot, s.b_dot);
+        let JointTrig { sa, ca, sb, cb } = *trig;
         // w, wd and f in outer-ring axes.
         let u2 = ca * w[1] + sa * w[2];
         let u3 = -sa * w[1] + ca * w[2];

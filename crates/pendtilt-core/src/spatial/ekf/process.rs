@@ -20,7 +20,7 @@
 //! few digits only; a test checks them against a finer difference in `f64`.
 use super::state::{State, A, B, BIAS, N, P, R, ROT};
 use crate::engine::{Cov, ProcessModel};
-use crate::spatial::cardan::{CardanParams, Joints};
+use crate::spatial::cardan::{CardanParams, JointTrig};
 use crate::Real;
 use nalgebra::{Matrix3, SMatrix, UnitQuaternion, Vector3, Vector4};
 
@@ -58,22 +58,30 @@ impl<T: Real> CardanProcess<T> {
     /// bias-corrected body rate `w` and the up direction `u` (body axes).
     #[inline]
     pub fn joint_step(&self, j: &Vector4<T>, w: &Vector3<T>, u: &Vector3<T>, h: T) -> Vector4<T> {
+        self.joint_step_with(&JointTrig::of(j[0], j[1]), j, w, u, h)
+    }
+
+    /// [`Self::joint_step`] with the sines and cosines of `j`'s angles given.
+    #[inline]
+    fn joint_step_with(
+        &self,
+        trig: &JointTrig<T>,
+        j: &Vector4<T>,
+        w: &Vector3<T>,
+        u: &Vector3<T>,
+        h: T,
+    ) -> Vector4<T> {
         let pr = &self.params;
         let g = pr.gravity;
         let r12 = Vector3::new(pr.c[0] * g, pr.c[1] * g, pr.c[2] * g);
         let f = u * g + w.cross(&w.cross(&r12));
-        let (sa, ca) = j[0].sin_cos();
+        let (sa, ca) = (trig.sa, trig.ca);
         let u2 = ca * w[1] + sa * w[2];
         let u3 = -sa * w[1] + ca * w[2];
         let (ad, bd) = (j[2] - w[0], j[3] - u2);
-        let s = Joints {
-            a: j[0],
-            b: j[1],
-            a_dot: ad,
-            b_dot: bd,
-        };
         let zero = [T::zero(); 3];
-        let acc = pr.joint_accelerations(&s, [w[0], w[1], w[2]], zero, [f[0], f[1], f[2]]);
+        let acc =
+            pr.joint_accelerations_with(trig, ad, bd, [w[0], w[1], w[2]], zero, [f[0], f[1], f[2]]);
         let p = j[2] + h * acc[0];
         let r = j[3] + h * (acc[1] + ad * u3);
         Vector4::new(j[0] + h * (p - w[0]), j[1] + h * (r - u2), p, r)
@@ -81,6 +89,7 @@ impl<T: Real> CardanProcess<T> {
 
     /// The partial derivatives of [`Self::joint_step`] by central differences: with
     /// respect to the joints (4 x 4), the body rate (4 x 3) and the up direction (4 x 3).
+    /// The angles' trigonometry is taken once: the shifted angles' by angle addition.
     fn joint_partials(
         &self,
         j: &Vector4<T>,
@@ -90,12 +99,22 @@ impl<T: Real> CardanProcess<T> {
     ) -> (SMatrix<T, 4, 4>, SMatrix<T, 4, 3>, SMatrix<T, 4, 3>) {
         let d = T::default_epsilon().cbrt();
         let two_d = d + d;
+        let trig = JointTrig::of(j[0], j[1]);
+        let (sd, cd) = d.sin_cos();
+        let none = (T::zero(), T::one());
         let mut dj = SMatrix::<T, 4, 4>::zeros();
         for k in 0..4 {
             let (mut lo, mut hi) = (*j, *j);
             lo[k] -= d;
             hi[k] += d;
-            let c = (self.joint_step(&hi, w, u, h) - self.joint_step(&lo, w, u, h)) / two_d;
+            let (t_lo, t_hi) = match k {
+                0 => (trig.shifted((-sd, cd), none), trig.shifted((sd, cd), none)),
+                1 => (trig.shifted(none, (-sd, cd)), trig.shifted(none, (sd, cd))),
+                _ => (trig, trig),
+            };
+            let c = (self.joint_step_with(&t_hi, &hi, w, u, h)
+                - self.joint_step_with(&t_lo, &lo, w, u, h))
+                / two_d;
             dj.set_column(k, &c);
         }
         let mut dw = SMatrix::<T, 4, 3>::zeros();
@@ -104,12 +123,16 @@ impl<T: Real> CardanProcess<T> {
             let (mut lo, mut hi) = (*w, *w);
             lo[k] -= d;
             hi[k] += d;
-            let c = (self.joint_step(j, &hi, u, h) - self.joint_step(j, &lo, u, h)) / two_d;
+            let c = (self.joint_step_with(&trig, j, &hi, u, h)
+                - self.joint_step_with(&trig, j, &lo, u, h))
+                / two_d;
             dw.set_column(k, &c);
             let (mut lo, mut hi) = (*u, *u);
             lo[k] -= d;
             hi[k] += d;
-            let c = (self.joint_step(j, w, &hi, h) - self.joint_step(j, w, &lo, h)) / two_d;
+            let c = (self.joint_step_with(&trig, j, w, &hi, h)
+                - self.joint_step_with(&trig, j, w, &lo, h))
+                / two_d;
             du.set_column(k, &c);
         }
         (dj, dw, du)
