@@ -9,6 +9,7 @@ pub mod options;
 pub mod report;
 pub mod reproduce;
 pub mod simulate;
+pub mod simulate3d;
 pub mod stream;
 
 /// Tilt estimation with a pendulum as the sensor.

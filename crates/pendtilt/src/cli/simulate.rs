@@ -15,6 +15,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use super::help;
 use crate::io::output::{self as safe, NamedPath, OutputFile};
 use crate::sim::{self, output, Scenario, Simulator};
+use crate::sim3d;
 
 /// Seed used when neither `--seed` nor the scenario TOML gives one.
 pub const DEFAULT_SEED: u64 = 1;
@@ -22,8 +23,9 @@ pub const DEFAULT_SEED: u64 = 1;
 /// Options of `pendtilt simulate`.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct Args {
-    /// Base scenario: still, sigmoid, step, sine, chirp or scooter (MODEL.md section 6).
-    /// No default: give it or --config.
+    /// Base scenario: still, sigmoid, step, sine, chirp or scooter (MODEL.md section 6), or
+    /// a 3-D one: still3d, scooter3d, ship3d or ride3d (MODEL.md 7.8). No default: give it or
+    /// --config.
     #[arg(long, value_name = "NAME")]
     pub scenario: Option<String>,
     /// Scenario TOML overriding the base key by key (`pendtilt simulate --print-scenario`
@@ -215,6 +217,21 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
     Ok((s, args.seed.or(file_seed).unwrap_or(DEFAULT_SEED)))
 }
 
+/// A progress bar on standard error for `total` rows (hidden when quiet or not a terminal).
+pub(super) fn progress_bar(total: u64, quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+    b.set_style(
+        ProgressStyle::with_template(
+            "simulating {bar:40} {percent:>3}% {human_pos}/{human_len} rows, eta {eta}",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    b
+}
+
 /// Simulates into the (uncommitted) log; returns the number of rows.
 fn write_outputs(
     scenario: &Scenario,
@@ -223,19 +240,7 @@ fn write_outputs(
     quiet: bool,
 ) -> anyhow::Result<u64> {
     let sim = Simulator::new(scenario, seed)?;
-    let total = sim.total_rows();
-    let bar = if quiet || !std::io::stderr().is_terminal() {
-        ProgressBar::hidden()
-    } else {
-        let b = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
-        b.set_style(
-            ProgressStyle::with_template(
-                "simulating {bar:40} {percent:>3}% {human_pos}/{human_len} rows, eta {eta}",
-            )
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        b
-    };
+    let bar = progress_bar(sim.total_rows(), quiet);
     let n = output::write_log(
         sim,
         BufWriter::with_capacity(1 << 20, log.writer()?),
@@ -246,22 +251,29 @@ fn write_outputs(
     Ok(n)
 }
 
-/// Runs `pendtilt simulate`: refuses an output that is an input (`--config`, `--rig`) or
-/// another output, and renames the log, rig and scenario files into place only when all
-/// were written.
-pub fn run(args: Args) -> anyhow::Result<()> {
-    let (scenario, seed) = resolve(&args)?;
-    // Every key is written below, so the base only has to exist.
-    let base = args.scenario.clone().unwrap_or_else(|| "still".into());
-    let scenario_text = format!(
-        "# Resolved scenario written by `pendtilt simulate`; rerun with\n\
-         # pendtilt simulate --config THIS_FILE -o NEW.csv (another log name: the scenario file\n# beside NEW.csv must not be THIS_FILE)\nscenario = \"{base}\"\nseed = {seed}\n{}",
-        scenario.to_toml()
-    );
-    if args.print_scenario {
-        print!("{scenario_text}");
-        return Ok(());
-    }
+/// What one run writes: the texts of the rig and scenario files, the inputs the outputs must
+/// not overwrite, and the log writer.
+pub(super) struct Outputs<'a, F> {
+    /// The rig TOML.
+    pub rig_text: String,
+    /// The resolved scenario TOML.
+    pub scenario_text: String,
+    /// Files read (`--config`, `--rig`) that no output may overwrite.
+    pub inputs: Vec<NamedPath<'a>>,
+    /// Writes the log into the (uncommitted) file; returns its rows.
+    pub write_log: F,
+}
+
+/// Writes the log, the rig file and the scenario file (refusing an output that is an input
+/// or another output) and renames them into place only when all were written. Returns the
+/// rows written and the rig and scenario paths shown in the summary.
+pub(super) fn write_files<F>(
+    args: &Args,
+    out: Outputs<'_, F>,
+) -> anyhow::Result<(u64, String, String)>
+where
+    F: FnOnce(&OutputFile) -> anyhow::Result<u64>,
+{
     let Some(log) = args.output.clone() else {
         bail!("give -o LOG.csv");
     };
@@ -273,13 +285,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => (!to_stdout).then(|| output::rig_path_for(&log)),
     };
     let scen_path = (!to_stdout).then(|| output::scenario_path_for(&log));
-    let mut inputs = Vec::new();
-    if let Some(p) = &args.config {
-        inputs.push(NamedPath::new("--config", p));
-    }
-    if let Some(p) = &args.settings.rig {
-        inputs.push(NamedPath::new("--rig", p));
-    }
     let mut outputs = vec![NamedPath::new("-o", &log)];
     outputs.extend(rig_path.as_deref().map(|p| NamedPath::new("--rig-out", p)));
     outputs.extend(
@@ -287,14 +292,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .as_deref()
             .map(|p| NamedPath::new("the scenario file written beside -o,", p)),
     );
-    safe::check_distinct(&inputs, &outputs)?;
+    safe::check_distinct(&out.inputs, &outputs)?;
     let files = outputs
         .iter()
         .map(|o| OutputFile::create(o.option, o.path))
         .collect::<Result<Vec<_>, _>>()?;
-    let texts = [scenario.rig()?.to_toml_string(), scenario_text];
-    let started = Instant::now();
-    let n = write_outputs(&scenario, seed, &files[0], args.quiet)
+    let texts = [out.rig_text, out.scenario_text];
+    let n = (out.write_log)(&files[0])
         .and_then(|n| {
             for (f, text) in files[1..].iter().zip(&texts) {
                 f.write_all(text.as_bytes())?;
@@ -310,13 +314,75 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         f.commit()?;
     }
     let shown = |p: &Option<PathBuf>| p.as_ref().map_or("-".into(), |p| p.display().to_string());
-    let (rig_shown, scen_shown) = (shown(&rig_path), shown(&scen_path));
+    Ok((n, shown(&rig_path), shown(&scen_path)))
+}
+
+/// The error for a scenario name that is neither planar nor 3-D, listing both.
+fn unknown_scenario(name: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "unknown scenario '{name}' (planar: {}; 3-D: {})",
+        sim::SCENARIO_NAMES.join(", "),
+        sim3d::SCENARIO3D_NAMES.join(", ")
+    )
+}
+
+/// Runs `pendtilt simulate`: refuses an output that is an input (`--config`, `--rig`) or
+/// another output, and renames the log, rig and scenario files into place only when all
+/// were written. A 3-D scenario (by name, or a `--config` file written for one) goes to
+/// [`super::simulate3d`].
+pub fn run(args: Args) -> anyhow::Result<()> {
+    if let Some(name) = &args.scenario {
+        if sim3d::SCENARIO3D_NAMES.contains(&name.as_str()) {
+            return super::simulate3d::run(args);
+        }
+        if args.config.is_none() && !sim::SCENARIO_NAMES.contains(&name.as_str()) {
+            return Err(unknown_scenario(name));
+        }
+    }
+    if let Some(path) = &args.config {
+        if super::simulate3d::is_3d_config(path) {
+            return super::simulate3d::run(args);
+        }
+    }
+    let (scenario, seed) = resolve(&args)?;
+    // Every key is written below, so the base only has to exist.
+    let base = args.scenario.clone().unwrap_or_else(|| "still".into());
+    let scenario_text = format!(
+        "# Resolved scenario written by `pendtilt simulate`; rerun with\n\
+         # pendtilt simulate --config THIS_FILE -o NEW.csv (another log name: the scenario file\n# beside NEW.csv must not be THIS_FILE)\nscenario = \"{base}\"\nseed = {seed}\n{}",
+        scenario.to_toml()
+    );
+    if args.print_scenario {
+        print!("{scenario_text}");
+        return Ok(());
+    }
+    let mut inputs = Vec::new();
+    if let Some(p) = &args.config {
+        inputs.push(NamedPath::new("--config", p));
+    }
+    if let Some(p) = &args.settings.rig {
+        inputs.push(NamedPath::new("--rig", p));
+    }
+    let started = Instant::now();
+    let quiet = args.quiet;
+    let (n, rig_shown, scen_shown) = write_files(
+        &args,
+        Outputs {
+            rig_text: scenario.rig()?.to_toml_string(),
+            scenario_text,
+            inputs,
+            write_log: |log: &OutputFile| write_outputs(&scenario, seed, log, quiet),
+        },
+    )?;
     if !args.quiet {
         eprintln!(
             "wrote {n} rows ({} s at {} Hz, seed {seed}) to {} in {:.2} s; rig: {}; scenario: {}",
             scenario.duration,
             scenario.rate,
-            log.display(),
+            args.output
+                .as_deref()
+                .unwrap_or(std::path::Path::new("-"))
+                .display(),
             started.elapsed().as_secs_f64(),
             rig_shown,
             scen_shown

@@ -199,6 +199,14 @@ pub enum LogErrorKind {
         /// Fields in the header.
         expected: usize,
     },
+    /// Required columns of a 3-D log (MODEL.md 7.6) absent from the header.
+    #[error("not a 3-D log: no {missing} column (the header has: {header}; a 3-D log needs t, phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az)")]
+    MissingColumns {
+        /// The missing names, comma-separated and quoted.
+        missing: String,
+        /// The header names, comma-separated.
+        header: String,
+    },
 }
 
 /// A log reading error: the file, the line and the column where it is, and why.

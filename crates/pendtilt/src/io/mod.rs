@@ -1,6 +1,6 @@
 //! CSV input and output (MODEL.md section 5): the streaming sensor-log reader (on the one
-//! CSV line reader, `csv_lines`, which `pendtilt filter` reads through too) and the
-//! streaming estimates writer. The library never prints: warnings are queued for the
+//! CSV line reader, `csv_lines`, which `pendtilt filter` reads through too), the 3-D log
+//! reader of MODEL.md 7.6 ([`Log3dReader`]) and the streaming estimates writer. The library never prints: warnings are queued for the
 //! caller ([`LogReader::drain_warnings`]) and counted ([`LogReader::summary`]).
 //!
 //! ```no_run
@@ -24,6 +24,7 @@ mod columns;
 pub(crate) mod csv_lines;
 mod diagnostics;
 mod estimates_writer;
+mod log3d;
 mod log_reader;
 pub mod output;
 pub mod plausibility;
@@ -32,6 +33,9 @@ mod split;
 pub use columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns, OptionError};
 pub use diagnostics::{LogSummary, LogWarning, WarningKind};
 pub use estimates_writer::{EstimatesWriter, WriterOptions};
+pub use log3d::{
+    is_3d_header, read_log3d, Log3dReader, Log3dRecord, Row3dIssues, LOG3D_COLUMNS, LOG3D_REQUIRED,
+};
 pub use log_reader::{
     CellRef, LogError, LogErrorKind, LogReader, LogRecord, ReaderOptions, RowIssues,
     ANGLE_LOOKS_LIKE_DEGREES, RATE_LOOKS_LIKE_DEGREES,

@@ -166,6 +166,12 @@ pub fn world_to_body(r: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
 pub trait BodyMotion {
     /// The body's state at `t` \[s\].
     fn kinematics(&self, t: f64, g: f64) -> BodyKinematics;
+
+    /// The true forward speed at `t` that the `speed` column reads (MODEL.md 7.5, 7.7)
+    /// \[m/s\]. Default 0: a body that does not travel.
+    fn speed(&self, _t: f64, _g: f64) -> f64 {
+        0.0
+    }
 }
 
 /// A prescribed 6-DOF motion: Euler angles as sums of components, P1's acceleration as sums

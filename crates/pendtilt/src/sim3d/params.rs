@@ -1,11 +1,14 @@
 //! The Cardan pendulum's constants (MODEL.md 7.2, 7.3, 7.6): physical form, the normalised
 //! form of 7.3, and the linearised natural frequencies and damping ratios of 7.2.
 
+use serde::{Deserialize, Serialize};
+
 use crate::sim::SimError;
 
 /// A two-axis pendulum on a Cardan joint, SI units (MODEL.md 7.2; the `[pendulum3d]` table
 /// of 7.6). The outer ring turns about body x, the pendulum about the ring's y axis.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
 pub struct Pendulum3d {
     /// m \[kg\]. Default 0.05.
     pub mass: f64,

@@ -1,5 +1,5 @@
-//! The 3-axis sensor models of MODEL.md 7.5 and the log row of 7.6 (without `speed`, which
-//! needs the vehicle motion of 7.7, not built yet).
+//! The 3-axis sensor models of MODEL.md 7.5 and the log row of 7.6 (the `speed` column reads
+//! the vehicle's forward speed of 7.7, 0 for a body that does not travel).
 //!
 //! White-noise density d gives a per-sample sigma d sqrt(rate); random-walk density q gives
 //! steps of sigma q sqrt(dt). Each noise source draws from its own ChaCha8 stream of the
@@ -9,14 +9,16 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
 use super::dynamics::specific_force_at;
 use super::simulator::Truth3d;
 
 /// Sensor settings (MODEL.md 7.5), SI units. [`Default`] is ideal: no noise, no bias, no
-/// quantisation, accelerometer at P1.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// quantisation, accelerometer at P1, speed scale 1.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
 pub struct Sensors3d {
     /// Encoder resolution: 2^bits steps per turn; 0 = none.
     pub encoder_bits: u32,
@@ -32,8 +34,112 @@ pub struct Sensors3d {
     pub accel_noise_density: f64,
     /// Accelerometer constant bias, body axes \[m/s^2\].
     pub accel_bias: [f64; 3],
-    /// Accelerometer position - P1, body axes \[m\] (`[mounting] accel_at`, 7.6).
+    /// Accelerometer position - P1, body axes \[m\] (`[mounting] accel_at`, 7.6; not
+    /// written with the sensors: the rig file's `[mounting]` holds it).
+    #[serde(skip)]
     pub accel_at: [f64; 3],
+    /// Speed sensor scale factor (a wheel's radius error): speed = scale * true speed.
+    pub speed_scale: f64,
+    /// Speed white noise, per sample \[m/s\].
+    pub speed_noise: f64,
+}
+
+impl Default for Sensors3d {
+    fn default() -> Self {
+        Self {
+            encoder_bits: 0,
+            encoder_noise: 0.0,
+            gyro_noise_density: 0.0,
+            gyro_bias: [0.0; 3],
+            gyro_bias_walk: 0.0,
+            accel_noise_density: 0.0,
+            accel_bias: [0.0; 3],
+            accel_at: [0.0; 3],
+            speed_scale: 1.0,
+            speed_noise: 0.0,
+        }
+    }
+}
+
+impl Sensors3d {
+    /// The "noisy" grade of MODEL.md 7.8: encoders 14 bit + 0.01 deg white; gyro
+    /// 0.01 deg/s/sqrt(Hz), bias (0.5, -0.3, 0.2) deg/s, random walk 0.005 deg/s/sqrt(s);
+    /// accelerometer 200 ug/sqrt(Hz), bias (0.02, -0.015, 0.03) m/s^2; speed 0.05 m/s white,
+    /// scale 1.
+    pub fn noisy() -> Self {
+        let d = 1f64.to_radians();
+        Self {
+            encoder_bits: 14,
+            encoder_noise: 0.01 * d,
+            gyro_noise_density: 0.01 * d,
+            gyro_bias: [0.5 * d, -0.3 * d, 0.2 * d],
+            gyro_bias_walk: 0.005 * d,
+            accel_noise_density: 200e-6 * 9.80665,
+            accel_bias: [0.02, -0.015, 0.03],
+            accel_at: [0.0; 3],
+            speed_scale: 1.0,
+            speed_noise: 0.05,
+        }
+    }
+
+    /// The same without random errors (white noise, bias walk); biases, scale and
+    /// quantisation stay (`--no-noise`).
+    pub fn without_noise(self) -> Self {
+        Self {
+            encoder_noise: 0.0,
+            gyro_noise_density: 0.0,
+            gyro_bias_walk: 0.0,
+            accel_noise_density: 0.0,
+            speed_noise: 0.0,
+            ..self
+        }
+    }
+
+    /// Ideal sensors at the same mounting (`--ideal-sensors`).
+    pub fn ideal(self) -> Self {
+        Self {
+            accel_at: self.accel_at,
+            ..Self::default()
+        }
+    }
+
+    /// Checks every value; errors name the `sensors.<key>`.
+    pub fn validate(&self) -> Result<(), crate::sim::SimError> {
+        let non_negative = [
+            ("encoder_noise", self.encoder_noise),
+            ("gyro_noise_density", self.gyro_noise_density),
+            ("gyro_bias_walk", self.gyro_bias_walk),
+            ("accel_noise_density", self.accel_noise_density),
+            ("speed_noise", self.speed_noise),
+        ];
+        for (key, v) in non_negative {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(crate::sim::SimError::invalid(
+                    format!("sensors.{key}"),
+                    format!("must be finite and >= 0, got {v}"),
+                ));
+            }
+        }
+        let finite = self
+            .gyro_bias
+            .iter()
+            .chain(&self.accel_bias)
+            .chain(&self.accel_at)
+            .chain([&self.speed_scale]);
+        if finite.into_iter().any(|x| !x.is_finite()) {
+            return Err(crate::sim::SimError::invalid(
+                "sensors",
+                "biases, accel_at and speed_scale must be finite",
+            ));
+        }
+        if self.encoder_bits > 32 {
+            return Err(crate::sim::SimError::invalid(
+                "sensors.encoder_bits",
+                format!("must be 0 (none) to 32, got {}", self.encoder_bits),
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// One row of the 3-D sensor log (MODEL.md 7.6, columns [`LogRow3d::COLUMNS`]).
@@ -47,6 +153,8 @@ pub struct LogRow3d {
     pub gyro: [f64; 3],
     /// Accelerometer, body axes \[m/s^2\].
     pub accel: [f64; 3],
+    /// Forward speed \[m/s\] (MODEL.md 7.5).
+    pub speed: f64,
     /// True ZYX roll \[rad\].
     pub roll: f64,
     /// True ZYX pitch \[rad\].
@@ -54,13 +162,14 @@ pub struct LogRow3d {
 }
 
 impl LogRow3d {
-    /// The CSV header of MODEL.md 7.6 (the optional `speed` left out).
-    pub const COLUMNS: [&'static str; 11] = [
-        "t", "phi_x", "phi_y", "gyro_x", "gyro_y", "gyro_z", "ax", "ay", "az", "roll", "pitch",
+    /// The CSV header of MODEL.md 7.6.
+    pub const COLUMNS: [&'static str; 12] = [
+        "t", "phi_x", "phi_y", "gyro_x", "gyro_y", "gyro_z", "ax", "ay", "az", "speed", "roll",
+        "pitch",
     ];
 
     /// The values in [`LogRow3d::COLUMNS`] order.
-    pub fn values(&self) -> [f64; 11] {
+    pub fn values(&self) -> [f64; 12] {
         [
             self.t,
             self.phi[0],
@@ -71,6 +180,7 @@ impl LogRow3d {
             self.accel[0],
             self.accel[1],
             self.accel[2],
+            self.speed,
             self.roll,
             self.pitch,
         ]
@@ -83,6 +193,7 @@ mod stream {
     pub const GYRO: u64 = 12;
     pub const GYRO_WALK: u64 = 13;
     pub const ACCEL: u64 = 14;
+    pub const SPEED: u64 = 15;
 }
 
 /// The sensors of one run: settings, their random streams and the gyro's walking bias.
@@ -94,7 +205,7 @@ pub struct SensorBank3d {
     /// Random-walk step sigma.
     walk_step: f64,
     walk: [f64; 3],
-    rng: [ChaCha8Rng; 4],
+    rng: [ChaCha8Rng; 5],
 }
 
 fn rng(seed: u64, stream: u64) -> ChaCha8Rng {
@@ -123,6 +234,7 @@ impl SensorBank3d {
                 stream::GYRO,
                 stream::GYRO_WALK,
                 stream::ACCEL,
+                stream::SPEED,
             ]
             .map(|k| rng(seed, k)),
         }
@@ -132,7 +244,7 @@ impl SensorBank3d {
     pub fn read(&mut self, x: &Truth3d) -> LogRow3d {
         let s = &self.s;
         let q = (s.encoder_bits > 0).then(|| TAU / 2f64.powi(s.encoder_bits as i32));
-        let [er, gr, wr, ar] = &mut self.rng;
+        let [er, gr, wr, ar, sr] = &mut self.rng;
         let phi = x.encoders().map(|v| {
             let v = v + s.encoder_noise * gauss(er);
             q.map_or(v, |q| (v / q).round() * q)
@@ -152,6 +264,7 @@ impl SensorBank3d {
             phi,
             gyro,
             accel,
+            speed: s.speed_scale * x.speed + s.speed_noise * gauss(sr),
             roll: x.body.euler[0][0],
             pitch: x.body.euler[1][0],
         }

@@ -26,6 +26,8 @@ pub struct Truth3d {
     pub joint_acc: [f64; 2],
     /// Specific force at the pivot P2, body axes \[m/s^2\].
     pub f_pivot: [f64; 3],
+    /// True forward speed of the vehicle's speed point O (MODEL.md 7.7) \[m/s\].
+    pub speed: f64,
 }
 
 impl Truth3d {
@@ -167,6 +169,7 @@ impl<M: BodyMotion> Simulator3d<M> {
             joint,
             joint_acc,
             f_pivot,
+            speed: self.motion.speed(t0, g),
         }
     }
 }

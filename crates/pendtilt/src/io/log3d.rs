@@ -1,0 +1,356 @@
+//! The 3-D sensor log reader (MODEL.md 7.6): t, phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax,
+//! ay, az required; speed, roll, pitch optional; other columns ignored. Reads through the one
+//! CSV line reader ([`super::csv_lines`]) with the planar reader's error type and quality: an
+//! error names the file, the line and the column (`log.csv:7: column 4 (`gyro_x`): not a
+//! number: `abc``); an empty or `nan` cell, or one absent from a short row, reads as NaN and
+//! flags its row; a time that does not increase flags its row. Every data row gives a record.
+
+use std::fs::File;
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+
+use super::csv_lines::CsvLines;
+use super::log_reader::{CellRef, LogError, LogErrorKind};
+
+/// The columns of a 3-D log, in [`Log3dRecord`] order (MODEL.md 7.6).
+pub const LOG3D_COLUMNS: [&str; 12] = [
+    "t", "phi_x", "phi_y", "gyro_x", "gyro_y", "gyro_z", "ax", "ay", "az", "speed", "roll", "pitch",
+];
+
+/// How many of [`LOG3D_COLUMNS`] (the first ones) a 3-D log must have.
+pub const LOG3D_REQUIRED: usize = 9;
+
+/// True when a header has every required 3-D column (how `estimate` can tell a 3-D log).
+pub fn is_3d_header<S: AsRef<str>>(header: &[S]) -> bool {
+    LOG3D_COLUMNS[..LOG3D_REQUIRED]
+        .iter()
+        .all(|c| header.iter().any(|h| h.as_ref() == *c))
+}
+
+/// What was wrong with a row (its values are still given).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Row3dIssues {
+    /// A required cell was empty, `nan`, infinite or absent (read as NaN).
+    pub missing: bool,
+    /// t is not greater than the previous row's.
+    pub time_not_increasing: bool,
+}
+
+/// One data row of a 3-D log, SI units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Log3dRecord {
+    /// 1-based line in the file (comment and blank lines counted).
+    pub line: u64,
+    /// t \[s\].
+    pub t: f64,
+    /// Encoders (phi_x, phi_y) \[rad\].
+    pub phi: [f64; 2],
+    /// Gyro, body axes \[rad/s\].
+    pub gyro: [f64; 3],
+    /// Accelerometer, body axes \[m/s^2\].
+    pub accel: [f64; 3],
+    /// Forward speed \[m/s\]: `None` when the log has no `speed` column.
+    pub speed: Option<f64>,
+    /// True roll \[rad\]: `None` when the log has no `roll` column.
+    pub roll: Option<f64>,
+    /// True pitch \[rad\]: `None` when the log has no `pitch` column.
+    pub pitch: Option<f64>,
+    /// What was wrong with the row.
+    pub issues: Row3dIssues,
+}
+
+/// Streaming 3-D log reader over any [`BufRead`]; after an error it is finished.
+#[derive(Debug)]
+pub struct Log3dReader<R> {
+    lines: CsvLines<R>,
+    file: String,
+    header: Vec<String>,
+    /// Field position of each of [`LOG3D_COLUMNS`].
+    positions: [Option<usize>; 12],
+    last_t: Option<f64>,
+    rows: u64,
+    finished: bool,
+}
+
+impl Log3dReader<BufReader<File>> {
+    /// Opens a log file; errors name it as given.
+    pub fn open(path: impl AsRef<Path>) -> Result<Self, LogError> {
+        let path = path.as_ref();
+        let name = path.display().to_string();
+        let file = File::open(path).map_err(|e| LogError {
+            file: name.clone(),
+            line: None,
+            column: None,
+            kind: Box::new(LogErrorKind::Io(e)),
+        })?;
+        Self::new(BufReader::with_capacity(1 << 16, file), &name)
+    }
+}
+
+/// Reads a whole 3-D log file.
+pub fn read_log3d(path: impl AsRef<Path>) -> Result<Vec<Log3dRecord>, LogError> {
+    Log3dReader::open(path)?.collect()
+}
+
+impl<R: BufRead> Log3dReader<R> {
+    /// Reads the header from `input`; `origin` names the source in messages.
+    pub fn new(input: R, origin: &str) -> Result<Self, LogError> {
+        let mut r = Self {
+            lines: CsvLines::new(input, b','),
+            file: origin.to_string(),
+            header: Vec::new(),
+            positions: [None; 12],
+            last_t: None,
+            rows: 0,
+            finished: false,
+        };
+        r.read_header()?;
+        Ok(r)
+    }
+
+    /// The header names, in file order.
+    pub fn header(&self) -> &[String] {
+        &self.header
+    }
+
+    /// Whether the log has the column `name` (one of [`LOG3D_COLUMNS`]).
+    pub fn has(&self, name: &str) -> bool {
+        LOG3D_COLUMNS
+            .iter()
+            .position(|c| *c == name)
+            .is_some_and(|i| self.positions[i].is_some())
+    }
+
+    fn error(
+        &mut self,
+        line: Option<u64>,
+        column: Option<CellRef>,
+        kind: LogErrorKind,
+    ) -> LogError {
+        self.finished = true;
+        LogError {
+            file: self.file.clone(),
+            line,
+            column,
+            kind: Box::new(kind),
+        }
+    }
+
+    fn read_row(&mut self) -> Result<bool, LogError> {
+        match self.lines.next_row() {
+            Ok(Some(())) => Ok(true),
+            Ok(None) => Ok(false),
+            Err(super::csv_lines::RowError::Io(e)) => {
+                let line = Some(self.lines.line() + 1);
+                Err(self.error(line, None, LogErrorKind::Io(e)))
+            }
+            Err(super::csv_lines::RowError::UnterminatedQuote(i)) => {
+                let column = Some(self.cell_ref(i));
+                let line = Some(self.lines.line());
+                Err(self.error(line, column, LogErrorKind::UnterminatedQuote))
+            }
+        }
+    }
+
+    fn cell_ref(&self, i: usize) -> CellRef {
+        CellRef {
+            position: i + 1,
+            header: self.header.get(i).cloned().unwrap_or_default(),
+        }
+    }
+
+    /// The header: names, each column's position, the required ones present, no used name
+    /// twice.
+    fn read_header(&mut self) -> Result<(), LogError> {
+        if !self.read_row()? {
+            return Err(self.error(None, None, LogErrorKind::Empty));
+        }
+        let line = Some(self.lines.line());
+        let mut header = Vec::with_capacity(self.lines.field_count());
+        for i in 0..self.lines.field_count() {
+            let Some(name) = self
+                .lines
+                .field(i)
+                .and_then(|f| String::from_utf8(f.into_owned()).ok())
+            else {
+                return Err(self.error(line, None, LogErrorKind::InvalidUtf8));
+            };
+            header.push(name);
+        }
+        self.header = header;
+        for (k, name) in LOG3D_COLUMNS.iter().enumerate() {
+            let mut found = self.header.iter().enumerate().filter(|(_, h)| h == name);
+            self.positions[k] = found.next().map(|(i, _)| i);
+            if let (Some(first), Some((dup, _))) = (self.positions[k], found.next()) {
+                let column = Some(self.cell_ref(dup));
+                let kind = LogErrorKind::DuplicateColumn {
+                    name: name.to_string(),
+                    first: first + 1,
+                };
+                return Err(self.error(line, column, kind));
+            }
+        }
+        let missing: Vec<String> = (0..LOG3D_REQUIRED)
+            .filter(|&k| self.positions[k].is_none())
+            .map(|k| format!("`{}`", LOG3D_COLUMNS[k]))
+            .collect();
+        if !missing.is_empty() {
+            let kind = LogErrorKind::MissingColumns {
+                missing: missing.join(", "),
+                header: self.header.join(", "),
+            };
+            return Err(self.error(line, None, kind));
+        }
+        Ok(())
+    }
+
+    /// Column `k`'s value on the current row: NaN when empty, non-finite or absent; an error
+    /// when it is not a number.
+    fn value(&mut self, k: usize, missing: &mut bool) -> Result<f64, LogError> {
+        let Some(pos) = self.positions[k] else {
+            return Ok(f64::NAN);
+        };
+        let Some(raw) = self.lines.field(pos) else {
+            *missing = true;
+            return Ok(f64::NAN);
+        };
+        if raw.is_empty() {
+            *missing = true;
+            return Ok(f64::NAN);
+        }
+        match std::str::from_utf8(&raw)
+            .ok()
+            .and_then(|s| s.parse::<f64>().ok())
+        {
+            Some(v) if v.is_finite() => Ok(v),
+            Some(_) => {
+                *missing = true;
+                Ok(f64::NAN)
+            }
+            None => {
+                let text = String::from_utf8_lossy(&raw).into_owned();
+                let line = Some(self.lines.line());
+                let column = Some(self.cell_ref(pos));
+                Err(self.error(line, column, LogErrorKind::NotANumber { text }))
+            }
+        }
+    }
+
+    /// Reads the next data row; `Ok(None)` at the end (an error if there was no data row).
+    pub fn next_record(&mut self) -> Result<Option<Log3dRecord>, LogError> {
+        if self.finished {
+            return Ok(None);
+        }
+        if !self.read_row()? {
+            self.finished = true;
+            if self.rows == 0 {
+                let line = Some(self.lines.line().max(1));
+                return Err(self.error(line, None, LogErrorKind::NoData));
+            }
+            return Ok(None);
+        }
+        let (found, expected) = (self.lines.field_count(), self.header.len());
+        if found > expected
+            && (expected..found).any(|i| self.lines.raw(i).is_some_and(|f| !f.is_empty()))
+        {
+            let line = Some(self.lines.line());
+            return Err(self.error(line, None, LogErrorKind::TooManyFields { found, expected }));
+        }
+        let mut missing = false;
+        let mut v = [f64::NAN; 12];
+        for (k, x) in v.iter_mut().enumerate() {
+            let mut m = false;
+            *x = self.value(k, &mut m)?;
+            missing |= m && k < LOG3D_REQUIRED;
+        }
+        let time_not_increasing = self.last_t.is_some_and(|p| v[0] <= p || v[0].is_nan());
+        if v[0].is_finite() {
+            self.last_t = Some(v[0]);
+        }
+        self.rows += 1;
+        let optional = |k: usize| self.positions[k].map(|_| v[k]);
+        Ok(Some(Log3dRecord {
+            line: self.lines.line(),
+            t: v[0],
+            phi: [v[1], v[2]],
+            gyro: [v[3], v[4], v[5]],
+            accel: [v[6], v[7], v[8]],
+            speed: optional(9),
+            roll: optional(10),
+            pitch: optional(11),
+            issues: Row3dIssues {
+                missing,
+                time_not_increasing,
+            },
+        }))
+    }
+}
+
+impl<R: BufRead> Iterator for Log3dReader<R> {
+    type Item = Result<Log3dRecord, LogError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        self.next_record().transpose()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEAD: &str = "t,phi_x,phi_y,gyro_x,gyro_y,gyro_z,ax,ay,az";
+
+    fn read(text: &str) -> Result<Vec<Log3dRecord>, LogError> {
+        Log3dReader::new(text.as_bytes(), "log.csv")?.collect()
+    }
+
+    #[test]
+    fn reads_required_and_optional_columns() {
+        let text = format!(
+            "{HEAD},roll,extra\n0,1,2,3,4,5,6,7,8,0.5,x\n# c\n0.001,1,2,3,4,5,6,7,9.5,,y\n"
+        );
+        let r = read(&text).unwrap();
+        assert_eq!(r.len(), 2);
+        assert_eq!(r[0].accel, [6.0, 7.0, 8.0]);
+        assert_eq!((r[0].roll, r[0].speed, r[0].pitch), (Some(0.5), None, None));
+        assert_eq!(r[1].line, 4);
+        assert!(r[1].roll.unwrap().is_nan());
+        assert!(!r[1].issues.missing, "roll is optional");
+    }
+
+    #[test]
+    fn errors_name_file_line_and_column() {
+        let text = format!("{HEAD}\n0,1,2,3,4,5,6,7,8\n0.001,1,2,abc,4,5,6,7,8\n");
+        let e = read(&text).unwrap_err().to_string();
+        assert_eq!(e, "log.csv:3: column 4 (`gyro_x`): not a number: `abc`");
+        let e = read("t,phi_x,gyro_x\n0,1,2\n").unwrap_err().to_string();
+        assert!(
+            e.starts_with("log.csv:1: not a 3-D log: no `phi_y`, `gyro_y`"),
+            "{e}"
+        );
+        let e = read(&format!("{HEAD},ax\n")).unwrap_err().to_string();
+        assert!(
+            e.contains("column 10 (`ax`): duplicate column: `ax` is also field 7"),
+            "{e}"
+        );
+        let e = read(&format!("{HEAD}\n")).unwrap_err().to_string();
+        assert_eq!(e, "log.csv:1: header only, no data rows");
+        let e = read(&format!("{HEAD}\n0,1,2,3,4,5,6,7,8,9\n"))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "log.csv:2: 10 fields, the header has 9");
+    }
+
+    #[test]
+    fn missing_cells_and_time_flag_their_row() {
+        let text = format!("{HEAD}\n0,1,2,3,4,5,6,7,8\n0,1,,3,4,5,6,7,nan\n-1,1,2,3\n");
+        let r = read(&text).unwrap();
+        assert_eq!(r.len(), 3);
+        assert!(!r[0].issues.missing && !r[0].issues.time_not_increasing);
+        assert!(r[1].issues.missing && r[1].issues.time_not_increasing);
+        assert!(r[1].phi[1].is_nan() && r[1].accel[2].is_nan());
+        assert!(r[2].issues.missing && r[2].accel[0].is_nan());
+        assert!(is_3d_header(&HEAD.split(',').collect::<Vec<_>>()));
+        assert!(!is_3d_header(&["t", "phi", "gyro", "ax", "ay"]));
+    }
+}

@@ -1,0 +1,203 @@
+//! `pendtilt simulate --scenario still3d|scooter3d|ship3d|ride3d` end to end: the log, the rig
+//! and the scenario file on disk; the log reads back through the 3-D reader to the very values
+//! the library simulates; the scenario file reruns to the same bytes; clear errors.
+
+use pendtilt::io::{read_log3d, Log3dReader};
+use pendtilt::sim3d::{LogRow3d, Rig3d, Scenario3d};
+
+mod common;
+use common::{pendtilt, s, stderr};
+
+fn ok(args: &[&str]) {
+    let out = pendtilt(args);
+    assert!(
+        out.status.success(),
+        "pendtilt {args:?} failed: {}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn every_scenario_round_trips_through_the_log_reader() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, seed) in [
+        ("still3d", 1u64),
+        ("scooter3d", 2),
+        ("ship3d", 3),
+        ("ride3d", 4),
+    ] {
+        let log = dir.path().join(format!("{name}.csv"));
+        let sd = seed.to_string();
+        ok(&[
+            "simulate",
+            "--scenario",
+            name,
+            "--duration",
+            "0.3",
+            "--seed",
+            &sd,
+            "-q",
+            "-o",
+            s(&log),
+        ]);
+        let text = std::fs::read_to_string(&log).unwrap();
+        assert_eq!(
+            text.lines().next(),
+            Some(LogRow3d::COLUMNS.join(",").as_str())
+        );
+        let mut want = Scenario3d::named(name, seed).unwrap();
+        want.duration = 0.3;
+        let rows: Vec<LogRow3d> = want.run(seed).unwrap().map(|(_, r)| r).collect();
+        let read = read_log3d(&log).unwrap();
+        assert_eq!(read.len(), 300);
+        assert_eq!(rows.len(), 300);
+        for (r, w) in read.iter().zip(&rows) {
+            assert_eq!(
+                (r.t, r.phi, r.gyro, r.accel),
+                (w.t, w.phi, w.gyro, w.accel),
+                "{name} line {}",
+                r.line
+            );
+            assert_eq!(
+                (r.speed, r.roll, r.pitch),
+                (Some(w.speed), Some(w.roll), Some(w.pitch))
+            );
+            assert!(!r.issues.missing && !r.issues.time_not_increasing);
+        }
+        // The rig file reads back to the scenario's rig; the scenario file to the scenario.
+        let rig = std::fs::read_to_string(dir.path().join(format!("{name}.rig.toml"))).unwrap();
+        assert_eq!(Rig3d::from_toml(&rig, "rig").unwrap(), want.rig);
+        assert!(rig.contains("[pendulum3d]") && rig.contains("[mounting]"));
+        let scen_path = dir.path().join(format!("{name}.scenario.toml"));
+        let scen = std::fs::read_to_string(&scen_path).unwrap();
+        let (back, file_seed) = Scenario3d::from_toml(&scen, "scenario").unwrap();
+        assert_eq!((back, file_seed), (want, Some(seed)));
+        // Rerun from the scenario file: the same bytes.
+        let again = dir.path().join(format!("{name}_again.csv"));
+        ok(&["simulate", "--config", s(&scen_path), "-q", "-o", s(&again)]);
+        assert_eq!(std::fs::read(&again).unwrap(), text.as_bytes());
+    }
+}
+
+#[test]
+fn switches_noise_and_vibration_off() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("r.csv");
+    ok(&[
+        "simulate",
+        "--scenario",
+        "scooter3d",
+        "--duration",
+        "0.2",
+        "--ideal-sensors",
+        "--no-vibration",
+        "--rate",
+        "500",
+        "-q",
+        "-o",
+        s(&log),
+    ]);
+    let mut want = Scenario3d::named("scooter3d", 1).unwrap();
+    want.duration = 0.2;
+    want.rate = 500.0;
+    want.sensors = want.sensors.ideal();
+    want.motion = want.motion.without_vibration();
+    let read = read_log3d(&log).unwrap();
+    assert_eq!(read.len(), 100);
+    for ((x, w), r) in want.run(1).unwrap().zip(&read) {
+        assert_eq!(r.phi, x.encoders(), "ideal encoders read the truth");
+        assert_eq!(r.gyro, x.body.w);
+        assert_eq!(r.accel, w.accel);
+    }
+    let scen = std::fs::read_to_string(dir.path().join("r.scenario.toml")).unwrap();
+    let (back, _) = Scenario3d::from_toml(&scen, "scenario").unwrap();
+    assert!(!back.motion.has_vibration() && !scen.contains("kind = \"engine\""));
+    assert_eq!(back.sensors, want.sensors);
+}
+
+#[test]
+fn wrong_names_and_planar_flags_are_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("x.csv");
+    let out = pendtilt(&["simulate", "--scenario", "rides3d", "-o", s(&log)]);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    for n in [
+        "still3d",
+        "scooter3d",
+        "ship3d",
+        "ride3d",
+        "scooter",
+        "sigmoid",
+    ] {
+        assert!(e.contains(n), "{e}");
+    }
+    assert!(e.contains("unknown scenario 'rides3d'"), "{e}");
+    let out = pendtilt(&[
+        "simulate",
+        "--scenario",
+        "ship3d",
+        "--mass",
+        "0.1",
+        "-o",
+        s(&log),
+    ]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("--mass: for the planar scenarios only"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!log.exists(), "nothing written on an error");
+    // The scenario file is an input: -o may not overwrite it.
+    let first = dir.path().join("a.csv");
+    ok(&[
+        "simulate",
+        "--scenario",
+        "still3d",
+        "--duration",
+        "0.01",
+        "-q",
+        "-o",
+        s(&first),
+    ]);
+    let scen = dir.path().join("a.scenario.toml");
+    let before = std::fs::read(&scen).unwrap();
+    let out = pendtilt(&["simulate", "--config", s(&scen), "-q", "-o", s(&first)]);
+    assert!(
+        !out.status.success(),
+        "rerun into the same name overwrites its own input"
+    );
+    assert_eq!(std::fs::read(&scen).unwrap(), before);
+}
+
+#[test]
+fn reader_errors_name_file_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("r.csv");
+    ok(&[
+        "simulate",
+        "--scenario",
+        "still3d",
+        "--duration",
+        "0.005",
+        "-q",
+        "-o",
+        s(&log),
+    ]);
+    let mut text = std::fs::read_to_string(&log).unwrap();
+    text = text.replacen("0.003,", "0.003,oops", 1);
+    std::fs::write(&log, &text).unwrap();
+    let e = read_log3d(&log).unwrap_err().to_string();
+    assert!(
+        e.starts_with(&format!(
+            "{}:5: column 2 (`phi_x`): not a number: `oops",
+            log.display()
+        )),
+        "{e}"
+    );
+    let planar = dir.path().join("p.csv");
+    std::fs::write(&planar, "t,phi,gyro,ax,ay\n0,0,0,0,9.8\n").unwrap();
+    let e = Log3dReader::open(&planar).unwrap_err().to_string();
+    assert!(e.contains(":1: not a 3-D log: no `phi_x`"), "{e}");
+}
