@@ -62,6 +62,8 @@ fn noisy() -> Sensors3d {
         accel_noise_density: 200e-6 * 9.80665,
         accel_bias: [0.02, -0.015, 0.03],
         accel_at: [0.0; 3],
+        speed_scale: 1.0,
+        speed_noise: 0.0,
     }
 }
 

@@ -518,9 +518,11 @@ impl BodyMotion for VehicleMotion {
         BodyKinematics::from_euler(s.euler, [f[0] + vib[0], f[1] + vib[1], f[2] + vib[2]])
     }
 
+    /// x_b . V_O with x_b the vehicle's body x (the engine-locked angles left out, like
+    /// the vibration's velocity: MODEL.md 7.7).
     fn speed(&self, t: f64, g: f64) -> f64 {
         let s = self.state(t, g);
-        let e = &s.euler;
+        let e = &s.vehicle_euler;
         let r = attitude(e[0][0], e[1][0], e[2][0]);
         let v = s.velocity();
         r[0][0] * v[0] + r[1][0] * v[1] + r[2][0] * v[2]
