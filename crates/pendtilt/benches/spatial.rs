@@ -2,13 +2,14 @@
 //! `cargo bench -p pendtilt --bench spatial`. Each iteration feeds the same 1000 samples
 //! (one second at 1 kHz of a body rolling, pitching and yawing with 40 Hz vibration, in
 //! closed form) to an estimator warmed up on the second before; criterion reports the time
-//! per sample (elements). Issue 14's targets: ekf3d under 1 us in f64; VQF about 250 ns and
+//! per sample (elements). Issue 14's targets: ekf3d under 1 us and inv3d under 150 ns in f64; VQF about 250 ns and
 //! Madgwick about 50 ns quoted from the same run.
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use pendtilt::peers::spatial::peers;
 use pendtilt_core::spatial::accel::{Accel, AccelSettings};
 use pendtilt_core::spatial::attitude::up_from_roll_pitch;
 use pendtilt_core::spatial::ekf::{Ekf, Settings, Ukf};
+use pendtilt_core::spatial::inv::{Inv3d, Inv3dSettings};
 use pendtilt_core::spatial::pendulum::{Pendulum, PendulumSettings};
 use pendtilt_core::spatial::{SpatialEstimator, SpatialSample};
 use std::f64::consts::TAU;
@@ -49,6 +50,10 @@ fn bench(c: &mut Criterion) {
     let mut all: Vec<(&str, Box<dyn SpatialEstimator<f64>>)> = vec![
         ("pendulum3d", Box::new(Pendulum::new(PendulumSettings {}))),
         ("accel3d", Box::new(Accel::new(AccelSettings::default()))),
+        (
+            "inv3d",
+            Box::new(Inv3d::<f64>::new(Inv3dSettings::default())),
+        ),
         ("ekf3d", Box::new(Ekf::new(Settings::default()))),
         ("ukf3d", Box::new(Ukf::new(Settings::default()))),
     ];

@@ -14,11 +14,15 @@
 //! - [`cardan`]: the pendulum's normalised parameters and its equations of motion
 //!   (MODEL.md 7.3), for the model-based filter;
 //! - [`pendulum`]: `pendulum3d`, the raw encoder angles;
-//! - [`accel`]: `accel3d`, roll and pitch from the accelerometer.
+//! - [`accel`]: `accel3d`, roll and pitch from the accelerometer;
+//! - [`inv`]: `inv3d`, Algorithm 2 in three dimensions (the joint equations solved for
+//!   the tilt);
+//! - [`ekf`]: `ekf3d`/`ukf3d`, the quaternion filter on the engine.
 pub mod accel;
 pub mod attitude;
 pub mod cardan;
 pub mod ekf;
+pub mod inv;
 pub mod pendulum;
 pub mod sample;
 

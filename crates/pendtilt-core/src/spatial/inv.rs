@@ -1,0 +1,252 @@
+//! `inv3d`: Algorithm 2 in three dimensions. The two joint equations of MODEL.md 7.3 are
+//! solved for the specific force at the pivot, given the encoder angles, their smoothed
+//! derivatives and the gyro (its derivative as Algorithm 2's theta'').
+//!
+//! Both equations are linear in the specific force `f`, and they see it in pendulum axes,
+//! `v = Ry(b)^T Rx(a)^T f / g` (MODEL.md 7.3's `h`, turned by `b`):
+//!
+//! ```text
+//! (b_ring + Ia) a'' = K_a - cos b h2          h2  = v_y
+//!           b_y b'' = K_b + (cos b h1 - sin b h3)  = K_b + v_x
+//! ```
+//!
+//! with `K_a`, `K_b` every other term (damping, the body's rate and angular acceleration,
+//! the gyroscopic terms), which [`CardanParams::joint_accelerations`] gives for `f = 0`.
+//! So `v_y = (b_ring + Ia)(K_a / (b_ring + Ia) - a'') / cos b`,
+//! `v_x = b_y (b'' - K_b / b_y)`, `v_z = sqrt(1 - v_x^2 - v_y^2)` (a body without linear
+//! acceleration: `|f| = g`), and the world's up direction in body axes is
+//! `u = Rx(a) Ry(b) v`, less the pivot's lever-arm terms `wd x r12 + w x (w x r12)` when it
+//! sits off the IMU point. On a pure roll this is exactly the planar Eq (21),
+//! `theta = phi + asin(a phi' + b (phi'' - theta''))`: `v_y` is the asin's argument (test
+//! `a_pure_roll_is_the_planar_algorithm_2`).
+//!
+//! Each encoder axis goes through the planar front end with its gyro axis (the same
+//! differentiator, so phi', phi'' and the gyro carry the same delay, and theta'' from the
+//! gyro matched to it, as the planar findings prescribe); the gyro's z axis through a third
+//! (its theta'' only). The gyroscopic terms use the gyro through the same low-pass.
+use super::attitude::roll_pitch_from_up;
+use super::cardan::{CardanParams, JointTrig, Joints};
+use super::{Attitude, SpatialSample};
+use crate::estimators::front_end::{FrontEnd, FrontEndSettings};
+use crate::estimators::theta_dd::DEFAULT_WINDOW_CAPACITY;
+use crate::{Estimator, Flags, PendulumParams, Real, Sample};
+
+/// Settings of [`Inv3d`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inv3dSettings<T> {
+    /// The pendulum (normalised, MODEL.md 7.3). Default: MODEL.md 7.6's rig.
+    pub params: CardanParams<T>,
+    /// The front end each axis goes through (differentiator, theta'' source, gyro full
+    /// scale), as Algorithm 2's. Default: Algorithm 2's defaults for the x axis'
+    /// pendulum (its natural frequency sets the differentiator's cutoff).
+    pub front_end: FrontEndSettings<T>,
+}
+
+impl<T: Real> Default for Inv3dSettings<T> {
+    fn default() -> Self {
+        Self::from_params(CardanParams::default())
+    }
+}
+
+impl<T: Real> Inv3dSettings<T> {
+    /// Defaults for the pendulum `params`.
+    pub fn from_params(params: CardanParams<T>) -> Self {
+        let planar = PendulumParams {
+            a: params.a_x,
+            b: params.b_x + params.b_ring,
+            c: T::zero(),
+        };
+        Self {
+            params,
+            front_end: FrontEndSettings::from_params(planar),
+        }
+    }
+}
+
+/// Algorithm 2 in three dimensions (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct Inv3d<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
+    settings: Inv3dSettings<T>,
+    axes: [FrontEnd<T, W>; 3],
+    last: Attitude<T>,
+}
+
+impl<T: Real, const W: usize> Inv3d<T, W> {
+    /// A new estimator.
+    pub fn new(settings: Inv3dSettings<T>) -> Self {
+        let fe = FrontEnd::new(&settings.front_end, true);
+        Self {
+            axes: [fe.clone(), fe.clone(), fe],
+            settings,
+            last: Attitude {
+                roll: T::nan(),
+                pitch: T::nan(),
+                flags: Flags::empty(),
+            },
+        }
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> &Inv3dSettings<T> {
+        &self.settings
+    }
+
+    fn hold(&self, flags: Flags) -> Attitude<T> {
+        Attitude { flags, ..self.last }
+    }
+}
+
+impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
+    type Input = SpatialSample<T>;
+    type Output = Attitude<T>;
+
+    fn update(&mut self, s: &SpatialSample<T>) -> Attitude<T> {
+        let nan = T::nan();
+        let planar = |phi: T, gyro: T| Sample {
+            dt: s.dt,
+            phi,
+            gyro,
+            ax: nan,
+            ay: nan,
+        };
+        // The z gyro rides on phi_x's clock and validity (its phi output is unused).
+        let inputs = [
+            planar(s.phi[0], s.gyro[0]),
+            planar(s.phi[1], s.gyro[1]),
+            planar(s.phi[0], s.gyro[2]),
+        ];
+        let mut k = [None; 3];
+        let mut flags = Flags::empty();
+        for (i, (fe, x)) in self.axes.iter_mut().zip(&inputs).enumerate() {
+            match fe.step(x) {
+                Ok((kin, f)) => {
+                    flags |= f | kin.gyro_flags;
+                    k[i] = Some(kin);
+                }
+                Err(f) => flags |= f,
+            }
+        }
+        let [Some(kx), Some(ky), Some(kz)] = k else {
+            return self.hold(flags);
+        };
+        let p = &self.settings.params;
+        // Encoder convention: phi = -angle (MODEL.md 7.2).
+        let (a, b) = (-kx.phi, -ky.phi);
+        let joints = Joints {
+            a,
+            b,
+            a_dot: -kx.dphi,
+            b_dot: -ky.dphi,
+        };
+        let (add, bdd) = (-kx.ddphi, -ky.ddphi);
+        let w = [kx.gyro_filtered, ky.gyro_filtered, kz.gyro_filtered];
+        let wd = [kx.theta_dd, ky.theta_dd, kz.theta_dd];
+        let trig = JointTrig::of(a, b);
+        let zero = [T::zero(); 3];
+        let k0 = p.joint_accelerations_with(&trig, joints.a_dot, joints.b_dot, w, wd, zero);
+        let ia = p.b_x * trig.cb * trig.cb + p.b_z * trig.sb * trig.sb;
+        let vy = (p.b_ring + ia) * (k0[0] - add) / trig.cb;
+        let vx = p.b_y * (bdd - k0[1]);
+        let mut r2 = vx * vx + vy * vy;
+        let (mut vx, mut vy) = (vx, vy);
+        if r2 > T::one() || r2.is_nan() {
+            // Inconsistent with a hanging pendulum (as Eq 21's asin argument out of
+            // [-1, 1]): the horizontal part is clamped to the unit circle.
+            flags |= Flags::ASIN_CLAMPED;
+            let scale = if r2.is_finite() && r2 > T::zero() {
+                T::one() / r2.sqrt()
+            } else {
+                T::zero()
+            };
+            vx *= scale;
+            vy *= scale;
+            r2 = T::one();
+        }
+        let vz = (T::one() - r2).max(T::zero()).sqrt();
+        // f / g = Rx(a) Ry(b) v.
+        let JointTrig { sa, ca, sb, cb } = trig;
+        let (hx, hz) = (cb * vx + sb * vz, -sb * vx + cb * vz);
+        let mut f = [hx, ca * vy - sa * hz, sa * vy + ca * hz];
+        if p.c.iter().any(|c| *c != T::zero()) {
+            // Lever-arm terms of the pivot offset, in units of g: (wd x c + w x (w x c)).
+            let c = p.c;
+            let cross = |x: [T; 3], y: [T; 3]| {
+                [
+                    x[1] * y[2] - x[2] * y[1],
+                    x[2] * y[0] - x[0] * y[2],
+                    x[0] * y[1] - x[1] * y[0],
+                ]
+            };
+            let t = cross(wd, c);
+            let cc = cross(w, cross(w, c));
+            f = core::array::from_fn(|i| f[i] - t[i] - cc[i]);
+        }
+        let (roll, pitch) = roll_pitch_from_up(f);
+        if !(roll.is_finite() && pitch.is_finite()) {
+            return self.hold(flags | Flags::SAMPLE_MISSING);
+        }
+        self.last = Attitude { roll, pitch, flags };
+        self.last
+    }
+
+    fn reset(&mut self) {
+        for fe in &mut self.axes {
+            fe.reset();
+        }
+        self.last = Attitude {
+            roll: T::nan(),
+            pitch: T::nan(),
+            flags: Flags::empty(),
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::estimators::alg2::{Alg2, Alg2Settings};
+
+    /// On a pure roll (no pitch, no yaw), inv3d's roll is the planar Algorithm 2 on
+    /// (phi_x, gyro_x) with a = a_x, b = b_x, and its pitch is zero.
+    #[test]
+    fn a_pure_roll_is_the_planar_algorithm_2() {
+        let p = CardanParams::<f64>::default();
+        let settings = Inv3dSettings::from_params(p);
+        let mut inv = Inv3d::<f64>::new(settings);
+        let mut alg2 = Alg2::<f64>::new(Alg2Settings {
+            front_end: settings.front_end,
+            ..Alg2Settings::from_params(settings.front_end.params)
+        });
+        let tau = core::f64::consts::TAU;
+        let mut worst = 0.0f64;
+        for k in 0..5000 {
+            let t = k as f64 * 1e-3;
+            let roll = 0.2 * (tau * 0.7 * t).sin();
+            let rate = 0.2 * tau * 0.7 * (tau * 0.7 * t).cos();
+            let phi = 0.2 * (tau * 0.7 * (t - 0.03)).sin() + 0.01 * (tau * 3.0 * t).sin();
+            let dt = if k == 0 { 0.0 } else { 1e-3 };
+            let s = SpatialSample {
+                dt,
+                phi: [phi, 0.0],
+                gyro: [rate, 0.0, 0.0],
+                accel: [nan(); 3],
+                speed: nan(),
+            };
+            let a = inv.update(&s);
+            let e = alg2.update(&Sample {
+                dt,
+                phi,
+                gyro: rate,
+                ax: nan(),
+                ay: nan(),
+            });
+            let _ = roll;
+            worst = worst.max((a.roll - e.theta).abs()).max(a.pitch.abs());
+        }
+        assert!(worst < 1e-12, "{worst}");
+    }
+
+    fn nan() -> f64 {
+        f64::NAN
+    }
+}
