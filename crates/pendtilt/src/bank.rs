@@ -5,6 +5,12 @@
 //! build it; Kalman outputs name the estimators whose angles they take as measurements.
 //! Adding an estimator is adding an entry. An entry whose inputs the log lacks is skipped
 //! and reported ([`Bank::skipped`]), never a failure.
+//!
+//! A configurable estimator is, beside its core module: a field of [`RigConfig`] whose
+//! type is its core settings (its `[table]` is then read, written, checked for unknown
+//! keys and listed in errors), a comment for each key in `config.rs`'s `key_comment`,
+//! and its entry here, which builds it from [`BankSettings::rig`]. A table whose keys are
+//! not its settings' fields one for one adds a serde `with` module in `config/tables.rs`.
 use pendtilt_core::ekf::{Ekf, Ukf};
 use pendtilt_core::estimators::accel::Accel;
 use pendtilt_core::estimators::alg2::Alg2Settings;
