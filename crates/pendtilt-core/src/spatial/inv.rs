@@ -149,7 +149,7 @@ impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
         let vx = p.b_y * (bdd - k0[1]);
         let mut r2 = vx * vx + vy * vy;
         let (mut vx, mut vy) = (vx, vy);
-        if r2 > T::one() || r2.is_nan() {
+        if r2 > T::one() || !r2.is_finite() {
             // Inconsistent with a hanging pendulum (as Eq 21's asin argument out of
             // [-1, 1]): the horizontal part is clamped to the unit circle.
             flags |= Flags::ASIN_CLAMPED;
