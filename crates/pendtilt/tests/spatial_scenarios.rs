@@ -1,0 +1,195 @@
+//! Issue 14's targets on the named 3-D scenarios of MODEL.md 7.8 (shortened to 40 s to keep
+//! the suite quick; seeds fixed): ekf3d against the 3-D peers, each tuned by the same
+//! search, scored by the inclination error (MODEL.md 7.9) from the scenario's `score_from`.
+//! Run with `-- --nocapture` for the table (`cargo test --release -p pendtilt --test
+//! spatial_scenarios -- --nocapture`).
+//!
+//! Measured (seed 1, 40 s): scooter3d VQF 0.209 deg RMS (tau_acc 0.71 s), Madgwick 0.99,
+//! Mahony 1.30, pendulum3d 0.54; ekf3d 0.228 at its defaults, 0.089 tuned (2.3x better
+//! than VQF). The issue's target (1/5 of the best peer and 0.05 deg) is NOT reached: the
+//! scooter turns about a point 0.25 m below the IMU, and the pivot's linear acceleration
+//! `wd x r` needs the body's angular acceleration, which ekf3d does not carry (the gyro
+//! drives its process; the planar EKF carries theta'' for the same reason). ship3d: VQF
+//! 1.80, Madgwick 1.90, Mahony 1.90; ekf3d 2.24 at its defaults, 1.09 tuned (its lever-arm
+//! accelerations are issue 15's). still3d: ekf3d 0.0025 deg RMS (target 0.01).
+use pendtilt::core::spatial::attitude::inclination_error;
+use pendtilt::core::spatial::cardan::CardanParams;
+use pendtilt::core::spatial::ekf::{Ekf, Settings};
+use pendtilt::core::spatial::pendulum::{Pendulum, PendulumSettings};
+use pendtilt::core::spatial::{SpatialEstimator, SpatialSample};
+use pendtilt::core::StepGate;
+use pendtilt::peers::spatial::{madgwick3d, mahony3d, vqf};
+use pendtilt::peers::tune::golden_log;
+use pendtilt::sim3d::scenario::Scenario3d;
+use pendtilt::sim3d::LogRow3d;
+
+fn run(name: &str, secs: f64, seed: u64) -> (Scenario3d, Vec<LogRow3d>) {
+    let mut s = Scenario3d::named(name, seed).unwrap();
+    s.duration = secs;
+    let rows = s.run(seed).unwrap().map(|(_, r)| r).collect();
+    (s, rows)
+}
+
+/// RMS and max inclination error [deg] from `from` seconds on.
+fn score(rows: &[LogRow3d], e: &mut dyn SpatialEstimator<f64>, from: f64) -> (f64, f64) {
+    let mut gate = StepGate::new();
+    let (mut sq, mut n, mut max) = (0.0, 0.0, 0.0f64);
+    for r in rows {
+        let a = e.update(&SpatialSample {
+            dt: gate.step(r.t),
+            phi: r.phi,
+            gyro: r.gyro,
+            accel: r.accel,
+            speed: r.speed,
+        });
+        if r.t >= from {
+            let err = inclination_error(a.roll, a.pitch, r.roll, r.pitch).to_degrees();
+            let err = if err.is_finite() { err } else { f64::INFINITY };
+            sq += err * err;
+            n += 1.0;
+            max = max.max(err);
+        }
+    }
+    ((sq / n).sqrt(), max)
+}
+
+/// ekf3d's settings from the scenario: its pendulum and its sensors' data-sheet figures.
+fn settings(s: &Scenario3d) -> Settings<f64> {
+    let n = s.rig.pendulum3d.normalised();
+    let mut st = Settings::<f64> {
+        params: CardanParams {
+            a_x: n.a_x,
+            a_y: n.a_y,
+            b_x: n.b_x,
+            b_y: n.b_y,
+            b_z: n.b_z,
+            b_ring: n.b_ring,
+            c: n.c,
+            gravity: n.gravity,
+        },
+        ..Settings::default()
+    };
+    st.sensors.encoder_bits = s.sensors.encoder_bits;
+    st.sensors.encoder_noise = s.sensors.encoder_noise;
+    st.sensors.gyro_density = s.sensors.gyro_noise_density;
+    st.sensors.gyro_bias_walk = s.sensors.gyro_bias_walk;
+    st.sensors.accel_density = s.sensors.accel_noise_density;
+    st
+}
+
+/// ekf3d tuned the same way: 20 golden steps of its one environment figure, the density of
+/// the specific force that forces the pendulum (its process noise).
+fn tuned_ekf(s: &Scenario3d, rows: &[LogRow3d], from: f64) -> (f64, f64) {
+    golden_log(
+        |d| {
+            let mut st = settings(s);
+            st.environment.vibration_density = d;
+            score(rows, &mut Ekf::new(st), from).0
+        },
+        1e-4,
+        10.0,
+        20,
+    )
+}
+
+/// The peers, each tuned by 20 golden steps of its main gain against the truth.
+fn tuned_peers(rows: &[LogRow3d], from: f64) -> Vec<(&'static str, f64, f64)> {
+    let rms = |e: &mut dyn SpatialEstimator<f64>| score(rows, e, from).0;
+    let v = golden_log(|t| rms(&mut vqf(t)), 0.05, 100.0, 20);
+    let m = golden_log(|b| rms(&mut madgwick3d(b)), 1e-4, 10.0, 20);
+    let h = golden_log(|k| rms(&mut mahony3d(k, 0.0)), 1e-3, 100.0, 20);
+    vec![
+        ("vqf", v.0, v.1),
+        ("madgwick3d", m.0, m.1),
+        ("mahony3d", h.0, h.1),
+    ]
+}
+
+#[test]
+fn scooter3d_ekf3d_against_the_fairly_tuned_peers() {
+    let (s, rows) = run("scooter3d", 40.0, 1);
+    let from = s.score_from;
+    let peers = tuned_peers(&rows, from);
+    let ekf = score(&rows, &mut Ekf::new(settings(&s)), from);
+    let pend = score(&rows, &mut Pendulum::new(PendulumSettings {}), from);
+    for (n, g, e) in &peers {
+        println!("scooter3d {n:<11} gain {g:.4}: {e:.4} deg RMS");
+    }
+    println!("scooter3d pendulum3d: {:.4} / {:.4} deg", pend.0, pend.1);
+    println!(
+        "scooter3d ekf3d (defaults): {:.4} / {:.4} deg",
+        ekf.0, ekf.1
+    );
+    let t = tuned_ekf(&s, &rows, from);
+    println!(
+        "scooter3d ekf3d tuned: density {:.4}: {:.4} deg RMS",
+        t.0, t.1
+    );
+    let best = peers.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);
+    assert!(
+        t.1 < best / 2.0 && ekf.0 < 1.2 * best,
+        "{t:?} {ekf:?} vs {best}"
+    );
+}
+
+#[test]
+fn still3d_steps() {
+    let (s, rows) = run("still3d", 6.0, 1);
+    let from = s.score_from;
+    let ekf = score(&rows, &mut Ekf::new(settings(&s)), from);
+    let pend = score(&rows, &mut Pendulum::new(PendulumSettings {}), from);
+    println!(
+        "still3d pendulum3d {:.5} / {:.5}; ekf3d {:.5} / {:.5} deg",
+        pend.0, pend.1, ekf.0, ekf.1
+    );
+    assert!(ekf.0 < 0.005 && ekf.1 < 0.01, "{ekf:?}");
+    // With ideal sensors pendulum3d is exact on a body at rest (still3d's sigmoids are
+    // never quite still: 8e-6 rad of motion at t = 0), at any roll, pitch and yaw.
+    use pendtilt::sim3d::{Pendulum3d, SensorBank3d, Sensors3d, Simulator3d, SineMotion};
+    let mut worst = 0.0f64;
+    for (r0, p0, y0) in [(0.3, -0.2, 1.0), (-0.7, 0.4, -2.5), (0.0, 0.0, 0.0)] {
+        let sim = Simulator3d::new(
+            Pendulum3d::default(),
+            SineMotion::at_rest(r0, p0, y0),
+            1000.0,
+            2,
+            1.0,
+        )
+        .unwrap();
+        let mut bank = SensorBank3d::new(Sensors3d::default(), 1000.0, 1);
+        let mut p = Pendulum::<f64>::new(PendulumSettings {});
+        let mut gate = StepGate::new();
+        for x in sim {
+            let r = bank.read(&x);
+            let a = pendtilt::core::Estimator::update(
+                &mut p,
+                &SpatialSample {
+                    dt: gate.step(r.t),
+                    phi: r.phi,
+                    gyro: r.gyro,
+                    accel: r.accel,
+                    speed: r.speed,
+                },
+            );
+            worst = worst.max(inclination_error(a.roll, a.pitch, r.roll, r.pitch));
+        }
+    }
+    println!("ideal sensors, body at rest: pendulum3d within {worst:.2e} rad");
+    assert!(worst < 1e-6, "{worst}");
+}
+
+#[test]
+fn ship3d_ekf3d_against_the_fairly_tuned_peers() {
+    let (s, rows) = run("ship3d", 40.0, 1);
+    let from = s.score_from;
+    let peers = tuned_peers(&rows, from);
+    let ekf = score(&rows, &mut Ekf::new(settings(&s)), from);
+    for (n, g, e) in &peers {
+        println!("ship3d {n:<11} gain {g:.4}: {e:.4} deg RMS");
+    }
+    println!("ship3d ekf3d (defaults): {:.4} / {:.4} deg", ekf.0, ekf.1);
+    let t = tuned_ekf(&s, &rows, from);
+    println!("ship3d ekf3d tuned: density {:.4}: {:.4} deg RMS", t.0, t.1);
+    let best = peers.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);
+    assert!(t.1 <= best, "{t:?} vs {best}");
+}
