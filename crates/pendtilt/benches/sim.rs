@@ -1,4 +1,5 @@
-//! Simulator throughput: the scooter scenario (everything on) with and without writing CSV.
+//! Simulator throughput: the scooter scenario (everything on) with and without writing CSV,
+//! and the 3-D scenarios of MODEL.md 7.8 (truth and sensor rows).
 //! `cargo bench -p pendtilt --bench sim`
 
 use std::hint::black_box;
@@ -36,6 +37,17 @@ fn bench(c: &mut Criterion) {
             black_box(sim.fold(0.0, |acc, r| acc + r.phi))
         })
     });
+    g.finish();
+    let mut g = c.benchmark_group("sim3d");
+    g.sample_size(10);
+    for name in ["scooter3d", "ride3d"] {
+        let mut s = pendtilt::sim3d::Scenario3d::named(name, 1).unwrap();
+        s.duration = 2.0;
+        g.throughput(Throughput::Elements(s.rows()));
+        g.bench_function(format!("{name}_2s_rows"), |b| {
+            b.iter(|| black_box(s.run(1).unwrap().fold(0.0, |acc, (_, r)| acc + r.phi[0])))
+        });
+    }
     g.finish();
 }
 

@@ -167,6 +167,14 @@ pub trait BodyMotion {
     /// The body's state at `t` \[s\].
     fn kinematics(&self, t: f64, g: f64) -> BodyKinematics;
 
+    /// The kinematics at t0 + j dt for each j < out.len() (the RK4 nodes of one sample).
+    /// Default: [`BodyMotion::kinematics`] at each; a motion may share work between them.
+    fn fill(&self, t0: f64, dt: f64, g: f64, out: &mut [BodyKinematics]) {
+        for (j, o) in out.iter_mut().enumerate() {
+            *o = self.kinematics(t0 + j as f64 * dt, g);
+        }
+    }
+
     /// The true forward speed at `t` that the `speed` column reads (MODEL.md 7.5, 7.7)
     /// \[m/s\]. Default 0: a body that does not travel.
     fn speed(&self, _t: f64, _g: f64) -> f64 {

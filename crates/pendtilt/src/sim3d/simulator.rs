@@ -140,9 +140,7 @@ impl<M: BodyMotion> Simulator3d<M> {
         let h = 1.0 / (self.rate * self.substeps as f64);
         let half = 0.5 * h;
         let g = self.pend.gravity;
-        for (j, n) in self.nodes.iter_mut().enumerate() {
-            *n = self.motion.kinematics(t0 + j as f64 * half, g);
-        }
+        self.motion.fill(t0, half, g, &mut self.nodes);
         // The row at t0, from the state before this interval is integrated.
         let body = self.nodes[0];
         let joint = from_u(&self.y, &body.euler);

@@ -13,6 +13,7 @@
 //!     f_P1 = R^T (a_O + R_s (wd_s x r + w_s x (w_s x r)) - g_w) + a_vib,   r = -speed_at.
 
 use serde::{Deserialize, Serialize};
+use std::cell::RefCell;
 use std::f64::consts::TAU;
 
 use super::dynamics::cross;
@@ -297,12 +298,18 @@ fn check_speed_ref(key: &str, r: Option<f64>) -> Result<(), SimError> {
 }
 
 /// The built motion (SI units, radians): a [`BodyMotion`] with the vehicle's forward speed.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct VehicleMotion {
     spec: MotionSpec,
     /// O - P1, body axes \[m\].
     speed_at: [f64; 3],
+    /// (dt, per broadband set the (sin, cos) of each tone's angle over dt), for
+    /// [`BodyMotion::fill`].
+    tone_steps: RefCell<ToneSteps>,
 }
+
+/// A node step and each broadband tone's (sin, cos) of its angle over that step.
+type ToneSteps = (f64, Vec<Vec<(f64, f64)>>);
 
 /// One angle's jets: the whole angle, the vehicle's part (no engine-locked terms) and the
 /// path's part.
@@ -389,7 +396,11 @@ impl VehicleMotion {
                 term.shape = term.shape.scaled(k);
             }
         }
-        Ok(Self { spec: s, speed_at })
+        Ok(Self {
+            spec: s,
+            speed_at,
+            tone_steps: RefCell::new((f64::NAN, Vec::new())),
+        })
     }
 
     /// The built spec (angles in radians).
@@ -469,28 +480,72 @@ impl VehicleMotion {
             .fold(ZERO, |acc, h| add(acc, h.eval(t, ctx)))
     }
 
-    /// The vibration acceleration in body axes at t \[m/s^2\].
-    fn vibration(&self, t: f64, ctx: &Context) -> [f64; 3] {
+    /// The vibration acceleration in body axes at t \[m/s^2\]; `tones[i]` is the sum of
+    /// broadband set i's sines at t.
+    fn vibration(&self, t: f64, ctx: &Context, tones: &[f64]) -> [f64; 3] {
         let mut a = [0.0; 3];
         let factor = |r: Option<f64>| r.map_or(1.0, |r| ctx.speed[0] / r);
         for v in &self.spec.vibration {
             a[v.axis.index()] += factor(v.speed_ref) * v.shape.eval(t, ctx)[0];
         }
-        for b in &self.spec.broadband {
-            let sum: f64 = b
-                .freq
-                .iter()
-                .zip(&b.phase)
-                .map(|(f, p)| (TAU * f * t + p).sin())
-                .sum();
+        for (b, sum) in self.spec.broadband.iter().zip(tones) {
             a[b.axis.index()] += factor(b.speed_ref) * b.amp * sum;
         }
         a
     }
-}
 
-impl BodyMotion for VehicleMotion {
-    fn kinematics(&self, t: f64, g: f64) -> BodyKinematics {
+    /// Each broadband set's sum of sines at t.
+    fn tone_sums(&self, t: f64) -> Vec<f64> {
+        self.spec
+            .broadband
+            .iter()
+            .map(|b| {
+                let mut sum = 0.0;
+                for (f, p) in b.freq.iter().zip(&b.phase) {
+                    sum += (TAU * f * t + p).sin();
+                }
+                sum
+            })
+            .collect()
+    }
+
+    /// Each broadband set's sums of sines at t0 + j dt, j < n (`out[i * n + j]`): one
+    /// sin_cos per tone at t0, then rotations by the tone's step angle (cached for `dt`), so
+    /// the value at t0 is [`Self::tone_sums`]'s to the bit and the others agree to rounding.
+    fn tone_sums_grid(&self, t0: f64, dt: f64, n: usize) -> Vec<f64> {
+        let mut cache = self.tone_steps.borrow_mut();
+        if cache.0 != dt || cache.1.len() != self.spec.broadband.len() {
+            cache.0 = dt;
+            cache.1 = self
+                .spec
+                .broadband
+                .iter()
+                .map(|b| b.freq.iter().map(|f| (TAU * f * dt).sin_cos()).collect())
+                .collect();
+        }
+        let mut out = vec![0.0; self.spec.broadband.len() * n];
+        for ((b, steps), sums) in self
+            .spec
+            .broadband
+            .iter()
+            .zip(&cache.1)
+            .zip(out.chunks_mut(n.max(1)))
+        {
+            for ((f, p), &(sd, cd)) in b.freq.iter().zip(&b.phase).zip(steps) {
+                let (mut s, mut c) = (TAU * f * t0 + p).sin_cos();
+                for (j, sum) in sums.iter_mut().enumerate() {
+                    if j > 0 {
+                        (s, c) = (s * cd + c * sd, c * cd - s * sd);
+                    }
+                    *sum += s;
+                }
+            }
+        }
+        out
+    }
+
+    /// The kinematics at t with the broadband sums `tones` (one per set).
+    fn kinematics_with(&self, t: f64, g: f64, tones: &[f64]) -> BodyKinematics {
         let s = self.state(t, g);
         let e = &s.euler;
         let r = attitude(e[0][0], e[1][0], e[2][0]);
@@ -514,8 +569,28 @@ impl BodyMotion for VehicleMotion {
             engine: s.engine,
             lateral_g: ZERO,
         };
-        let vib = self.vibration(t, &ctx);
+        let vib = self.vibration(t, &ctx, tones);
         BodyKinematics::from_euler(s.euler, [f[0] + vib[0], f[1] + vib[1], f[2] + vib[2]])
+    }
+}
+
+impl BodyMotion for VehicleMotion {
+    fn kinematics(&self, t: f64, g: f64) -> BodyKinematics {
+        self.kinematics_with(t, g, &self.tone_sums(t))
+    }
+
+    /// The broadband tones by rotation from t0 (most of a vibrating run's cost is in them).
+    fn fill(&self, t0: f64, dt: f64, g: f64, out: &mut [BodyKinematics]) {
+        let n = out.len();
+        let sets = self.spec.broadband.len();
+        let grid = self.tone_sums_grid(t0, dt, n);
+        let mut tones = vec![0.0; sets];
+        for (j, o) in out.iter_mut().enumerate() {
+            for (i, x) in tones.iter_mut().enumerate() {
+                *x = grid[i * n + j];
+            }
+            *o = self.kinematics_with(t0 + j as f64 * dt, g, &tones);
+        }
     }
 
     /// x_b . V_O with x_b the vehicle's body x (the engine-locked angles left out, like
