@@ -191,64 +191,36 @@ impl Plan {
         let path = self.input.as_path();
         let mut rdr = open_reader(path)?;
         let header = ByteRecord::from(read_header(path, &mut rdr)?);
-        let mut wtr = csv::WriterBuilder::new().from_writer(out);
-        wtr.write_byte_record(&header)
-            .with_context(|| "cannot write the output header".to_string())?;
-
+        let mut wtr = RowWriter::new(out, &header, &self.names, &self.filtered)?;
         let n_cols = self.filtered.len();
         let mut histories = vec![vec![0.0f64; self.taps.len()]; n_cols];
         let mut filters = Vec::with_capacity(n_cols);
         for h in histories.iter_mut() {
             filters.push(FirSlice::new(&self.taps, h).context("FIR filter")?);
         }
-        let mut is_filtered = vec![None; self.names.len()];
-        for (j, &i) in self.filtered.iter().enumerate() {
-            is_filtered[i] = Some(j);
-        }
-
+        let step = |filters: &mut [FirSlice<'_, f64>], x: &[f64], y: &mut [f64]| {
+            for ((f, x), y) in filters.iter_mut().zip(x).zip(y) {
+                *y = f.update(*x);
+            }
+        };
         let mut x = vec![f64::NAN; n_cols];
         let mut y = vec![f64::NAN; n_cols];
         let mut pending: VecDeque<ByteRecord> = VecDeque::with_capacity(self.shift + 1);
         let mut rec = ByteRecord::new();
-        let mut out_rec = ByteRecord::new();
-        let mut cell = String::new();
-        let mut written = 0u64;
         let mut missing_in = vec![0u64; n_cols];
-        let mut nan_out = vec![0u64; n_cols];
-
-        let mut write_row = |wtr: &mut csv::Writer<W>, row: &ByteRecord, y: &[f64]| -> Result<()> {
-            out_rec.clear();
-            for (i, field) in row.iter().enumerate() {
-                match is_filtered.get(i).copied().flatten() {
-                    Some(j) => {
-                        nan_out[j] += u64::from(y[j].is_nan());
-                        format_f64(&mut cell, y[j]);
-                        out_rec.push_field(cell.as_bytes());
-                    }
-                    None => out_rec.push_field(field),
-                }
-            }
-            wtr.write_byte_record(&out_rec)
-                .context("cannot write an output row")?;
-            written += 1;
-            Ok(())
-        };
-
         while let Some(line) = read_record(path, &mut rdr, &self.names, &mut rec)? {
             for (j, &i) in self.filtered.iter().enumerate() {
                 x[j] = parse_cell(path, line, &self.names, i, rec.get(i))?;
                 missing_in[j] += u64::from(x[j].is_nan());
             }
-            for (j, f) in filters.iter_mut().enumerate() {
-                y[j] = f.update(x[j]);
-            }
+            step(&mut filters, &x, &mut y);
             if self.shift == 0 {
-                write_row(&mut wtr, &rec, &y)?;
+                wtr.write(&rec, &y)?;
             } else {
                 pending.push_back(rec.clone());
                 if pending.len() > self.shift {
                     if let Some(row) = pending.pop_front() {
-                        write_row(&mut wtr, &row, &y)?;
+                        wtr.write(&row, &y)?;
                     }
                 }
             }
@@ -257,17 +229,13 @@ impl Plan {
         // file; hold the last input (as the start holds the first). With fewer rows than
         // `shift`, first run the filter on until the first pending row's output is reached.
         for _ in pending.len()..self.shift {
-            for (j, f) in filters.iter_mut().enumerate() {
-                y[j] = f.update(x[j]);
-            }
+            step(&mut filters, &x, &mut y);
         }
         while let Some(row) = pending.pop_front() {
-            for (j, f) in filters.iter_mut().enumerate() {
-                y[j] = f.update(x[j]);
-            }
-            write_row(&mut wtr, &row, &y)?;
+            step(&mut filters, &x, &mut y);
+            wtr.write(&row, &y)?;
         }
-        wtr.flush().context("cannot write the output")?;
+        let (written, nan_out) = wtr.finish()?;
         let columns = self
             .filtered
             .iter()
@@ -282,6 +250,65 @@ impl Plan {
             rows: written,
             columns,
         })
+    }
+}
+
+/// The output of [`Plan::apply`]: each input row with its filtered cells replaced, the
+/// `NaN` outputs counted per filtered column.
+struct RowWriter<W: Write> {
+    wtr: csv::Writer<W>,
+    /// For each input field, its index among the filtered columns.
+    is_filtered: Vec<Option<usize>>,
+    out_rec: ByteRecord,
+    cell: String,
+    written: u64,
+    nan_out: Vec<u64>,
+}
+
+impl<W: Write> RowWriter<W> {
+    /// Writes `header` and gets ready for the rows (`filtered`: the filtered fields).
+    fn new(out: W, header: &ByteRecord, names: &[String], filtered: &[usize]) -> Result<Self> {
+        let mut wtr = csv::WriterBuilder::new().from_writer(out);
+        wtr.write_byte_record(header)
+            .with_context(|| "cannot write the output header".to_string())?;
+        let mut is_filtered = vec![None; names.len()];
+        for (j, &i) in filtered.iter().enumerate() {
+            is_filtered[i] = Some(j);
+        }
+        Ok(Self {
+            wtr,
+            is_filtered,
+            out_rec: ByteRecord::new(),
+            cell: String::new(),
+            written: 0,
+            nan_out: vec![0; filtered.len()],
+        })
+    }
+
+    /// Writes `row` with its filtered cells replaced by `y` (one per filtered column).
+    fn write(&mut self, row: &ByteRecord, y: &[f64]) -> Result<()> {
+        self.out_rec.clear();
+        for (i, field) in row.iter().enumerate() {
+            match self.is_filtered.get(i).copied().flatten() {
+                Some(j) => {
+                    self.nan_out[j] += u64::from(y[j].is_nan());
+                    format_f64(&mut self.cell, y[j]);
+                    self.out_rec.push_field(self.cell.as_bytes());
+                }
+                None => self.out_rec.push_field(field),
+            }
+        }
+        self.wtr
+            .write_byte_record(&self.out_rec)
+            .context("cannot write an output row")?;
+        self.written += 1;
+        Ok(())
+    }
+
+    /// Flushes the output: the rows written and the `NaN` outputs per filtered column.
+    fn finish(mut self) -> Result<(u64, Vec<u64>)> {
+        self.wtr.flush().context("cannot write the output")?;
+        Ok((self.written, self.nan_out))
     }
 }
 

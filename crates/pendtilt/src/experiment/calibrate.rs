@@ -135,11 +135,37 @@ pub fn calibrate(
         &format!("fitting a, b (Newton, output error) on {}", ride.label),
         2,
     );
+    let (params, params_fitted, note) = calibrate_ab(ride, &true_params);
+    notes.push(note);
+    progress.advance(1);
+    progress.message(notes.last().map(String::as_str).unwrap_or(""));
+
+    let (gains, gains_fitted, note) = calibrate_gains(ride, params);
+    notes.push(note);
+    progress.advance(1);
+    progress.message(notes.last().map(String::as_str).unwrap_or(""));
+    Calibration {
+        true_params,
+        params,
+        gains,
+        params_fitted,
+        gains_fitted,
+        notes,
+    }
+}
+
+/// a, b fitted on the calibration ride (Newton, output error) from 30 % off the truth:
+/// the parameters, whether they were fitted (else the true ones), and the note saying how.
+fn calibrate_ab(
+    ride: &Ride,
+    true_params: &PendulumParams<f64>,
+) -> (PendulumParams<f64>, bool, String) {
+    let true_params = *true_params;
     let start = ab_start(&true_params);
-    let (params, params_fitted) = match fit_ab(ride, &true_params) {
+    match fit_ab(ride, &true_params) {
         Ok(r) if r.params.iter().all(|v| v.is_finite() && *v > 0.0) => {
             let p = r.pendulum_params();
-            notes.push(format!(
+            let note = format!(
                 "a, b: the paper's Newton's method (Eqs 24-28) on {}{} for Algorithm 2 \
                      over {} ({:.0} s), started 30 % off (a = {:.5}, b = {:.5}): {}.",
                 r.cost_kind.describe(),
@@ -153,29 +179,32 @@ pub fn calibrate(
                 start.a,
                 start.b,
                 describe_ab(&r, &true_params)
-            ));
-            (p, true)
+            );
+            (p, true, note)
         }
         Ok(r) => {
-            notes.push(format!(
+            let note = format!(
                 "a, b: the Newton fit returned unusable values ({:?}); the TRUE values \
                      a = {:.5}, b = {:.5} are used instead.",
                 r.params, true_params.a, true_params.b
-            ));
-            (true_params, false)
+            );
+            (true_params, false, note)
         }
         Err(e) => {
-            notes.push(format!(
+            let note = format!(
                 "a, b: the Newton fit failed ({e}); the TRUE values a = {:.5}, b = {:.5} \
                      are used instead.",
                 true_params.a, true_params.b
-            ));
-            (true_params, false)
+            );
+            (true_params, false, note)
         }
-    };
-    progress.advance(1);
-    progress.message(notes.last().map(String::as_str).unwrap_or(""));
+    }
+}
 
+/// K, L, M, N fitted on the calibration ride (Newton on Eq 23 as printed) from the
+/// Eq (21)-equivalent gains of `params`: the gains, whether they were fitted (else the
+/// starting ones), and the note saying how.
+fn calibrate_gains(ride: &Ride, params: PendulumParams<f64>) -> (Alg3Gains<f64>, bool, String) {
     let settings = BankSettings::from_params(params);
     let start_gains = Alg3Gains::from_params(&params);
     let mut g = FitSettings {
@@ -187,42 +216,32 @@ pub fn calibrate(
         ..FitSettings::default()
     };
     g.kinematics.matched_target = false;
-    let (gains, gains_fitted) = match fit::fit_log(&ride.samples, Some(&ride.theta), &g, |_| {}) {
+    match fit::fit_log(&ride.samples, Some(&ride.theta), &g, |_| {}) {
         Ok(r) if r.params.iter().all(|v| v.is_finite()) => {
-            notes.push(format!(
+            let note = format!(
                 "K, L, M, N (Algorithm 3, Eq 30): Newton on Eq (23) as printed (the estimate as \
                  it runs against the raw truth) over {}, started from the Eq (21)-equivalent \
                  gains K = a, L = b, M = -b, N = 0: {}. The gains are fixed for the test ride \
                  (a supervisor with the whole calibration ride as its window).",
                 ride.label,
                 describe(&r)
-            ));
-            (r.gains(), true)
+            );
+            (r.gains(), true, note)
         }
         Ok(r) => {
-            notes.push(format!(
+            let note = format!(
                 "K, L, M, N: the Newton fit returned unusable values ({:?}); Algorithm 3 runs \
                  with the Eq (21)-equivalent gains (it then equals Algorithm 2).",
                 r.params
-            ));
-            (start_gains, false)
+            );
+            (start_gains, false, note)
         }
         Err(e) => {
-            notes.push(format!(
+            let note = format!(
                 "K, L, M, N: the Newton fit failed ({e}); Algorithm 3 runs with the \
                  Eq (21)-equivalent gains (it then equals Algorithm 2)."
-            ));
-            (start_gains, false)
+            );
+            (start_gains, false, note)
         }
-    };
-    progress.advance(1);
-    progress.message(notes.last().map(String::as_str).unwrap_or(""));
-    Calibration {
-        true_params,
-        params,
-        gains,
-        params_fitted,
-        gains_fitted,
-        notes,
     }
 }

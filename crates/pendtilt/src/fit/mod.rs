@@ -496,6 +496,18 @@ fn inverse_identifiability(
 }
 
 impl Iteration {
+    /// Iteration 0: the start `params`, their `cost`, and the `evaluations` that took.
+    fn start(params: Vec<f64>, cost: f64, evaluations: usize) -> Self {
+        Self {
+            n: 0,
+            params,
+            cost,
+            gradient_norm: f64::NAN,
+            step: f64::NAN,
+            evaluations,
+        }
+    }
+
     /// The record of one Levenberg-Marquardt iteration (its step is the damping).
     fn from_lm<const N: usize>(it: &lm::LmIteration<N>, params: Vec<f64>) -> Self {
         Self {
@@ -531,14 +543,7 @@ pub fn fit(
         return Err(FitError::NonFiniteCost);
     }
     let take = |p: &Vector4<f64>| p.iter().take(n_active).copied().collect::<Vec<f64>>();
-    let it0 = Iteration {
-        n: 0,
-        params: take(&p0),
-        cost: start_cost,
-        gradient_norm: f64::NAN,
-        step: f64::NAN,
-        evaluations: 2,
-    };
+    let it0 = Iteration::start(take(&p0), start_cost, 2);
     on_iteration(&it0);
     let mut iterations = vec![it0];
     let mut evaluations = 2usize;
@@ -629,14 +634,7 @@ pub fn fit_output_log(
     if !start_cost.is_finite() {
         return Err(FitError::NonFiniteCost);
     }
-    let it0 = Iteration {
-        n: 0,
-        params: vec![p0[0], p0[1]],
-        cost: start_cost,
-        gradient_norm: f64::NAN,
-        step: f64::NAN,
-        evaluations: 5,
-    };
+    let it0 = Iteration::start(vec![p0[0], p0[1]], start_cost, 5);
     on_iteration(&it0);
     let mut iterations = vec![it0];
     let mut evaluations = 5usize;

@@ -169,7 +169,6 @@ impl ClaimSpec {
     /// A comparison whose estimator is absent or whose metric was not measured does not
     /// hold, and "why" says which; a claim with no comparison does not hold either.
     pub fn evaluate(&self, metrics: &[Metrics]) -> Claim {
-        let find = |name: &str| metrics.iter().find(|m| m.name == name);
         let mut measured = Vec::new();
         let mut reasons = Vec::new();
         let mut holds = !self.comparisons.is_empty();
@@ -177,65 +176,16 @@ impl ClaimSpec {
             reasons.push("no comparison given".to_string());
         }
         for c in &self.comparisons {
-            let label = c.metric.label();
-            let unit = c.metric.unit();
-            let (s, r) = (find(&c.subject), find(&c.reference));
-            let (Some(s), Some(r)) = (s, r) else {
-                holds = false;
-                let missing = if s.is_none() {
-                    &c.subject
-                } else {
-                    &c.reference
-                };
-                reasons.push(format!("{missing} was not in the run"));
-                continue;
-            };
-            let (Some(vs), Some(vr)) = (c.metric.value(s), c.metric.value(r)) else {
-                holds = false;
-                let who = if c.metric.value(s).is_none() { s } else { r };
-                let detail = who
-                    .notes
-                    .iter()
-                    .find(|n| n.contains(label.split(' ').next().unwrap_or(label)))
-                    .map(|n| format!(" ({n})"))
-                    .unwrap_or_default();
-                reasons.push(format!(
-                    "{label} of {} could not be measured{detail}",
-                    who.name
-                ));
-                continue;
-            };
-            let rel = if vr != 0.0 {
-                format!(" ({:+.0}%)", (vs - vr) / vr.abs() * 100.0)
-            } else {
-                String::new()
-            };
-            measured.push(format!(
-                "{label}: {} {} {unit} vs {} {} {unit}{rel}",
-                c.subject,
-                fmt_sig(vs),
-                c.reference,
-                fmt_sig(vr)
-            ));
-            let ok = match c.expect {
-                Expect::Lower => vs < vr,
-                Expect::Higher => vs > vr,
-            };
-            let word = match c.expect {
-                Expect::Lower => "lower",
-                Expect::Higher => "higher",
-            };
-            if ok {
-                reasons.push(format!(
-                    "{}'s {label} is {word} than {}'s",
-                    c.subject, c.reference
-                ));
-            } else {
-                holds = false;
-                reasons.push(format!(
-                    "{}'s {label} is not {word} than {}'s",
-                    c.subject, c.reference
-                ));
+            match c.check(metrics) {
+                Ok((m, ok, reason)) => {
+                    measured.push(m);
+                    holds &= ok;
+                    reasons.push(reason);
+                }
+                Err(reason) => {
+                    holds = false;
+                    reasons.push(reason);
+                }
             }
         }
         let extra = if holds {
@@ -261,6 +211,61 @@ impl ClaimSpec {
             applicable: self.not_applicable.is_none(),
             why,
         }
+    }
+}
+
+impl Comparison {
+    /// This comparison on a run's metrics: what was measured, whether it holds, and why;
+    /// `Err` with the reason when an estimator or its metric is missing.
+    fn check(&self, metrics: &[Metrics]) -> Result<(String, bool, String), String> {
+        let c = self;
+        let find = |name: &str| metrics.iter().find(|m| m.name == name);
+        let label = c.metric.label();
+        let unit = c.metric.unit();
+        let (s, r) = (find(&c.subject), find(&c.reference));
+        let (Some(s), Some(r)) = (s, r) else {
+            let missing = if s.is_none() {
+                &c.subject
+            } else {
+                &c.reference
+            };
+            return Err(format!("{missing} was not in the run"));
+        };
+        let (Some(vs), Some(vr)) = (c.metric.value(s), c.metric.value(r)) else {
+            let who = if c.metric.value(s).is_none() { s } else { r };
+            let detail = who
+                .notes
+                .iter()
+                .find(|n| n.contains(label.split(' ').next().unwrap_or(label)))
+                .map(|n| format!(" ({n})"))
+                .unwrap_or_default();
+            return Err(format!(
+                "{label} of {} could not be measured{detail}",
+                who.name
+            ));
+        };
+        let rel = if vr != 0.0 {
+            format!(" ({:+.0}%)", (vs - vr) / vr.abs() * 100.0)
+        } else {
+            String::new()
+        };
+        let measured = format!(
+            "{label}: {} {} {unit} vs {} {} {unit}{rel}",
+            c.subject,
+            fmt_sig(vs),
+            c.reference,
+            fmt_sig(vr)
+        );
+        let (ok, word) = match c.expect {
+            Expect::Lower => (vs < vr, "lower"),
+            Expect::Higher => (vs > vr, "higher"),
+        };
+        let not = if ok { "" } else { "not " };
+        let reason = format!(
+            "{}'s {label} is {not}{word} than {}'s",
+            c.subject, c.reference
+        );
+        Ok((measured, ok, reason))
     }
 }
 

@@ -599,6 +599,9 @@ fn build_axis(
 /// Draws one set of axes on `area`. Lines are cut at the frame ([`clip_runs`]) and drawn as
 /// `width` one-pixel polylines stacked a pixel apart: a thick polyline's mitred corners
 /// on a spiky signal would reach far outside the plot (through the title and the axis).
+// Long because it is one linear drawing routine on one chart: mesh, curves, excursion
+// marks, the note, the legend, in drawing order; split, each piece would need the chart's
+// full plotters type and the same ranges and pixel sizes handed back and forth.
 fn draw_axis<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     axis: &Axis,
