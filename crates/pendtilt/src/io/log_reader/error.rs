@@ -1,0 +1,112 @@
+//! Why a log could not be read, and where: the file, the line and the cell.
+use crate::io::Column;
+
+/// A cell position for error messages: its 1-based field number and header name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CellRef {
+    /// 1-based field number in the row.
+    pub position: usize,
+    /// The header name of that field.
+    pub header: String,
+}
+
+/// Why a log could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum LogErrorKind {
+    /// The file could not be opened or read.
+    #[error("cannot read: {0}")]
+    Io(#[from] std::io::Error),
+    /// No header: the file is empty (or holds only blank and comment lines).
+    #[error("the file is empty: no header row")]
+    Empty,
+    /// A header and no data row.
+    #[error("header only, no data rows")]
+    NoData,
+    /// A line that is not UTF-8 text.
+    #[error("not UTF-8 text")]
+    InvalidUtf8,
+    /// The file starts with a UTF-16 byte-order mark.
+    #[error("the file is UTF-16 text; save it as UTF-8 (or ASCII)")]
+    Utf16,
+    /// A quoted field not closed on its line.
+    #[error("a quoted field is not closed on its line")]
+    UnterminatedQuote,
+    /// No time column.
+    #[error("no `t` column (the header has: {header}){hint}")]
+    MissingTime {
+        /// The header names, comma-separated.
+        header: String,
+        /// A suggestion: `--map t=...` or another delimiter.
+        hint: String,
+    },
+    /// A used column appears twice in the header.
+    #[error("duplicate column: `{name}` is also field {first}; which one is meant is unclear")]
+    DuplicateColumn {
+        /// The header name.
+        name: String,
+        /// 1-based field number of its first appearance.
+        first: usize,
+    },
+    /// `--map` names a header column that is not there.
+    #[error("--map {column}={source_name}: no column `{source_name}` in the header (the header has: {header})")]
+    MappedSourceMissing {
+        /// The contract column.
+        column: Column,
+        /// The header name asked for.
+        source_name: String,
+        /// The header names, comma-separated.
+        header: String,
+    },
+    /// A cell that is not a number (nor empty, `nan` or `inf`).
+    #[error("not a number: `{text}`")]
+    NotANumber {
+        /// The cell text.
+        text: String,
+    },
+    /// The time steps are not those of a sensor log in seconds (a log in ms or us).
+    #[error("{0}")]
+    ImplausibleTimeStep(String),
+    /// A row with more non-empty fields than the header.
+    #[error("{found} fields, the header has {expected}")]
+    TooManyFields {
+        /// Fields in the row.
+        found: usize,
+        /// Fields in the header.
+        expected: usize,
+    },
+    /// Required columns of a 3-D log (MODEL.md 7.6) absent from the header.
+    #[error("not a 3-D log: no {missing} column (the header has: {header}; a 3-D log needs t, phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az)")]
+    MissingColumns {
+        /// The missing names, comma-separated and quoted.
+        missing: String,
+        /// The header names, comma-separated.
+        header: String,
+    },
+}
+
+/// A log reading error: the file, the line and the column where it is, and why.
+///
+/// Displays as `log.csv:5: column 3 (`phi`): not a number: `abc``.
+#[derive(Debug, thiserror::Error)]
+#[error("{file}{}{}: {kind}", line_part(*.line), column_part(.column))]
+pub struct LogError {
+    /// The file (or origin name).
+    pub file: String,
+    /// 1-based line, when the error is on a line.
+    pub line: Option<u64>,
+    /// The cell's field, when the error is in one.
+    pub column: Option<CellRef>,
+    /// What is wrong (boxed to keep `Result<_, LogError>` small).
+    pub kind: Box<LogErrorKind>,
+}
+
+fn line_part(line: Option<u64>) -> String {
+    line.map(|l| format!(":{l}")).unwrap_or_default()
+}
+
+fn column_part(column: &Option<CellRef>) -> String {
+    column
+        .as_ref()
+        .map(|c| format!(": column {} (`{}`)", c.position, c.header))
+        .unwrap_or_default()
+}

@@ -1,0 +1,185 @@
+//! The header of a log: the names, which field each contract column is, the duplicates.
+use super::*;
+
+impl<R: BufRead> LogReader<R> {
+    /// Reads the header line and resolves the contract columns: the names, then which
+    /// field feeds each column, then the duplicate check, then the scales.
+    pub(super) fn read_header(&mut self) -> Result<(), LogError> {
+        self.read_names()?;
+        let listing = self.header.join(", ");
+        let statuses = self.resolve_columns(&listing)?;
+        if statuses[Column::T.index()].position.is_none() {
+            return Err(self.missing_time(&statuses, listing));
+        }
+        let used: Vec<usize> = statuses.iter().filter_map(|s| s.position).collect();
+        self.check_duplicates(&used)?;
+        if let Some(u) = self.options.time_unit {
+            self.scale[Column::T.index()] = u.seconds();
+        }
+        for s in &statuses {
+            self.positions[s.column.index()] = s.position;
+            if s.degrees {
+                self.scale[s.column.index()] = std::f64::consts::PI / 180.0;
+            }
+        }
+        self.report = ColumnReport {
+            ignored: self
+                .header
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| !used.contains(i))
+                .map(|(_, h)| h.clone())
+                .collect(),
+            columns: statuses,
+        };
+        Ok(())
+    }
+
+    /// Reads the header line into `self.header` (an error for an empty file, UTF-16 or
+    /// invalid UTF-8).
+    fn read_names(&mut self) -> Result<(), LogError> {
+        if !self.next_line()? {
+            return Err(self.error(None, None, LogErrorKind::Empty));
+        }
+        if self.lines.line() == 1
+            && (self.lines.bytes().starts_with(b"\xFF\xFE")
+                || self.lines.bytes().starts_with(b"\xFE\xFF"))
+        {
+            return Err(self.error(Some(1), None, LogErrorKind::Utf16));
+        }
+        self.split()?;
+        let quoted = self.lines.bytes().contains(&b'"');
+        let mut header = Vec::with_capacity(self.lines.ranges().len());
+        for k in 0..self.lines.field_count() {
+            let (a, b) = self.lines.ranges()[k];
+            let Ok(name) = std::str::from_utf8(&self.lines.bytes()[a..b]) else {
+                let line = Some(self.lines.line());
+                return Err(self.error(line, None, LogErrorKind::InvalidUtf8));
+            };
+            header.push(if quoted {
+                unquote(name)
+            } else {
+                name.to_string()
+            });
+        }
+        self.header = header;
+        Ok(())
+    }
+
+    /// Which header field feeds each contract column (in [`Column::ALL`] order): the
+    /// mapped one, else its own name unless that header column is mapped onto another
+    /// contract column. An error for a `--map` source not in the header (`listing`).
+    fn resolve_columns(&mut self, listing: &str) -> Result<Vec<ColumnStatus>, LogError> {
+        let mapped_sources: Vec<&str> = Column::ALL
+            .into_iter()
+            .filter_map(|c| self.options.map.source(c))
+            .collect();
+        let mut statuses = Vec::with_capacity(6);
+        for column in Column::ALL {
+            let (source, mapped) = match self.options.map.source(column) {
+                Some(s) => (Some(s.to_string()), true),
+                None if mapped_sources.contains(&column.name()) => (None, false),
+                None => (Some(column.name().to_string()), false),
+            };
+            let position = source
+                .as_deref()
+                .and_then(|s| self.header.iter().position(|h| h == s));
+            if mapped && position.is_none() {
+                let line = Some(self.lines.line());
+                return Err(self.error(
+                    line,
+                    None,
+                    LogErrorKind::MappedSourceMissing {
+                        column,
+                        source_name: source.unwrap_or_default(),
+                        header: listing.to_string(),
+                    },
+                ));
+            }
+            let suggestion = if position.is_none() {
+                self.header
+                    .iter()
+                    .find(|h| h.trim().eq_ignore_ascii_case(column.name()))
+                    .cloned()
+            } else {
+                None
+            };
+            let degrees = self.options.degrees.contains(column);
+            statuses.push(ColumnStatus {
+                column,
+                source: position.and(source),
+                position,
+                mapped,
+                degrees,
+                suggestion,
+            });
+        }
+
+        Ok(statuses)
+    }
+
+    /// The error for a header without a time column, with a hint at the likely cause.
+    fn missing_time(&mut self, statuses: &[ColumnStatus], listing: String) -> LogError {
+        let hint = if let Some(s) = &statuses[Column::T.index()].suggestion {
+            format!("; did you mean `{s}`? (--map t={s})")
+        } else if self.header.iter().all(|h| h.parse::<f64>().is_ok()) {
+            "; the first line looks like data: the log needs a header row \
+             (t,phi,gyro,ax,ay,theta)"
+                .to_string()
+        } else if self.header.len() == 1 && (listing.contains(';') || listing.contains('\t')) {
+            "; the header is a single field: are the fields separated by `;` or tabs?".to_string()
+        } else {
+            "; name the time column with --map t=NAME".to_string()
+        };
+        let line = Some(self.lines.line());
+        self.error(
+            line,
+            None,
+            LogErrorKind::MissingTime {
+                header: listing,
+                hint,
+            },
+        )
+    }
+
+    /// Duplicate header names: an error when the name feeds a contract column (its field
+    /// in `used`), else a warning.
+    fn check_duplicates(&mut self, used: &[usize]) -> Result<(), LogError> {
+        for i in 0..self.header.len() {
+            let name = &self.header[i];
+            if name.is_empty() {
+                continue;
+            }
+            let Some(first) = self.header[..i].iter().position(|h| h == name) else {
+                continue;
+            };
+            if used.contains(&first) {
+                let name = name.clone();
+                let line = Some(self.lines.line());
+                return Err(self.error(
+                    line,
+                    Some(CellRef {
+                        position: i + 1,
+                        header: name.clone(),
+                    }),
+                    LogErrorKind::DuplicateColumn {
+                        name,
+                        first: first + 1,
+                    },
+                ));
+            }
+            let name = name.clone();
+            self.warn(
+                WarningKind::DuplicateIgnoredColumn,
+                None,
+                Some(name),
+                format!(
+                    "appears as fields {} and {}; it is not used, so both are ignored",
+                    first + 1,
+                    i + 1
+                ),
+            );
+        }
+        Ok(())
+    }
+}
