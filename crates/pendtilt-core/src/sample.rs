@@ -84,6 +84,13 @@ pub trait Estimator {
     fn update(&mut self, input: &Self::Input) -> Self::Output;
     /// Forgets all history, as if newly constructed with the same settings.
     fn reset(&mut self);
+    /// Prepares to go on after a long gap in the input (a caller's restart, e.g. the std
+    /// crate's bank after a sensor was missing for longer than its restart gap): forgets
+    /// what the gap made stale but may keep what a gap cannot change (a sensor's bias,
+    /// with its uncertainty grown over the gap). Default: [`Estimator::reset`].
+    fn resume(&mut self) {
+        self.reset();
+    }
 }
 
 /// An [`Estimator`] of the planar model: [`Sample`] in, [`Estimate`] out (implemented for

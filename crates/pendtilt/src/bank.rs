@@ -616,7 +616,9 @@ impl Bank {
             };
             if need.intersects(sensors) {
                 match slot {
-                    Slot::Direct(e) => e.reset(),
+                    // Resume, not reset: an estimator may keep what the gap cannot have
+                    // changed (the EKF's gyro bias).
+                    Slot::Direct(e) => e.resume(),
                     Slot::Shared(f) => f.reset(),
                     Slot::Kalman { kf, .. } => kf.reset(),
                 }

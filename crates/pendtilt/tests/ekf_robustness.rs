@@ -91,9 +91,10 @@ fn f32_ekf_tracks_a_still_pendulum() {
 }
 
 /// A gap of every sensor longer than `max_gap` (default 50 ms) restarts the filter at the
-/// next encoder reading instead of extrapolating through it: 3 s later the EKF is within
-/// 0.2 deg of its run on the clean ride (measured 0.07-0.11 deg for 100-900 ms), while
-/// bridging a 900 ms gap by prediction (max_gap 1 s) ends about 181 deg off.
+/// next encoder reading, keeping its gyro bias: 3 s later the EKF is within 0.04 deg of its
+/// run on the clean ride for 100-900 ms. Bridging a 900 ms gap by prediction (max_gap 1 s)
+/// ended about 181 deg off while the prediction held the last theta''; now that theta'
+/// and theta'' are loosened when the gyro goes missing it ends within 0.04 deg too.
 #[test]
 fn a_long_gap_of_every_sensor_restarts_instead_of_extrapolating() {
     use pendtilt::sim::{simulate, Scenario};
@@ -128,12 +129,17 @@ fn a_long_gap_of_every_sensor_restarts_instead_of_extrapolating() {
         }
         worst.to_degrees()
     };
+    // The restart keeps the gyro bias (measured 0.026-0.033 deg; 0.066-0.106 deg when it
+    // started the bias afresh).
     for gap_ms in [100, 200, 500, 900] {
         let d = after(gap_ms, None);
         println!("{gap_ms} ms gap: {d:.4} deg 3 s later");
-        assert!(d < 0.2, "{gap_ms} ms: {d} deg");
+        assert!(d < 0.04, "{gap_ms} ms: {d} deg");
     }
+    // Bridged by prediction, the gap no longer carries the last sample's vibration through
+    // (theta' and theta'' are loosened when the gyro goes missing): measured 0.033 deg,
+    // where holding theta'' left 181 deg.
     let bridged = after(900, Some(1.0));
-    println!("900 ms gap bridged by prediction: {bridged:.1} deg 3 s later");
-    assert!(bridged > 10.0, "{bridged}");
+    println!("900 ms gap bridged by prediction: {bridged:.4} deg 3 s later");
+    assert!(bridged < 0.04, "{bridged}");
 }

@@ -98,6 +98,14 @@ fn run(log: &str, rig: &RigConfig) -> Run {
 
 const TOLERANCE_DEG: f64 = 0.05;
 
+/// How far apart two Madgwick runs can stay for good [deg]: its normalised gradient step
+/// moves the tilt by 2 beta dt per sample whatever the error (the quaternion's half angle),
+/// so when the accelerometer angle falls between two runs they swap sides by 4 beta dt
+/// (0.27 deg at beta = 1.18 rad/s and 1 kHz) and never close the gap below that.
+fn madgwick_resolution_deg() -> f64 {
+    (4.0 * pendtilt::peers::ahrs_planar::MADGWICK_BETA * 1e-3).to_degrees()
+}
+
 /// Per estimator: the time after `t_end` from which it stays within 0.05 deg of the clean
 /// run (0 when it never left), and the largest difference from `t_end + 2 s` on [deg].
 fn recovery(clean: &Run, bad: &Run, t_end: f64) -> Vec<(&'static str, f64, f64)> {
@@ -130,6 +138,21 @@ fn recovery(clean: &Run, bad: &Run, t_end: f64) -> Vec<(&'static str, f64, f64)>
     out
 }
 
+/// `tail` (a run started at row `k1`) placed at row `k1` of a run like `like`, whose rows
+/// before it fill the rest.
+fn shifted(tail: &Run, like: &Run, k1: usize) -> Run {
+    let mut est = like.est[..k1].to_vec();
+    est.extend_from_slice(&tail.est);
+    Run {
+        names: like.names.clone(),
+        t: like.t.clone(),
+        est,
+        warnings: Vec::new(),
+        result: Err(PassError::Settings(String::new())),
+        implausible_count: 0,
+    }
+}
+
 fn print(case: &str, rec: &[(&str, f64, f64)]) {
     println!("{case}:");
     for (n, back, worst) in rec {
@@ -137,11 +160,6 @@ fn print(case: &str, rec: &[(&str, f64, f64)]) {
             "  {n:<14} back within 0.05 deg after {back:.3} s; max diff from +2 s {worst:.4} deg"
         );
     }
-}
-
-/// The paper's estimators and their Kalman filters.
-fn paper(name: &str) -> bool {
-    name.starts_with("alg") || name.starts_with("kf_") || name == "accel" || name == "pendulum"
 }
 
 fn implausible_warnings(r: &Run) -> Vec<&LogWarning> {
@@ -229,11 +247,13 @@ fn one_impossible_cell_per_sensor_is_missing_for_every_estimator_flagged_and_tol
         print(&format!("one cell {value} in column {col}"), &rec);
         for (n, back, worst) in &rec {
             if *n == "madgwick" {
-                // Madgwick's gradient step is normalised: it corrects by beta dt = 0.068
-                // deg per sample whatever the error, so two runs parted by one sample can
-                // stay up to about two such steps apart (measured 0.14 deg after one
-                // missing ax); 0.05 deg is below its resolution at this gain and rate.
-                assert!(*worst <= 0.2, "{value}: madgwick {worst} deg off 2 s after");
+                // 0.05 deg is below Madgwick's resolution at this gain and rate (measured
+                // 0.14 deg after one missing ax, 0.26 after one missing gyro reading).
+                let bound = madgwick_resolution_deg();
+                assert!(
+                    *worst <= bound,
+                    "{value}: madgwick {worst} deg off 2 s after"
+                );
             } else {
                 assert!(*back <= 2.0, "{value}: {n} back only after {back} s");
             }
@@ -312,21 +332,21 @@ fn a_burst_of_100_impossible_cells() {
         let rec = recovery(&clean, &bad, (k0 + n) as f64 * 1e-3);
         print(&format!("burst of {n} {name} = {value}"), &rec);
         for (est, back, worst) in &rec {
-            // The paper's estimators and their Kalman filters are back within 2 s. The
-            // gyro-integrating peers hold the last gyro reading through a gyro burst (the
-            // core's input hold) and converge at their own gains: bounds measured, see
-            // docs/reliability.md 7b.
-            let bound = match (name, *est) {
-                ("gyro", "ekf" | "ukf") => 1.3,
-                ("gyro", "madgwick") => 0.3,
-                ("gyro", "mahony") => 0.25,
-                ("gyro", "complementary") => 0.1,
-                ("phi", "ekf" | "ukf") => 0.15,
-                _ => TOLERANCE_DEG,
-            };
-            assert!(*worst <= bound, "{name}: {est} {worst} deg off 2 s after");
-            if paper(est) {
-                assert!(*back <= 2.0, "{name}: {est} back after {back} s");
+            // Every estimator is back within 2 s but two peers, bounds measured (see
+            // docs/reliability.md 7b): Madgwick cannot come closer than its resolution;
+            // Mahony forgets the angle it integrated through the gap (0.3 deg off at its
+            // end) at its gain kp = 0.45 /s, 0.41 of it in 2 s (measured 3.97 s, 0.118
+            // deg 2 s after).
+            match (name, *est) {
+                (_, "madgwick") => {
+                    let bound = madgwick_resolution_deg();
+                    assert!(*worst <= bound, "{name}: {est} {worst} deg off 2 s after");
+                }
+                ("gyro", "mahony") => {
+                    assert!(*worst <= 0.12, "{name}: {est} {worst} deg off 2 s after");
+                    assert!(*back <= 4.0, "{name}: {est} back after {back} s");
+                }
+                _ => assert!(*back <= 2.0, "{name}: {est} back after {back} s"),
             }
         }
     }
@@ -361,10 +381,16 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
     );
     assert_eq!(bad.result.as_ref().unwrap().restarts, 1);
 
-    // After the gap every estimator gives exactly what it gives when started there.
+    // After the gap every estimator gives exactly what it gives when started there, but
+    // the EKF and the UKF, which resume: they keep their gyro bias (a gap cannot change it
+    // beyond its random walk) and start the rest afresh.
+    let resumes = |name: &str| name == "ekf" || name == "ukf";
     let tail = run(&text(&base[k1..]), &rig);
     for (k, row) in tail.est.iter().enumerate() {
         for (j, e) in row.iter().enumerate() {
+            if resumes(tail.names[j]) {
+                continue;
+            }
             let b = bad.est[k1 + k][j];
             // Equal to rounding: a restarted differentiator may keep its filter design
             // for the same step (1 ulp).
@@ -380,12 +406,28 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
     }
     let rec = recovery(&clean, &bad, k1 as f64 * 1e-3);
     print("10 s gap of every sensor", &rec);
-    for (est, back, worst) in &rec {
-        if paper(est) {
-            assert!(*back <= 2.0, "{est} back after {back} s");
+    let fresh = recovery(&clean, &shifted(&tail, &bad, k1), k1 as f64 * 1e-3);
+    print("the same rows started afresh", &fresh);
+    for ((est, back, worst), (_, back_fresh, _)) in rec.iter().zip(&fresh) {
+        // Bounds measured (docs/reliability.md 7b). The complementary filter restarts
+        // with its time constant growing from zero (the mean of the accelerometer so
+        // far); what the clean run remembers of the gap's readings fades at its gain
+        // (tau 0.75 s). Mahony restarts from one accelerometer reading and converges at
+        // kp = 0.45 /s (back after 11.0 s). Madgwick: its resolution.
+        match *est {
+            "madgwick" => assert!(*worst <= madgwick_resolution_deg(), "{est}: {worst} deg"),
+            "mahony" => assert!(*worst <= 2.5, "{est}: {worst} deg off 2 s after the gap"),
+            "complementary" => assert!(*back <= 2.25, "{est} back after {back} s"),
+            _ => assert!(*back <= 2.0, "{est} back after {back} s"),
         }
-        // Before the restart Madgwick and Mahony stayed 180 and 110 deg off.
-        assert!(*worst < 2.5, "{est}: {worst} deg off 2 s after the gap");
+        if resumes(est) {
+            // Keeping the bias: back within 1.01 s; started afresh the bias re-converges
+            // over 5.6 s.
+            assert!(
+                *back <= 1.1 && *back_fresh > 5.0,
+                "{est}: {back} s, afresh {back_fresh} s"
+            );
+        }
     }
 
     // The same gap as missing rows (the time jumps by 10 s).
@@ -393,9 +435,13 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
     c.extend_from_slice(&base[k1..]);
     let jumped = run(&text(&c), &rig);
     assert_eq!(jumped.result.as_ref().unwrap().restarts, 1);
-    for (k, row) in tail.est.iter().enumerate() {
+    for (k, row) in bad.est[k1..].iter().enumerate() {
         for (j, e) in row.iter().enumerate() {
-            assert!((e.theta - jumped.est[k0 + k][j].theta).abs() <= 1e-12);
+            let d = (e.theta - jumped.est[k0 + k][j].theta).abs();
+            // The resuming filters grow the bias variance by its walk over the gap either
+            // way (predicted through the empty rows, or added for the jump).
+            let tol = if resumes(bad.names[j]) { 1e-6 } else { 1e-12 };
+            assert!(d <= tol, "{} at row {}: {d}", bad.names[j], k1 + k);
         }
     }
 }

@@ -9,6 +9,16 @@ use super::settings::ModelSettings;
 use crate::engine::{Gate, GaussianFilter, ProcessModel, Rejected};
 use crate::{Estimate, Estimator, Flags, Real, Sample, StepClock};
 
+/// Time constant \[s\] of the low-passed theta' the filter coasts on while the gyro is
+/// missing ([`ModelBased`]): long enough to average the body's angular vibration out (the
+/// scooter's 40 Hz), short next to its manoeuvres.
+pub const SLOW_RATE_TAU: f64 = 0.025;
+
+/// How uncertain theta' is when the gyro goes missing, in units of
+/// [`ModelSettings::gyro_vibration`] (standard deviation): the last rate carried one
+/// sample of the vibration, and the low-passed rate lags the manoeuvres.
+pub const MISSING_RATE_SIGMAS: f64 = 3.0;
+
 /// Upper bound on the integration steps one sample interval is split into.
 const MAX_SUBSTEPS: usize = 10_000;
 
@@ -17,9 +27,21 @@ const MAX_SUBSTEPS: usize = 10_000;
 /// Per sample: predict over `dt` (split into steps of at most
 /// [`ModelSettings::max_step`]), then update with each sensor in turn (the gyro, the
 /// encoder and, if enabled, the accelerometer), each only if its reading is finite. The first sample with a finite phi starts the
-/// filter at `theta = phi` (the pendulum at rest), `theta' = gyro`; after a gap longer
-/// than [`ModelSettings::max_gap`], or if the filter ever becomes non-finite, it starts
-/// again the same way.
+/// filter at `theta = phi` (the pendulum at rest), `theta' = gyro`. After a gap longer
+/// than [`ModelSettings::max_gap`] (between rows, or of the encoder while the gyro was
+/// missing too: with the gyro, theta is followed through an encoder gap) it starts again
+/// the same way but keeps its gyro bias, whose variance grows by the bias random walk
+/// over the gap; so does [`Estimator::resume`]. If the filter ever becomes non-finite it
+/// starts afresh, as [`Estimator::reset`] does.
+///
+/// A gyro gap: the filter tracks the body's angular vibration in theta' and theta''
+/// (the gyro's noise is far below it), so on the first sample without the gyro they
+/// are replaced by the slow rate and zero and loosened (`loosen`), and on the first
+/// reading after it the rate is set from the reading without moving theta or the bias
+/// (`unhook`); the encoder then corrects theta. After 100 missing gyro readings on the
+/// scooter ride (seed 6) this put the filter back within 0.05 deg of the fault-free run
+/// after 0.81 s, where plain prediction left it 1 deg off for over 10 s (the error went
+/// into the bias).
 ///
 /// Each measurement goes through the innovation gate ([`ModelSettings::innovation_gate`]):
 /// an outlier is skipped and the sample flagged [`Flags::MEASUREMENT_SKIPPED`]. After
@@ -43,8 +65,15 @@ pub struct ModelBased<T: Real, F> {
     q: Cov<T>,
     filter: Option<F>,
     clock: StepClock<T>,
-    // Time of the last row with an encoder reading.
+    // Time since the last row with an encoder reading.
     since_phi: Option<T>,
+    // Time since the last row with a gyro reading.
+    since_gyro: Option<T>,
+    // The gyro bias and its variance kept through a restart after a gap.
+    kept_bias: Option<(T, T)>,
+    // theta' low-passed (the body's slow rate without its vibration), what the filter
+    // coasts on while the gyro is missing.
+    slow_rate: T,
     last_theta: T,
     runs: Runs,
 }
@@ -97,6 +126,9 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             filter: None,
             clock: StepClock::new(),
             since_phi: None,
+            since_gyro: None,
+            kept_bias: None,
+            slow_rate: T::zero(),
             last_theta: T::nan(),
             runs: Runs::default(),
         }
@@ -135,23 +167,36 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     fn start(&mut self, s: &Sample<T>) -> Estimate<T> {
         let st = &self.settings;
         let b0 = st.sensors.gyro_bias;
+        let kept = self.kept_bias.is_some();
+        let (bias, bias_var) = self
+            .kept_bias
+            .take()
+            .unwrap_or((T::zero(), b0 * b0 + T::lit(1e-12)));
         let (w0, w_var) = if s.gyro.is_finite() {
-            (s.gyro, b0 * b0 + self.gyro_variance(T::lit(1e-3)))
+            let var = if kept { bias_var } else { b0 * b0 };
+            (s.gyro, var + self.gyro_variance(T::lit(1e-3)))
         } else {
             (T::zero(), T::one())
         };
         let mut x = State::<T>::zeros();
         x[THETA] = s.phi;
-        x[OMEGA] = w0;
+        x[OMEGA] = w0 - bias;
         x[PHI] = s.phi;
+        x[BIAS] = bias;
         let mut p = Cov::<T>::zeros();
         p[(THETA, THETA)] = st.initial_angle * st.initial_angle + self.encoder.r;
         p[(OMEGA, OMEGA)] = w_var;
         p[(ALPHA, ALPHA)] = T::lit(100.0);
         p[(PHI, PHI)] = self.encoder.r;
         p[(DPHI, DPHI)] = T::lit(0.01);
-        p[(BIAS, BIAS)] = b0 * b0 + T::lit(1e-12);
+        p[(BIAS, BIAS)] = bias_var;
+        if kept && s.gyro.is_finite() {
+            // theta' = gyro - bias: their errors are opposite.
+            p[(OMEGA, BIAS)] = -bias_var;
+            p[(BIAS, OMEGA)] = -bias_var;
+        }
         self.filter = Some(F::start(x, p));
+        self.slow_rate = x[OMEGA];
         self.runs = Runs::default();
         self.clock.accept();
         self.last_theta = s.phi;
@@ -234,6 +279,112 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         ok
     }
 
+    /// Drops the filter for a restart, keeping the gyro bias and its variance (a gap
+    /// cannot change the bias beyond its random walk, which [`Self::start`] adds).
+    fn drop_keeping_bias(&mut self) {
+        if let Some(f) = self.filter.take() {
+            let (b, v) = (f.state()[BIAS], f.covariance()[(BIAS, BIAS)]);
+            if b.is_finite() && v.is_finite() {
+                self.kept_bias = Some((b, v));
+            }
+        }
+    }
+
+    /// On the first sample without the gyro. The filter tracks the body's angular
+    /// vibration in theta' and theta'' (the gyro's noise is far below it): coasting on them
+    /// would carry one sample of the vibration through the gap (3 deg after 0.1 s on the
+    /// scooter ride). theta' goes to its low-passed value ([`SLOW_RATE_TAU`]), theta''
+    /// to 0, both become uncertain ([`MISSING_RATE_SIGMAS`]; theta'' as at the start) and
+    /// uncorrelated with the other states. phi' moves with theta' (the pendulum's own
+    /// rate phi' - theta' is kept).
+    fn loosen(&mut self) {
+        let Some(f) = self.filter.as_ref() else {
+            return;
+        };
+        let mut x = *f.state();
+        let mut p = *f.covariance();
+        x[DPHI] = x[DPHI] + self.slow_rate - x[OMEGA];
+        x[OMEGA] = self.slow_rate;
+        x[ALPHA] = T::zero();
+        split(&mut p, |i| i == OMEGA || i == ALPHA);
+        let v = self.settings.gyro_vibration * T::lit(MISSING_RATE_SIGMAS);
+        p[(OMEGA, OMEGA)] += v * v;
+        p[(ALPHA, ALPHA)] += T::lit(100.0);
+        self.filter = Some(F::start(x, p));
+    }
+
+    /// On the first gyro reading after a gap: theta' is set to it (less the bias), phi'
+    /// moves with it, and the fast states (theta', theta'', phi, phi') become uncorrelated
+    /// with theta and the bias. What the rate was off by at the end of the gap is mostly
+    /// vibration, not a rate error that lasted the whole gap: through the covariance the
+    /// gap built up, the reading would have moved theta by several degrees and the bias
+    /// with it (which then took over 10 s to decay). The encoder then corrects theta.
+    fn unhook(&mut self, gyro: T) {
+        let Some(f) = self.filter.as_ref() else {
+            return;
+        };
+        let mut x = *f.state();
+        let mut p = *f.covariance();
+        let w = gyro - x[BIAS];
+        x[DPHI] = x[DPHI] + w - x[OMEGA];
+        x[OMEGA] = w;
+        split(&mut p, |i| {
+            i == OMEGA || i == ALPHA || i == PHI || i == DPHI
+        });
+        self.filter = Some(F::start(x, p));
+    }
+
+    /// The gaps before sample `s` (step `dt`): a gap in the rows, or in the encoder's
+    /// readings while the gyro was missing too, longer than [`ModelSettings::max_gap`] is
+    /// not bridged (the prediction would extrapolate the last estimated tilt acceleration,
+    /// vibration included, for the whole gap): the filter restarts, keeping its bias.
+    /// A gyro gap starts with `loosen` and ends with `unhook`. Returns the estimate when
+    /// the filter (re)starts on this sample or is waiting for a phi to start on.
+    fn gaps(&mut self, s: &Sample<T>, dt: T) -> Option<Estimate<T>> {
+        let gyro_was_there = self.since_gyro == Some(T::zero());
+        for e in [self.since_phi.as_mut(), self.since_gyro.as_mut()]
+            .into_iter()
+            .flatten()
+        {
+            *e += s.dt;
+        }
+        let max_gap = self.settings.max_gap;
+        // With the gyro, theta was followed through the encoder's gap.
+        let gyro_gap = self.since_gyro.is_none_or(|e| e > max_gap);
+        let coasted = s.phi.is_finite() && self.since_phi.is_some_and(|e| e > max_gap) && gyro_gap;
+        if self.filter.is_some() && (dt > max_gap || coasted) {
+            self.drop_keeping_bias();
+        }
+        if s.phi.is_finite() {
+            self.since_phi = Some(T::zero());
+        }
+        if s.gyro.is_finite() {
+            self.since_gyro = Some(T::zero());
+        }
+        if self.filter.is_none() {
+            if !s.phi.is_finite() {
+                return Some(self.hold(Flags::INITIALISING | Flags::SAMPLE_MISSING));
+            }
+            if let Some((_, v)) = self.kept_bias.as_mut() {
+                // The bias walked over the gap (a jump in the rows; empty rows were
+                // predicted through).
+                let gap = if s.dt.is_finite() {
+                    s.dt.max(T::zero())
+                } else {
+                    T::zero()
+                };
+                *v += self.settings.process.bias * gap;
+            }
+            return Some(self.start(s));
+        }
+        if !s.gyro.is_finite() && gyro_was_there {
+            self.loosen();
+        } else if s.gyro.is_finite() && !gyro_was_there {
+            self.unhook(s.gyro);
+        }
+        None
+    }
+
     fn hold(&self, flags: Flags) -> Estimate<T> {
         Estimate {
             theta: self.last_theta,
@@ -253,25 +404,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         };
         let mut flags = Flags::empty();
         let dt = step.unwrap_or(T::zero());
-        // A gap in the rows, or in the encoder's readings (rows whose phi is missing), longer
-        // than max_gap is not bridged: the prediction would extrapolate the last estimated
-        // tilt acceleration, vibration included, for the whole gap.
-        if let Some(e) = self.since_phi.as_mut() {
-            *e += s.dt;
-        }
-        let coasted =
-            s.phi.is_finite() && self.since_phi.is_some_and(|e| e > self.settings.max_gap);
-        if self.filter.is_some() && (dt > self.settings.max_gap || coasted) {
-            self.filter = None;
-        }
-        if s.phi.is_finite() {
-            self.since_phi = Some(T::zero());
-        }
-        if self.filter.is_none() {
-            if s.phi.is_finite() {
-                return self.start(s);
-            }
-            return self.hold(Flags::INITIALISING | Flags::SAMPLE_MISSING);
+        if let Some(start) = self.gaps(s, dt) {
+            return start;
         }
         let r_gyro = self.gyro_variance(dt);
         let ok = self.predict(dt);
@@ -313,16 +447,43 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             return self.hold(flags | Flags::INITIALISING);
         }
         let theta = filter.state()[THETA];
+        if s.gyro.is_finite() {
+            let a = (dt / T::lit(SLOW_RATE_TAU)).min(T::one());
+            self.slow_rate = self.slow_rate + a * (x[OMEGA] - self.slow_rate);
+        }
         self.last_theta = theta;
         Estimate { theta, flags }
     }
 
     fn reset(&mut self) {
         self.filter = None;
+        self.kept_bias = None;
         self.clock.restart();
         self.since_phi = None;
+        self.since_gyro = None;
         self.last_theta = T::nan();
         self.runs = Runs::default();
+    }
+
+    /// Forgets everything but the gyro bias, which restarts with its variance grown by
+    /// its random walk over the gap ([`ModelSettings::sensors`]' `gyro_bias_walk`).
+    fn resume(&mut self) {
+        self.drop_keeping_bias();
+        let kept = self.kept_bias;
+        self.reset();
+        self.kept_bias = kept;
+    }
+}
+
+/// Zeroes the covariance between the states `fast` picks and the others. The two diagonal
+/// blocks are principal submatrices of a covariance, so the result is one too.
+fn split<T: Real>(p: &mut Cov<T>, fast: impl Fn(usize) -> bool) {
+    for i in 0..N {
+        for j in 0..N {
+            if fast(i) != fast(j) {
+                p[(i, j)] = T::zero();
+            }
+        }
     }
 }
 
@@ -393,5 +554,86 @@ mod tests {
             f.update(&s(k, 0.1));
         }
         assert!(skipped(&mut f, 2001, 0.2));
+    }
+
+    /// A still body on a gyro with a 0.01 rad/s bias: 20 s to learn the bias.
+    fn biased(phi: f64, gyro: f64, k: usize) -> Sample<f64> {
+        Sample {
+            gyro: if gyro.is_nan() { gyro } else { gyro + 0.01 },
+            ..s(k, phi)
+        }
+    }
+
+    #[test]
+    fn resume_keeps_the_bias_and_reset_forgets_it() {
+        let mut e = ModelBased::<f64, ExtendedKalman<f64>>::new(ModelSettings::default());
+        for k in 0..20_000 {
+            e.update(&biased(0.1, 0.0, k));
+        }
+        let learnt = e.bias();
+        assert!((learnt - 0.01).abs() < 1e-3, "{learnt}");
+        let var = e.covariance().unwrap()[(BIAS, BIAS)];
+        let mut f = e.clone();
+        e.resume();
+        // The next row comes 10 s later: the bias walked.
+        let out = e.update(&Sample {
+            dt: 10.0,
+            ..biased(0.1, 0.0, 1)
+        });
+        assert!(out.flags.contains(Flags::INITIALISING));
+        assert!((e.bias() - learnt).abs() < 1e-12);
+        let walk = e.settings().process.bias * 10.0;
+        let grown = e.covariance().unwrap()[(BIAS, BIAS)];
+        assert!(
+            (grown - (var + walk)).abs() <= 1e-9 * grown,
+            "{grown} {var} {walk}"
+        );
+        f.reset();
+        f.update(&biased(0.1, 0.0, 0));
+        assert_eq!(f.bias(), 0.0);
+    }
+
+    #[test]
+    fn an_encoder_gap_is_bridged_with_the_gyro_and_restarts_without_it() {
+        let mut e = ModelBased::<f64, ExtendedKalman<f64>>::new(ModelSettings::default());
+        for k in 0..20_000 {
+            e.update(&biased(0.1, 0.0, k));
+        }
+        let learnt = e.bias();
+        // 100 ms without the encoder (twice max_gap), the gyro there: no restart.
+        let mut f = e.clone();
+        for k in 0..100 {
+            f.update(&biased(f64::NAN, 0.0, k + 1));
+        }
+        let back = f.update(&biased(0.1, 0.0, 101));
+        assert!(!back.flags.contains(Flags::INITIALISING), "{back:?}");
+        assert!((back.theta - 0.1).abs() < 1e-3, "{back:?}");
+        // Without the gyro too: a restart that keeps the bias.
+        for k in 0..100 {
+            e.update(&biased(f64::NAN, f64::NAN, k + 1));
+        }
+        let back = e.update(&biased(0.1, 0.0, 101));
+        assert!(back.flags.contains(Flags::INITIALISING), "{back:?}");
+        assert!((e.bias() - learnt).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_gyro_gap_leaves_theta_and_the_bias_where_they_were() {
+        let mut e = ModelBased::<f64, ExtendedKalman<f64>>::new(ModelSettings::default());
+        for k in 0..20_000 {
+            e.update(&biased(0.1, 0.0, k));
+        }
+        let learnt = e.bias();
+        for k in 0..100 {
+            e.update(&biased(0.1, f64::NAN, k + 1));
+        }
+        // Back with a reading off by a vibration-sized 0.2 rad/s for one sample.
+        e.update(&biased(0.1, 0.2, 101));
+        let mut theta = 0.0;
+        for k in 102..1000 {
+            theta = e.update(&biased(0.1, 0.0, k)).theta;
+        }
+        assert!((theta - 0.1).abs() < 1e-3, "{theta}");
+        assert!((e.bias() - learnt).abs() < 1e-3, "{} {learnt}", e.bias());
     }
 }

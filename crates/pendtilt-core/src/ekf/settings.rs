@@ -176,8 +176,9 @@ pub struct ModelSettings<T> {
     /// Default 5 ms (w_n dt = 0.07 for the default pendulum).
     pub max_step: T,
     /// Longest gap \[s\] bridged by prediction, between rows or between encoder readings
-    /// (rows whose phi is missing); after a longer one the filter restarts on the next
-    /// reading. Default 50 ms: on the scooter ride, bridging a gap of every sensor left
+    /// (rows whose phi is missing) while the gyro is missing too; after a longer one the
+    /// filter restarts on the next reading, keeping its gyro bias (an encoder gap with the
+    /// gyro present is bridged whatever its length). Default 50 ms: on the scooter ride, bridging a gap of every sensor left
     /// 0.5 deg (50 ms), 0.9 deg (100 ms) and 181 deg (900 ms) of error 3 s later, because
     /// the prediction extrapolates the last estimated tilt acceleration, vibration
     /// included; restarting left 0.07-0.11 deg for gaps from 50 to 900 ms.

@@ -5,10 +5,19 @@
 //! then reads `(0, g sin theta, g cos theta)`, exactly MODEL.md section 1's
 //! `(ax, ay) = (g sin theta, g cos theta)` at rest, and the tilt is the quaternion's roll.
 //! The filters are started at the accelerometer angle of the first sample and their
-//! sample period follows each sample's actual step.
+//! sample period follows each sample's actual step. A missing gyro reading is replaced by
+//! the gyro's recent mean ([`MISSING_RATE_TAU`], the core's input hold).
+//!
+//! Start-up is left as the published filters have it (they start at the first
+//! accelerometer angle). A start-up gain ramp for Mahony (`kp = max(kp, 1 / t)` for the
+//! first 1 / kp seconds) brought it back after a 10 s gap in 8.2 s instead of 11 s, but it
+//! also changed what gain suits a short log (the gain search found kp = 0.08 instead of
+//! 0.45 on a 15 s ride), so it is not used.
+
 use ahrs::Ahrs;
 use nalgebra_ahrs::{UnitQuaternion, Vector3};
 use pendtilt_core::estimators::equations::accel_angle;
+pub use pendtilt_core::estimators::input_hold::MISSING_RATE_TAU;
 use pendtilt_core::estimators::input_hold::{InputHold, Step};
 use pendtilt_core::{Estimate, Estimator, Flags, Sample};
 
@@ -57,16 +66,7 @@ pub struct Planar<F> {
     filter: Option<F>,
     input: InputHold<f64>,
     last: f64,
-    /// The gyro's recent mean [rad/s] (time constant [`MISSING_RATE_TAU`]), integrated
-    /// in place of a missing reading.
-    mean_rate: f64,
 }
-
-/// Time constant \[s\] of the gyro mean a planar filter integrates while the gyro is
-/// missing. Holding the last reading instead integrates one sample of the body's angular
-/// vibration (40 Hz on the scooter ride) for the whole gap: after 100 missing readings
-/// Madgwick was 0.15 deg and Mahony 0.49 deg off their fault-free run 2 s later.
-pub const MISSING_RATE_TAU: f64 = 0.05;
 
 impl<F: PlanarAhrs> Planar<F> {
     /// A wrapper building its filter with `make(theta0, gains)` on the first usable sample.
@@ -77,7 +77,6 @@ impl<F: PlanarAhrs> Planar<F> {
             filter: None,
             input: InputHold::new(),
             last: f64::NAN,
-            mean_rate: f64::NAN,
         }
     }
 
@@ -118,19 +117,6 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
             }
             Step::Next { dt, gyro, flags } => (dt, gyro, flags),
         };
-        let gyro = if s.gyro.is_finite() {
-            let a = (dt / MISSING_RATE_TAU).min(1.0);
-            self.mean_rate = if self.mean_rate.is_finite() {
-                self.mean_rate + a * (s.gyro - self.mean_rate)
-            } else {
-                s.gyro
-            };
-            gyro
-        } else if self.mean_rate.is_finite() {
-            self.mean_rate
-        } else {
-            gyro
-        };
         let Some(f) = self.filter.as_mut() else {
             return Estimate {
                 theta: self.last,
@@ -165,7 +151,6 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
         self.filter = None;
         self.input = InputHold::new();
         self.last = f64::NAN;
-        self.mean_rate = f64::NAN;
     }
 }
 
