@@ -1,0 +1,393 @@
+//! Writing a [`Report`]: the figures of the plot view, `report.md`, `report.json` and the
+//! HTML page.
+use super::*;
+
+impl Report {
+    /// Computes everything and writes into `dir`: `index.html`, `report.md`, `report.json`
+    /// and the figures (`*.png` + `*.svg`).
+    pub fn write(&self, dir: &Path) -> Result<ReportOutput, ReportError> {
+        let data = self.compute()?;
+        std::fs::create_dir_all(dir).map_err(|source| ReportError::Io {
+            path: dir.display().to_string(),
+            source,
+        })?;
+        let pv = self.view_index(&self.plot_view)?;
+        let pv_name = self.view_names()[pv].clone();
+        let (figures, captions) = self.draw_figures(dir, &data, pv)?;
+        let (md_path, json_path) = self.write_markdown_and_json(dir, &data)?;
+        let html = self.write_page(dir, &data, &figures, &captions, &pv_name)?;
+        Ok(ReportOutput {
+            html,
+            markdown: md_path,
+            json: json_path,
+            figures,
+            data,
+        })
+    }
+
+    /// Draws every figure of the plot view `pv` (in degrees) into `dir`: the family
+    /// overview and its errors, each figure group (one per estimator beside the reference
+    /// when asked) with its errors, and Fig. 3. Returns the figures and their captions.
+    /// (Long, kept whole: the figures in page order, each a plot call and its caption.)
+    fn draw_figures(
+        &self,
+        dir: &Path,
+        data: &ReportData,
+        pv: usize,
+    ) -> Result<(Vec<FigureFiles>, Vec<String>), ReportError> {
+        let pv_name = self.view_names()[pv].clone();
+        let (truth, est) = self.view_series(pv)?;
+        let f = self.config.input_unit.to_deg_factor();
+        let deg = |v: &[f64]| v.iter().map(|x| x * f).collect::<Vec<f64>>();
+        let truth_deg = deg(&truth);
+        let est_deg: Vec<(String, Vec<f64>)> =
+            est.iter().map(|(n, v)| (n.clone(), deg(v))).collect();
+        let find = |n: &str| {
+            est_deg
+                .iter()
+                .find(|(m, _)| m == n)
+                .map(|(_, v)| v.as_slice())
+        };
+        let suffix = if pv == 0 {
+            String::new()
+        } else {
+            format!(" ({pv_name})")
+        };
+
+        let mut figures = Vec::new();
+        let mut captions = Vec::new();
+        // overview: small multiples, one panel per estimator family (17 overlaid lines
+        // cannot be told apart)
+        let all: Vec<(&str, &[f64])> = est_deg
+            .iter()
+            .map(|(n, v)| (n.as_str(), v.as_slice()))
+            .collect();
+        let (angles, errors) = family_panels(
+            &self.title,
+            &suffix,
+            &self.t,
+            &truth_deg,
+            &all,
+            dir,
+            &self.palette,
+        )?;
+        let n_fam = angles.axes.len();
+        figures.push(angles);
+        captions.push(format!(
+            "Every estimate against the true angle (theta, black), one panel per estimator \
+             family ({n_fam} panels). Ordinate ranges: 0.5-99.5 % of the data after the \
+             first second, widened by a quarter; points beyond are cut at the frame, marked \
+             red and counted on the panel."
+        ));
+        figures.push(errors);
+        captions.push(
+            "Error (estimate - truth) of every estimate, one panel per estimator family, \
+             ranges as above."
+                .to_string(),
+        );
+
+        let groups = self.figure_groups(&est_deg, &find);
+        for g in &groups {
+            let (t, truth_w, series) = windowed(&self.t, &truth_deg, &g.names, &find, g.window)?;
+            let mut lines: Vec<(&str, &[f64])> = vec![("theta", &truth_w)];
+            lines.extend(series.iter().map(|(n, v)| (n.as_str(), v.as_slice())));
+            figures.push(plot_time_series(
+                dir,
+                &g.stem,
+                &format!("{}{suffix}", g.title),
+                &t,
+                &lines,
+                &self.palette,
+            )?);
+            captions.push(format!(
+                "{} against the true angle.{}",
+                g.names.join(", "),
+                beyond_caption(figures.last())
+            ));
+            figures.push(plot_errors(
+                dir,
+                &format!("{}_error", g.stem),
+                &format!("{}: error{suffix}", g.title),
+                &t,
+                &truth_w,
+                &lines[1..],
+                &self.palette,
+            )?);
+            captions.push(format!(
+                "Error of {}.{}",
+                g.names.join(", "),
+                beyond_caption(figures.last())
+            ));
+        }
+        if let Some(d) = &data.fig3 {
+            figures.push(plot_fig3(dir, "fig3_kalman_variance", d, &self.palette)?);
+            captions.push(format!(
+                "Fig. 3: Eq (12) posterior variance against R, with a seeded Monte-Carlo check \
+                 ({} draws per point; largest deviation {:.2} standard errors).",
+                d.config.draws,
+                d.worst_z()
+            ));
+        }
+
+        Ok((figures, captions))
+    }
+
+    /// The figure groups to draw: the ones added, then (with per-estimator figures) one
+    /// per estimate beside the reference.
+    fn figure_groups<'a>(
+        &self,
+        est_deg: &[(String, Vec<f64>)],
+        find: &dyn Fn(&str) -> Option<&'a [f64]>,
+    ) -> Vec<FigureGroup> {
+        let mut groups = self.groups.clone();
+        if self.per_estimator_figures {
+            for (n, _) in est_deg {
+                if Some(n) == self.reference.as_ref() {
+                    continue;
+                }
+                let mut names = Vec::new();
+                if let Some(r) = &self.reference {
+                    if find(r).is_some() {
+                        names.push(r.clone());
+                    }
+                }
+                names.push(n.clone());
+                groups.push(FigureGroup {
+                    stem: format!("est_{}", file_safe(n)),
+                    title: format!("{}: {}", self.title, names.join(" and ")),
+                    names,
+                    window: None,
+                });
+            }
+        }
+        groups
+    }
+
+    /// `report.md` and `report.json` in `dir`.
+    fn write_markdown_and_json(
+        &self,
+        dir: &Path,
+        data: &ReportData,
+    ) -> Result<(PathBuf, PathBuf), ReportError> {
+        let mut md = format!("# {}\n\n", self.title);
+        for p in &self.intro {
+            md.push_str(&format!("{p}\n\n"));
+        }
+        for v in &data.views {
+            md.push_str(&format!(
+                "## Metrics: {}\n\n{}\n",
+                v.view,
+                metrics_markdown(&v.metrics)
+            ));
+            md.push_str(&format!("Step: {}.\n\n", v.step));
+            for (n, why) in &v.skipped {
+                md.push_str(&format!("- {n}: no metrics ({why})\n"));
+            }
+        }
+        if !data.claims.is_empty() {
+            md.push_str(&format!(
+                "## Claims (on the {} metrics)\n\n{}\n",
+                data.claims_view,
+                claims_markdown(&data.claims)
+            ));
+        }
+        let md_path = dir.join("report.md");
+        write_file(&md_path, md.as_bytes())?;
+        let json_path = dir.join("report.json");
+        write_file(&json_path, serde_json::to_string_pretty(data)?.as_bytes())?;
+
+        Ok((md_path, json_path))
+    }
+
+    /// `index.html` in `dir`: the intro, metrics tables, claims, `figures` with their
+    /// `captions`, and the notes.
+    fn write_page(
+        &self,
+        dir: &Path,
+        data: &ReportData,
+        figures: &[FigureFiles],
+        captions: &[String],
+        pv_name: &str,
+    ) -> Result<PathBuf, ReportError> {
+        let rel = |p: &Path| {
+            p.file_name()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        };
+        let mut intro = self.intro.clone();
+        intro.push(format!(
+            "{} samples at {:.1} Hz ({:.2} s); estimators: {}. Figures drawn from the {} series.",
+            data.samples,
+            data.rate_hz,
+            data.samples as f64 / data.rate_hz,
+            self.estimates
+                .iter()
+                .map(|(n, _)| n.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+            pv_name
+        ));
+        let mut notes = Vec::new();
+        for v in &data.views {
+            notes.push(format!("{}: {}.", v.view, v.step));
+            for (n, why) in &v.skipped {
+                notes.push(format!("{}: {n} has no metrics: {why}.", v.view));
+            }
+        }
+        notes.push(format!(
+            "Lag: delay of the estimate behind the truth from the peak of their cross-correlation \
+             (searched over +-{} ms, refined by a parabola through the peak); positive = late.",
+            self.config.max_lag_s * 1e3
+        ));
+        notes.extend(self.notes.iter().cloned());
+        let page = HtmlPage {
+            title: self.title.clone(),
+            intro,
+            tables: data
+                .views
+                .iter()
+                .map(|v| MetricsTable {
+                    heading: v.view.clone(),
+                    rows: v.metrics.clone(),
+                })
+                .collect(),
+            claims: data.claims.clone(),
+            figures: figures
+                .iter()
+                .zip(captions)
+                .map(|(f, c)| FigureRef {
+                    caption: c.clone(),
+                    png: rel(&f.png),
+                    svg: Some(rel(&f.svg)),
+                })
+                .collect(),
+            notes,
+        };
+        page.write(dir, "index.html", &self.palette)
+    }
+}
+
+/// " n points beyond the axis (marked red)." for a figure that cut any, else "".
+fn beyond_caption(f: Option<&FigureFiles>) -> String {
+    match f.map(FigureFiles::beyond_total) {
+        Some(n @ 1..) => format!(
+            " {n} point{} beyond the ordinate axis (start-up or spikes; marked red on the \
+             frame).",
+            if n == 1 { "" } else { "s" }
+        ),
+        _ => String::new(),
+    }
+}
+
+/// The overview figures `angles_all` and `errors_all`: one panel per estimator family
+/// ([`families::Family`]), the truth in every angle panel.
+fn family_panels(
+    title: &str,
+    suffix: &str,
+    t: &[f64],
+    truth: &[f64],
+    series: &[(&str, &[f64])],
+    dir: &Path,
+    palette: &Palette,
+) -> Result<(FigureFiles, FigureFiles), ReportError> {
+    let groups = families::group(series.iter().map(|(n, _)| *n));
+    let find = |n: &str| series.iter().find(|(m, _)| *m == n).map(|(_, v)| *v);
+    let errors: Vec<(&str, Vec<f64>)> = series
+        .iter()
+        .map(|(n, v)| (*n, v.iter().zip(truth).map(|(e, x)| e - x).collect()))
+        .collect();
+    let find_err = |n: &str| {
+        errors
+            .iter()
+            .find(|(m, _)| *m == n)
+            .map(|(_, v)| v.as_slice())
+    };
+    let mut angle_panels = Vec::new();
+    let mut error_panels = Vec::new();
+    for (family, names) in &groups {
+        let mut curves = vec![Curve::line("theta", t, truth)];
+        curves.extend(
+            names
+                .iter()
+                .filter_map(|n| find(n).map(|v| Curve::line(n, t, v))),
+        );
+        angle_panels.push(Panel {
+            spec: FigureSpec::new(family.label(), "time [s]", "angle [deg]"),
+            curves,
+        });
+        error_panels.push(Panel {
+            spec: FigureSpec::new(family.label(), "time [s]", "error [deg]"),
+            curves: names
+                .iter()
+                .filter_map(|n| find_err(n).map(|v| Curve::line(n, t, v)))
+                .collect(),
+        });
+    }
+    let angles = plot_panels(
+        dir,
+        "angles_all",
+        &format!("{title}: every estimate and the true angle{suffix}"),
+        (1200, 420),
+        &angle_panels,
+        palette,
+    )?;
+    let errors = plot_panels(
+        dir,
+        "errors_all",
+        &format!("{title}: error (estimate - truth) of every estimate{suffix}"),
+        (1200, 420),
+        &error_panels,
+        palette,
+    )?;
+    Ok((angles, errors))
+}
+
+/// Time, truth and named series of a figure window.
+type Windowed = (Vec<f64>, Vec<f64>, NamedSeries);
+
+/// The samples of a figure group inside its time window.
+fn windowed<'a>(
+    t: &[f64],
+    truth: &[f64],
+    names: &[String],
+    find: &dyn Fn(&str) -> Option<&'a [f64]>,
+    window: Option<(f64, f64)>,
+) -> Result<Windowed, ReportError> {
+    let keep: Vec<usize> = match window {
+        None => (0..t.len()).collect(),
+        Some((a, b)) => (0..t.len()).filter(|&k| t[k] >= a && t[k] <= b).collect(),
+    };
+    if keep.is_empty() {
+        return Err(ReportError::Invalid(format!(
+            "figure window {window:?} holds no sample"
+        )));
+    }
+    let pick = |v: &[f64]| keep.iter().map(|&k| v[k]).collect::<Vec<f64>>();
+    let mut series = Vec::new();
+    for n in names {
+        let v = find(n)
+            .ok_or_else(|| ReportError::Invalid(format!("figure asks for unknown series {n:?}")))?;
+        series.push((n.clone(), pick(v)));
+    }
+    Ok((pick(t), pick(truth), series))
+}
+
+/// A name made safe for a file stem: letters, digits, '_' and '-' kept, others become '_'.
+pub fn file_safe(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+fn write_file(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
+    std::fs::write(path, bytes).map_err(|source| ReportError::Io {
+        path: path.display().to_string(),
+        source,
+    })
+}
