@@ -69,4 +69,9 @@ impl<T: Real, S: ErrorState<T, N>, const N: usize> GaussianFilter<T, S, N>
     fn inflate(&mut self, v: &Error<T, N>) {
         add_outer(&mut self.p, v);
     }
+
+    fn transform(&mut self, t: &Cov<T, N>) {
+        let p = t * self.p * t.transpose();
+        self.p = (p + p.transpose()) * T::lit(0.5);
+    }
 }

@@ -48,4 +48,9 @@ pub trait GaussianFilter<T: Real, S: ErrorState<T, N>, const N: usize>: Sized {
     /// Adds `v v^T` to the covariance (re-acquisition after a run of rejected
     /// measurements: the filter forgets what it was too sure of, along `v`).
     fn inflate(&mut self, v: &Error<T, N>);
+
+    /// `P = T P T^T` (kept symmetric): a linear map of the error's uncertainty, e.g. to
+    /// bound it along a direction no measurement observes (a heading that would otherwise
+    /// grow without end and take the covariance beyond `f32`'s range).
+    fn transform(&mut self, t: &Cov<T, N>);
 }

@@ -147,8 +147,10 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
     #[inline]
     fn step(&self, x: &State<T>, gyro: &Vector3<T>, h: T) -> State<T> {
         let w = gyro - x.bias;
+        let mut q = x.q * UnitQuaternion::from_scaled_axis(w * h);
+        q.renormalize_fast();
         State {
-            q: x.q * UnitQuaternion::from_scaled_axis(w * h),
+            q,
             bias: x.bias,
             joints: self.joint_step(&x.joints, &w, &x.up(), h),
         }
@@ -162,8 +164,10 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
         let w = gyro - x.bias;
         let u = x.up();
         let turn = UnitQuaternion::from_scaled_axis(w * h);
+        let mut q = x.q * turn;
+        q.renormalize_fast();
         let next = State {
-            q: x.q * turn,
+            q,
             bias: x.bias,
             joints: self.joint_step(&x.joints, &w, &u, h),
         };

@@ -50,8 +50,12 @@ impl<T: Real> ErrorState<T, N> for State<T> {
     #[inline]
     fn retract(&self, dx: &Error<T>) -> Self {
         let d = Vector3::new(dx[ROT], dx[ROT + 1], dx[ROT + 2]);
+        // Renormalised: a product of unit quaternions drifts from unit length by rounding
+        // (in f32 enough to scale the modelled gravity within minutes).
+        let mut q = self.q * UnitQuaternion::from_scaled_axis(d);
+        q.renormalize_fast();
         Self {
-            q: self.q * UnitQuaternion::from_scaled_axis(d),
+            q,
             bias: self.bias + Vector3::new(dx[BIAS], dx[BIAS + 1], dx[BIAS + 2]),
             joints: self.joints + Vector4::new(dx[A], dx[B], dx[P], dx[R]),
         }
