@@ -25,8 +25,9 @@
 //! gyro matched to it, as the planar findings prescribe); the gyro's z axis through a third
 //! (its theta'' only). The gyroscopic terms use the gyro through the same low-pass.
 use super::attitude::roll_pitch_from_up;
-use super::cardan::{CardanParams, JointTrig, Joints};
+use super::cardan::{CardanParams, JointTrig};
 use super::{Attitude, SpatialSample};
+use crate::estimators::equations::Kinematics;
 use crate::estimators::front_end::{FrontEnd, FrontEndSettings};
 use crate::estimators::theta_dd::DEFAULT_WINDOW_CAPACITY;
 use crate::{Estimator, Flags, PendulumParams, Real, Sample};
@@ -96,11 +97,13 @@ impl<T: Real, const W: usize> Inv3d<T, W> {
     }
 }
 
-impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
-    type Input = SpatialSample<T>;
-    type Output = Attitude<T>;
+/// The front ends' outputs of one sample: x, y (encoders with their gyro axes) and z (the
+/// z gyro's theta'' only).
+type AxesKinematics<T> = [Kinematics<T>; 3];
 
-    fn update(&mut self, s: &SpatialSample<T>) -> Attitude<T> {
+impl<T: Real, const W: usize> Inv3d<T, W> {
+    /// Each axis through its front end; `Err(flags)` if one could not take the sample.
+    fn front_ends(&mut self, s: &SpatialSample<T>) -> Result<(AxesKinematics<T>, Flags), Flags> {
         let nan = T::nan();
         let planar = |phi: T, gyro: T| Sample {
             dt: s.dt,
@@ -126,59 +129,81 @@ impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
                 Err(f) => flags |= f,
             }
         }
-        let [Some(kx), Some(ky), Some(kz)] = k else {
-            return self.hold(flags);
+        match k {
+            [Some(x), Some(y), Some(z)] => Ok(([x, y, z], flags)),
+            _ => Err(flags),
+        }
+    }
+}
+
+/// The specific force at the pivot over g, in pendulum axes, that the joint equations
+/// require (see the module documentation), clamped to a unit horizontal part; `true` if
+/// it had to be.
+fn pendulum_axes_force<T: Real>(
+    p: &CardanParams<T>,
+    trig: &JointTrig<T>,
+    k: &AxesKinematics<T>,
+    w: [T; 3],
+    wd: [T; 3],
+) -> ([T; 3], bool) {
+    // Encoder convention: phi = -angle (MODEL.md 7.2).
+    let (ad, bd) = (-k[0].dphi, -k[1].dphi);
+    let (add, bdd) = (-k[0].ddphi, -k[1].ddphi);
+    let k0 = p.joint_accelerations_with(trig, ad, bd, w, wd, [T::zero(); 3]);
+    let ia = p.b_x * trig.cb * trig.cb + p.b_z * trig.sb * trig.sb;
+    let mut vy = (p.b_ring + ia) * (k0[0] - add) / trig.cb;
+    let mut vx = p.b_y * (bdd - k0[1]);
+    let mut r2 = vx * vx + vy * vy;
+    let clamped = r2 > T::one() || !r2.is_finite();
+    if clamped {
+        // Inconsistent with a hanging pendulum (as Eq 21's asin argument out of
+        // [-1, 1]): the horizontal part is clamped to the unit circle.
+        let scale = if r2.is_finite() && r2 > T::zero() {
+            T::one() / r2.sqrt()
+        } else {
+            T::zero()
+        };
+        vx *= scale;
+        vy *= scale;
+        r2 = T::one();
+    }
+    ([vx, vy, (T::one() - r2).max(T::zero()).sqrt()], clamped)
+}
+
+/// `a x b`.
+fn cross<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
+    type Input = SpatialSample<T>;
+    type Output = Attitude<T>;
+
+    fn update(&mut self, s: &SpatialSample<T>) -> Attitude<T> {
+        let (k, mut flags) = match self.front_ends(s) {
+            Ok(x) => x,
+            Err(flags) => return self.hold(flags),
         };
         let p = &self.settings.params;
-        // Encoder convention: phi = -angle (MODEL.md 7.2).
-        let (a, b) = (-kx.phi, -ky.phi);
-        let joints = Joints {
-            a,
-            b,
-            a_dot: -kx.dphi,
-            b_dot: -ky.dphi,
-        };
-        let (add, bdd) = (-kx.ddphi, -ky.ddphi);
-        let w = [kx.gyro_filtered, ky.gyro_filtered, kz.gyro_filtered];
-        let wd = [kx.theta_dd, ky.theta_dd, kz.theta_dd];
-        let trig = JointTrig::of(a, b);
-        let zero = [T::zero(); 3];
-        let k0 = p.joint_accelerations_with(&trig, joints.a_dot, joints.b_dot, w, wd, zero);
-        let ia = p.b_x * trig.cb * trig.cb + p.b_z * trig.sb * trig.sb;
-        let vy = (p.b_ring + ia) * (k0[0] - add) / trig.cb;
-        let vx = p.b_y * (bdd - k0[1]);
-        let mut r2 = vx * vx + vy * vy;
-        let (mut vx, mut vy) = (vx, vy);
-        if r2 > T::one() || !r2.is_finite() {
-            // Inconsistent with a hanging pendulum (as Eq 21's asin argument out of
-            // [-1, 1]): the horizontal part is clamped to the unit circle.
+        let trig = JointTrig::of(-k[0].phi, -k[1].phi);
+        let w = [k[0].gyro_filtered, k[1].gyro_filtered, k[2].gyro_filtered];
+        let wd = [k[0].theta_dd, k[1].theta_dd, k[2].theta_dd];
+        let (v, clamped) = pendulum_axes_force(p, &trig, &k, w, wd);
+        if clamped {
             flags |= Flags::ASIN_CLAMPED;
-            let scale = if r2.is_finite() && r2 > T::zero() {
-                T::one() / r2.sqrt()
-            } else {
-                T::zero()
-            };
-            vx *= scale;
-            vy *= scale;
-            r2 = T::one();
         }
-        let vz = (T::one() - r2).max(T::zero()).sqrt();
-        // f / g = Rx(a) Ry(b) v.
+        // f / g = Rx(a) Ry(b) v, less the pivot offset's lever-arm terms
+        // wd x c + w x (w x c) (in units of g, c = r12 / g).
         let JointTrig { sa, ca, sb, cb } = trig;
-        let (hx, hz) = (cb * vx + sb * vz, -sb * vx + cb * vz);
-        let mut f = [hx, ca * vy - sa * hz, sa * vy + ca * hz];
+        let (hx, hz) = (cb * v[0] + sb * v[2], -sb * v[0] + cb * v[2]);
+        let mut f = [hx, ca * v[1] - sa * hz, sa * v[1] + ca * hz];
         if p.c.iter().any(|c| *c != T::zero()) {
-            // Lever-arm terms of the pivot offset, in units of g: (wd x c + w x (w x c)).
-            let c = p.c;
-            let cross = |x: [T; 3], y: [T; 3]| {
-                [
-                    x[1] * y[2] - x[2] * y[1],
-                    x[2] * y[0] - x[0] * y[2],
-                    x[0] * y[1] - x[1] * y[0],
-                ]
-            };
-            let t = cross(wd, c);
-            let cc = cross(w, cross(w, c));
+            let t = cross(wd, p.c);
+            let cc = cross(w, cross(w, p.c));
             f = core::array::from_fn(|i| f[i] - t[i] - cc[i]);
         }
         let (roll, pitch) = roll_pitch_from_up(f);

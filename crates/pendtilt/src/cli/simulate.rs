@@ -132,7 +132,8 @@ pub struct Settings {
     pub set: Vec<String>,
 }
 
-/// The scenario and seed the options describe (see the module docs for the order).
+/// The scenario and seed the options describe (see the module docs for the order): the
+/// named scenario or the file, then the rig, the overrides, `--set`, the sensor switches.
 pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
     let o = &args.settings;
     let (mut s, file_seed) = match (&args.config, &args.scenario) {
@@ -146,6 +147,16 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
     if let Some(path) = &o.rig {
         s.pendulum = sim::load_rig(path)?;
     }
+    apply_rig_and_timing(&mut s, args);
+    apply_motion_and_vibration(&mut s, o)?;
+    apply_sensors(&mut s, o)?;
+    s.validate()?;
+    Ok((s, args.seed.or(file_seed).unwrap_or(DEFAULT_SEED)))
+}
+
+/// The pendulum's and the timing's overrides.
+fn apply_rig_and_timing(s: &mut Scenario, args: &Args) {
+    let o = &args.settings;
     let p = &mut s.pendulum;
     for (flag, v) in [
         (&mut p.mass, o.mass),
@@ -167,6 +178,10 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
     if let Some(n) = o.substeps {
         s.substeps = n;
     }
+}
+
+/// The motion's and the vibration's overrides.
+fn apply_motion_and_vibration(s: &mut Scenario, o: &Settings) -> anyhow::Result<()> {
     if let Some(a) = o.amplitude {
         s.motion.set_amplitude(a);
     }
@@ -192,6 +207,11 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
         }
         s.vibration.scale(k);
     }
+    Ok(())
+}
+
+/// The sensors' overrides, `--set`, then the switches that clear noise or vibration.
+fn apply_sensors(s: &mut Scenario, o: &Settings) -> anyhow::Result<()> {
     if let Some(m) = &o.accel_mount {
         let &[x, y] = m.as_slice() else {
             bail!("--accel-mount: give X,Y in metres, e.g. 0.02,-0.1 (got {m:?})");
@@ -205,16 +225,15 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
         s.set(a)?;
     }
     if o.no_noise {
-        s.sensors = s.sensors.without_noise();
+        s.sensors = std::mem::take(&mut s.sensors).without_noise();
     }
     if o.ideal_sensors {
-        s.sensors = s.sensors.ideal();
+        s.sensors = std::mem::take(&mut s.sensors).ideal();
     }
     if o.no_vibration {
         s.vibration = Default::default();
     }
-    s.validate()?;
-    Ok((s, args.seed.or(file_seed).unwrap_or(DEFAULT_SEED)))
+    Ok(())
 }
 
 /// A progress bar on standard error for `total` rows (hidden when quiet or not a terminal).
