@@ -6,6 +6,7 @@
 pub use pendtilt_core as core;
 
 pub mod bank;
+pub mod bank3d;
 pub mod cli;
 pub mod config;
 pub mod experiment;

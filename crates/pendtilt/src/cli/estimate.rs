@@ -1,4 +1,5 @@
-//! `pendtilt estimate LOG.csv --params RIG.toml -o OUT.csv`.
+//! `pendtilt estimate LOG.csv --params RIG.toml -o OUT.csv`: a planar log through the bank
+//! ([`crate::bank`]); a 3-D log (MODEL.md 7.6 columns) through [`super::estimate3d`].
 use std::fs::File;
 use std::io::BufReader;
 use std::path::PathBuf;
@@ -24,11 +25,43 @@ pub struct Args {
     /// Rig, column mapping, estimator choice and output form.
     #[command(flatten)]
     pub bank: BankOptions,
+    /// 3-D logs: add `<name>_qw, _qx, _qy, _qz` (world <- body) for the estimators that
+    /// have an attitude quaternion (ekf3d, ukf3d).
+    #[arg(long)]
+    pub quaternion: bool,
+    /// 3-D logs: the scenario file `simulate` wrote beside the log; its sensor noise
+    /// figures set ekf3d/ukf3d's, its `score_from` the scoring start, its rig the rig when
+    /// there is no --params. Default: none (the filters' default noise figures).
+    #[arg(long, value_name = "FILE")]
+    pub scenario: Option<PathBuf>,
+    /// 3-D logs: score the inclination error from this long after the first row \[s\].
+    /// Default: the --scenario file's score_from, else 5 s.
+    #[arg(long, value_name = "SECONDS")]
+    pub score_from: Option<f64>,
 }
 
 /// Runs `pendtilt estimate`: refuses an output that is an input, writes the estimates to a
 /// temporary file and renames it onto `-o` only when the whole log was read.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if super::estimate3d::is_3d_log(&args.log) {
+        return super::estimate3d::run(args);
+    }
+    let given: Vec<&str> = [
+        ("--quaternion", args.quaternion),
+        ("--scenario", args.scenario.is_some()),
+        ("--score-from", args.score_from.is_some()),
+    ]
+    .iter()
+    .filter(|g| g.1)
+    .map(|g| g.0)
+    .collect();
+    anyhow::ensure!(
+        given.is_empty(),
+        "{}: for 3-D logs only (MODEL.md 7.6 columns t, phi_x, phi_y, gyro_x, gyro_y, \
+         gyro_z, ax, ay, az); {} is a planar log",
+        given.join(", "),
+        args.log.display()
+    );
     let opts = &args.bank;
     let mut inputs = vec![NamedPath::new("LOG", &args.log)];
     if let Some(p) = &opts.params {

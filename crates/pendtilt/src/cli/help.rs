@@ -37,7 +37,33 @@ pub fn estimator_list() -> String {
 
 /// What `estimate --help` and `stream --help` print after the options.
 pub fn estimate_after_help() -> String {
-    format!("{}\n{INPUT_UNITS}", estimator_list())
+    format!(
+        "{}\n{INPUT_UNITS}\n\n{}",
+        estimator_list(),
+        estimator3d_list()
+    )
+}
+
+/// The 3-D estimators ([`crate::bank3d::REGISTRY3D`]) and how a 3-D log is told.
+pub fn estimator3d_list() -> String {
+    use crate::bank3d::REGISTRY3D;
+    let width = REGISTRY3D.iter().map(|e| e.name.len()).max().unwrap_or(0);
+    let mut s = String::from(
+        "3-D logs (MODEL.md 7.6: a header with t, phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, \
+         az; roll, pitch as truth, speed optional) run the 3-D estimators, columns \
+         <name>_roll, <name>_pitch (--quaternion: <name>_qw.._qz where marked q), and print \
+         the inclination error when the log has roll and pitch:\n",
+    );
+    for e in REGISTRY3D {
+        let q = if e.quaternion { "q" } else { " " };
+        s.push_str(&format!(
+            "  {:width$} {q}  {}\n",
+            e.name,
+            e.about,
+            width = width
+        ));
+    }
+    s
 }
 
 /// `value` for each named scenario, as "X in every scenario" when they all agree, else

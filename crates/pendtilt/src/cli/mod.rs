@@ -2,6 +2,7 @@
 use clap::{Parser, Subcommand};
 
 pub mod estimate;
+pub mod estimate3d;
 pub mod filter;
 pub mod fit;
 pub mod help;

@@ -23,6 +23,7 @@
 mod columns;
 pub(crate) mod csv_lines;
 mod diagnostics;
+mod estimates3d_writer;
 mod estimates_writer;
 mod log3d;
 mod log_reader;
@@ -32,6 +33,7 @@ mod split;
 
 pub use columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns, OptionError};
 pub use diagnostics::{LogSummary, LogWarning, WarningKind};
+pub use estimates3d_writer::{Column3d, Estimates3dWriter};
 pub use estimates_writer::{EstimatesWriter, WriterOptions};
 pub use log3d::{
     is_3d_header, read_log3d, Log3dReader, Log3dRecord, Row3dIssues, LOG3D_COLUMNS, LOG3D_REQUIRED,

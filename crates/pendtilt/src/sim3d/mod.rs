@@ -48,7 +48,7 @@ pub mod vehicle;
 
 pub use dynamics::{specific_force_at, JointState};
 pub use motion::{BodyKinematics, BodyMotion, SineMotion};
-pub use params::{Normalised3d, Pendulum3d};
+pub use params::Pendulum3d;
 pub use scenario::{Mounting, Rig3d, Run3d, Scenario3d, SCENARIO3D_NAMES};
 pub use sensors::{LogRow3d, SensorBank3d, Sensors3d};
 pub use simulator::{Simulator3d, Truth3d};

@@ -1,6 +1,7 @@
 //! The Cardan pendulum's constants (MODEL.md 7.2, 7.3, 7.6): physical form, the normalised
 //! form of 7.3, and the linearised natural frequencies and damping ratios of 7.2.
 
+use pendtilt_core::spatial::cardan::CardanParams;
 use serde::{Deserialize, Serialize};
 
 use crate::sim::SimError;
@@ -50,37 +51,17 @@ impl Default for Pendulum3d {
     }
 }
 
-/// The normalised form of MODEL.md 7.3: both joint equations divided by m g l.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Normalised3d {
-    /// a_x = C_x / (m g l) \[s\].
-    pub a_x: f64,
-    /// a_y = C_y / (m g l) \[s\].
-    pub a_y: f64,
-    /// b_x = Ixx / (m g l) \[s^2\].
-    pub b_x: f64,
-    /// b_y = Iyy / (m g l) \[s^2\].
-    pub b_y: f64,
-    /// b_z = Izz / (m g l) \[s^2\].
-    pub b_z: f64,
-    /// b_ring = J_ring / (m g l) \[s^2\].
-    pub b_ring: f64,
-    /// c = r12 / g \[s^2\] (body axes).
-    pub c: [f64; 3],
-    /// g \[m/s^2\] (the specific force enters as f / g).
-    pub gravity: f64,
-}
-
 impl Pendulum3d {
     /// m g l \[N m\]: the gravity stiffness of either joint on a level body.
     pub fn mgl(&self) -> f64 {
         self.mass * self.gravity * self.length
     }
 
-    /// The normalised parameters of MODEL.md 7.3.
-    pub fn normalised(&self) -> Normalised3d {
+    /// The normalised parameters of MODEL.md 7.3, as the core's estimators take them
+    /// (the one conversion from the physical form).
+    pub fn normalised(&self) -> CardanParams<f64> {
         let k = self.mgl();
-        Normalised3d {
+        CardanParams {
             a_x: self.damping_x / k,
             a_y: self.damping_y / k,
             b_x: self.inertia_xx / k,
@@ -197,6 +178,23 @@ mod tests {
         assert!((w[1] - 1.0 / n.b_y.sqrt()).abs() < 1e-12);
         let z = p.damping_ratios(0.0);
         assert!((z[1] - n.a_y / (2.0 * n.b_y.sqrt())).abs() < 1e-12);
+    }
+
+    /// The simulator's default rig and the core's default parameters are one pendulum.
+    #[test]
+    fn default_rig_normalises_to_the_core_default() {
+        let (n, c) = (
+            Pendulum3d::default().normalised(),
+            CardanParams::<f64>::default(),
+        );
+        let (a, b) = (
+            [n.a_x, n.a_y, n.b_x, n.b_y, n.b_z, n.b_ring, n.gravity],
+            [c.a_x, c.a_y, c.b_x, c.b_y, c.b_z, c.b_ring, c.gravity],
+        );
+        for (x, y) in a.iter().zip(&b) {
+            assert!((x - y).abs() <= 1e-12 * y.abs(), "{a:?} {b:?}");
+        }
+        assert_eq!(n.c, c.c);
     }
 
     #[test]

@@ -1,0 +1,308 @@
+//! The 3-D estimator bank (issue 14 item 4): every estimator `pendtilt estimate` runs on a
+//! 3-D log (MODEL.md 7.6), built from the rig and the sensors, run side by side one
+//! [`SpatialSample`] at a time.
+//!
+//! [`REGISTRY3D`] is the one list of names and constructors: the bank, `--only` and the
+//! list of valid names in its error all come from it. Adding a 3-D estimator is adding an
+//! entry (and, if it has an attitude quaternion, implementing [`Runner3d::quaternion`]).
+//!
+//! - [`rig`]: the rig file's `[pendulum3d]` (physical or normalised) and `[mounting]`;
+//! - [`score`]: the inclination error of MODEL.md 7.9 accumulated per estimator.
+use pendtilt_core::spatial::accel::{Accel, AccelSettings};
+use pendtilt_core::spatial::cardan::CardanParams;
+use pendtilt_core::spatial::ekf::{self, Ekf, Ukf};
+use pendtilt_core::spatial::inv::{Inv3d, Inv3dSettings};
+use pendtilt_core::spatial::pendulum::{Pendulum, PendulumSettings};
+use pendtilt_core::spatial::{Attitude, SpatialSample};
+use pendtilt_core::Estimator;
+
+use crate::peers::spatial::{
+    madgwick3d, mahony3d, vqf, Imu6, ImuFilter, MADGWICK3D_BETA, MAHONY3D_GAINS, VQF_TAU_ACC,
+};
+use crate::sim3d::Sensors3d;
+
+pub mod rig;
+pub mod score;
+
+/// What the 3-D estimators are built from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings3d {
+    /// The spatial filter's settings; its `params` are the rig's pendulum (normalised),
+    /// which `inv3d` uses too.
+    pub ekf: ekf::Settings<f64>,
+    /// `accel3d`'s settings.
+    pub accel: AccelSettings<f64>,
+}
+
+impl Default for Settings3d {
+    /// MODEL.md 7.6's rig and the core's defaults.
+    fn default() -> Self {
+        Self::new(CardanParams::default(), None)
+    }
+}
+
+impl Settings3d {
+    /// The settings for the pendulum `params` and, when known, the sensors' figures
+    /// (MODEL.md 7.5; a scenario file's `[sensors]`). Without them the spatial filter keeps
+    /// its default noise figures.
+    pub fn new(params: CardanParams<f64>, sensors: Option<&Sensors3d>) -> Self {
+        let mut ekf = ekf::Settings {
+            params,
+            ..ekf::Settings::default()
+        };
+        if let Some(s) = sensors {
+            let n = &mut ekf.sensors;
+            n.encoder_bits = s.encoder_bits;
+            n.encoder_noise = s.encoder_noise;
+            n.gyro_density = s.gyro_noise_density;
+            n.gyro_bias_walk = s.gyro_bias_walk;
+            n.accel_density = s.accel_noise_density;
+        }
+        Self {
+            ekf,
+            accel: AccelSettings::default(),
+        }
+    }
+}
+
+/// A running 3-D estimator as the bank drives it: the spatial [`Estimator`] interface and,
+/// where the estimator has one, its attitude quaternion.
+pub trait Runner3d {
+    /// One sample in, roll and pitch out (see [`Estimator::update`]).
+    fn step(&mut self, s: &SpatialSample<f64>) -> Attitude<f64>;
+    /// The attitude quaternion `[w, x, y, z]` (world <- body) after the last step, `None`
+    /// when the estimator has none or has not started.
+    fn quaternion(&self) -> Option<[f64; 4]> {
+        None
+    }
+}
+
+/// The estimators without a quaternion of their own: roll and pitch only.
+macro_rules! attitude_only {
+    ($($t:ty),*) => {$(
+        impl Runner3d for $t {
+            fn step(&mut self, s: &SpatialSample<f64>) -> Attitude<f64> {
+                self.update(s)
+            }
+        }
+    )*};
+}
+attitude_only!(Pendulum<f64>, Accel<f64>, Inv3d<f64>);
+
+impl<F: ImuFilter> Runner3d for Imu6<F> {
+    fn step(&mut self, s: &SpatialSample<f64>) -> Attitude<f64> {
+        self.update(s)
+    }
+}
+
+/// The model-based filters: their quaternion state.
+macro_rules! with_quaternion {
+    ($($t:ty),*) => {$(
+        impl Runner3d for $t {
+            fn step(&mut self, s: &SpatialSample<f64>) -> Attitude<f64> {
+                self.update(s)
+            }
+            fn quaternion(&self) -> Option<[f64; 4]> {
+                self.quaternion().map(|q| [q.w, q.i, q.j, q.k])
+            }
+        }
+    )*};
+}
+with_quaternion!(Ekf<f64>, Ukf<f64>);
+
+/// One estimator of [`REGISTRY3D`].
+#[derive(Debug, Clone, Copy)]
+pub struct Entry3d {
+    /// Its name, the prefix of its output columns.
+    pub name: &'static str,
+    /// One line on what it is.
+    pub about: &'static str,
+    /// Whether it gives an attitude quaternion (`--quaternion` columns).
+    pub quaternion: bool,
+    /// Builds it.
+    pub build: fn(&Settings3d) -> Box<dyn Runner3d>,
+}
+
+/// Every 3-D estimator, in output column order.
+pub static REGISTRY3D: &[Entry3d] = &[
+    Entry3d {
+        name: "pendulum3d",
+        about: "raw encoder angles: roll = phi_x, pitch = phi_y",
+        quaternion: false,
+        build: |_| Box::new(Pendulum::<f64>::new(PendulumSettings {})),
+    },
+    Entry3d {
+        name: "accel3d",
+        about: "roll and pitch of the accelerometer",
+        quaternion: false,
+        build: |s| Box::new(Accel::new(s.accel)),
+    },
+    Entry3d {
+        name: "inv3d",
+        about: "Algorithm 2 in three dimensions",
+        quaternion: false,
+        build: |s| Box::new(Inv3d::<f64>::new(Inv3dSettings::from_params(s.ekf.params))),
+    },
+    Entry3d {
+        name: "ekf3d",
+        about: "quaternion EKF with the pendulum's equations of motion",
+        quaternion: true,
+        build: |s| Box::new(Ekf::new(s.ekf)),
+    },
+    Entry3d {
+        name: "ukf3d",
+        about: "the same model on the UKF",
+        quaternion: true,
+        build: |s| Box::new(Ukf::new(s.ekf)),
+    },
+    Entry3d {
+        name: "vqf",
+        about: "VQF 6D (peer, vqf-rs)",
+        quaternion: false,
+        build: |_| Box::new(vqf(VQF_TAU_ACC)),
+    },
+    Entry3d {
+        name: "madgwick3d",
+        about: "Madgwick IMU filter (peer, ahrs)",
+        quaternion: false,
+        build: |_| Box::new(madgwick3d(MADGWICK3D_BETA)),
+    },
+    Entry3d {
+        name: "mahony3d",
+        about: "Mahony IMU filter (peer, ahrs)",
+        quaternion: false,
+        build: |_| Box::new(mahony3d(MAHONY3D_GAINS[0], MAHONY3D_GAINS[1])),
+    },
+];
+
+/// The names of [`REGISTRY3D`], comma-separated (for errors and help).
+pub fn names3d() -> String {
+    REGISTRY3D
+        .iter()
+        .map(|e| e.name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The chosen 3-D estimators, run side by side.
+pub struct Bank3d {
+    entries: Vec<&'static Entry3d>,
+    runners: Vec<Box<dyn Runner3d>>,
+    out: Vec<Attitude<f64>>,
+}
+
+impl std::fmt::Debug for Bank3d {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Bank3d")
+            .field("names", &self.names())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Bank3d {
+    /// Every estimator of [`REGISTRY3D`], or only those named in `only` (in registry
+    /// order); an unknown name is an error that lists the valid ones.
+    pub fn new(settings: &Settings3d, only: Option<&[String]>) -> Result<Self, String> {
+        if let Some(only) = only {
+            let unknown: Vec<&str> = only
+                .iter()
+                .map(|n| n.trim())
+                .filter(|n| !REGISTRY3D.iter().any(|e| e.name == *n))
+                .collect();
+            if !unknown.is_empty() {
+                return Err(format!(
+                    "--only: unknown 3-D estimator {}; the 3-D estimators are {}",
+                    unknown.join(", "),
+                    names3d()
+                ));
+            }
+        }
+        let entries: Vec<&'static Entry3d> = REGISTRY3D
+            .iter()
+            .filter(|e| only.is_none_or(|o| o.iter().any(|n| n.trim() == e.name)))
+            .collect();
+        if entries.is_empty() {
+            return Err("--only: no estimator named".into());
+        }
+        Ok(Self {
+            runners: entries.iter().map(|e| (e.build)(settings)).collect(),
+            out: Vec::with_capacity(entries.len()),
+            entries,
+        })
+    }
+
+    /// The names of the estimators it runs, in column order.
+    pub fn names(&self) -> Vec<&'static str> {
+        self.entries.iter().map(|e| e.name).collect()
+    }
+
+    /// Whether estimator `i` (in [`Self::names`] order) has a quaternion.
+    pub fn has_quaternion(&self, i: usize) -> bool {
+        self.entries[i].quaternion
+    }
+
+    /// One sample through every estimator: their outputs in [`Self::names`] order.
+    pub fn update(&mut self, s: &SpatialSample<f64>) -> &[Attitude<f64>] {
+        self.out.clear();
+        for r in &mut self.runners {
+            self.out.push(r.step(s));
+        }
+        &self.out
+    }
+
+    /// The outputs of the last [`Self::update`], in [`Self::names`] order.
+    pub fn outputs(&self) -> &[Attitude<f64>] {
+        &self.out
+    }
+
+    /// Estimator `i`'s quaternion after the last [`Self::update`].
+    pub fn quaternion(&self, i: usize) -> Option<[f64; 4]> {
+        self.runners[i].quaternion()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_keeps_registry_order_and_refuses_unknown_names() {
+        let s = Settings3d::default();
+        let b = Bank3d::new(&s, Some(&["vqf".into(), "ekf3d".into()])).unwrap();
+        assert_eq!(b.names(), ["ekf3d", "vqf"]);
+        assert!(b.has_quaternion(0) && !b.has_quaternion(1));
+        let e = Bank3d::new(&s, Some(&["ekf3d".into(), "kalman9".into()])).unwrap_err();
+        assert!(e.contains("kalman9") && e.contains(&names3d()), "{e}");
+        assert_eq!(
+            Bank3d::new(&s, None).unwrap().names().len(),
+            REGISTRY3D.len()
+        );
+    }
+
+    /// The flag says what the runner gives: a quaternion once started, for those marked.
+    #[test]
+    fn quaternion_flag_matches_the_runner() {
+        let s = Settings3d::default();
+        let mut b = Bank3d::new(&s, None).unwrap();
+        let g = 9.80665;
+        for k in 0..50 {
+            let x = SpatialSample {
+                dt: if k == 0 { 0.0 } else { 1e-3 },
+                phi: [0.1, -0.05],
+                gyro: [0.0; 3],
+                accel: pendtilt_core::spatial::attitude::up_from_roll_pitch(0.1, -0.05)
+                    .map(|u| u * g),
+                speed: f64::NAN,
+            };
+            b.update(&x);
+        }
+        for (i, e) in REGISTRY3D.iter().enumerate() {
+            assert_eq!(b.quaternion(i).is_some(), e.quaternion, "{}", e.name);
+        }
+        // ekf3d's quaternion is the up direction it reports (world <- body).
+        let q = b.quaternion(3).unwrap();
+        let up_z = q[0] * q[0] - q[1] * q[1] - q[2] * q[2] + q[3] * q[3];
+        let want = 0.1f64.cos() * 0.05f64.cos();
+        assert!((up_z - want).abs() < 1e-3, "{up_z} {want}");
+    }
+}

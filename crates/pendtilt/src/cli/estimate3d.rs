@@ -1,0 +1,372 @@
+//! The 3-D branch of `pendtilt estimate` (MODEL.md 7.6, issue 14 item 4): a log with the
+//! columns t, phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az (speed, roll, pitch
+//! optional) through the 3-D bank ([`crate::bank3d::REGISTRY3D`]).
+//!
+//! The rig is `--params` (`[pendulum3d]` physical or normalised, `[mounting]`), else the
+//! rig of the `--scenario` file, else MODEL.md 7.6's. The sensors' noise figures come from
+//! the `--scenario` file (the one `simulate` writes beside the log) when given. With
+//! truth in the log, the inclination error (MODEL.md 7.9) of every estimator is printed,
+//! over t >= t0 + `--score-from` (default: the scenario's `score_from`, else
+//! [`DEFAULT_SCORE_FROM`]).
+//!
+//! Row handling: one output row per data row. A missing cell or a time that does not
+//! increase reaches the estimators as NaN, which they flag and hold on; an encoder angle
+//! beyond +-pi or a rate beyond 100 rad/s is impossible and read as missing too, with a
+//! warning naming its place. A cell that is not a number stops the run with its file,
+//! line and column; so does a time column whose steps no sensor rate explains.
+use std::fs::File;
+use std::io::BufReader;
+use std::path::Path;
+
+use anyhow::{bail, Context};
+use pendtilt_core::spatial::SpatialSample;
+use pendtilt_core::StepGate;
+
+use super::estimate::Args;
+use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
+use crate::bank3d::score::Inclination;
+use crate::bank3d::{Bank3d, Settings3d};
+use crate::io::output::{self, NamedPath, OutputFile};
+use crate::io::plausibility::implausible_step;
+use crate::io::{Column3d, Estimates3dWriter, Log3dReader, Log3dRecord};
+use crate::sim3d::{Scenario3d, Sensors3d};
+
+/// Scoring starts this long after the first row when neither `--score-from` nor a
+/// scenario file says \[s\]: the filters' start-up (the pendulum settling, VQF's
+/// accelerometer low-pass of 3 s) is over by then.
+pub const DEFAULT_SCORE_FROM: f64 = 5.0;
+
+/// Rows read before the first estimate, for the time-unit check.
+const HEAD_ROWS: usize = 64;
+
+/// Largest plausible body rate \[rad/s\] (the planar reader's physical bound).
+const MAX_RATE: f64 = 100.0;
+
+/// True when the first header line of the file at `path` has every 3-D column (comment
+/// and blank lines before it skipped). An unreadable file is not 3-D: the planar reader
+/// then reports it.
+pub fn is_3d_log(path: &Path) -> bool {
+    use std::io::BufRead;
+    let Ok(f) = File::open(path) else {
+        return false;
+    };
+    let mut line = String::new();
+    let mut r = BufReader::new(f);
+    loop {
+        line.clear();
+        match r.read_line(&mut line) {
+            Ok(0) | Err(_) => return false,
+            Ok(_) => {}
+        }
+        let l = line.trim();
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        let header: Vec<&str> = l.split(',').map(|h| h.trim().trim_matches('"')).collect();
+        return crate::io::is_3d_header(&header);
+    }
+}
+
+/// What the options and files give the run.
+struct Setup {
+    settings: Settings3d,
+    score_from: f64,
+    /// Seconds per unit of `t`.
+    time_scale: f64,
+    /// Whether `t`'s unit was given (no rate check then).
+    time_given: bool,
+    /// Radians per unit of the angular columns.
+    angle_scale: f64,
+}
+
+fn setup(args: &Args) -> anyhow::Result<Setup> {
+    let opts = &args.bank;
+    if !opts.map.is_empty() {
+        bail!(
+            "--map: for planar logs only; a 3-D log's columns are read by their MODEL.md 7.6 names"
+        );
+    }
+    let angle_scale = match opts.deg {
+        None => 1.0,
+        Some(d) if d == crate::io::DegreeColumns::all() => std::f64::consts::PI / 180.0,
+        Some(_) => bail!(
+            "--deg with a list: for planar logs only; on a 3-D log --deg alone reads every \
+             angular column (phi_x, phi_y, gyro_*, roll, pitch) in degrees"
+        ),
+    };
+    let scenario = match &args.scenario {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("cannot read --scenario {}", p.display()))?;
+            Some(Scenario3d::from_toml(&text, &p.display().to_string())?.0)
+        }
+        None => None,
+    };
+    let rig = match (&opts.params, &scenario) {
+        (Some(p), _) => Rig3dConfig::load(p).map_err(anyhow::Error::msg)?,
+        (None, Some(s)) => Rig3dConfig {
+            pendulum3d: Pendulum3dConfig::Physical(s.rig.pendulum3d),
+            mounting: s.rig.mounting,
+        },
+        (None, None) => {
+            opts.notice("note: no --params: using the default 3-D rig of MODEL.md 7.6");
+            Rig3dConfig::default()
+        }
+    };
+    let sensors: Option<Sensors3d> = scenario.as_ref().map(|s| s.sensors);
+    if sensors.is_none() {
+        opts.notice("note: no --scenario: ekf3d and ukf3d use their default sensor noise figures");
+    }
+    let score_from = args
+        .score_from
+        .or(scenario.as_ref().map(|s| s.score_from))
+        .unwrap_or(DEFAULT_SCORE_FROM);
+    Ok(Setup {
+        settings: Settings3d::new(rig.pendulum3d.params(), sensors.as_ref()),
+        score_from,
+        time_scale: opts.time_unit.map_or(1.0, |u| u.seconds()),
+        time_given: opts.time_unit.is_some(),
+        angle_scale,
+    })
+}
+
+/// Runs `pendtilt estimate` on a 3-D log.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let opts = &args.bank;
+    let mut inputs = vec![NamedPath::new("LOG", &args.log)];
+    if let Some(p) = &opts.params {
+        inputs.push(NamedPath::new("--params", p));
+    }
+    if let Some(p) = &args.scenario {
+        inputs.push(NamedPath::new("--scenario", p));
+    }
+    output::check_distinct(&inputs, &[NamedPath::new("-o", &args.output)])?;
+    let setup = setup(&args)?;
+    let out = OutputFile::create("-o", &args.output)?;
+    let result =
+        estimate_into(&args, &setup, &out).with_context(|| output::not_written(&args.output))?;
+    out.commit()?;
+    if !opts.quiet {
+        eprintln!(
+            "{} rows -> {} ({} estimators)",
+            result.rows,
+            args.output.display(),
+            result.names.len()
+        );
+        for w in &result.warnings {
+            eprintln!("warning: {w}");
+        }
+        if result.truth {
+            println!("{}", score_table(&result, setup.score_from));
+        }
+    }
+    Ok(())
+}
+
+/// What a pass over the log gave.
+struct Pass {
+    rows: u64,
+    names: Vec<&'static str>,
+    truth: bool,
+    scores: Vec<Inclination>,
+    warnings: Vec<String>,
+}
+
+/// Warnings printed in full; the rest are counted.
+const MAX_WARNINGS: usize = 10;
+
+/// Reads the log's first rows, checks the time unit, then runs every row through the bank
+/// into the (uncommitted) output.
+fn estimate_into(args: &Args, setup: &Setup, out: &OutputFile) -> anyhow::Result<Pass> {
+    let opts = &args.bank;
+    let mut log = Log3dReader::open(&args.log)?;
+    let file = args.log.display().to_string();
+    let mut bank =
+        Bank3d::new(&setup.settings, opts.only.as_deref()).map_err(anyhow::Error::msg)?;
+    let names = bank.names();
+    let truth = log.has("roll") && log.has("pitch");
+    let columns = names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| Column3d {
+            name: n.to_string(),
+            quaternion: args.quaternion && bank.has_quaternion(i),
+        })
+        .collect();
+    let mut w = Estimates3dWriter::new(out.writer()?, columns, truth, opts.writer_options())?;
+    let mut head = Vec::with_capacity(HEAD_ROWS);
+    while head.len() < HEAD_ROWS {
+        match log.next_record()? {
+            Some(r) => head.push(r),
+            None => break,
+        }
+    }
+    if !setup.time_given {
+        check_time_unit(&file, &head)?;
+    }
+    let header: Vec<String> = log.header().to_vec();
+    let mut row = RowInput::new(setup, &file, &header);
+    let mut gate = StepGate::new();
+    let mut scores = vec![Inclination::default(); names.len()];
+    let mut quats = vec![None; names.len()];
+    let mut t0 = None;
+    let mut rows = 0u64;
+    let mut rest = std::iter::from_fn(|| log.next_record().transpose());
+    for r in head.into_iter().map(Ok).chain(&mut rest) {
+        let r = r?;
+        let (t, s, roll, pitch) = row.sample(&r, &mut gate);
+        bank.update(&s);
+        let est = bank.outputs();
+        for (i, q) in quats.iter_mut().enumerate() {
+            *q = if args.quaternion {
+                bank.quaternion(i)
+            } else {
+                None
+            };
+        }
+        if t.is_finite() && t0.is_none() {
+            t0 = Some(t);
+        }
+        if truth && t0.is_some_and(|t0| t >= t0 + setup.score_from) {
+            for (sc, e) in scores.iter_mut().zip(est) {
+                sc.add((e.roll, e.pitch), (roll, pitch));
+            }
+        }
+        w.write(t, est, &quats, (roll, pitch))?;
+        rows += 1;
+    }
+    w.flush()?;
+    drop(w);
+    Ok(Pass {
+        rows,
+        names,
+        truth,
+        scores,
+        warnings: row.warnings(),
+    })
+}
+
+/// The median step of the first rows must be a sensor rate (as the planar reader checks).
+fn check_time_unit(file: &str, head: &[Log3dRecord]) -> anyhow::Result<()> {
+    let mut steps: Vec<f64> = head
+        .windows(2)
+        .map(|p| p[1].t - p[0].t)
+        .filter(|d| d.is_finite() && *d > 0.0)
+        .collect();
+    if steps.is_empty() {
+        return Ok(());
+    }
+    steps.sort_by(f64::total_cmp);
+    let median = steps[steps.len() / 2];
+    match implausible_step(median) {
+        Some(why) => {
+            let line = head.get(1).map_or(0, |r| r.line);
+            bail!("{file}:{line}: column 1 (`t`): {why}")
+        }
+        None => Ok(()),
+    }
+}
+
+/// Turns records into samples: units, plausibility, the time step.
+struct RowInput<'a> {
+    time_scale: f64,
+    angle_scale: f64,
+    file: &'a str,
+    header: &'a [String],
+    warnings: Vec<String>,
+    more: u64,
+}
+
+impl<'a> RowInput<'a> {
+    fn new(setup: &Setup, file: &'a str, header: &'a [String]) -> Self {
+        Self {
+            time_scale: setup.time_scale,
+            angle_scale: setup.angle_scale,
+            file,
+            header,
+            warnings: Vec::new(),
+            more: 0,
+        }
+    }
+
+    /// `x` when plausible, else NaN and a warning naming its place.
+    fn plausible(&mut self, line: u64, name: &str, x: f64, bound: f64, unit: &str) -> f64 {
+        if x.abs() <= bound || x.is_nan() {
+            return x;
+        }
+        if self.warnings.len() < MAX_WARNINGS {
+            let col = self
+                .header
+                .iter()
+                .position(|h| h == name)
+                .map_or(0, |p| p + 1);
+            self.warnings.push(format!(
+                "{}:{line}: column {col} (`{name}`): {x} {unit} is beyond {bound} {unit}, \
+                 impossible: read as missing (in degrees? give --deg)",
+                self.file
+            ));
+        } else {
+            self.more += 1;
+        }
+        f64::NAN
+    }
+
+    /// The sample, with its time \[s\] and the truth (NaN when absent).
+    fn sample(
+        &mut self,
+        r: &Log3dRecord,
+        gate: &mut StepGate<f64>,
+    ) -> (f64, SpatialSample<f64>, f64, f64) {
+        let t = r.t * self.time_scale;
+        let k = self.angle_scale;
+        let phi = [
+            self.plausible(r.line, "phi_x", r.phi[0] * k, std::f64::consts::PI, "rad"),
+            self.plausible(r.line, "phi_y", r.phi[1] * k, std::f64::consts::PI, "rad"),
+        ];
+        let gyro = [
+            self.plausible(r.line, "gyro_x", r.gyro[0] * k, MAX_RATE, "rad/s"),
+            self.plausible(r.line, "gyro_y", r.gyro[1] * k, MAX_RATE, "rad/s"),
+            self.plausible(r.line, "gyro_z", r.gyro[2] * k, MAX_RATE, "rad/s"),
+        ];
+        let s = SpatialSample {
+            dt: gate.step(t),
+            phi,
+            gyro,
+            accel: r.accel,
+            speed: r.speed.unwrap_or(f64::NAN),
+        };
+        let truth = |x: Option<f64>| x.map_or(f64::NAN, |v| v * k);
+        (t, s, truth(r.roll), truth(r.pitch))
+    }
+
+    fn warnings(&self) -> Vec<String> {
+        let mut w = self.warnings.clone();
+        if self.more > 0 {
+            w.push(format!(
+                "{} more impossible readings read as missing",
+                self.more
+            ));
+        }
+        w
+    }
+}
+
+/// The inclination error table (MODEL.md 7.9) in degrees.
+fn score_table(p: &Pass, score_from: f64) -> String {
+    let n = p.scores.first().map_or(0, |s| s.count());
+    let mut t = format!(
+        "inclination error [deg], t >= t0 + {score_from} s ({n} rows scored):\n\
+         {:<12} {:>10} {:>10} {:>10}\n",
+        "estimator", "RMS", "max", "mean"
+    );
+    for (name, s) in p.names.iter().zip(&p.scores) {
+        t.push_str(&format!(
+            "{name:<12} {:>10.5} {:>10.5} {:>10.5}\n",
+            s.rms().to_degrees(),
+            s.max().to_degrees(),
+            s.mean().to_degrees()
+        ));
+    }
+    t.pop();
+    t
+}
