@@ -2,29 +2,13 @@
 //! from: at rest it reads `f = g u`, so `roll = atan2(f_y, f_z)` and
 //! `pitch = atan2(-f_x, sqrt(f_y^2 + f_z^2))` (MODEL.md 7.1). Under vibration these
 //! nonlinear functions of raw samples are biased (as the planar Eq 1);
-//! [`AccelSettings::prefilter_hz`] low-passes each axis first.
+//! [`AccelSettings::prefilter_hz`] low-passes each axis first (the planar Eq 1's settings:
+//! one definition of the prefilter and the full scale).
 use super::attitude::roll_pitch_from_up;
 use super::{Attitude, SpatialSample};
+pub use crate::estimators::accel::AccelSettings;
 use crate::filters::biquad::LowPass2;
 use crate::{Estimator, Flags, Real, StepClock};
-
-/// Settings of [`Accel`].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Serialize, serde::Deserialize),
-    serde(deny_unknown_fields, default)
-)]
-pub struct AccelSettings<T> {
-    /// Cutoff \[Hz\] of a 2nd-order Butterworth low-pass on each axis before the angles.
-    /// Default `None` (raw samples).
-    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
-    pub prefilter_hz: Option<T>,
-    /// Accelerometer full scale [m/s^2]: samples with an axis at or beyond it are flagged
-    /// [`Flags::SATURATED`]. Default `None` (unknown).
-    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
-    pub full_scale: Option<T>,
-}
 
 /// Roll and pitch from the accelerometer as a streaming estimator.
 #[derive(Debug, Clone)]

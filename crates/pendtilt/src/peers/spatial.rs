@@ -10,13 +10,12 @@
 //! [`super::ahrs_planar::MISSING_RATE_TAU`]); a missing accelerometer reading skips the
 //! correction (flagged). Roll and pitch are those of the filter's up direction in body
 //! axes.
-use ahrs::Ahrs;
 use nalgebra_ahrs::{UnitQuaternion, Vector3};
 use pendtilt_core::spatial::attitude::roll_pitch_from_up;
 use pendtilt_core::spatial::{Attitude, SpatialEstimator, SpatialSample};
 use pendtilt_core::{Estimator, Flags, StepClock};
 
-use super::ahrs_planar::MISSING_RATE_TAU;
+use super::ahrs_planar::{PlanarAhrs, MISSING_RATE_TAU};
 
 /// An IMU filter the wrapper [`Imu6`] drives.
 pub trait ImuFilter {
@@ -32,9 +31,11 @@ fn up_of(q: &UnitQuaternion<f64>) -> [f64; 3] {
     [u[0], u[1], u[2]]
 }
 
-impl ImuFilter for ahrs::Madgwick<f64> {
+/// Madgwick's and Mahony's filters of the `ahrs` crate, through the planar wrapper's
+/// trait (the sample period and the attitude).
+impl<F: PlanarAhrs> ImuFilter for F {
     fn step(&mut self, gyro: [f64; 3], accel: Option<[f64; 3]>, dt: f64) -> bool {
-        *self.sample_period_mut() = dt;
+        self.set_period(dt);
         let g = Vector3::from(gyro);
         match accel {
             Some(a) => self.update_imu(&g, &Vector3::from(a)).is_ok(),
@@ -45,24 +46,7 @@ impl ImuFilter for ahrs::Madgwick<f64> {
         }
     }
     fn up(&self) -> [f64; 3] {
-        up_of(&self.quat())
-    }
-}
-
-impl ImuFilter for ahrs::Mahony<f64> {
-    fn step(&mut self, gyro: [f64; 3], accel: Option<[f64; 3]>, dt: f64) -> bool {
-        *self.sample_period_mut() = dt;
-        let g = Vector3::from(gyro);
-        match accel {
-            Some(a) => self.update_imu(&g, &Vector3::from(a)).is_ok(),
-            None => {
-                self.update_gyro(&g);
-                false
-            }
-        }
-    }
-    fn up(&self) -> [f64; 3] {
-        up_of(&self.quat())
+        up_of(&self.attitude())
     }
 }
 
