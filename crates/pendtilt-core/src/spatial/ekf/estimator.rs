@@ -15,7 +15,9 @@ use nalgebra::{SVector, UnitQuaternion, Vector3, Vector4};
 /// (gyro noise and the z bias's walk: about 1e3 rad^2 after two hours), and next to the
 /// encoders' 1e-8 rad^2 that leaves f32 with no precision (0.36 deg from f64 after two
 /// hours). When it passes twice the bound it is scaled back to it (the correlations kept).
-const HEADING_VARIANCE: f64 = 1.0;
+/// 0.1 rad^2 (0.32 rad): the UKF's sigma points spread it by sqrt(10), which must stay well
+/// inside a half turn (at 1 rad^2 they reached 3.2 rad and ukf3d diverged on scooter3d).
+const HEADING_VARIANCE: f64 = 0.1;
 
 /// Upper bound on the integration steps one sample interval is split into.
 const MAX_SUBSTEPS: usize = 10_000;
@@ -127,7 +129,9 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         let ang = st.initial_angle * st.initial_angle;
         p[(ROT, ROT)] = ang;
         p[(ROT + 1, ROT + 1)] = ang;
-        p[(ROT + 2, ROT + 2)] = T::one();
+        // The heading is unknown, but only its bounded variance is useful (see
+        // HEADING_VARIANCE).
+        p[(ROT + 2, ROT + 2)] = T::lit(HEADING_VARIANCE);
         let b0 = st.sensors.gyro_bias;
         for k in 0..3 {
             p[(BIAS + k, BIAS + k)] = b0 * b0 + T::lit(1e-12);
