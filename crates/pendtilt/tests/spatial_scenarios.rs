@@ -5,12 +5,12 @@
 //! spatial_scenarios -- --nocapture`).
 //!
 //! Measured (seed 1, 40 s): scooter3d VQF 0.209 deg RMS (tau_acc 0.71 s), Madgwick 0.99,
-//! Mahony 1.30, pendulum3d 0.54; ekf3d 0.228 at its defaults, 0.089 tuned (2.3x better
+//! Mahony 1.30, pendulum3d 0.54; ekf3d 0.235 at its defaults, 0.087 tuned (2.4x better
 //! than VQF). The issue's target (1/5 of the best peer and 0.05 deg) is NOT reached: the
 //! scooter turns about a point 0.25 m below the IMU, and the pivot's linear acceleration
 //! `wd x r` needs the body's angular acceleration, which ekf3d does not carry (the gyro
 //! drives its process; the planar EKF carries theta'' for the same reason). ship3d: VQF
-//! 1.80, Madgwick 1.90, Mahony 1.90; ekf3d 2.24 at its defaults, 1.09 tuned (its lever-arm
+//! 1.80, Madgwick 1.90, Mahony 1.90; ekf3d 2.24 at its defaults, 1.04 tuned (its lever-arm
 //! accelerations are issue 15's). still3d: ekf3d 0.0025 deg RMS (target 0.01).
 use pendtilt::core::spatial::attitude::inclination_error;
 use pendtilt::core::spatial::cardan::CardanParams;

@@ -6,7 +6,7 @@ use super::measurement::{Accelerometer, Encoder, Gyro};
 use super::model::{Cov, PendulumProcess, State, ALPHA, BIAS, DPHI, N, OMEGA, PHI, THETA};
 use super::sensor::{wrap, Sensor};
 use super::settings::ModelSettings;
-use crate::engine::{Gate, GaussianFilter, ProcessModel, Rejected};
+use crate::engine::{substeps, Gate, GaussianFilter, ProcessModel, Rejected};
 use crate::{Estimate, Estimator, Flags, Real, Sample, StepClock};
 
 /// Time constant \[s\] of the low-passed theta' the filter coasts on while the gyro is
@@ -18,9 +18,6 @@ pub const SLOW_RATE_TAU: f64 = 0.025;
 /// [`ModelSettings::gyro_vibration`] (standard deviation): the last rate carried one
 /// sample of the vibration, and the low-passed rate lags the manoeuvres.
 pub const MISSING_RATE_SIGMAS: f64 = 3.0;
-
-/// Upper bound on the integration steps one sample interval is split into.
-const MAX_SUBSTEPS: usize = 10_000;
 
 /// A model-based tilt estimator (see the module documentation of [`super`]).
 ///
@@ -258,13 +255,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// `false` if a step could not be propagated.
     #[inline(always)]
     fn predict(&mut self, dt: T) -> bool {
-        let ratio = (dt / self.settings.max_step).ceil().to_f64();
-        let n = if ratio.is_finite() && ratio >= 1.0 {
-            (ratio as usize).min(MAX_SUBSTEPS)
-        } else {
-            1
-        };
-        let h = dt / T::lit(n as f64);
+        let (n, h) = substeps(dt, self.settings.max_step);
         if h != self.q_step {
             self.q = self.model.q(h);
             self.q_step = h;

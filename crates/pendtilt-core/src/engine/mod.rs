@@ -38,7 +38,24 @@ pub use process::ProcessModel;
 pub use state::ErrorState;
 pub use unscented::UnscentedKalman;
 
+use crate::Real;
 use nalgebra::{SMatrix, SVector};
+
+/// Upper bound on the integration steps one sample interval is split into.
+pub const MAX_SUBSTEPS: usize = 10_000;
+
+/// How a sample interval `dt` is split for prediction: `n` equal steps of `h` no longer than
+/// `max_step` (at least 1, at most [`MAX_SUBSTEPS`]; 1 for a `dt` that is not finite).
+#[inline]
+pub fn substeps<T: Real>(dt: T, max_step: T) -> (usize, T) {
+    let ratio = (dt / max_step).ceil().to_f64();
+    let n = if ratio.is_finite() && ratio >= 1.0 {
+        (ratio as usize).min(MAX_SUBSTEPS)
+    } else {
+        1
+    };
+    (n, dt / T::lit(n as f64))
+}
 
 /// An error-state vector of dimension `N` (what the filter estimates the covariance of).
 pub type Error<T, const N: usize> = SVector<T, N>;

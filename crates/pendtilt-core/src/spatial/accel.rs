@@ -27,11 +27,7 @@ impl<T: Real> Accel<T> {
             settings,
             low: [LowPass2::new(f), LowPass2::new(f), LowPass2::new(f)],
             clock: StepClock::new(),
-            last: Attitude {
-                roll: T::nan(),
-                pitch: T::nan(),
-                flags: Flags::empty(),
-            },
+            last: Attitude::unknown(),
         }
     }
 
@@ -86,11 +82,7 @@ impl<T: Real> Estimator for Accel<T> {
     fn reset(&mut self) {
         self.low.iter_mut().for_each(|l| l.reset());
         self.clock.restart();
-        self.last = Attitude {
-            roll: T::nan(),
-            pitch: T::nan(),
-            flags: Flags::empty(),
-        };
+        self.last = Attitude::unknown();
     }
 }
 

@@ -79,11 +79,7 @@ impl<T: Real, const W: usize> Inv3d<T, W> {
         Self {
             axes: [fe.clone(), fe.clone(), fe],
             settings,
-            last: Attitude {
-                roll: T::nan(),
-                pitch: T::nan(),
-                flags: Flags::empty(),
-            },
+            last: Attitude::unknown(),
         }
     }
 
@@ -218,11 +214,7 @@ impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
         for fe in &mut self.axes {
             fe.reset();
         }
-        self.last = Attitude {
-            roll: T::nan(),
-            pitch: T::nan(),
-            flags: Flags::empty(),
-        };
+        self.last = Attitude::unknown();
     }
 }
 

@@ -21,11 +21,7 @@ impl<T: Real> Pendulum<T> {
     /// A new estimator.
     pub fn new(_settings: PendulumSettings) -> Self {
         Self {
-            last: Attitude {
-                roll: T::nan(),
-                pitch: T::nan(),
-                flags: Flags::empty(),
-            },
+            last: Attitude::unknown(),
             clock: StepClock::new(),
         }
     }

@@ -59,6 +59,15 @@ pub struct Attitude<T> {
 }
 
 impl<T: Real> Attitude<T> {
+    /// Before any usable input: roll and pitch `NaN`, no flags.
+    pub fn unknown() -> Self {
+        Self {
+            roll: T::nan(),
+            pitch: T::nan(),
+            flags: Flags::empty(),
+        }
+    }
+
     /// The world's up direction in body axes, `u = R^T e_z` (MODEL.md 7.1).
     pub fn up(&self) -> [T; 3] {
         up_from_roll_pitch(self.roll, self.pitch)

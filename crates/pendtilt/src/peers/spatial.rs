@@ -91,11 +91,7 @@ impl<F: ImuFilter> Imu6<F> {
             filter: None,
             clock: StepClock::new(),
             mean_rate: None,
-            last: Attitude {
-                roll: f64::NAN,
-                pitch: f64::NAN,
-                flags: Flags::empty(),
-            },
+            last: Attitude::unknown(),
         }
     }
 

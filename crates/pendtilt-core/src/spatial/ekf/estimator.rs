@@ -4,7 +4,7 @@ use super::measurement::{Accelerometer, Encoders};
 use super::process::CardanProcess;
 use super::settings::Settings;
 use super::state::{Error, State, A, B, BIAS, N, P, R, ROT};
-use crate::engine::{Cov, Gate, GaussianFilter, Measurement, ProcessModel, Rejected};
+use crate::engine::{substeps, Cov, Gate, GaussianFilter, Measurement, ProcessModel, Rejected};
 use crate::spatial::attitude::roll_pitch_from_up;
 use crate::spatial::{Attitude, SpatialSample};
 use crate::{Estimator, Flags, Real, StepClock};
@@ -18,9 +18,6 @@ use nalgebra::{SVector, UnitQuaternion, Vector3, Vector4};
 /// 0.1 rad^2 (0.32 rad): the UKF's sigma points spread it by sqrt(10), which must stay well
 /// inside a half turn (at 1 rad^2 they reached 3.2 rad and ukf3d diverged on scooter3d).
 const HEADING_VARIANCE: f64 = 0.1;
-
-/// Upper bound on the integration steps one sample interval is split into.
-const MAX_SUBSTEPS: usize = 10_000;
 
 /// Cutoff \[Hz\] of the one-pole low-pass of the gyro that bridges missing readings: the
 /// last raw reading carries the angular vibration's instantaneous rate (15 deg/s for
@@ -77,11 +74,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             smooth: None,
             held_for: T::zero(),
             rejected: 0,
-            last: Attitude {
-                roll: T::nan(),
-                pitch: T::nan(),
-                flags: Flags::empty(),
-            },
+            last: Attitude::unknown(),
         }
     }
 
@@ -155,13 +148,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// variance over the interval (a held gyro); `false` if the filter could not
     /// propagate.
     fn predict(&mut self, dt: T, gyro: &Vector3<T>, extra: T) -> bool {
-        let ratio = (dt / self.settings.max_step).ceil().to_f64();
-        let n = if ratio.is_finite() && ratio >= 1.0 {
-            (ratio as usize).min(MAX_SUBSTEPS)
-        } else {
-            1
-        };
-        let h = dt / T::lit(n as f64);
+        let (n, h) = substeps(dt, self.settings.max_step);
         if h != self.q_step {
             self.q = self.model.q(h);
             self.q_step = h;
@@ -357,11 +344,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         self.smooth = None;
         self.held_for = T::zero();
         self.rejected = 0;
-        self.last = Attitude {
-            roll: T::nan(),
-            pitch: T::nan(),
-            flags: Flags::empty(),
-        };
+        self.last = Attitude::unknown();
     }
 }
 

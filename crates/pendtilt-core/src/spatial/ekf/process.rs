@@ -92,6 +92,7 @@ impl<T: Real> CardanProcess<T> {
     /// The angles' trigonometry is taken once: the shifted angles' by angle addition.
     fn joint_partials(
         &self,
+        trig: &JointTrig<T>,
         j: &Vector4<T>,
         w: &Vector3<T>,
         u: &Vector3<T>,
@@ -99,7 +100,7 @@ impl<T: Real> CardanProcess<T> {
     ) -> (SMatrix<T, 4, 4>, SMatrix<T, 4, 3>, SMatrix<T, 4, 3>) {
         let d = T::default_epsilon().cbrt();
         let two_d = d + d;
-        let trig = JointTrig::of(j[0], j[1]);
+        let trig = *trig;
         let (sd, cd) = d.sin_cos();
         let none = (T::zero(), T::one());
         let mut dj = SMatrix::<T, 4, 4>::zeros();
@@ -164,12 +165,14 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
         let w = gyro - x.bias;
         let u = x.up();
         let turn = UnitQuaternion::from_scaled_axis(w * h);
+        // The joint angles' trigonometry, once for the step and all its differences.
+        let trig = JointTrig::of(x.joints[0], x.joints[1]);
         let mut q = x.q * turn;
         q.renormalize_fast();
         let next = State {
             q,
             bias: x.bias,
-            joints: self.joint_step(&x.joints, &w, &u, h),
+            joints: self.joint_step_with(&trig, &x.joints, &w, &u, h),
         };
         let mut f = Cov::<T, N>::identity();
         // Rotation error: d' = exp(w h)^T d - h d_bias (first order in h for the bias).
@@ -177,7 +180,7 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
         f.fixed_view_mut::<3, 3>(ROT, ROT).copy_from(&rt);
         f.fixed_view_mut::<3, 3>(ROT, BIAS)
             .copy_from(&(Matrix3::identity() * -h));
-        let (dj, dw, du) = self.joint_partials(&x.joints, &w, &u, h);
+        let (dj, dw, du) = self.joint_partials(&trig, &x.joints, &w, &u, h);
         f.fixed_view_mut::<4, 4>(A, A).copy_from(&dj);
         // w = gyro - bias; u(q exp d) = u + u x d.
         f.fixed_view_mut::<4, 3>(A, BIAS).copy_from(&(-dw));
