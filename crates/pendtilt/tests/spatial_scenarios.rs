@@ -5,16 +5,18 @@
 //! spatial_scenarios -- --nocapture`).
 //!
 //! Measured (seed 1, 40 s): scooter3d VQF 0.209 deg RMS (tau_acc 0.71 s), Madgwick 0.99,
-//! Mahony 1.30, pendulum3d 0.54; ekf3d 0.235 at its defaults, 0.087 tuned (2.4x better
-//! than VQF). The issue's target (1/5 of the best peer and 0.05 deg) is NOT reached: the
-//! scooter turns about a point 0.25 m below the IMU, and the pivot's linear acceleration
-//! `wd x r` needs the body's angular acceleration, which ekf3d does not carry (the gyro
-//! drives its process; the planar EKF carries theta'' for the same reason). ship3d: VQF
-//! 1.80, Madgwick 1.90, Mahony 1.90; ekf3d 2.24 at its defaults, 1.04 tuned (its lever-arm
-//! accelerations are issue 15's). still3d: ekf3d 0.0025 deg RMS (target 0.01).
+//! Mahony 1.30, pendulum3d 0.54; ekf3d 0.176 at its defaults, 0.069 tuned (3.0x better
+//! than VQF). The issue's target (1/5 of the best peer and 0.05 deg) is NOT reached. The
+//! scooter turns about a point O 0.25 m below the IMU; ekf3d carries the lever arm from O
+//! (`[mounting] speed_at`) to the pivot with the gyro's smoothed derivative (without it:
+//! 0.10 tuned; at the default density the lever arm helps on seeds 2 and 3 but not on 1,
+//! 0.18 against 0.12); what is left is mostly the 5-200 Hz broadband vibration near the
+//! pendulum's band (0.027 tuned without it). ship3d: VQF 1.80, Madgwick 1.90, Mahony 1.90;
+//! ekf3d 1.08 at its defaults, 0.46 tuned (the roll centre 5 m below: 1.04 tuned without
+//! the lever arm). still3d: ekf3d 0.0025 deg RMS, ukf3d 0.0027 (target 0.01).
 use pendtilt::core::spatial::attitude::inclination_error;
 use pendtilt::core::spatial::cardan::CardanParams;
-use pendtilt::core::spatial::ekf::{Ekf, Settings};
+use pendtilt::core::spatial::ekf::{Ekf, Settings, Ukf};
 use pendtilt::core::spatial::pendulum::{Pendulum, PendulumSettings};
 use pendtilt::core::spatial::{SpatialEstimator, SpatialSample};
 use pendtilt::core::StepGate;
@@ -67,6 +69,7 @@ fn settings(s: &Scenario3d) -> Settings<f64> {
             c: n.c,
             gravity: n.gravity,
         },
+        mounting: s.rig.mounting,
         ..Settings::default()
     };
     st.sensors.encoder_bits = s.sensors.encoder_bits;
@@ -126,10 +129,17 @@ fn scooter3d_ekf3d_against_the_fairly_tuned_peers() {
         t.0, t.1
     );
     let best = peers.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);
-    assert!(
-        t.1 < best / 2.0 && ekf.0 < 1.2 * best,
-        "{t:?} {ekf:?} vs {best}"
+    assert!(t.1 < best / 2.5 && ekf.0 < best, "{t:?} {ekf:?} vs {best}");
+    // The lever arm from the stand is what the scenario's [mounting] buys: with the body
+    // taken to turn about P1, ekf3d tuned the same way is worse (0.10 deg).
+    let mut blind = s.clone();
+    blind.rig.mounting = Default::default();
+    let blind = tuned_ekf(&blind, &rows, from);
+    println!(
+        "scooter3d ekf3d tuned without the lever arm: {:.4} deg",
+        blind.1
     );
+    assert!(blind.1 > 1.2 * t.1, "{blind:?} vs {t:?}");
 }
 
 #[test]
@@ -137,12 +147,14 @@ fn still3d_steps() {
     let (s, rows) = run("still3d", 6.0, 1);
     let from = s.score_from;
     let ekf = score(&rows, &mut Ekf::new(settings(&s)), from);
+    let ukf = score(&rows, &mut Ukf::new(settings(&s)), from);
     let pend = score(&rows, &mut Pendulum::new(PendulumSettings {}), from);
     println!(
-        "still3d pendulum3d {:.5} / {:.5}; ekf3d {:.5} / {:.5} deg",
-        pend.0, pend.1, ekf.0, ekf.1
+        "still3d pendulum3d {:.5} / {:.5}; ekf3d {:.5} / {:.5}; ukf3d {:.5} / {:.5} deg",
+        pend.0, pend.1, ekf.0, ekf.1, ukf.0, ukf.1
     );
     assert!(ekf.0 < 0.005 && ekf.1 < 0.01, "{ekf:?}");
+    assert!(ukf.0 < 0.005 && ukf.1 < 0.01, "{ukf:?}");
     // With ideal sensors pendulum3d is exact on a body at rest (still3d's sigmoids are
     // never quite still: 8e-6 rad of motion at t = 0), at any roll, pitch and yaw.
     use pendtilt::sim3d::{Pendulum3d, SensorBank3d, Sensors3d, Simulator3d, SineMotion};
@@ -191,5 +203,7 @@ fn ship3d_ekf3d_against_the_fairly_tuned_peers() {
     let t = tuned_ekf(&s, &rows, from);
     println!("ship3d ekf3d tuned: density {:.4}: {:.4} deg RMS", t.0, t.1);
     let best = peers.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);
-    assert!(t.1 <= best, "{t:?} vs {best}");
+    // No worse than the best tuned peer even at its defaults (the issue's target), and
+    // with the lever arm from the roll centre well better once tuned.
+    assert!(ekf.0 <= best && t.1 < best / 3.0, "{t:?} {ekf:?} vs {best}");
 }

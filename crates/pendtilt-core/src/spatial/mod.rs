@@ -13,6 +13,7 @@
 //!   inclination error (MODEL.md 7.9);
 //! - [`cardan`]: the pendulum's normalised parameters and its equations of motion
 //!   (MODEL.md 7.3), for the model-based filter;
+//! - [`mounting`]: where the sensors sit, and the lever arm between body points;
 //! - [`pendulum`]: `pendulum3d`, the raw encoder angles;
 //! - [`accel`]: `accel3d`, roll and pitch from the accelerometer;
 //! - [`inv`]: `inv3d`, Algorithm 2 in three dimensions (the joint equations solved for
@@ -23,7 +24,9 @@ pub mod attitude;
 pub mod cardan;
 pub mod ekf;
 pub mod inv;
+pub mod mounting;
 pub mod pendulum;
 pub mod sample;
 
+pub use mounting::Mounting;
 pub use sample::{Attitude, SpatialEstimator, SpatialSample};

@@ -13,7 +13,7 @@ use pendtilt_core::spatial::cardan::CardanParams;
 use pendtilt_core::spatial::ekf::{self, Ekf, Ukf};
 use pendtilt_core::spatial::inv::{Inv3d, Inv3dSettings};
 use pendtilt_core::spatial::pendulum::{Pendulum, PendulumSettings};
-use pendtilt_core::spatial::{Attitude, SpatialSample};
+use pendtilt_core::spatial::{Attitude, Mounting, SpatialSample};
 use pendtilt_core::Estimator;
 
 use crate::peers::spatial::{
@@ -37,17 +37,22 @@ pub struct Settings3d {
 impl Default for Settings3d {
     /// MODEL.md 7.6's rig and the core's defaults.
     fn default() -> Self {
-        Self::new(CardanParams::default(), None)
+        Self::new(CardanParams::default(), Mounting::default(), None)
     }
 }
 
 impl Settings3d {
-    /// The settings for the pendulum `params` and, when known, the sensors' figures
-    /// (MODEL.md 7.5; a scenario file's `[sensors]`). Without them the spatial filter keeps
-    /// its default noise figures.
-    pub fn new(params: CardanParams<f64>, sensors: Option<&Sensors3d>) -> Self {
+    /// The settings for the pendulum `params`, where the sensors sit (`[mounting]`) and,
+    /// when known, the sensors' figures (MODEL.md 7.5; a scenario file's `[sensors]`).
+    /// Without them the spatial filter keeps its default noise figures.
+    pub fn new(
+        params: CardanParams<f64>,
+        mounting: Mounting<f64>,
+        sensors: Option<&Sensors3d>,
+    ) -> Self {
         let mut ekf = ekf::Settings {
             params,
+            mounting,
             ..ekf::Settings::default()
         };
         if let Some(s) = sensors {

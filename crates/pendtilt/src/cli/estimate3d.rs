@@ -122,7 +122,7 @@ fn setup(args: &Args) -> anyhow::Result<Setup> {
         .or(scenario.as_ref().map(|s| s.score_from))
         .unwrap_or(DEFAULT_SCORE_FROM);
     Ok(Setup {
-        settings: Settings3d::new(rig.pendulum3d.params(), sensors.as_ref()),
+        settings: Settings3d::new(rig.pendulum3d.params(), rig.mounting, sensors.as_ref()),
         score_from,
         time_scale: opts.time_unit.map_or(1.0, |u| u.seconds()),
         time_given: opts.time_unit.is_some(),

@@ -22,15 +22,8 @@ use crate::sim::SimError;
 /// The names [`Scenario3d::named`] knows.
 pub const SCENARIO3D_NAMES: &[&str] = &["still3d", "scooter3d", "ship3d", "ride3d"];
 
-/// Where the sensors sit (MODEL.md 7.6 `[mounting]`), body axes, relative to P1 \[m\].
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct Mounting {
-    /// Accelerometer position - P1.
-    pub accel_at: [f64; 3],
-    /// O - P1: the point whose forward speed the `speed` column gives.
-    pub speed_at: [f64; 3],
-}
+/// Where the sensors sit (MODEL.md 7.6 `[mounting]`): the core's type, one definition.
+pub type Mounting = pendtilt_core::spatial::Mounting<f64>;
 
 /// The rig file of MODEL.md 7.6 (physical form).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]

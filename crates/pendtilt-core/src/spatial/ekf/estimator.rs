@@ -1,11 +1,13 @@
 //! The streaming spatial estimator around a Gaussian filter of the engine: time steps,
 //! start-up, missing readings, gaps, and the sensors with their innovation gates.
 use super::measurement::{Accelerometer, Encoders};
-use super::process::CardanProcess;
+use super::process::{CardanProcess, Drive};
 use super::settings::Settings;
 use super::state::{Error, State, A, B, BIAS, N, P, R, ROT};
 use crate::engine::{substeps, Cov, Gate, GaussianFilter, Measurement, ProcessModel, Rejected};
+use crate::filters::diff::{Response, SmoothingDifferentiator};
 use crate::spatial::attitude::roll_pitch_from_up;
+use crate::spatial::mounting::lever_arm;
 use crate::spatial::{Attitude, SpatialSample};
 use crate::{Estimator, Flags, Real, StepClock};
 use nalgebra::{SVector, UnitQuaternion, Vector3, Vector4};
@@ -15,9 +17,12 @@ use nalgebra::{SVector, UnitQuaternion, Vector3, Vector4};
 /// (gyro noise and the z bias's walk: about 1e3 rad^2 after two hours), and next to the
 /// encoders' 1e-8 rad^2 that leaves f32 with no precision (0.36 deg from f64 after two
 /// hours). When it passes twice the bound it is scaled back to it (the correlations kept).
-/// 0.1 rad^2 (0.32 rad): the UKF's sigma points spread it by sqrt(10), which must stay well
-/// inside a half turn (at 1 rad^2 they reached 3.2 rad and ukf3d diverged on scooter3d).
-const HEADING_VARIANCE: f64 = 0.1;
+/// Small, because a large heading error makes both filters' linearisation (the rotation
+/// errors compose, they do not add) cost roll and pitch: ukf3d's sigma points spread it by
+/// sqrt(10). Measured (`spatial_scenarios`): at 0.1 rad^2 ukf3d was 1.12 deg RMS on the
+/// noise-free still3d and ekf3d 0.31 deg on scooter3d at its defaults; at 1e-3, 0.018 and
+/// 0.23; at 1e-5, 0.0027 (ekf3d's 0.0025) and 0.18; below that little changes.
+const HEADING_VARIANCE: f64 = 1e-5;
 
 /// Cutoff \[Hz\] of the one-pole low-pass of the gyro that bridges missing readings: the
 /// last raw reading carries the angular vibration's instantaneous rate (15 deg/s for
@@ -52,6 +57,10 @@ pub struct ModelBased<T: Real, F> {
     smooth: Option<Vector3<T>>,
     // How long the gyro reading has been held \[s\].
     held_for: T,
+    // The gyro's smoothed derivative: the body's angular acceleration.
+    gyro_diff: SmoothingDifferentiator<T, 3>,
+    // The accelerometer from O, `accel_at - speed_at` \[m\].
+    accel_from_centre: Vector3<T>,
     rejected: u32,
     last: Attitude<T>,
 }
@@ -73,9 +82,20 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             gyro: None,
             smooth: None,
             held_for: T::zero(),
+            gyro_diff: SmoothingDifferentiator::new(Response::Bessel, settings.angular_accel_hz),
+            accel_from_centre: settings.mounting.from_centre(settings.mounting.accel_at),
             rejected: 0,
             last: Attitude::unknown(),
         }
+    }
+
+    /// The body's angular acceleration now: the gyro's smoothed derivative, zero while the
+    /// gyro is missing (a held reading does not change).
+    fn angular_accel(&self, gyro_ok: bool) -> Vector3<T> {
+        if !gyro_ok || !self.gyro_diff.is_started() {
+            return Vector3::zeros();
+        }
+        Vector3::from_fn(|i, _| self.gyro_diff.signal(i).d1)
     }
 
     /// The settings in use.
@@ -147,7 +167,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// Predicts over `dt` with gyro reading `gyro`, adding `extra` to the attitude's
     /// variance over the interval (a held gyro); `false` if the filter could not
     /// propagate.
-    fn predict(&mut self, dt: T, gyro: &Vector3<T>, extra: T) -> bool {
+    fn predict(&mut self, dt: T, drive: &Drive<T>, extra: T) -> bool {
         let (n, h) = substeps(dt, self.settings.max_step);
         if h != self.q_step {
             self.q = self.model.q(h);
@@ -170,7 +190,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         };
         let mut ok = true;
         for _ in 0..n {
-            ok &= filter.predict(&self.model, gyro, h, &q);
+            ok &= filter.predict(&self.model, drive, h, &q);
         }
         ok
     }
@@ -211,7 +231,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         }
     }
 
-    fn sense_accel(&mut self, s: &SpatialSample<T>, dt: T) -> Flags {
+    fn sense_accel(&mut self, s: &SpatialSample<T>, dt: T, drive: &Drive<T>) -> Flags {
         let st = &self.settings;
         let Some(filter) = self.filter.as_mut() else {
             return Flags::empty();
@@ -221,8 +241,11 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         }
         let d = st.sensors.accel_density;
         let vib = st.environment.vibration_rms;
+        // The lever arm from O at the filter's bias-corrected rate.
+        let w = drive.gyro - filter.state().bias;
         let acc = Accelerometer {
             gravity: st.params.gravity,
+            lever: lever_arm(&w, &drive.angular_accel, &self.accel_from_centre),
             r: d * d / dt.max(T::lit(1e-6)) + vib * vib,
         };
         let z = Vector3::new(s.accel[0], s.accel[1], s.accel[2]);
@@ -270,6 +293,11 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             self.gyro = Some(g);
             let k = T::one() - (-T::two_pi() * T::lit(HOLD_HZ) * dt).exp();
             self.smooth = Some(self.smooth.map_or(g, |m| m + (g - m) * k));
+            if dt > T::zero() && self.gyro_diff.is_started() {
+                self.gyro_diff.update_all(s.gyro, dt);
+            } else {
+                self.gyro_diff.start_all(s.gyro);
+            }
         }
         // A gap in the rows or in the encoder readings longer than max_gap is not bridged.
         if let Some(e) = self.since_phi.as_mut() {
@@ -304,7 +332,11 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             self.held_for += dt;
             v * v * (self.held_for * self.held_for - t0 * t0)
         };
-        let ok = self.predict(dt, &gyro, extra);
+        let drive = Drive {
+            gyro,
+            angular_accel: self.angular_accel(gyro_ok),
+        };
+        let ok = self.predict(dt, &drive, extra);
         if let Some(f) = self.filter.as_mut() {
             bound_heading(f);
         }
@@ -316,7 +348,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             flags |= Flags::SAMPLE_MISSING;
         }
         if self.settings.use_accel {
-            flags |= self.sense_accel(s, dt);
+            flags |= self.sense_accel(s, dt, &drive);
         }
         let finite = self.filter.as_ref().is_some_and(|f| {
             let p = f.covariance();
@@ -343,6 +375,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         self.gyro = None;
         self.smooth = None;
         self.held_for = T::zero();
+        self.gyro_diff.reset();
         self.rejected = 0;
         self.last = Attitude::unknown();
     }

@@ -1,9 +1,10 @@
 //! Measurement models of the spatial filter (state layout in [`super::state`]).
 //!
 //! - [`Encoders`]: `z = (phi_x, phi_y) = (-a, -b)`, linear.
-//! - [`Accelerometer`]: `z = g u`, the specific force of a body without linear
-//!   acceleration (`u` the world's up direction in body axes); the vibration it reads is
-//!   its noise. Nonlinear in the attitude.
+//! - [`Accelerometer`]: `z = g u + lever`, the specific force of a body turning about a
+//!   point O that does not accelerate (`u` the world's up direction in body axes, `lever`
+//!   the known rigid-body term from O to the accelerometer); the vibration it reads is its
+//!   noise. Nonlinear in the attitude.
 use super::state::{State, A, B, N, ROT};
 use crate::engine::Measurement;
 use crate::Real;
@@ -38,12 +39,16 @@ impl<T: Real> Measurement<T, State<T>, N, 2> for Encoders<T> {
     }
 }
 
-/// The accelerometer as a measurement of the up direction: `z = g u`, variance `r`
-/// [(m/s^2)^2] per axis.
+/// The accelerometer as a measurement of the up direction: `z = g u + lever`, variance
+/// `r` [(m/s^2)^2] per axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Accelerometer<T> {
+pub struct Accelerometer<T: Real> {
     /// g [m/s^2].
     pub gravity: T,
+    /// The known specific force from the point O the body turns about to the
+    /// accelerometer, `wd x r + w x (w x r)` [m/s^2] (see [`crate::spatial::mounting`]);
+    /// it does not depend on the attitude.
+    pub lever: Vector3<T>,
     /// Variance per axis: white noise over the sample plus the vibration.
     pub r: T,
 }
@@ -51,7 +56,7 @@ pub struct Accelerometer<T> {
 impl<T: Real> Measurement<T, State<T>, N, 3> for Accelerometer<T> {
     #[inline]
     fn predict(&self, x: &State<T>) -> Vector3<T> {
-        x.up() * self.gravity
+        x.up() * self.gravity + self.lever
     }
 
     /// `u(q exp d) = u + u x d`: `H = g [u]x` on the rotation error.

@@ -8,10 +8,13 @@
 //! `r' = b'' + v2 + a' u3`, and the `wd` terms of 7.3 are exactly these), except for the
 //! small cross-inertia term `(Izz - Ixx) sin b cos b v3`, left to the process noise. So the
 //! gyro's reading, vibration and all, enters only through the kinematics `a' = p - w_x`,
-//! `b' = r - u2`: nothing is differentiated. The pivot's specific force is `g u` (the
-//! world's up direction in body axes, from the attitude) plus the centripetal
-//! `w x (w x r12)` of a pivot offset; the body's linear acceleration is unknown and is the
-//! process noise of `p` and `r`.
+//! `b' = r - u2`. The pivot's specific force is `g u` (the world's up direction in body
+//! axes, from the attitude) plus the lever arm `wd x r + w x (w x r)` from the point O the
+//! body turns about (`[mounting] speed_at`, taken as not accelerating) to the pivot,
+//! `r = P2 - O`: a scooter on its stand swinging about a point 0.25 m below the sensors
+//! moves the pivot by `wd x r`, which at 0.9 Hz and a few degrees is an apparent tilt of
+//! a degree. `wd` is the gyro's smoothed derivative, an input like the gyro (see
+//! [`Drive`]); O's own acceleration is unknown and is the process noise of `p` and `r`.
 //!
 //! One step of `h`: the attitude turns by `exp((gyro - bias) h)`; the joints take a
 //! semi-implicit Euler step (rates first, then angles with the new rates). The Jacobian
@@ -21,6 +24,7 @@
 use super::state::{State, A, B, BIAS, N, P, R, ROT};
 use crate::engine::{Cov, ProcessModel};
 use crate::spatial::cardan::{CardanParams, JointTrig};
+use crate::spatial::mounting::lever_arm;
 use crate::Real;
 use nalgebra::{Matrix3, SMatrix, UnitQuaternion, Vector3, Vector4};
 
@@ -39,11 +43,23 @@ pub struct ProcessNoise<T> {
 
 /// The spatial process model (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CardanProcess<T> {
+pub struct CardanProcess<T: Real> {
     /// The pendulum.
     pub params: CardanParams<T>,
     /// Process noise densities.
     pub noise: ProcessNoise<T>,
+    /// The pivot P2 from the point O the body turns about, `P2 - O`, body axes \[m\].
+    pub pivot_from_centre: Vector3<T>,
+}
+
+/// What drives the process over a step: the gyro's reading and the body's angular
+/// acceleration (the gyro's smoothed derivative), body axes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Drive<T: Real> {
+    /// The gyro's reading, bias not removed \[rad/s\].
+    pub gyro: Vector3<T>,
+    /// The body's angular acceleration `wd` \[rad/s^2\].
+    pub angular_accel: Vector3<T>,
 }
 
 /// `v x`, the cross-product matrix.
@@ -55,10 +71,18 @@ pub(crate) fn skew<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
 
 impl<T: Real> CardanProcess<T> {
     /// One semi-implicit Euler step of the joints `j = (a, b, p, r)` over `h` for the
-    /// bias-corrected body rate `w` and the up direction `u` (body axes).
+    /// bias-corrected body rate `w`, the drive `d` (for the angular acceleration) and the up
+    /// direction `u` (body axes).
     #[inline]
-    pub fn joint_step(&self, j: &Vector4<T>, w: &Vector3<T>, u: &Vector3<T>, h: T) -> Vector4<T> {
-        self.joint_step_with(&JointTrig::of(j[0], j[1]), j, w, u, h)
+    pub fn joint_step(
+        &self,
+        j: &Vector4<T>,
+        w: &Vector3<T>,
+        d: &Drive<T>,
+        u: &Vector3<T>,
+        h: T,
+    ) -> Vector4<T> {
+        self.joint_step_with(&JointTrig::of(j[0], j[1]), j, w, d, u, h)
     }
 
     /// [`Self::joint_step`] with the sines and cosines of `j`'s angles given.
@@ -68,22 +92,29 @@ impl<T: Real> CardanProcess<T> {
         trig: &JointTrig<T>,
         j: &Vector4<T>,
         w: &Vector3<T>,
+        d: &Drive<T>,
         u: &Vector3<T>,
         h: T,
     ) -> Vector4<T> {
         let pr = &self.params;
-        let g = pr.gravity;
-        let r12 = Vector3::new(pr.c[0] * g, pr.c[1] * g, pr.c[2] * g);
-        let f = u * g + w.cross(&w.cross(&r12));
+        let wd = &d.angular_accel;
+        let f = u * pr.gravity + lever_arm(w, wd, &self.pivot_from_centre);
         let (sa, ca) = (trig.sa, trig.ca);
         let u2 = ca * w[1] + sa * w[2];
         let u3 = -sa * w[1] + ca * w[2];
+        let v2 = ca * wd[1] + sa * wd[2];
         let (ad, bd) = (j[2] - w[0], j[3] - u2);
-        let zero = [T::zero(); 3];
-        let acc =
-            pr.joint_accelerations_with(trig, ad, bd, [w[0], w[1], w[2]], zero, [f[0], f[1], f[2]]);
-        let p = j[2] + h * acc[0];
-        let r = j[3] + h * (acc[1] + ad * u3);
+        let acc = pr.joint_accelerations_with(
+            trig,
+            ad,
+            bd,
+            [w[0], w[1], w[2]],
+            [wd[0], wd[1], wd[2]],
+            [f[0], f[1], f[2]],
+        );
+        // p' = wd_x + a'', r' = u2' + b'' = v2 + a' u3 + b''.
+        let p = j[2] + h * (wd[0] + acc[0]);
+        let r = j[3] + h * (v2 + ad * u3 + acc[1]);
         Vector4::new(j[0] + h * (p - w[0]), j[1] + h * (r - u2), p, r)
     }
 
@@ -95,6 +126,7 @@ impl<T: Real> CardanProcess<T> {
         trig: &JointTrig<T>,
         j: &Vector4<T>,
         w: &Vector3<T>,
+        dr: &Drive<T>,
         u: &Vector3<T>,
         h: T,
     ) -> (SMatrix<T, 4, 4>, SMatrix<T, 4, 3>, SMatrix<T, 4, 3>) {
@@ -113,8 +145,8 @@ impl<T: Real> CardanProcess<T> {
                 1 => (trig.shifted(none, (-sd, cd)), trig.shifted(none, (sd, cd))),
                 _ => (trig, trig),
             };
-            let c = (self.joint_step_with(&t_hi, &hi, w, u, h)
-                - self.joint_step_with(&t_lo, &lo, w, u, h))
+            let c = (self.joint_step_with(&t_hi, &hi, w, dr, u, h)
+                - self.joint_step_with(&t_lo, &lo, w, dr, u, h))
                 / two_d;
             dj.set_column(k, &c);
         }
@@ -124,15 +156,15 @@ impl<T: Real> CardanProcess<T> {
             let (mut lo, mut hi) = (*w, *w);
             lo[k] -= d;
             hi[k] += d;
-            let c = (self.joint_step_with(&trig, j, &hi, u, h)
-                - self.joint_step_with(&trig, j, &lo, u, h))
+            let c = (self.joint_step_with(&trig, j, &hi, dr, u, h)
+                - self.joint_step_with(&trig, j, &lo, dr, u, h))
                 / two_d;
             dw.set_column(k, &c);
             let (mut lo, mut hi) = (*u, *u);
             lo[k] -= d;
             hi[k] += d;
-            let c = (self.joint_step_with(&trig, j, w, &hi, h)
-                - self.joint_step_with(&trig, j, w, &lo, h))
+            let c = (self.joint_step_with(&trig, j, w, dr, &hi, h)
+                - self.joint_step_with(&trig, j, w, dr, &lo, h))
                 / two_d;
             du.set_column(k, &c);
         }
@@ -142,27 +174,26 @@ impl<T: Real> CardanProcess<T> {
 
 impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
     type State = State<T>;
-    /// The gyro reading (bias not removed) [rad/s].
-    type Input = Vector3<T>;
+    type Input = Drive<T>;
 
     #[inline]
-    fn step(&self, x: &State<T>, gyro: &Vector3<T>, h: T) -> State<T> {
-        let w = gyro - x.bias;
+    fn step(&self, x: &State<T>, d: &Drive<T>, h: T) -> State<T> {
+        let w = d.gyro - x.bias;
         let mut q = x.q * UnitQuaternion::from_scaled_axis(w * h);
         q.renormalize_fast();
         State {
             q,
             bias: x.bias,
-            joints: self.joint_step(&x.joints, &w, &x.up(), h),
+            joints: self.joint_step(&x.joints, &w, d, &x.up(), h),
         }
     }
 
-    fn jacobian(&self, x: &State<T>, gyro: &Vector3<T>, h: T) -> Cov<T, N> {
-        self.step_with_jacobian(x, gyro, h).1
+    fn jacobian(&self, x: &State<T>, d: &Drive<T>, h: T) -> Cov<T, N> {
+        self.step_with_jacobian(x, d, h).1
     }
 
-    fn step_with_jacobian(&self, x: &State<T>, gyro: &Vector3<T>, h: T) -> (State<T>, Cov<T, N>) {
-        let w = gyro - x.bias;
+    fn step_with_jacobian(&self, x: &State<T>, d: &Drive<T>, h: T) -> (State<T>, Cov<T, N>) {
+        let w = d.gyro - x.bias;
         let u = x.up();
         let turn = UnitQuaternion::from_scaled_axis(w * h);
         // The joint angles' trigonometry, once for the step and all its differences.
@@ -172,7 +203,7 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
         let next = State {
             q,
             bias: x.bias,
-            joints: self.joint_step_with(&trig, &x.joints, &w, &u, h),
+            joints: self.joint_step_with(&trig, &x.joints, &w, d, &u, h),
         };
         let mut f = Cov::<T, N>::identity();
         // Rotation error: d' = exp(w h)^T d - h d_bias (first order in h for the bias).
@@ -180,7 +211,7 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
         f.fixed_view_mut::<3, 3>(ROT, ROT).copy_from(&rt);
         f.fixed_view_mut::<3, 3>(ROT, BIAS)
             .copy_from(&(Matrix3::identity() * -h));
-        let (dj, dw, du) = self.joint_partials(&trig, &x.joints, &w, &u, h);
+        let (dj, dw, du) = self.joint_partials(&trig, &x.joints, &w, d, &u, h);
         f.fixed_view_mut::<4, 4>(A, A).copy_from(&dj);
         // w = gyro - bias; u(q exp d) = u + u x d.
         f.fixed_view_mut::<4, 3>(A, BIAS).copy_from(&(-dw));
@@ -234,6 +265,14 @@ mod tests {
                 bias: 1e-5,
                 joints: [0.3, 0.3],
             },
+            pivot_from_centre: Vector3::new(0.01, -0.05, 0.3),
+        }
+    }
+
+    fn drive(gyro: Vector3<f64>, angular_accel: Vector3<f64>) -> Drive<f64> {
+        Drive {
+            gyro,
+            angular_accel,
         }
     }
 
@@ -247,7 +286,7 @@ mod tests {
             bias: Vector3::new(0.01, -0.02, 0.005),
             joints: Vector4::new(-0.25, 0.15, 0.4, -0.3),
         };
-        let gyro = Vector3::new(0.5, -0.8, 0.3);
+        let gyro = drive(Vector3::new(0.5, -0.8, 0.3), Vector3::new(2.0, -1.0, 3.0));
         let h = 2e-3;
         let (next, f) = m.step_with_jacobian(&x, &gyro, h);
         for k in 0..N {
@@ -272,8 +311,33 @@ mod tests {
         };
         let mut y = x;
         for _ in 0..1000 {
-            y = m.step(&y, &Vector3::zeros(), 1e-3);
+            y = m.step(&y, &drive(Vector3::zeros(), Vector3::zeros()), 1e-3);
         }
         assert!((y.joints - x.joints).norm() < 1e-12, "{}", y.joints);
+    }
+
+    /// An angular acceleration about body x turns the pivot about O: it reaches the
+    /// pendulum only as the specific force `wd x r` (the `wd_x` of `a''` and of `p' = wd_x +
+    /// a''` cancel), so the step equals one on a still body whose up direction carries that
+    /// force.
+    #[test]
+    fn the_lever_arm_enters_as_a_specific_force() {
+        let m = model();
+        let j = Vector4::new(-0.2, 0.1, 0.3, -0.1);
+        let u = Vector3::new(-0.1, 0.2, 0.97);
+        let wd = Vector3::new(4.0, 0.0, 0.0);
+        let w = Vector3::zeros();
+        let d = drive(w, wd);
+        let moved = m.joint_step(&j, &w, &d, &u, 1e-3);
+        let at_pivot = CardanProcess {
+            pivot_from_centre: Vector3::zeros(),
+            ..m
+        };
+        let f = u + wd.cross(&m.pivot_from_centre) / m.params.gravity;
+        let still = at_pivot.joint_step(&j, &w, &drive(w, w), &f, 1e-3);
+        assert!((moved - still).norm() < 1e-15, "{moved} vs {still}");
+        // And it matters: 4 rad/s^2 at 0.3 m is 0.12 g.
+        let ignored = m.joint_step(&j, &w, &drive(w, w), &u, 1e-3);
+        assert!((moved - ignored).norm() > 1e-4, "{moved} vs {ignored}");
     }
 }

@@ -14,7 +14,14 @@
 use super::process::{CardanProcess, ProcessNoise};
 use crate::ekf::{Environment, SensorNoise};
 use crate::spatial::cardan::CardanParams;
+use crate::spatial::mounting::Mounting;
 use crate::Real;
+
+/// Default of [`Settings::angular_accel_hz`] \[Hz\]. The body's swings that move the pivot
+/// about O lie below the pendulum's natural frequency (a few Hz), the engine's angular
+/// vibration above 20 Hz; the Bessel filter's delay (`2.11 / w_c`, 34 ms at 10 Hz) costs
+/// the lever arm a phase error of `2 pi f` times it (0.19 rad at 0.9 Hz).
+pub const DEFAULT_ANGULAR_ACCEL_HZ: f64 = 10.0;
 
 /// Settings of the spatial model-based filter.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,6 +32,13 @@ pub struct Settings<T> {
     pub sensors: SensorNoise<T>,
     /// The body's motion and vibration. Default: the planar filter's (the scooter).
     pub environment: Environment<T>,
+    /// Where the sensors sit: the accelerometer, and the point O the body turns about
+    /// (`speed_at`; see [`Mounting`]). Default: both at P1.
+    pub mounting: Mounting<T>,
+    /// Cutoff \[Hz\] of the smoothing differentiator (Bessel, 4th order) that takes the
+    /// body's angular acceleration from the gyro, for the lever arm from O to the pivot
+    /// and the accelerometer. Default 10 Hz: see [`DEFAULT_ANGULAR_ACCEL_HZ`].
+    pub angular_accel_hz: T,
     /// Use the accelerometer as a further measurement of the up direction. Default false:
     /// it reads the vibration unfiltered (as in the planar filter).
     pub use_accel: bool,
@@ -54,6 +68,8 @@ impl<T: Real> Default for Settings<T> {
             params: CardanParams::default(),
             sensors: SensorNoise::default(),
             environment: Environment::default(),
+            mounting: Mounting::default(),
+            angular_accel_hz: T::lit(DEFAULT_ANGULAR_ACCEL_HZ),
             use_accel: false,
             max_step: T::lit(0.005),
             max_gap: T::lit(0.05),
@@ -73,6 +89,8 @@ impl<T: Real> Settings<T> {
             params: self.params.cast(),
             sensors: self.sensors.cast(),
             environment: self.environment.cast(),
+            mounting: self.mounting.cast(),
+            angular_accel_hz: c(self.angular_accel_hz),
             use_accel: self.use_accel,
             max_step: c(self.max_step),
             max_gap: c(self.max_gap),
@@ -94,6 +112,7 @@ impl<T: Real> Settings<T> {
                 bias: self.sensors.gyro_bias_walk,
                 joints: [d / (g * (p.b_x + p.b_ring)), d / (g * p.b_y)],
             },
+            pivot_from_centre: self.mounting.from_centre(p.c.map(|c| c * g)),
         }
     }
 }
