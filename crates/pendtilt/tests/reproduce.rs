@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use pendtilt::bank::Inputs;
+use pendtilt::bank3d::REGISTRY3D;
 use pendtilt::experiment::claims::{paper_claims, Alg3Gains, DifferentiatorInfo};
 use pendtilt::experiment::estimate::run_estimators;
 use pendtilt::experiment::standard::{standard_report, FIR_VIEW};
@@ -10,6 +11,8 @@ use pendtilt::experiment::{reproduce, simulate_ride, Calibration, NoProgress, Re
 use pendtilt::report::claims::{fmt_sig, MetricKind};
 use pendtilt::report::html::referenced_paths;
 use pendtilt::sim::vibration::Vibration;
+
+mod common;
 
 /// Width and height from a PNG header.
 fn png_size(path: &Path) -> (u32, u32) {
@@ -22,6 +25,9 @@ fn png_size(path: &Path) -> (u32, u32) {
 fn short() -> ReproduceConfig {
     let mut cfg = ReproduceConfig::with_durations(8.0, 8.0);
     cfg.sigmoid.duration = 4.0;
+    for r in &mut cfg.spatial {
+        r.duration = Some(8.0);
+    }
     cfg
 }
 
@@ -172,6 +178,105 @@ fn reproduce_end_to_end_on_a_short_ride() {
         md.contains(&out.claims[2].measured.replace('|', "\\|"))
             || md.contains(&out.claims[2].measured)
     );
+    spatial_part(dir.path(), &out, &top, &md);
+}
+
+/// The 3-D part of the run above: one report per scenario with every estimator of the
+/// registry and its figures, the table on the top page, still3d within issue 14's target,
+/// and scooter3d's numbers equal to `simulate` + `estimate` on the same scenario and seed.
+fn spatial_part(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome, top: &str, md: &str) {
+    let registry: Vec<&str> = REGISTRY3D.iter().map(|e| e.name).collect();
+    let scenarios = ["still3d", "scooter3d", "ship3d"];
+    assert_eq!(out.spatial.len(), scenarios.len());
+    assert!(top.contains("3-D: inclination error") && md.contains("## 3-D: inclination error"));
+    for (o, name) in out.spatial.iter().zip(scenarios) {
+        let names: Vec<&str> = o.data.inclination.iter().map(|r| r.name.as_str()).collect();
+        assert_eq!(names, registry, "{name}");
+        assert_eq!(o.figures.len(), 3, "{name}");
+        for f in &o.figures {
+            assert!(std::fs::metadata(&f.svg).unwrap().len() > 10_000);
+            assert_eq!(png_size(&f.png), (f.width, f.height), "{}", f.png.display());
+            assert_eq!(f.axes.len(), registry.len(), "one panel per estimator");
+        }
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&o.json).unwrap()).unwrap();
+        assert_eq!(json["figures"].as_array().unwrap().len(), 3);
+        assert!(
+            top.contains(&format!("href=\"{name}/index.html\"")),
+            "{name}"
+        );
+        let page = dir.join(name).join("index.html");
+        for r in referenced_paths(&std::fs::read_to_string(&page).unwrap()) {
+            assert!(
+                dir.join(name).join(&r).is_file(),
+                "{name} references missing {r}"
+            );
+        }
+        let ekf = o
+            .data
+            .inclination
+            .iter()
+            .find(|r| r.name == "ekf3d")
+            .unwrap();
+        assert!(
+            top.contains(&format!(
+                "{} / {}",
+                fmt_sig(ekf.rms_deg),
+                fmt_sig(ekf.max_deg)
+            )),
+            "{name}: ekf3d's numbers not on the top page"
+        );
+    }
+    let rms = |k: usize, n: &str| {
+        out.spatial[k]
+            .data
+            .inclination
+            .iter()
+            .find(|r| r.name == n)
+            .unwrap()
+            .rms_deg
+    };
+    // still3d: noise-free steps, an ideal accelerometer at rest between them
+    assert!(rms(0, "ekf3d") < 0.01, "ekf3d {}", rms(0, "ekf3d"));
+    assert!(rms(0, "accel3d") < 1e-6, "accel3d {}", rms(0, "accel3d"));
+    // scooter3d cut to 8 s, scored from 5 s
+    assert_eq!(out.spatial[1].data.scored, 3000);
+    let log = dir.join("sc3.csv");
+    let est = dir.join("sc3.est.csv");
+    let scen = dir.join("sc3.scenario.toml");
+    let o = common::pendtilt(&[
+        "simulate",
+        "--scenario",
+        "scooter3d",
+        "--seed",
+        "1",
+        "--duration",
+        "8",
+        "-q",
+        "-o",
+        common::s(&log),
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let o = common::pendtilt(&[
+        "estimate",
+        common::s(&log),
+        "--scenario",
+        common::s(&scen),
+        "-o",
+        common::s(&est),
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let printed = String::from_utf8_lossy(&o.stdout).into_owned();
+    for line in printed.lines().skip(2) {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let want: f64 = f[1].parse().unwrap();
+        let got = rms(1, f[0]);
+        assert!(
+            (got - want).abs() <= 6e-6,
+            "{}: estimate {want}, reproduce {got}",
+            f[0]
+        );
+    }
 }
 
 /// The Newton fit finds a, b on a ride with the engine off; with the engine running the

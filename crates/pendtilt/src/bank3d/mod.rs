@@ -68,6 +68,13 @@ impl Settings3d {
             accel: AccelSettings::default(),
         }
     }
+
+    /// The settings for a simulated scenario: its rig's pendulum and mounting and its
+    /// sensors' figures, as `pendtilt estimate --scenario FILE` takes them.
+    pub fn of_scenario(s: &crate::sim3d::Scenario3d) -> Self {
+        let rig = rig::Pendulum3dConfig::Physical(s.rig.pendulum3d);
+        Self::new(rig.params(), s.rig.mounting, Some(&s.sensors))
+    }
 }
 
 /// A running 3-D estimator as the bank drives it: the spatial [`Estimator`] interface and,

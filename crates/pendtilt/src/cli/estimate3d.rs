@@ -22,14 +22,18 @@ use anyhow::{bail, Context};
 use pendtilt_core::spatial::SpatialSample;
 use pendtilt_core::StepGate;
 
+use pendtilt_core::spatial::Attitude;
+
 use super::estimate::Args;
-use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
+use crate::bank3d::rig::Rig3dConfig;
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Settings3d};
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::plausibility::implausible_step;
-use crate::io::{Column3d, Estimates3dWriter, Log3dReader, Log3dRecord};
-use crate::sim3d::{Scenario3d, Sensors3d};
+use crate::io::{
+    Column3d, ColumnMap, DegreeColumns, Estimates3dWriter, Log3dReader, Log3dRecord, TimeUnit,
+};
+use crate::sim3d::Scenario3d;
 
 /// Scoring starts this long after the first row when neither `--score-from` nor a
 /// scenario file says \[s\]: the filters' start-up (the pendulum settling, VQF's
@@ -67,10 +71,72 @@ pub fn is_3d_log(path: &Path) -> bool {
     }
 }
 
+/// What a 3-D run is given: the log and the options `estimate` and `report` share.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Options3d<'a> {
+    /// The log.
+    pub log: &'a Path,
+    /// `--params`.
+    pub params: Option<&'a Path>,
+    /// `--scenario`.
+    pub scenario: Option<&'a Path>,
+    /// `--score-from` \[s\].
+    pub score_from: Option<f64>,
+    /// `--map` (refused on a 3-D log).
+    pub map: &'a ColumnMap,
+    /// `--deg`.
+    pub deg: Option<DegreeColumns>,
+    /// `--time-unit`.
+    pub time_unit: Option<TimeUnit>,
+    /// `--only`.
+    pub only: Option<&'a [String]>,
+    /// `--quiet`: no notices.
+    pub quiet: bool,
+}
+
+impl<'a> Options3d<'a> {
+    /// The options of `pendtilt estimate`.
+    fn of_estimate(args: &'a Args) -> Self {
+        let b = &args.bank;
+        Self {
+            log: &args.log,
+            params: b.params.as_deref(),
+            scenario: args.scenario.as_deref(),
+            score_from: args.score_from,
+            map: &b.map,
+            deg: b.deg,
+            time_unit: b.time_unit,
+            only: b.only.as_deref(),
+            quiet: b.quiet,
+        }
+    }
+
+    fn notice(&self, text: &str) {
+        if !self.quiet {
+            eprintln!("{text}");
+        }
+    }
+
+    /// The input files, named as on the command line (for the output-safety check).
+    pub fn inputs(&self) -> Vec<NamedPath<'_>> {
+        let mut inputs = vec![NamedPath::new("LOG", self.log)];
+        if let Some(p) = self.params {
+            inputs.push(NamedPath::new("--params", p));
+        }
+        if let Some(p) = self.scenario {
+            inputs.push(NamedPath::new("--scenario", p));
+        }
+        inputs
+    }
+}
+
 /// What the options and files give the run.
-struct Setup {
-    settings: Settings3d,
-    score_from: f64,
+#[derive(Debug, Clone)]
+pub(crate) struct Setup {
+    /// The estimators' settings.
+    pub settings: Settings3d,
+    /// Scoring starts this long after the first row \[s\].
+    pub score_from: f64,
     /// Seconds per unit of `t`.
     time_scale: f64,
     /// Whether `t`'s unit was given (no rate check then).
@@ -79,8 +145,8 @@ struct Setup {
     angle_scale: f64,
 }
 
-fn setup(args: &Args) -> anyhow::Result<Setup> {
-    let opts = &args.bank;
+/// Reads the rig and scenario files and checks the options.
+pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
     if !opts.map.is_empty() {
         bail!(
             "--map: for planar logs only; a 3-D log's columns are read by their MODEL.md 7.6 names"
@@ -94,7 +160,7 @@ fn setup(args: &Args) -> anyhow::Result<Setup> {
              angular column (phi_x, phi_y, gyro_*, roll, pitch) in degrees"
         ),
     };
-    let scenario = match &args.scenario {
+    let scenario = match opts.scenario {
         Some(p) => {
             let text = std::fs::read_to_string(p)
                 .with_context(|| format!("cannot read --scenario {}", p.display()))?;
@@ -102,27 +168,31 @@ fn setup(args: &Args) -> anyhow::Result<Setup> {
         }
         None => None,
     };
-    let rig = match (&opts.params, &scenario) {
-        (Some(p), _) => Rig3dConfig::load(p).map_err(anyhow::Error::msg)?,
-        (None, Some(s)) => Rig3dConfig {
-            pendulum3d: Pendulum3dConfig::Physical(s.rig.pendulum3d),
-            mounting: s.rig.mounting,
-        },
+    let settings = match (opts.params, &scenario) {
+        (Some(p), s) => {
+            let rig = Rig3dConfig::load(p).map_err(anyhow::Error::msg)?;
+            Settings3d::new(
+                rig.pendulum3d.params(),
+                rig.mounting,
+                s.as_ref().map(|s| &s.sensors),
+            )
+        }
+        (None, Some(s)) => Settings3d::of_scenario(s),
         (None, None) => {
             opts.notice("note: no --params: using the default 3-D rig of MODEL.md 7.6");
-            Rig3dConfig::default()
+            let rig = Rig3dConfig::default();
+            Settings3d::new(rig.pendulum3d.params(), rig.mounting, None)
         }
     };
-    let sensors: Option<Sensors3d> = scenario.as_ref().map(|s| s.sensors);
-    if sensors.is_none() {
+    if scenario.is_none() {
         opts.notice("note: no --scenario: ekf3d and ukf3d use their default sensor noise figures");
     }
-    let score_from = args
+    let score_from = opts
         .score_from
         .or(scenario.as_ref().map(|s| s.score_from))
         .unwrap_or(DEFAULT_SCORE_FROM);
     Ok(Setup {
-        settings: Settings3d::new(rig.pendulum3d.params(), rig.mounting, sensors.as_ref()),
+        settings,
         score_from,
         time_scale: opts.time_unit.map_or(1.0, |u| u.seconds()),
         time_given: opts.time_unit.is_some(),
@@ -132,19 +202,12 @@ fn setup(args: &Args) -> anyhow::Result<Setup> {
 
 /// Runs `pendtilt estimate` on a 3-D log.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let opts = &args.bank;
-    let mut inputs = vec![NamedPath::new("LOG", &args.log)];
-    if let Some(p) = &opts.params {
-        inputs.push(NamedPath::new("--params", p));
-    }
-    if let Some(p) = &args.scenario {
-        inputs.push(NamedPath::new("--scenario", p));
-    }
-    output::check_distinct(&inputs, &[NamedPath::new("-o", &args.output)])?;
-    let setup = setup(&args)?;
+    let opts = Options3d::of_estimate(&args);
+    output::check_distinct(&opts.inputs(), &[NamedPath::new("-o", &args.output)])?;
+    let setup = setup(&opts)?;
     let out = OutputFile::create("-o", &args.output)?;
-    let result =
-        estimate_into(&args, &setup, &out).with_context(|| output::not_written(&args.output))?;
+    let result = estimate_into(&args, &opts, &setup, &out)
+        .with_context(|| output::not_written(&args.output))?;
     out.commit()?;
     if !opts.quiet {
         eprintln!(
@@ -164,36 +227,123 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 /// What a pass over the log gave.
-struct Pass {
-    rows: u64,
-    names: Vec<&'static str>,
-    truth: bool,
-    scores: Vec<Inclination>,
-    warnings: Vec<String>,
+pub(crate) struct Pass {
+    /// Rows read (one output row each).
+    pub rows: u64,
+    /// The estimators, in column order.
+    pub names: Vec<&'static str>,
+    /// Whether the log has the truth (roll and pitch).
+    pub truth: bool,
+    /// Their inclination error over the scored rows.
+    pub scores: Vec<Inclination>,
+    /// Warnings on the input (places named).
+    pub warnings: Vec<String>,
+}
+
+/// One row of a pass as the sink sees it.
+pub(crate) struct Row<'a> {
+    /// Time \[s\].
+    pub t: f64,
+    /// Every estimator's output, in [`Pass::names`] order.
+    pub est: &'a [Attitude<f64>],
+    /// Their quaternions (when asked for and they have one).
+    pub quats: &'a [Option<[f64; 4]>],
+    /// True roll and pitch \[rad\] (NaN when absent).
+    pub truth: (f64, f64),
 }
 
 /// Warnings printed in full; the rest are counted.
 const MAX_WARNINGS: usize = 10;
 
+/// Where a pass puts its rows: the estimates file, or memory (`report`).
+pub(crate) trait Sink3d {
+    /// Called once, before the first row: the estimators, which of them give a
+    /// quaternion, and whether the log has the truth.
+    fn start(
+        &mut self,
+        names: &[&'static str],
+        quaternion: &[bool],
+        truth: bool,
+    ) -> anyhow::Result<()>;
+    /// One row.
+    fn row(&mut self, r: Row) -> anyhow::Result<()>;
+}
+
+/// The estimates CSV (header written by [`Sink3d::start`]).
+struct FileSink<'a> {
+    out: &'a OutputFile,
+    options: crate::io::WriterOptions,
+    writer: Option<Estimates3dWriter<Box<dyn std::io::Write + Send>>>,
+}
+
+impl Sink3d for FileSink<'_> {
+    fn start(
+        &mut self,
+        names: &[&'static str],
+        quaternion: &[bool],
+        truth: bool,
+    ) -> anyhow::Result<()> {
+        let columns = names
+            .iter()
+            .zip(quaternion)
+            .map(|(n, q)| Column3d {
+                name: n.to_string(),
+                quaternion: *q,
+            })
+            .collect();
+        self.writer = Some(Estimates3dWriter::new(
+            self.out.writer()?,
+            columns,
+            truth,
+            self.options,
+        )?);
+        Ok(())
+    }
+
+    fn row(&mut self, r: Row) -> anyhow::Result<()> {
+        if let Some(w) = &mut self.writer {
+            w.write(r.t, r.est, r.quats, r.truth)?;
+        }
+        Ok(())
+    }
+}
+
+/// Estimates into the (uncommitted) output file, flushed.
+fn estimate_into(
+    args: &Args,
+    opts: &Options3d,
+    setup: &Setup,
+    out: &OutputFile,
+) -> anyhow::Result<Pass> {
+    let mut sink = FileSink {
+        out,
+        options: args.bank.writer_options(),
+        writer: None,
+    };
+    let result = pass(opts, setup, args.quaternion, &mut sink)?;
+    if let Some(mut w) = sink.writer.take() {
+        w.flush()?;
+    }
+    Ok(result)
+}
+
 /// Reads the log's first rows, checks the time unit, then runs every row through the bank
-/// into the (uncommitted) output.
-fn estimate_into(args: &Args, setup: &Setup, out: &OutputFile) -> anyhow::Result<Pass> {
-    let opts = &args.bank;
-    let mut log = Log3dReader::open(&args.log)?;
-    let file = args.log.display().to_string();
-    let mut bank =
-        Bank3d::new(&setup.settings, opts.only.as_deref()).map_err(anyhow::Error::msg)?;
+/// into `sink`, scoring the inclination error when the log has the truth.
+pub(crate) fn pass(
+    opts: &Options3d,
+    setup: &Setup,
+    quaternion: bool,
+    sink: &mut dyn Sink3d,
+) -> anyhow::Result<Pass> {
+    let mut log = Log3dReader::open(opts.log)?;
+    let file = opts.log.display().to_string();
+    let mut bank = Bank3d::new(&setup.settings, opts.only).map_err(anyhow::Error::msg)?;
     let names = bank.names();
     let truth = log.has("roll") && log.has("pitch");
-    let columns = names
-        .iter()
-        .enumerate()
-        .map(|(i, n)| Column3d {
-            name: n.to_string(),
-            quaternion: args.quaternion && bank.has_quaternion(i),
-        })
+    let with_q: Vec<bool> = (0..names.len())
+        .map(|i| quaternion && bank.has_quaternion(i))
         .collect();
-    let mut w = Estimates3dWriter::new(out.writer()?, columns, truth, opts.writer_options())?;
+    sink.start(&names, &with_q, truth)?;
     let mut head = Vec::with_capacity(HEAD_ROWS);
     while head.len() < HEAD_ROWS {
         match log.next_record()? {
@@ -218,11 +368,7 @@ fn estimate_into(args: &Args, setup: &Setup, out: &OutputFile) -> anyhow::Result
         bank.update(&s);
         let est = bank.outputs();
         for (i, q) in quats.iter_mut().enumerate() {
-            *q = if args.quaternion {
-                bank.quaternion(i)
-            } else {
-                None
-            };
+            *q = if quaternion { bank.quaternion(i) } else { None };
         }
         if t.is_finite() && t0.is_none() {
             t0 = Some(t);
@@ -232,11 +378,14 @@ fn estimate_into(args: &Args, setup: &Setup, out: &OutputFile) -> anyhow::Result
                 sc.add((e.roll, e.pitch), (roll, pitch));
             }
         }
-        w.write(t, est, &quats, (roll, pitch))?;
+        sink.row(Row {
+            t,
+            est,
+            quats: &quats,
+            truth: (roll, pitch),
+        })?;
         rows += 1;
     }
-    w.flush()?;
-    drop(w);
     Ok(Pass {
         rows,
         names,

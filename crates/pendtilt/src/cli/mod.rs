@@ -8,6 +8,7 @@ pub mod fit;
 pub mod help;
 pub mod options;
 pub mod report;
+pub mod report3d;
 pub mod reproduce;
 pub mod simulate;
 pub mod simulate3d;

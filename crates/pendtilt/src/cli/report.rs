@@ -1,5 +1,6 @@
 //! `pendtilt report LOG.csv --params RIG.toml -o DIR`: metrics (unfiltered and after the
 //! paper's 20 Hz FIR), figures, Markdown, JSON and one HTML page for a log with a true angle.
+//! A 3-D log (MODEL.md 7.6 columns) goes to [`super::report3d`].
 use std::path::PathBuf;
 
 use anyhow::Context;
@@ -21,9 +22,11 @@ use super::reproduce::Bars;
 /// Options of `pendtilt report`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The sensor log (CSV, MODEL.md section 5); it must have the true angle `theta`.
+    /// The sensor log (CSV, MODEL.md section 5); it must have the true angle `theta`. A 3-D
+    /// log (MODEL.md 7.6) must have the true `roll` and `pitch`.
     pub log: PathBuf,
-    /// The rig file (TOML). Without it the MODEL.md default rig is used, and said so.
+    /// The rig file (TOML; a 3-D rig for a 3-D log). Without it the MODEL.md default rig is
+    /// used, and said so.
     #[arg(long, short = 'p')]
     pub params: Option<PathBuf>,
     /// Directory to write into (created): index.html, report.md, report.json, figures.
@@ -48,6 +51,15 @@ pub struct Args {
     /// No progress bars and no notes on standard error.
     #[arg(long, short = 'q')]
     pub quiet: bool,
+    /// 3-D logs: the scenario file `simulate` wrote beside the log (sensor noise figures,
+    /// scoring start, and the rig when there is no --params), as for `estimate`. Default:
+    /// none (the filters' default noise figures).
+    #[arg(long, value_name = "FILE")]
+    pub scenario: Option<PathBuf>,
+    /// 3-D logs: score the inclination error from this long after the first row \[s\].
+    /// Default: the --scenario file's score_from, else 5 s.
+    #[arg(long, value_name = "SECONDS")]
+    pub score_from: Option<f64>,
 }
 
 /// Reads a whole log with a true angle into memory (rows without `theta` get NaN).
@@ -97,6 +109,24 @@ pub fn read_log(
 /// moves them in only when the whole report was made, after checking that none of them is
 /// the log or the rig file.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if super::estimate3d::is_3d_log(&args.log) {
+        return super::report3d::run(args);
+    }
+    let given: Vec<&str> = [
+        ("--scenario", args.scenario.is_some()),
+        ("--score-from", args.score_from.is_some()),
+    ]
+    .iter()
+    .filter(|g| g.1)
+    .map(|g| g.0)
+    .collect();
+    anyhow::ensure!(
+        given.is_empty(),
+        "{}: for 3-D logs only (MODEL.md 7.6 columns t, phi_x, phi_y, gyro_x, gyro_y, \
+         gyro_z, ax, ay, az); {} is a planar log",
+        given.join(", "),
+        args.log.display()
+    );
     let bars = Bars::new(args.quiet);
     let out = OutputDir::create("-o", &args.output)?;
     let result = report(&args, out.staging(), &bars);

@@ -15,7 +15,7 @@ use crate::report::claims::Claim;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Directory to write into (created): index.html, report.md, claims.json, scooter/,
-    /// sigmoid/.
+    /// sigmoid/, and the 3-D scenarios still3d/, scooter3d/, ship3d/.
     #[arg(long, short = 'o', visible_alias = "out")]
     pub output: PathBuf,
     /// Length of the scooter test ride \[s\].
@@ -24,7 +24,8 @@ pub struct Args {
     /// Length of the separate calibration ride \[s\].
     #[arg(long, default_value_t = 30.0)]
     pub calibration: f64,
-    /// Seed of the test ride (the calibration ride uses seed + 1, the sigmoid seed + 2).
+    /// Seed of the test ride (the calibration ride uses seed + 1, the sigmoid seed + 2; the
+    /// 3-D scenarios seed).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// No progress bars.
@@ -130,6 +131,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     cfg.scooter_seed = args.seed;
     cfg.calibration_seed = args.seed.wrapping_add(1);
     cfg.sigmoid_seed = args.seed.wrapping_add(2);
+    for r in &mut cfg.spatial {
+        r.seed = args.seed;
+    }
     let bars = Bars::new(args.quiet);
     // Written into a staging directory beside --out, moved in only when complete.
     let out = OutputDir::create("-o", &args.output)?;

@@ -3,18 +3,19 @@
 use std::path::{Path, PathBuf};
 
 use crate::report::claims::Claim;
-use crate::report::html::{check_reference, FigureRef, HtmlPage, MetricsTable};
-use crate::report::markdown::{claims_markdown, metrics_markdown};
+use crate::report::figures::FigureFiles;
+use crate::report::html::{check_reference, FigureRef, HtmlPage, MetricsTable, TextTable};
+use crate::report::markdown::{claims_markdown, metrics_markdown, text_table_markdown};
 use crate::report::metrics::Metrics;
 use crate::report::palette::Palette;
-use crate::report::{ReportError, ReportOutput};
+use crate::report::ReportError;
 
 /// A figure of a sub-report to show on the top page: its file stem and caption.
 pub struct Pick<'a> {
     /// Sub-directory of the ride's report.
     pub dir: &'a str,
-    /// The ride's report.
-    pub output: &'a ReportOutput,
+    /// The figures of the ride's report.
+    pub figures: &'a [FigureFiles],
     /// File stem of the figure (e.g. `est_alg1`).
     pub stem: &'a str,
     /// Caption on the top page.
@@ -31,6 +32,8 @@ pub struct TopPage<'a> {
     pub links: Vec<(String, String)>,
     /// Metrics tables (heading, rows).
     pub tables: Vec<(String, Vec<Metrics>)>,
+    /// Tables of preformatted cells (the 3-D inclination errors), after the metrics.
+    pub text_tables: Vec<TextTable>,
     /// The claims.
     pub claims: Vec<Claim>,
     /// Figures picked from the sub-reports.
@@ -55,7 +58,6 @@ impl TopPage<'_> {
             .iter()
             .filter_map(|pick| {
                 let f = pick
-                    .output
                     .figures
                     .iter()
                     .find(|f| stem_of(&f.png).as_deref() == Some(pick.stem))?;
@@ -89,6 +91,7 @@ impl TopPage<'_> {
                     rows: rows.clone(),
                 })
                 .collect(),
+            text_tables: self.text_tables.clone(),
             claims: self.claims.clone(),
             figures: self.figure_refs(),
             notes: self.notes.clone(),
@@ -129,6 +132,9 @@ impl TopPage<'_> {
         ));
         for (h, rows) in &self.tables {
             md.push_str(&format!("## Metrics: {h}\n\n{}\n", metrics_markdown(rows)));
+        }
+        for t in &self.text_tables {
+            md.push_str(&format!("## {}\n\n{}\n", t.heading, text_table_markdown(t)));
         }
         if !self.notes.is_empty() {
             md.push_str("## Notes\n\n");

@@ -28,6 +28,20 @@ pub struct MetricsTable {
     pub rows: Vec<Metrics>,
 }
 
+/// A table of preformatted cells (for example the 3-D inclination errors), its first
+/// column the series name (with its colour swatch).
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize)]
+pub struct TextTable {
+    /// Heading of the table.
+    pub heading: String,
+    /// Column headers, units in brackets; the first is the name column's.
+    pub columns: Vec<String>,
+    /// One row per series: its name, then one cell per further column.
+    pub rows: Vec<Vec<String>>,
+    /// What the columns mean: (column, definition), shown under the table.
+    pub definitions: Vec<(String, String)>,
+}
+
 /// The content of the page.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct HtmlPage {
@@ -37,6 +51,8 @@ pub struct HtmlPage {
     pub intro: Vec<String>,
     /// Metrics tables.
     pub tables: Vec<MetricsTable>,
+    /// Tables of preformatted cells, after the metrics tables.
+    pub text_tables: Vec<TextTable>,
     /// Claims table rows (omitted when empty).
     pub claims: Vec<Claim>,
     /// Figures, in order.
@@ -102,6 +118,9 @@ impl HtmlPage {
         }
         for t in &self.tables {
             metrics_section(&mut h, t, palette);
+        }
+        for t in &self.text_tables {
+            text_section(&mut h, t, palette);
         }
         self.claims_section(&mut h);
         self.figures_section(&mut h);
@@ -227,6 +246,41 @@ pub fn referenced_paths(html: &str) -> Vec<String> {
         }
     }
     out
+}
+
+/// One table of preformatted cells with its definitions.
+fn text_section(h: &mut String, t: &TextTable, palette: &Palette) {
+    h.push_str(&format!("<h2>{}</h2>\n<table>\n<tr>", escape(&t.heading)));
+    for c in &t.columns {
+        h.push_str(&format!("<th>{}</th>", escape(c)));
+    }
+    h.push_str("</tr>\n");
+    for r in &t.rows {
+        let Some((name, cells)) = r.split_first() else {
+            continue;
+        };
+        h.push_str(&format!(
+            "<tr><td class=\"name\"><span class=\"sw\" style=\"background:{}\"></span>{}</td>",
+            palette.css(name),
+            escape(name)
+        ));
+        for c in cells {
+            h.push_str(&format!("<td>{}</td>", escape(c)));
+        }
+        h.push_str("</tr>\n");
+    }
+    h.push_str("</table>\n");
+    if !t.definitions.is_empty() {
+        h.push_str("<dl class=\"defs\">\n");
+        for (col, def) in &t.definitions {
+            h.push_str(&format!(
+                "<dt>{}</dt><dd>{}</dd>\n",
+                escape(col),
+                escape(def)
+            ));
+        }
+        h.push_str("</dl>\n");
+    }
 }
 
 /// One metrics table with its column definitions and per-row notes; `palette` gives each

@@ -123,6 +123,20 @@ pub fn metrics_markdown(metrics: &[Metrics]) -> String {
     out
 }
 
+/// A [`TextTable`](super::html::TextTable) as Markdown: the table, then its definitions as
+/// a list.
+pub fn text_table_markdown(t: &super::html::TextTable) -> String {
+    let header: Vec<&str> = t.columns.iter().map(String::as_str).collect();
+    let mut out = md_table(&header, &t.rows);
+    if !t.definitions.is_empty() {
+        out.push('\n');
+        for (col, def) in &t.definitions {
+            out.push_str(&format!("- {col}: {def}\n"));
+        }
+    }
+    out
+}
+
 /// The claims as a Markdown table: claim, measured, holds, why.
 pub fn claims_markdown(claims: &[Claim]) -> String {
     let rows: Vec<Vec<String>> = claims

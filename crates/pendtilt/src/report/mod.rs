@@ -9,6 +9,7 @@
 //!   [`families`]: the panels of the small-multiple overview figures.
 //! - [`fig3`]: the paper's Fig. 3 (Eq 12 and a Monte-Carlo check).
 //! - [`claims`], [`markdown`], [`html`]: claims table, Markdown/JSON, the HTML page.
+//! - [`spatial`]: the 3-D report (roll, pitch and inclination error of every 3-D estimator).
 //! - [`Report`]: all of it from named series into one directory. `pendtilt report` is
 //!   `Report::new(title, t, theta)`, one `.estimate(name, values)` per estimator column,
 //!   `.reference("accel")`, `.view("FIR 20 Hz", ..)` with the paper's filter, then
@@ -22,6 +23,7 @@ pub mod html;
 pub mod markdown;
 pub mod metrics;
 pub mod palette;
+pub mod spatial;
 
 pub use builder::{file_safe, FigureGroup, Report, ReportData, ReportOutput, ViewFn, ViewMetrics};
 

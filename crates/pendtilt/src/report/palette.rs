@@ -6,7 +6,8 @@ use plotters::style::RGBColor;
 /// The built-in name → colour map (names as in the estimates CSV).
 ///
 /// Truth is black; the accelerometer grey and the Kalman filter fed by it orange; the
-/// pendulum family blue/green/red; other filters in their own hues.
+/// pendulum family blue/green/red; other filters in their own hues; the 3-D estimators
+/// each their own.
 pub const DEFAULT_COLOURS: &[(&str, RGBColor)] = &[
     ("theta", RGBColor(0, 0, 0)),
     ("truth", RGBColor(0, 0, 0)),
@@ -25,6 +26,15 @@ pub const DEFAULT_COLOURS: &[(&str, RGBColor)] = &[
     ("madgwick", RGBColor(120, 0, 120)),
     ("mahony", RGBColor(0, 60, 140)),
     ("complementary", RGBColor(160, 90, 0)),
+    // the 3-D estimators (a hash could give two of them one colour)
+    ("pendulum3d", RGBColor(160, 100, 60)),
+    ("accel3d", RGBColor(130, 130, 130)),
+    ("inv3d", RGBColor(50, 170, 80)),
+    ("ekf3d", RGBColor(200, 30, 30)),
+    ("ukf3d", RGBColor(20, 170, 190)),
+    ("vqf", RGBColor(240, 140, 0)),
+    ("madgwick3d", RGBColor(130, 20, 140)),
+    ("mahony3d", RGBColor(40, 90, 200)),
 ];
 
 /// Colours for names not in the map, picked by a stable hash of the name.

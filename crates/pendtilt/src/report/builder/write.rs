@@ -251,6 +251,7 @@ impl Report {
                     rows: v.metrics.clone(),
                 })
                 .collect(),
+            text_tables: Vec::new(),
             claims: data.claims.clone(),
             figures: figures
                 .iter()
