@@ -202,14 +202,15 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             return Flags::empty();
         };
         let gate = if self.rejected >= st.reacquire_after.max(1) {
+            // A tilt step of roll by -y_a (pitch by -y_b) moves a by y_a (b by y_b).
             let y = z - self.encoders.predict(filter.state());
             let mut v = Error::<T>::zeros();
-            v[ROT] = y[0];
-            v[A] = -y[0];
+            v[ROT] = -y[0];
+            v[A] = y[0];
             filter.inflate(&v);
             let mut v = Error::<T>::zeros();
-            v[ROT + 1] = y[1];
-            v[B] = -y[1];
+            v[ROT + 1] = -y[1];
+            v[B] = y[1];
             filter.inflate(&v);
             Gate::off()
         } else {
@@ -342,7 +343,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         }
         self.clock.accept();
         if have_phi {
-            let z = SVector::<T, 2>::new(s.phi[0], s.phi[1]);
+            // The joint angles the encoders read (MODEL.md 7.2).
+            let z = SVector::<T, 2>::new(-s.phi[0], -s.phi[1]);
             flags |= self.sense_encoders(&z);
         } else {
             flags |= Flags::SAMPLE_MISSING;

@@ -1,6 +1,7 @@
 //! Measurement models of the spatial filter (state layout in [`super::state`]).
 //!
-//! - [`Encoders`]: `z = (phi_x, phi_y) = (-a, -b)`, linear.
+//! - [`Encoders`]: the joint angles `z = (a, b) = (-phi_x, -phi_y)`, linear; each row a
+//!   single one, so the filter updates with a covariance column, not a product.
 //! - [`Accelerometer`]: `z = g u + lever`, the specific force of a body turning about a
 //!   point O that does not accelerate (`u` the world's up direction in body axes, `lever`
 //!   the known rigid-body term from O to the accelerometer); the vibration it reads is its
@@ -10,7 +11,8 @@ use crate::engine::Measurement;
 use crate::Real;
 use nalgebra::{SMatrix, SVector, Vector2, Vector3};
 
-/// The two encoders, variance `r` [rad^2] each.
+/// The two encoders as the joint angles they read, `z = (a, b) = (-phi_x, -phi_y)`
+/// (MODEL.md 7.2), variance `r` [rad^2] each.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Encoders<T> {
     /// Variance of one reading [rad^2].
@@ -22,15 +24,23 @@ impl<T: Real> Measurement<T, State<T>, N, 2> for Encoders<T> {
 
     #[inline]
     fn predict(&self, x: &State<T>) -> Vector2<T> {
-        Vector2::new(-x.joints[0], -x.joints[1])
+        Vector2::new(x.joints[0], x.joints[1])
     }
 
     #[inline]
     fn jacobian(&self, _x: &State<T>) -> SMatrix<T, 2, N> {
         let mut h = SMatrix::<T, 2, N>::zeros();
-        h[(0, A)] = -T::one();
-        h[(1, B)] = -T::one();
+        h[(0, A)] = T::one();
+        h[(1, B)] = T::one();
         h
+    }
+
+    #[inline]
+    fn unit_row(&self, axis: usize) -> Option<&[usize]> {
+        match axis {
+            0 => Some(&[A]),
+            _ => Some(&[B]),
+        }
     }
 
     #[inline]

@@ -18,9 +18,10 @@
 //!
 //! One step of `h`: the attitude turns by `exp((gyro - bias) h)`; the joints take a
 //! semi-implicit Euler step (rates first, then angles with the new rates). The Jacobian
-//! of the joint step is taken by central differences in the working precision (step
-//! `eps^(1/3)`): 7.3 has some forty partial derivatives, and the filter needs them to a
-//! few digits only; a test checks them against a finer difference in `f64`.
+//! of the joint step is exact in the up direction (it enters linearly) and taken by
+//! forward differences in the working precision for the joints and the body rate (step
+//! `sqrt(eps)`): 7.3 has some forty partial derivatives, and the filter needs them to a
+//! few digits only; a test checks them against the step itself.
 use super::state::{State, A, B, BIAS, N, P, R, ROT};
 use crate::engine::{Cov, ProcessModel};
 use crate::spatial::cardan::{CardanParams, JointTrig};
@@ -118,57 +119,67 @@ impl<T: Real> CardanProcess<T> {
         Vector4::new(j[0] + h * (p - w[0]), j[1] + h * (r - u2), p, r)
     }
 
-    /// The partial derivatives of [`Self::joint_step`] by central differences: with
-    /// respect to the joints (4 x 4), the body rate (4 x 3) and the up direction (4 x 3).
-    /// The angles' trigonometry is taken once: the shifted angles' by angle addition.
+    /// The partial derivatives of [`Self::joint_step`] with respect to the joints (4 x 4),
+    /// the body rate (4 x 3) and the up direction (4 x 3), given the step's result `next`.
+    /// The up direction enters 7.3 linearly (through the specific force), so its columns
+    /// are exact; the others are forward differences of step `sqrt(eps)` (the filter needs
+    /// them to a few digits: a test checks them against the step itself). The angles'
+    /// trigonometry is taken once: the shifted angles' by angle addition.
     fn joint_partials(
         &self,
         trig: &JointTrig<T>,
+        next: &Vector4<T>,
         j: &Vector4<T>,
         w: &Vector3<T>,
         dr: &Drive<T>,
         u: &Vector3<T>,
         h: T,
     ) -> (SMatrix<T, 4, 4>, SMatrix<T, 4, 3>, SMatrix<T, 4, 3>) {
-        let d = T::default_epsilon().cbrt();
-        let two_d = d + d;
+        let d = T::default_epsilon().sqrt();
         let trig = *trig;
-        let (sd, cd) = d.sin_cos();
+        let shift = d.sin_cos();
         let none = (T::zero(), T::one());
         let mut dj = SMatrix::<T, 4, 4>::zeros();
         for k in 0..4 {
-            let (mut lo, mut hi) = (*j, *j);
-            lo[k] -= d;
+            let mut hi = *j;
             hi[k] += d;
-            let (t_lo, t_hi) = match k {
-                0 => (trig.shifted((-sd, cd), none), trig.shifted((sd, cd), none)),
-                1 => (trig.shifted(none, (-sd, cd)), trig.shifted(none, (sd, cd))),
-                _ => (trig, trig),
+            let t_hi = match k {
+                0 => trig.shifted(shift, none),
+                1 => trig.shifted(none, shift),
+                _ => trig,
             };
-            let c = (self.joint_step_with(&t_hi, &hi, w, dr, u, h)
-                - self.joint_step_with(&t_lo, &lo, w, dr, u, h))
-                / two_d;
+            let c = (self.joint_step_with(&t_hi, &hi, w, dr, u, h) - next) / d;
             dj.set_column(k, &c);
         }
         let mut dw = SMatrix::<T, 4, 3>::zeros();
-        let mut du = SMatrix::<T, 4, 3>::zeros();
         for k in 0..3 {
-            let (mut lo, mut hi) = (*w, *w);
-            lo[k] -= d;
+            let mut hi = *w;
             hi[k] += d;
-            let c = (self.joint_step_with(&trig, j, &hi, dr, u, h)
-                - self.joint_step_with(&trig, j, &lo, dr, u, h))
-                / two_d;
+            let c = (self.joint_step_with(&trig, j, &hi, dr, u, h) - next) / d;
             dw.set_column(k, &c);
-            let (mut lo, mut hi) = (*u, *u);
-            lo[k] -= d;
-            hi[k] += d;
-            let c = (self.joint_step_with(&trig, j, w, dr, &hi, h)
-                - self.joint_step_with(&trig, j, w, dr, &lo, h))
-                / two_d;
-            du.set_column(k, &c);
         }
-        (dj, dw, du)
+        (dj, dw, self.up_partials(&trig, h))
+    }
+
+    /// The step's exact partial derivatives with respect to the up direction `u`: `f = g u +
+    /// ...` enters 7.3 only through `-cb h2` in `a''` and `cb h1 - sb h3` in `b''` (`h` the
+    /// specific force over g in ring axes), and the step gives the rates `h` times, the
+    /// angles `h^2` times, the accelerations.
+    fn up_partials(&self, trig: &JointTrig<T>, h: T) -> SMatrix<T, 4, 3> {
+        let pr = &self.params;
+        let JointTrig { sa, ca, sb, cb } = *trig;
+        let ia = pr.b_x * cb * cb + pr.b_z * sb * sb;
+        let ka = -cb / (pr.b_ring + ia);
+        let kb = T::one() / pr.b_y;
+        let da = [T::zero(), ka * ca, ka * sa];
+        let db = [kb * cb, kb * sb * sa, -kb * sb * ca];
+        let h2 = h * h;
+        SMatrix::<T, 4, 3>::from_fn(|row, col| match row {
+            0 => h2 * da[col],
+            1 => h2 * db[col],
+            2 => h * da[col],
+            _ => h * db[col],
+        })
     }
 }
 
@@ -211,12 +222,36 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
         f.fixed_view_mut::<3, 3>(ROT, ROT).copy_from(&rt);
         f.fixed_view_mut::<3, 3>(ROT, BIAS)
             .copy_from(&(Matrix3::identity() * -h));
-        let (dj, dw, du) = self.joint_partials(&trig, &x.joints, &w, d, &u, h);
+        let (dj, dw, du) = self.joint_partials(&trig, &next.joints, &x.joints, &w, d, &u, h);
         f.fixed_view_mut::<4, 4>(A, A).copy_from(&dj);
         // w = gyro - bias; u(q exp d) = u + u x d.
         f.fixed_view_mut::<4, 3>(A, BIAS).copy_from(&(-dw));
         f.fixed_view_mut::<4, 3>(A, ROT).copy_from(&(du * skew(&u)));
         (next, f)
+    }
+
+    /// `F P F^T` on the blocks of `F` that are not structurally zero or the identity: the
+    /// rotation error moves by its own rows (rotation and bias columns), the bias is
+    /// constant, the joints take every column. About half the dense product's
+    /// multiplications; a test checks it against the dense product.
+    #[inline]
+    fn propagate(&self, f: &Cov<T, N>, p: &Cov<T, N>) -> Cov<T, N> {
+        let f_rot = f.fixed_view::<3, 6>(ROT, ROT);
+        let f_j = f.fixed_view::<4, N>(A, 0);
+        // M = F P, row block by row block.
+        let mut m = *p;
+        let pr = p.fixed_rows::<6>(ROT);
+        m.fixed_rows_mut::<3>(ROT).copy_from(&(f_rot * pr));
+        m.fixed_rows_mut::<4>(A).copy_from(&(f_j * p));
+        // F P F^T = M F^T, column block by column block.
+        let mut out = m;
+        let mr = m.fixed_columns::<6>(ROT);
+        out.fixed_columns_mut::<3>(ROT)
+            .copy_from(&(mr * f_rot.transpose()));
+        out.fixed_columns_mut::<4>(A)
+            .copy_from(&(m * f_j.transpose()));
+        crate::engine::update::symmetrise(&mut out);
+        out
     }
 
     /// Gyro noise turns the attitude and, oppositely, the joint angles it moves past
@@ -339,5 +374,27 @@ mod tests {
         // And it matters: 4 rad/s^2 at 0.3 m is 0.12 g.
         let ignored = m.joint_step(&j, &w, &drive(w, w), &u, 1e-3);
         assert!((moved - ignored).norm() > 1e-4, "{moved} vs {ignored}");
+    }
+
+    /// The structured `F P F^T` equals the dense product.
+    #[test]
+    fn propagate_equals_the_dense_product() {
+        let m = model();
+        let x = State {
+            q: UnitQuaternion::from_euler_angles(0.3, -0.2, 0.7),
+            bias: Vector3::new(0.01, -0.02, 0.005),
+            joints: Vector4::new(-0.25, 0.15, 0.4, -0.3),
+        };
+        let d = drive(Vector3::new(0.5, -0.8, 0.3), Vector3::new(2.0, -1.0, 3.0));
+        let (_, f) = m.step_with_jacobian(&x, &d, 2e-3);
+        let a = Cov::<f64, N>::from_fn(|i, j| ((i * 7 + j * 3) % 11) as f64 * 0.1 - 0.4);
+        let p = a * a.transpose() + Cov::<f64, N>::identity();
+        let dense = f * p * f.transpose();
+        let fast = m.propagate(&f, &p);
+        assert!(
+            (dense - fast).abs().max() < 1e-12,
+            "{}",
+            (dense - fast).abs().max()
+        );
     }
 }
