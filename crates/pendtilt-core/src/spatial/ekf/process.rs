@@ -120,7 +120,8 @@ impl<T: Real> CardanProcess<T> {
     }
 
     /// The partial derivatives of [`Self::joint_step`] with respect to the joints (4 x 4),
-    /// the body rate (4 x 3) and the up direction (4 x 3), given the step's result `next`.
+    /// the body rate (4 x 3) and the up direction (4 x 3) at the joints `j` that the step
+    /// takes to `next`.
     /// The up direction enters 7.3 linearly (through the specific force), so its columns
     /// are exact; the others are forward differences of step `sqrt(eps)` (the filter needs
     /// them to a few digits: a test checks them against the step itself). The angles'
@@ -128,8 +129,7 @@ impl<T: Real> CardanProcess<T> {
     fn joint_partials(
         &self,
         trig: &JointTrig<T>,
-        next: &Vector4<T>,
-        j: &Vector4<T>,
+        [j, next]: [&Vector4<T>; 2],
         w: &Vector3<T>,
         dr: &Drive<T>,
         u: &Vector3<T>,
@@ -222,7 +222,7 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
         f.fixed_view_mut::<3, 3>(ROT, ROT).copy_from(&rt);
         f.fixed_view_mut::<3, 3>(ROT, BIAS)
             .copy_from(&(Matrix3::identity() * -h));
-        let (dj, dw, du) = self.joint_partials(&trig, &next.joints, &x.joints, &w, d, &u, h);
+        let (dj, dw, du) = self.joint_partials(&trig, [&x.joints, &next.joints], &w, d, &u, h);
         f.fixed_view_mut::<4, 4>(A, A).copy_from(&dj);
         // w = gyro - bias; u(q exp d) = u + u x d.
         f.fixed_view_mut::<4, 3>(A, BIAS).copy_from(&(-dw));
