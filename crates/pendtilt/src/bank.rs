@@ -301,11 +301,11 @@ pub static REGISTRY: &[Entry] = &[
         name: "ekf",
         needs: PHI_GYRO,
         kind: Kind::Direct(|s| {
-            Box::new(Ekf::new(peers::model_settings(
+            Box::new(Ekf::new(s.rig.ekf.apply(peers::model_settings(
                 &s.params(),
                 s.gravity(),
                 &s.peers,
-            )))
+            ))))
         }),
         about: "EKF on the pendulum's own dynamics with l12 (the paper's future work)",
     },
@@ -313,11 +313,11 @@ pub static REGISTRY: &[Entry] = &[
         name: "ukf",
         needs: PHI_GYRO,
         kind: Kind::Direct(|s| {
-            Box::new(Ukf::new(peers::model_settings(
+            Box::new(Ukf::new(s.rig.ekf.apply(peers::model_settings(
                 &s.params(),
                 s.gravity(),
                 &s.peers,
-            )))
+            ))))
         }),
         about: "UKF on the same model",
     },

@@ -53,6 +53,12 @@
 //! phi = "raw"
 //! theta_dd = "matched"
 //! window = 0.02
+//!
+//! [ekf]                 # the ekf and ukf filters, as `pendtilt tune` writes them
+//! # encoder_bits = 12   # every key left out: derived from the default sensors
+//! # encoder_noise = 0.0, gyro_density = 8.73e-5, gyro_bias = 0.01745,
+//! # accel_density = 3.92e-3, accel_vibration = 3.0, process_jerk = 301.0,
+//! # process_pendulum = ..., process_bias = 1e-8   (see config::EkfConfig)
 //! ```
 //!
 //! The tables are the fields of [`RigConfig`], listed there once: reading, writing and the
@@ -79,7 +85,10 @@ use std::fmt;
 use std::path::Path;
 
 mod checks;
+mod ekf;
 mod tables;
+
+pub use ekf::EkfConfig;
 
 use pendtilt_core::estimators::accel::AccelSettings;
 use pendtilt_core::estimators::alg1::Alg1Settings;
@@ -264,6 +273,9 @@ pub struct RigConfig {
     /// K = a, L = b, M = -b, N = 0 of its `[pendulum]`), `phi`, `theta_dd`, `window`.
     #[serde(with = "tables::alg3")]
     pub alg3: Alg3Settings<f64>,
+    /// `[ekf]`: the `ekf` and `ukf` filters' noise figures ([`EkfConfig`]); written empty
+    /// when no key is set (every figure then derived from the default sensors).
+    pub ekf: EkfConfig,
 }
 
 /// Name used in errors for configurations built in memory rather than read from a file.
@@ -452,6 +464,12 @@ impl RigConfig {
                 table = name.to_string();
                 out.push_str(line);
                 out.push('\n');
+                if table == "ekf" && self.ekf.is_empty() {
+                    out.push_str(
+                        "# no key: every figure derived from the default sensors; \
+                         `pendtilt tune` writes them\n",
+                    );
+                }
                 continue;
             }
             let key = trimmed.split('=').next().unwrap_or("").trim();
@@ -511,6 +529,15 @@ fn key_comment(table: &str, key: &str) -> Option<&'static str> {
         ("alg3", "l") => "L, times phi'' [s^2]",
         ("alg3", "m") => "M, times G_d [s^2]",
         ("alg3", "n") => "N, times G_k [s]",
+        ("ekf", "encoder_bits") => "encoder resolution [bits per turn], 0: not quantised",
+        ("ekf", "encoder_noise") => "encoder noise, standard deviation [rad]",
+        ("ekf", "gyro_density") => "gyro white-noise density [rad/s/sqrt(Hz)]",
+        ("ekf", "gyro_bias") => "initial gyro bias spread [rad/s]",
+        ("ekf", "accel_density") => "accelerometer noise density [m/s^2/sqrt(Hz)]",
+        ("ekf", "accel_vibration") => "vibration RMS the accelerometer reads [m/s^2]",
+        ("ekf", "process_jerk") => "tilt jerk process noise density [rad^2/s^5]",
+        ("ekf", "process_pendulum") => "pendulum forcing process noise density [1/s^3]",
+        ("ekf", "process_bias") => "gyro bias walk process noise density [(rad/s)^2/s]",
         _ => return None,
     })
 }

@@ -16,7 +16,7 @@ fn help(args: &[&str]) -> String {
     String::from_utf8(o.stdout).unwrap()
 }
 
-const SUBCOMMANDS: [&str; 7] = [
+const SUBCOMMANDS: [&str; 8] = [
     "estimate",
     "filter",
     "simulate",
@@ -24,6 +24,7 @@ const SUBCOMMANDS: [&str; 7] = [
     "report",
     "reproduce",
     "stream",
+    "tune",
 ];
 
 #[test]

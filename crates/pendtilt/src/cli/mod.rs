@@ -13,6 +13,7 @@ pub mod reproduce;
 pub mod simulate;
 pub mod simulate3d;
 pub mod stream;
+pub mod tune;
 
 /// Tilt estimation with a pendulum as the sensor.
 #[derive(Debug, Parser)]
@@ -41,6 +42,9 @@ pub enum Command {
     Reproduce(reproduce::Args),
     /// Estimate from log lines on standard input as they arrive.
     Stream(stream::Args),
+    /// Tune every estimator's settings from a log (no true angle needed) and write a rig
+    /// file that `estimate` reads.
+    Tune(tune::Args),
 }
 
 /// Runs one parsed command line.
@@ -53,5 +57,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Report(a) => report::run(a),
         Command::Reproduce(a) => reproduce::run(a),
         Command::Stream(a) => stream::run(a),
+        Command::Tune(a) => tune::run(a),
     }
 }

@@ -16,6 +16,7 @@ pub(super) fn issues(cfg: &RigConfig) -> Vec<Issue> {
     check_pendulum(&cfg.pendulum, &mut issues);
     check_kalman(&cfg.kalman, &mut issues);
     check_estimators(cfg, &mut issues);
+    check_ekf(cfg, &mut issues);
     issues
 }
 
@@ -193,5 +194,21 @@ fn check_estimators(e: &RigConfig, issues: &mut Vec<Issue>) {
         if !v.is_finite() {
             issues.push((key.into(), v, "must be a finite number".into()));
         }
+    }
+}
+
+fn check_ekf(cfg: &RigConfig, issues: &mut Vec<Issue>) {
+    for (key, v) in cfg.ekf.values() {
+        require(issues, key, v, v >= 0.0, "a noise figure must be >= 0");
+    }
+    if let Some(bits) = cfg.ekf.encoder_bits {
+        let b = f64::from(bits);
+        require(
+            issues,
+            "ekf.encoder_bits",
+            b,
+            bits <= 52,
+            "an encoder has at most 52 bits per turn (0: not quantised)",
+        );
     }
 }

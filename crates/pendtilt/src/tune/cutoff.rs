@@ -128,11 +128,20 @@ pub fn choose(
     })
 }
 
+/// Golden-section steps of [`by_gyro_reference`].
+const GOLDEN_STEPS: usize = 14;
+/// Cost evaluations [`by_gyro_reference`] makes (two inner points, one per step, both ends).
+pub const EVALUATIONS: u64 = GOLDEN_STEPS as u64 + 4;
+
 /// The cutoff measured against the gyro's integral ([`super::reference`]): the multiple of
 /// the natural frequency in 0.4-10 (golden-section search in log scale, 14 steps) that
-/// minimises the sum of Algorithm 1's and Algorithm 2's squared band errors. Returns the
+/// minimises the sum of Algorithm 1's and Algorithm 2's squared band errors ([`EVALUATIONS`]
+/// runs of each). Returns the
 /// multiple and the RMS of the two band errors there \[rad\]. Used
 /// whenever the log has a gyro; the spectral rule of [`choose`] is the fallback.
+///
+/// Each cost evaluation ticks `budget`; past its deadline the cost is infinite (the
+/// caller then keeps the other rule's cutoff).
 ///
 /// Why: on the simulated scooter ride (60 s, seed 5) the spectral rule alone chose
 /// 5.4 Hz where the default 2.8 Hz was better (alg1 0.99 deg against 0.56 deg): what it
@@ -144,6 +153,7 @@ pub fn by_gyro_reference(
     alg2: &pendtilt_core::estimators::alg2::Alg2Settings<f64>,
     bias: f64,
     skip: usize,
+    budget: &mut super::search::Budget,
 ) -> (f64, f64) {
     use pendtilt_core::estimators::alg1::Alg1;
     use pendtilt_core::estimators::alg2::Alg2;
@@ -154,7 +164,10 @@ pub fn by_gyro_reference(
         let est: Vec<f64> = samples.iter().map(|s| e.update(s).theta).collect();
         super::reference::band_error(&est, &reference, samples, skip)
     };
-    let cost = |x: f64| {
+    let mut cost = |x: f64| {
+        if !budget.tick() {
+            return f64::INFINITY;
+        }
         let d = DiffSettings {
             response: alg2.front_end.differentiator.response,
             cutoff: Cutoff::TimesNatural(x),
@@ -178,7 +191,7 @@ pub fn by_gyro_reference(
         ));
         e1 * e1 + e2 * e2
     };
-    let (x, c) = crate::peers::tune::golden_log(cost, 0.4, 10.0, 14);
+    let (x, c) = crate::peers::tune::golden_log(&mut cost, 0.4, 10.0, GOLDEN_STEPS);
     (x, (c / 2.0).sqrt())
 }
 

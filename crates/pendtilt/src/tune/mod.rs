@@ -14,6 +14,9 @@
 //!   reported but not adopted (it made the EKF worse: see [`ekf`]), so the EKF takes
 //!   the measured sensor noise and keeps its process noise.
 //! - [`search`]: the derivative-free search in log space, the time limit and progress.
+//! - [`rig_file`]: the tuned settings as a rig file with a comment per value.
+//! - [`zoo`]: the test bed: seeded simulated rides on random rigs, each scored at the
+//!   defaults, self-tuned and against an oracle grid.
 //!
 //! [`tune`] runs them all in that order on a log in memory and returns the plain settings
 //! structs the estimators take, with a [`Note`] per value saying how it was found or
@@ -38,9 +41,11 @@ pub mod gyro;
 pub mod kalman;
 mod notes;
 pub mod reference;
+pub mod rig_file;
 pub mod search;
 pub mod spectrum;
 mod targets;
+pub mod zoo;
 
 use crate::config::RigConfig;
 use crate::peers::{self, PeerSettings};
@@ -82,8 +87,8 @@ impl Default for Start {
 }
 
 impl Start {
-    /// The settings a rig file gives (the EKF's from the default sensors and environment,
-    /// as `pendtilt estimate` builds it).
+    /// The settings a rig file gives (the EKF's from the default sensors and environment
+    /// and the file's `[ekf]` table, as `pendtilt estimate` builds it).
     pub fn from_rig(cfg: &RigConfig) -> Self {
         let params = cfg.params();
         let gravity = cfg.physical().map_or(STANDARD_GRAVITY, |p| p.gravity);
@@ -94,7 +99,11 @@ impl Start {
             alg1: cfg.alg1_settings(),
             alg2: cfg.alg2_settings(),
             accel: cfg.accel_settings(),
-            ekf: peers::model_settings(&params, gravity, &PeerSettings::default()),
+            ekf: cfg.ekf.apply(peers::model_settings(
+                &params,
+                gravity,
+                &PeerSettings::default(),
+            )),
         }
     }
 }
@@ -123,7 +132,8 @@ impl Target<'_> {
 pub struct Options<'a> {
     /// What the filters are tuned against. Default [`Target::Likelihood`].
     pub target: Target<'a>,
-    /// Stop the fits after this long (the best found so far is kept). Default none.
+    /// Stop the searches this long after [`tune`] starts (the best found so far is kept;
+    /// the noise estimates, one pass each, always run). Default none.
     pub time_limit: Option<Duration>,
     /// Called with the evaluations done and [`planned_evaluations`].
     pub progress: Option<&'a dyn Fn(u64, u64)>,
@@ -195,12 +205,12 @@ pub struct Tuned {
     pub stopped_by_time_limit: bool,
 }
 
-/// Cost evaluations [`tune`] plans (for a progress bar): the Kalman filters' three
-/// parameters, `kf_accel`'s R and the EKF's two, each fit's passes.
+/// Cost evaluations [`tune`] plans (for a progress bar): the cutoff against the gyro, the
+/// Kalman filters' three parameters, `kf_accel`'s R and the EKF's two, each fit's passes.
 pub fn planned_evaluations() -> u64 {
     let per = search::EVALS_PER_PARAMETER;
     let (k, e) = (kalman::ROUNDS as u64, ekf::ROUNDS as u64);
-    (1 + k * 3 * per) + (1 + per) + (1 + e * 2 * per)
+    cutoff::EVALUATIONS + (1 + k * 3 * per) + (1 + per) + (1 + e * 2 * per)
 }
 
 /// Sample rate \[Hz\] from the median positive step; `None` without one.
@@ -304,7 +314,6 @@ struct FilterFits {
     kalman_fit: Option<kalman::Fitted>,
     accel_fit: Option<(f64, f64, f64)>,
     ekf_fit: Option<ekf::EkfFitted>,
-    stopped_by_time_limit: bool,
 }
 
 /// What [`fit_filters`] fits on.
@@ -325,27 +334,15 @@ struct FitData<'a> {
 
 /// Fits the `kf_*` filters' Q and R on Algorithm 2's angle (with `differentiator`),
 /// `kf_accel`'s R when the log has an accelerometer, and the EKF from `ekf_start`,
-/// within the time limit of `opts`.
+/// within `budget`.
 fn fit_filters(
     start: &Start,
     ekf_start: ModelSettings<f64>,
     differentiator: DiffSettings<f64>,
     d: &FitData,
     opts: &Options,
+    budget: &mut Budget,
 ) -> FilterFits {
-    let planned = planned_evaluations();
-    let tell = |n: u64| {
-        if let Some(p) = opts.progress {
-            p(n, planned);
-        }
-    };
-    let mut budget = Budget {
-        deadline: opts.time_limit.map(|d| Instant::now() + d),
-        evaluations: 0,
-        stopped: false,
-        progress: Some(&tell),
-    };
-    let budget = &mut budget;
     let (mut kalman_s, f) = fit_kalman(start, differentiator, d, opts, budget);
     let mut accel_fit = None;
     if d.has_accel {
@@ -373,7 +370,6 @@ fn fit_filters(
         kalman_fit: Some(f),
         accel_fit,
         ekf_fit: Some(e),
-        stopped_by_time_limit: budget.stopped,
     }
 }
 
@@ -419,6 +415,19 @@ fn fit_kalman(
 /// Tunes every estimator's settings on `samples` (one log, rows in order), starting from
 /// `start`. See the module documentation.
 pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
+    let planned = planned_evaluations();
+    let tell = |n: u64| {
+        if let Some(p) = opts.progress {
+            p(n, planned);
+        }
+    };
+    // The time limit counts from here: the searches stop at it, keeping their best.
+    let mut budget = Budget {
+        deadline: opts.time_limit.map(|d| Instant::now() + d),
+        evaluations: 0,
+        stopped: false,
+        progress: Some(&tell),
+    };
     let mut notes = Vec::new();
     let rate = sample_rate(samples).unwrap_or(1000.0);
     let col = |f: fn(&Sample<f64>) -> f64| samples.iter().map(f).collect::<Vec<f64>>();
@@ -446,7 +455,10 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
     let bias = gyr.as_ref().ok().and_then(|g| g.bias);
     let cutoff_by_gyro = bias
         .filter(|_| duration >= MIN_FIT_SECONDS)
-        .map(|b| cutoff::by_gyro_reference(fit_samples, &start.alg1, &start.alg2, b, skip));
+        .map(|b| {
+            cutoff::by_gyro_reference(fit_samples, &start.alg1, &start.alg2, b, skip, &mut budget)
+        })
+        .filter(|(_, e)| e.is_finite());
     let differentiator = adopted_differentiator(start, cutoff_by_gyro, &cut);
     notes::cutoff(&cut, cutoff_by_gyro, &start_diff, &start.params, &mut notes);
     let fits = match why_not {
@@ -459,7 +471,7 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
                 rate,
                 has_accel: ax.iter().any(|v| v.is_finite()),
             };
-            fit_filters(start, ekf_start, differentiator, &data, opts)
+            fit_filters(start, ekf_start, differentiator, &data, opts, &mut budget)
         }
         Some(_) => FilterFits {
             kalman: start.kalman,
@@ -467,7 +479,6 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
             kalman_fit: None,
             accel_fit: None,
             ekf_fit: None,
-            stopped_by_time_limit: false,
         },
     };
     notes::filters(
@@ -495,6 +506,6 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         ekf_fit: fits.ekf_fit,
         notes,
         target: opts.target.name(),
-        stopped_by_time_limit: fits.stopped_by_time_limit,
+        stopped_by_time_limit: budget.stopped,
     }
 }

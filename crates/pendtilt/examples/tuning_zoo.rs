@@ -1,0 +1,112 @@
+//! The zoo of unseen rigs (issue 12): seeded simulated rides with random rigs, sensors,
+//! vibration and motions ([`pendtilt::tune::zoo`]); for each, the RMS error of ekf,
+//! kf_alg2, alg1 and alg2 at the defaults, self-tuned (no true angle) and tuned by a
+//! brute-force grid against the true angle (the oracle); then the median and worst ratios
+//! per estimator against the issue's targets.
+//!
+//! `cargo run --release -p pendtilt --example tuning_zoo [-- --rides N --seconds S]`
+//! (default 20 rides of 40 s).
+use pendtilt::tune::zoo::ride;
+use pendtilt::tune::zoo::score::{score, RideScore, ESTIMATORS};
+
+/// `--name VALUE` from the command line, parsed, or `default`.
+fn arg<T: std::str::FromStr>(name: &str, default: T) -> anyhow::Result<T> {
+    let args: Vec<String> = std::env::args().collect();
+    match args.iter().position(|a| a == name) {
+        Some(i) => args
+            .get(i + 1)
+            .and_then(|v| v.parse().ok())
+            .ok_or_else(|| anyhow::anyhow!("{name} needs a number")),
+        None => Ok(default),
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+fn worst(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+}
+
+fn print_ride(s: &RideScore) {
+    let d = |x: f64| x.to_degrees();
+    let cells: Vec<String> = (0..4)
+        .map(|i| {
+            format!(
+                "{:.4} {:.4} {:.4}",
+                d(s.defaults[i]),
+                d(s.tuned[i]),
+                d(s.oracle[i])
+            )
+        })
+        .collect();
+    println!(
+        "| {} | {} | {:.1} | {} |",
+        s.ride.index,
+        cells.join(" | "),
+        s.tune_seconds,
+        s.ride.description
+    );
+}
+
+fn main() -> anyhow::Result<()> {
+    let rides: u64 = arg("--rides", 20)?;
+    let seconds: f64 = arg("--seconds", 40.0)?;
+    println!(
+        "{rides} rides of {seconds} s at 1 kHz; RMS error [deg]: defaults / self-tuned / oracle"
+    );
+    println!(
+        "| ride | {} | tune [s] | rig |",
+        ESTIMATORS
+            .iter()
+            .map(|e| format!("{e} def / tuned / oracle"))
+            .collect::<Vec<_>>()
+            .join(" | ")
+    );
+    println!("|---|---|---|---|---|---|---|");
+    let mut scores = Vec::new();
+    for k in 1..=rides {
+        let s = score(&ride(k, seconds));
+        print_ride(&s);
+        scores.push(s);
+    }
+    println!();
+    println!("| estimator | tuned/oracle median | worst | tuned/defaults median | worst | rides where tuned > 1.05 x defaults |");
+    println!("|---|---|---|---|---|---|");
+    for (i, name) in ESTIMATORS.iter().enumerate() {
+        let to: Vec<f64> = scores.iter().map(|s| s.tuned[i] / s.oracle[i]).collect();
+        let td: Vec<f64> = scores.iter().map(|s| s.tuned[i] / s.defaults[i]).collect();
+        let bad: Vec<String> = scores
+            .iter()
+            .zip(&td)
+            .filter(|(_, r)| **r > 1.05)
+            .map(|(s, r)| format!("{} ({r:.2})", s.ride.index))
+            .collect();
+        println!(
+            "| {name} | {:.2} | {:.2} | {:.2} | {:.2} | {} |",
+            median(to.clone()),
+            worst(&to),
+            median(td.clone()),
+            worst(&td),
+            if bad.is_empty() {
+                "none".to_string()
+            } else {
+                bad.join(", ")
+            }
+        );
+    }
+    let t: Vec<f64> = scores.iter().map(|s| s.tune_seconds).collect();
+    println!(
+        "\nself-tuning wall time per ride: median {:.2} s, worst {:.2} s",
+        median(t.clone()),
+        worst(&t)
+    );
+    Ok(())
+}

@@ -1,0 +1,262 @@
+//! `pendtilt tune LOG.csv --params RIG.toml -o TUNED.toml`: every estimator's settings
+//! from the log itself ([`crate::tune`]), written as a rig file that `pendtilt estimate`
+//! reads as it is, each tuned value with a comment saying how it was found.
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::config::RigConfig;
+use crate::io::output::{self, NamedPath};
+use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions, TimeUnit};
+use crate::tune::{self, rig_file, Options, Start, Target, Tuned};
+use pendtilt_core::Sample;
+
+/// What `tune` tunes the filters against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum TuneTarget {
+    /// The likelihood of the filters' own innovations: no true angle needed.
+    Likelihood,
+    /// The RMS error against the log's `theta` column (a calibration ride).
+    Truth,
+}
+
+/// Options of `pendtilt tune`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The sensor log (CSV, MODEL.md section 5): t, phi and, for most values, gyro, ax,
+    /// ay. No true angle needed.
+    pub log: PathBuf,
+    /// Where to write the tuned rig file (TOML). Never one of the inputs.
+    #[arg(long, short = 'o', visible_alias = "out")]
+    pub output: PathBuf,
+    /// The rig file to start from (its pendulum, and every value the log cannot tell).
+    /// Default: the MODEL.md rig.
+    #[arg(long, short = 'p')]
+    pub params: Option<PathBuf>,
+    /// What the Kalman filters and the EKF are tuned against: `likelihood` (their own
+    /// innovations, no true angle) or `truth` (the log's `theta` column).
+    #[arg(long, value_enum, default_value = "likelihood")]
+    pub target: TuneTarget,
+    /// Stop the searches after this many seconds and write the best found so far (the
+    /// file says so). Default: no limit.
+    #[arg(long, value_name = "SECONDS")]
+    pub time_limit: Option<f64>,
+    /// The filters are fitted on at most this much of the log \[s\] (the noise figures
+    /// use all of it).
+    #[arg(long, default_value_t = 60.0, value_name = "SECONDS")]
+    pub fit_seconds: f64,
+    /// Other column names, e.g. `phi=enc_angle,gyro=gz`. Default: none, the MODEL.md
+    /// names (t, phi, gyro, ax, ay, theta).
+    #[arg(long, default_value = "", hide_default_value = true)]
+    pub map: ColumnMap,
+    /// Angular columns in degrees: alone, every one; or a list like `phi,theta`. Default:
+    /// none, all in rad and rad/s.
+    #[arg(long, num_args = 0..=1, default_missing_value = "all")]
+    pub deg: Option<DegreeColumns>,
+    /// Unit of the `t` column: s, ms, us or ns. Default: seconds.
+    #[arg(long, value_name = "UNIT")]
+    pub time_unit: Option<TimeUnit>,
+    /// Print nothing but errors.
+    #[arg(long, short = 'q')]
+    pub quiet: bool,
+}
+
+/// Runs `pendtilt tune`: refuses an output that is an input, tunes, and writes the rig
+/// file all at once (an earlier file stays as it was when tuning fails).
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let mut inputs = vec![NamedPath::new("LOG", &args.log)];
+    if let Some(p) = &args.params {
+        inputs.push(NamedPath::new("--params", p));
+    }
+    output::check_distinct(&inputs, &[NamedPath::new("-o", &args.output)])?;
+    let text = tuned_text(&args).with_context(|| output::not_written(&args.output))?;
+    output::write_atomic("-o", &args.output, text.as_bytes())?;
+    if !args.quiet {
+        eprintln!("wrote {}", args.output.display());
+    }
+    Ok(())
+}
+
+/// The log's rows as samples, and the true angle per row (NaN without one).
+struct TuneLog {
+    samples: Vec<Sample<f64>>,
+    truth: Option<Vec<f64>>,
+}
+
+/// Reads the whole log (warnings printed unless `--quiet`).
+fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<TuneLog> {
+    anyhow::ensure!(
+        !super::estimate3d::is_3d_log(&args.log),
+        "{}: a 3-D log; `tune` tunes the planar estimators (t, phi, gyro, ax, ay)",
+        args.log.display()
+    );
+    let options = ReaderOptions {
+        map: args.map.clone(),
+        degrees: args.deg.unwrap_or_default(),
+        limits: rig.limits(),
+        time_unit: args.time_unit,
+        ..ReaderOptions::default()
+    };
+    let mut log = LogReader::open(&args.log, options)?;
+    if !args.quiet {
+        eprintln!("{}: {}", log.file(), log.columns());
+    }
+    anyhow::ensure!(
+        log.columns().has(Column::Phi),
+        "{}: no phi column: nothing to tune (map another name with --map phi=NAME)",
+        log.file()
+    );
+    let has_theta = log.columns().has(Column::Theta);
+    let (mut samples, mut truth) = (Vec::new(), Vec::new());
+    while let Some(rec) = log.next_record()? {
+        if !args.quiet {
+            for w in log.drain_warnings() {
+                eprintln!("warning: {w}");
+            }
+        }
+        samples.push(rec.sample);
+        truth.push(rec.theta.unwrap_or(f64::NAN));
+    }
+    Ok(TuneLog {
+        samples,
+        truth: has_theta.then_some(truth),
+    })
+}
+
+/// A progress bar on standard error over the planned evaluations (hidden when quiet, not
+/// a terminal, or the log is shorter than 20 s at 1 kHz).
+fn progress_bar(rows: usize, quiet: bool) -> ProgressBar {
+    if quiet || rows < 20_000 || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::with_draw_target(
+        Some(tune::planned_evaluations()),
+        ProgressDrawTarget::stderr(),
+    );
+    b.set_style(
+        ProgressStyle::with_template("tuning {bar:40} {percent:>3}% {pos}/{len} passes, eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    b
+}
+
+/// Reads, tunes, prints what was found and returns the rig file's text.
+fn tuned_text(args: &Args) -> anyhow::Result<String> {
+    let rig = match &args.params {
+        Some(p) => RigConfig::load(p)?,
+        None => RigConfig::default(),
+    };
+    let log = read_log(args, &rig)?;
+    let target = match (args.target, &log.truth) {
+        (TuneTarget::Likelihood, _) => Target::Likelihood,
+        (TuneTarget::Truth, Some(t)) => Target::Truth(t),
+        (TuneTarget::Truth, None) => anyhow::bail!(
+            "{}: --target truth needs a theta column (a true angle), and the log has none; \
+             leave --target out to tune on the likelihood, which needs none",
+            args.log.display()
+        ),
+    };
+    let time_limit = match args.time_limit {
+        Some(s) if s.is_finite() && s >= 0.0 => Some(Duration::from_secs_f64(s)),
+        Some(s) => anyhow::bail!("--time-limit {s}: must be a number of seconds >= 0"),
+        None => None,
+    };
+    anyhow::ensure!(
+        args.fit_seconds.is_finite() && args.fit_seconds > 0.0,
+        "--fit-seconds {}: must be > 0",
+        args.fit_seconds
+    );
+    let bar = progress_bar(log.samples.len(), args.quiet);
+    let tell = |n: u64, _total: u64| bar.set_position(n);
+    let opts = Options {
+        target,
+        time_limit,
+        progress: Some(&tell),
+        fit_seconds: args.fit_seconds,
+    };
+    let start = Start::from_rig(&rig);
+    let t = tune::tune(&log.samples, &start, &opts);
+    bar.finish_and_clear();
+    let header = header(args, &log, &t);
+    if !args.quiet {
+        for h in &header {
+            println!("{h}");
+        }
+        for n in &t.notes {
+            let kept = if n.kept_default {
+                " (kept default)"
+            } else {
+                ""
+            };
+            println!("  {} = {}{kept}", n.key, n.value);
+        }
+    }
+    let tuned = rig_file::tuned_rig(&rig, &t);
+    tuned.validate()?;
+    Ok(rig_file::annotated_toml(&tuned, &t, &header))
+}
+
+/// What the file's first comment lines and standard output say: the log, the target, the
+/// likelihood (or error) before and after each fit, and whether the time limit cut in.
+fn header(args: &Args, log: &TuneLog, t: &Tuned) -> Vec<String> {
+    let rate = tune::sample_rate(&log.samples).unwrap_or(f64::NAN);
+    let start = args
+        .params
+        .as_ref()
+        .map_or("the default rig (MODEL.md)".to_string(), |p| {
+            p.display().to_string()
+        });
+    let mut h = vec![
+        format!(
+            "pendtilt tune: {} ({} rows, {:.1} s at {:.0} Hz), starting from {start}",
+            args.log.display(),
+            log.samples.len(),
+            log.samples.len() as f64 / rate,
+            rate
+        ),
+        match t.target {
+            "truth" => "target: the true angle (the log's theta column): RMS error [rad]".into(),
+            _ => "target: the likelihood of the filters' own innovations (no true angle used): \
+                  mean -log-likelihood per innovation, lower is better"
+                .to_string(),
+        },
+    ];
+    let what = if t.target == "truth" {
+        "RMS error"
+    } else {
+        "innovation likelihood (mean -log L)"
+    };
+    if let Some(f) = &t.kalman_fit {
+        h.push(format!(
+            "kf_alg2 {what}: before {:.5}, after {:.5}",
+            f.nll_before, f.nll_after
+        ));
+    }
+    if let Some((_, b, a)) = t.accel_fit {
+        h.push(format!("kf_accel {what}: before {b:.5}, after {a:.5}"));
+    }
+    if let Some(e) = &t.ekf_fit {
+        let adopted = if t.target == "truth" {
+            "adopted"
+        } else {
+            "reported, the process noise kept (see [ekf])"
+        };
+        h.push(format!(
+            "ekf {what}: before {:.5}, after {:.5} ({adopted})",
+            e.nll_before, e.nll_after
+        ));
+    }
+    if t.kalman_fit.is_none() {
+        h.push("the filters were not fitted (see the notes): their noise kept as given".into());
+    }
+    if t.stopped_by_time_limit {
+        h.push(format!(
+            "STOPPED EARLY by --time-limit {} s: the best values found so far are written",
+            args.time_limit.unwrap_or(0.0)
+        ));
+    }
+    h
+}

@@ -1,0 +1,250 @@
+//! `pendtilt tune` end to end (issue 12): a log with no true angle in, a rig file out that
+//! `pendtilt estimate` reads as it is and that beats the defaults against the simulator's
+//! truth on a rig the project never saw; the inputs are never overwritten; the time limit
+//! stops it early and it says so.
+use std::path::{Path, PathBuf};
+
+mod common;
+use common::{pendtilt, s, stderr};
+use pendtilt::config::RigConfig;
+use pendtilt::sim::simulate;
+use pendtilt::tune::zoo;
+
+/// A ride of the zoo written as a log without a true angle (t, phi, gyro, ax, ay), its rig
+/// file, and the true tilt per row.
+struct Fixture {
+    dir: tempfile::TempDir,
+    log: PathBuf,
+    rig: PathBuf,
+    truth: Vec<f64>,
+}
+
+impl Fixture {
+    fn new(ride: u64, seconds: f64, with_theta: bool) -> Self {
+        let r = zoo::ride(ride, seconds);
+        let rows = simulate(&r.scenario, r.index).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let log = dir.path().join("ride.csv");
+        let mut text = String::from(if with_theta {
+            "t,phi,gyro,ax,ay,theta\n"
+        } else {
+            "t,phi,gyro,ax,ay\n"
+        });
+        for row in &rows {
+            text.push_str(&format!(
+                "{:?},{:?},{:?},{:?},{:?}",
+                row.t, row.phi, row.gyro, row.ax, row.ay
+            ));
+            if with_theta {
+                text.push_str(&format!(",{:?}", row.truth.theta));
+            }
+            text.push('\n');
+        }
+        std::fs::write(&log, text).unwrap();
+        let rig = dir.path().join("rig.toml");
+        r.scenario.rig().unwrap().save(&rig).unwrap();
+        Self {
+            dir,
+            log,
+            rig,
+            truth: rows.iter().map(|r| r.truth.theta).collect(),
+        }
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.dir.path().join(name)
+    }
+
+    /// `pendtilt tune LOG -p RIG -o out extra..`; panics unless it succeeds.
+    fn tune(&self, out: &Path, extra: &[&str]) -> String {
+        let mut a = vec!["tune", s(&self.log), "-p", s(&self.rig), "-o", s(out)];
+        a.extend_from_slice(extra);
+        let o = pendtilt(&a);
+        assert!(o.status.success(), "{}", stderr(&o));
+        String::from_utf8(o.stdout).unwrap()
+    }
+
+    /// RMS error \[deg\] against the truth after 2 s of `ekf, kf_alg2, alg1, alg2` as
+    /// `pendtilt estimate` computes them with `rig`.
+    fn estimate_rms(&self, rig: &Path) -> [f64; 4] {
+        let out = self.path("est.csv");
+        let o = pendtilt(&[
+            "estimate",
+            s(&self.log),
+            "-p",
+            s(rig),
+            "-o",
+            s(&out),
+            "--only",
+            "ekf,kf_alg2,alg1,alg2",
+            "-q",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = std::fs::read_to_string(&out).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let rows: Vec<Vec<f64>> = lines
+            .map(|l| {
+                l.split(',')
+                    .map(|v| v.parse().unwrap_or(f64::NAN))
+                    .collect()
+            })
+            .collect();
+        // One estimate per input row.
+        assert_eq!(rows.len(), self.truth.len());
+        ["ekf", "kf_alg2", "alg1", "alg2"].map(|name| {
+            let c = header.iter().position(|h| *h == name).unwrap();
+            let (mut sum, mut n) = (0.0, 0usize);
+            for (row, th) in rows.iter().zip(&self.truth).skip(2000) {
+                sum += (row[c] - th).powi(2);
+                n += 1;
+            }
+            (sum / n as f64).sqrt().to_degrees()
+        })
+    }
+}
+
+#[test]
+fn tune_writes_a_commented_rig_that_estimate_reads_and_that_beats_the_defaults() {
+    // Zoo ride 3: f_n 2.10 Hz, damping 0.16, l12 32 mm, tactical sensors, a 34 Hz engine, a
+    // chirp: none of the project's scenarios.
+    let f = Fixture::new(3, 40.0, false);
+    let tuned = f.path("tuned.toml");
+    let stdout = f.tune(&tuned, &[]);
+    // The likelihood before and after, and which target.
+    assert!(
+        stdout.contains("kf_alg2 innovation likelihood (mean -log L): before")
+            && stdout.contains("no true angle used"),
+        "{stdout}"
+    );
+    let text = std::fs::read_to_string(&tuned).unwrap();
+    let rig = RigConfig::load(&tuned).unwrap();
+    let start = RigConfig::load(&f.rig).unwrap();
+    assert_eq!(
+        rig.pendulum, start.pendulum,
+        "the pendulum is the input rig's"
+    );
+    assert_ne!(rig.kalman, start.kalman);
+    assert!(rig.ekf.gyro_density.is_some() && rig.ekf.process_jerk.is_some());
+    // Every tuned value has a comment above it saying how it was found.
+    for key in [
+        "q_angle",
+        "r_pendulum",
+        "cutoff_times_natural",
+        "gyro_density",
+        "encoder_noise",
+    ] {
+        let i = text
+            .lines()
+            .position(|l| l.starts_with(&format!("{key} =")))
+            .unwrap_or_else(|| panic!("{key} missing:\n{text}"));
+        let above = text.lines().nth(i - 1).unwrap();
+        assert!(above.starts_with('#'), "{key}: {above}");
+    }
+    assert!(text.contains(": tuned:"), "{text}");
+    // Tuning the same log again gives the same file.
+    let again = f.path("again.toml");
+    f.tune(&again, &["-q"]);
+    assert_eq!(std::fs::read(&again).unwrap(), text.as_bytes());
+    // Against the truth: the tuned rig beats the defaults for the inversions and the
+    // Kalman filter on them (measured 1.36 -> 0.69 deg kf_alg2, 0.89 -> 0.27 alg1,
+    // 1.33 -> 0.69 alg2). The EKF is not asserted: its self-tuned sensor figures made it
+    // worse on this ride (0.0092 -> 0.0124 deg; README "Self-tuning").
+    let d = f.estimate_rms(&f.rig);
+    let t = f.estimate_rms(&tuned);
+    eprintln!("defaults {d:?}\ntuned    {t:?}");
+    for (i, name) in ["kf_alg2", "alg1", "alg2"].iter().enumerate() {
+        assert!(
+            t[i + 1] < 0.8 * d[i + 1],
+            "{name}: {} vs {}",
+            t[i + 1],
+            d[i + 1]
+        );
+    }
+}
+
+#[test]
+fn tune_never_writes_onto_its_log_or_rig() {
+    let f = Fixture::new(3, 12.0, false);
+    let (log0, rig0) = (
+        std::fs::read(&f.log).unwrap(),
+        std::fs::read(&f.rig).unwrap(),
+    );
+    for (out, opt) in [(&f.log, "LOG"), (&f.rig, "--params")] {
+        let o = pendtilt(&["tune", s(&f.log), "-p", s(&f.rig), "-o", s(out)]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert!(
+            err.contains("is the same file as") && err.contains(opt),
+            "{err}"
+        );
+    }
+    assert_eq!(std::fs::read(&f.log).unwrap(), log0);
+    assert_eq!(std::fs::read(&f.rig).unwrap(), rig0);
+}
+
+#[test]
+fn the_truth_target_needs_and_names_a_theta_column() {
+    let f = Fixture::new(5, 12.0, false);
+    let out = f.path("t.toml");
+    let o = pendtilt(&[
+        "tune",
+        s(&f.log),
+        "-p",
+        s(&f.rig),
+        "-o",
+        s(&out),
+        "--target",
+        "truth",
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(s(&f.log)) && err.contains("theta column"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    // With one, it says it used it.
+    let f = Fixture::new(5, 12.0, true);
+    let stdout = f.tune(&out, &["--target", "truth"]);
+    assert!(stdout.contains("target: the true angle"), "{stdout}");
+    assert!(std::fs::read_to_string(&out)
+        .unwrap()
+        .contains("searched against the true angle"));
+}
+
+#[test]
+fn a_bad_rig_is_named_with_its_line_and_column() {
+    let f = Fixture::new(5, 12.0, false);
+    let bad = f.path("bad.toml");
+    std::fs::write(
+        &bad,
+        "[kalman]\nq_angle = 1e-3\n[ekf]\ngyro_density = -1.0\n",
+    )
+    .unwrap();
+    let o = pendtilt(&["tune", s(&f.log), "-p", s(&bad), "-o", s(&f.path("o.toml"))]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(&format!("{}:4:16: ekf.gyro_density", bad.display())),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_time_limit_returns_the_best_so_far_and_says_it_stopped_early() {
+    let f = Fixture::new(3, 20.0, false);
+    let out = f.path("quick.toml");
+    let stdout = f.tune(&out, &["--time-limit", "0"]);
+    assert!(
+        stdout.contains("STOPPED EARLY by --time-limit 0 s"),
+        "{stdout}"
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("# STOPPED EARLY"), "{text}");
+    // What it writes is still a rig file estimate reads.
+    RigConfig::load(&out).unwrap();
+    // Without a limit it does not say so.
+    let full = f.path("full.toml");
+    assert!(!f.tune(&full, &[]).contains("STOPPED EARLY"));
+}
