@@ -4,10 +4,17 @@
 //! brute-force grid against the true angle (the oracle); then the median and worst ratios
 //! per estimator against the issue's targets.
 //!
+//! Last, the scooter target: the self-tuned ekf on the 60 s scooter ride (seed 5) against
+//! the peers with their gains searched against the true angle.
+//!
 //! `cargo run --release -p pendtilt --example tuning_zoo [-- --rides N --seconds S]`
 //! (default 20 rides of 40 s).
+use pendtilt::peers::tune::{search_peer_gains, Log};
+use pendtilt::sim::Scenario;
 use pendtilt::tune::zoo::ride;
+use pendtilt::tune::zoo::score::{bank_rms, RideLog};
 use pendtilt::tune::zoo::score::{score, RideScore, ESTIMATORS};
+use pendtilt::tune::{rig_file, tune, Options, Start};
 
 /// `--name VALUE` from the command line, parsed, or `default`.
 fn arg<T: std::str::FromStr>(name: &str, default: T) -> anyhow::Result<T> {
@@ -24,6 +31,9 @@ fn arg<T: std::str::FromStr>(name: &str, default: T) -> anyhow::Result<T> {
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     let n = v.len();
+    if n == 0 {
+        return f64::NAN;
+    }
     if n % 2 == 1 {
         v[n / 2]
     } else {
@@ -103,10 +113,40 @@ fn main() -> anyhow::Result<()> {
         );
     }
     let t: Vec<f64> = scores.iter().map(|s| s.tune_seconds).collect();
+    if !t.is_empty() {
+        println!(
+            "\nself-tuning wall time per ride: median {:.2} s, worst {:.2} s",
+            median(t.clone()),
+            worst(&t)
+        );
+    }
+    scooter_against_peers()
+}
+
+/// The self-tuned ekf on the 60 s scooter ride (seed 5) against the best-tuned peers.
+fn scooter_against_peers() -> anyhow::Result<()> {
+    let sc = Scenario::named("scooter")?;
+    let log = RideLog::simulate(&sc, 5);
+    let rig = sc.rig()?;
+    let t = tune(&log.samples, &Start::from_rig(&rig), &Options::default());
+    let ekf = bank_rms(&rig_file::tuned_rig(&rig, &t), &log)[0];
+    let p = search_peer_gains(
+        &Log {
+            samples: &log.samples,
+            truth: &log.truth,
+            skip: log.skip,
+        },
+        20,
+    );
+    let best = p.madgwick_beta.1.min(p.mahony.1).min(p.complementary_tau.1);
     println!(
-        "\nself-tuning wall time per ride: median {:.2} s, worst {:.2} s",
-        median(t.clone()),
-        worst(&t)
+        "\nscooter 60 s seed 5 [deg]: self-tuned ekf {:.4}; peers tuned against the truth: \
+         madgwick {:.4}, mahony {:.4}, complementary {:.4}; ekf / best peer = 1/{:.1}",
+        ekf.to_degrees(),
+        p.madgwick_beta.1.to_degrees(),
+        p.mahony.1.to_degrees(),
+        p.complementary_tau.1.to_degrees(),
+        best / ekf
     );
     Ok(())
 }

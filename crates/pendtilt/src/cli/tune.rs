@@ -201,6 +201,7 @@ fn tuned_text(args: &Args) -> anyhow::Result<String> {
 
 /// What the file's first comment lines and standard output say: the log, the target, the
 /// likelihood (or error) before and after each fit, and whether the time limit cut in.
+/// (A list of lines, one per fit: long but flat.)
 fn header(args: &Args, log: &TuneLog, t: &Tuned) -> Vec<String> {
     let rate = tune::sample_rate(&log.samples).unwrap_or(f64::NAN);
     let start = args
@@ -229,20 +230,44 @@ fn header(args: &Args, log: &TuneLog, t: &Tuned) -> Vec<String> {
     } else {
         "innovation likelihood (mean -log L)"
     };
-    if let Some(f) = &t.kalman_fit {
-        h.push(format!(
+    match (&t.kalman_fit, &t.kalman_surrogate) {
+        (Some(f), Some(s)) => {
+            h.push(format!(
+                "kf_alg2 {what}: before {:.5}, after {:.5} (its own optimum {:.5} not adopted: \
+                 see [kalman])",
+                f.nll_before, s.nll_at, f.nll_after
+            ));
+            h.push(format!(
+                "kf_alg2 predicted RMS error (surrogate from the gyro) [deg]: before {:.4}, \
+                 after {:.4}",
+                s.rms_before.to_degrees(),
+                s.rms_after.to_degrees()
+            ));
+        }
+        (Some(f), None) => h.push(format!(
             "kf_alg2 {what}: before {:.5}, after {:.5}",
             f.nll_before, f.nll_after
-        ));
+        )),
+        _ => {}
     }
     if let Some((_, b, a)) = t.accel_fit {
         h.push(format!("kf_accel {what}: before {b:.5}, after {a:.5}"));
     }
     if let Some(e) = &t.ekf_fit {
-        let adopted = if t.target == "truth" {
-            "adopted"
-        } else {
-            "reported, the process noise kept (see [ekf])"
+        let adopted = match (t.target, t.ekf_band) {
+            ("truth", _) => "adopted".to_string(),
+            (_, Some((k, f))) if f < k => format!(
+                "adopted: error against the gyro's integral above 0.2 Hz {:.4} -> {:.4} deg",
+                k.to_degrees(),
+                f.to_degrees()
+            ),
+            (_, Some((k, f))) => format!(
+                "not adopted: error against the gyro's integral above 0.2 Hz {:.4} deg with \
+                 it, {:.4} without",
+                f.to_degrees(),
+                k.to_degrees()
+            ),
+            _ => "not adopted (no gyro bias estimate to check it against)".to_string(),
         };
         h.push(format!(
             "ekf {what}: before {:.5}, after {:.5} ({adopted})",

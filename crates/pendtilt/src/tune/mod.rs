@@ -9,10 +9,14 @@
 //!   gyro's integral in the band above 0.2 Hz ([`mod@reference`]) when the log has a gyro,
 //!   else from the encoder's spectrum (a noise/delay trade-off rule).
 //! - [`kalman`]: q_angle, q_bias and R of the `kf_*` filters by maximum likelihood of
-//!   their innovations.
+//!   their innovations (reported);
+//! - [`surrogate`]: the same three against a surrogate of `kf_alg2`'s error built from
+//!   the gyro (adopted when the log has a gyro: the likelihood takes Algorithm 2's
+//!   coloured errors as white and trusts it too much).
 //! - [`ekf`]: the EKF's process noise, the same way; with no true angle the fit is
-//!   reported but not adopted (it made the EKF worse: see [`ekf`]), so the EKF takes
-//!   the measured sensor noise and keeps its process noise.
+//!   adopted only if it lowers the EKF's error against the gyro's integral above 0.2 Hz
+//!   (alone it made the EKF worse on some rides: see [`ekf`]); the EKF takes the
+//!   measured sensor noise.
 //! - [`search`]: the derivative-free search in log space, the time limit and progress.
 //! - [`rig_file`]: the tuned settings as a rig file with a comment per value.
 //! - [`zoo`]: the test bed: seeded simulated rides on random rigs, each scored at the
@@ -44,12 +48,13 @@ pub mod reference;
 pub mod rig_file;
 pub mod search;
 pub mod spectrum;
+pub mod surrogate;
 mod targets;
 pub mod zoo;
 
 use crate::config::RigConfig;
 use crate::peers::{self, PeerSettings};
-use pendtilt_core::ekf::ModelSettings;
+use pendtilt_core::ekf::{Ekf, ModelSettings};
 use pendtilt_core::estimators::accel::{Accel, AccelSettings};
 use pendtilt_core::estimators::alg1::Alg1Settings;
 use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
@@ -57,7 +62,7 @@ use pendtilt_core::filters::diff::DiffSettings;
 use pendtilt_core::kalman::tilt::UNUSABLE;
 use pendtilt_core::kalman::KalmanSettings;
 use pendtilt_core::params::STANDARD_GRAVITY;
-use pendtilt_core::{PendulumParams, PlanarEstimator, Sample};
+use pendtilt_core::{Estimator, PendulumParams, PlanarEstimator, Sample};
 use search::Budget;
 use std::time::{Duration, Instant};
 
@@ -193,10 +198,15 @@ pub struct Tuned {
     pub ekf: ModelSettings<f64>,
     /// The Kalman filters' fit on `kf_alg2` (likelihood or truth cost before and after).
     pub kalman_fit: Option<kalman::Fitted>,
+    /// The surrogate fit of `kf_alg2` (adopted when present).
+    pub kalman_surrogate: Option<surrogate::Fitted>,
     /// `kf_accel`'s R fit: (R, cost before, cost after).
     pub accel_fit: Option<(f64, f64, f64)>,
     /// The EKF's fit.
     pub ekf_fit: Option<ekf::EkfFitted>,
+    /// The EKF's error against the gyro's integral above 0.2 Hz \[rad\] with the start's
+    /// process noise and with the likelihood fit's (the lower one is adopted).
+    pub ekf_band: Option<(f64, f64)>,
     /// One note per value.
     pub notes: Vec<Note>,
     /// `"likelihood"` or `"truth"`: what the filters were tuned against.
@@ -206,11 +216,12 @@ pub struct Tuned {
 }
 
 /// Cost evaluations [`tune`] plans (for a progress bar): the cutoff against the gyro, the
-/// Kalman filters' three parameters, `kf_accel`'s R and the EKF's two, each fit's passes.
+/// Kalman filters' three parameters (likelihood and surrogate), `kf_accel`'s R and the
+/// EKF's two, each fit's passes.
 pub fn planned_evaluations() -> u64 {
     let per = search::EVALS_PER_PARAMETER;
     let (k, e) = (kalman::ROUNDS as u64, ekf::ROUNDS as u64);
-    cutoff::EVALUATIONS + (1 + k * 3 * per) + (1 + per) + (1 + e * 2 * per)
+    cutoff::EVALUATIONS + 2 * (1 + k * 3 * per) + (1 + per) + (1 + e * 2 * per)
 }
 
 /// Sample rate \[Hz\] from the median positive step; `None` without one.
@@ -312,8 +323,10 @@ struct FilterFits {
     kalman: KalmanSettings<f64>,
     ekf: ModelSettings<f64>,
     kalman_fit: Option<kalman::Fitted>,
+    kalman_surrogate: Option<surrogate::Fitted>,
     accel_fit: Option<(f64, f64, f64)>,
     ekf_fit: Option<ekf::EkfFitted>,
+    ekf_band: Option<(f64, f64)>,
 }
 
 /// What [`fit_filters`] fits on.
@@ -330,6 +343,8 @@ struct FitData<'a> {
     rate: f64,
     /// True when the log has an accelerometer reading.
     has_accel: bool,
+    /// The gyro's error figures when estimated (then the surrogate fit runs).
+    gyro_errors: Option<surrogate::GyroErrors>,
 }
 
 /// Fits the `kf_*` filters' Q and R on Algorithm 2's angle (with `differentiator`),
@@ -343,7 +358,7 @@ fn fit_filters(
     opts: &Options,
     budget: &mut Budget,
 ) -> FilterFits {
-    let (mut kalman_s, f) = fit_kalman(start, differentiator, d, opts, budget);
+    let (mut kalman_s, f, sur) = fit_kalman(start, differentiator, d, opts, budget);
     let mut accel_fit = None;
     if d.has_accel {
         let za = measurements(&mut Accel::new(start.accel), d.samples);
@@ -359,32 +374,53 @@ fn fit_filters(
         kalman_s.r_accel = accel_fit.map_or(kalman_s.r_accel, |a| a.0);
     }
     let e = targets::ekf(&ekf_start, d.samples, d.skip, opts, budget);
-    // The likelihood fit is reported, not adopted: see `ekf`'s documentation.
-    let ekf = match opts.target {
-        Target::Truth(_) => e.settings,
-        Target::Likelihood => ekf_start,
+    // The likelihood fit alone can make the EKF worse (see `ekf`'s documentation): it is
+    // adopted only when its error against the gyro's integral above 0.2 Hz is lower.
+    let ekf_band = match (opts.target, d.gyro_errors) {
+        (Target::Likelihood, Some(g)) if e.settings != ekf_start => {
+            let reference = reference::integral(d.samples, g.bias);
+            let band = |s: ModelSettings<f64>| {
+                let mut f = Ekf::new(s);
+                let est: Vec<f64> = d.samples.iter().map(|x| f.update(x).theta).collect();
+                reference::band_error(&est, &reference, d.samples, d.skip)
+            };
+            Some((band(ekf_start), band(e.settings)))
+        }
+        _ => None,
+    };
+    let ekf = match (opts.target, ekf_band) {
+        (Target::Truth(_), _) => e.settings,
+        (Target::Likelihood, Some((kept, fitted))) if fitted < kept => e.settings,
+        (Target::Likelihood, _) => ekf_start,
     };
     FilterFits {
         kalman: kalman_s,
         ekf,
         kalman_fit: Some(f),
+        kalman_surrogate: sur,
         accel_fit,
+        ekf_band,
         ekf_fit: Some(e),
     }
 }
 
-/// The Kalman filters' Q and R fitted on Algorithm 2's angle: the settings with them and
-/// the fit.
+/// The Kalman filters' Q and R fitted on Algorithm 2's angle: the settings adopted, the
+/// likelihood (or truth) fit, and the surrogate fit (adopted when made: likelihood target
+/// and a gyro).
 fn fit_kalman(
     start: &Start,
     differentiator: DiffSettings<f64>,
     d: &FitData,
     opts: &Options,
     budget: &mut Budget,
-) -> (KalmanSettings<f64>, kalman::Fitted) {
+) -> (
+    KalmanSettings<f64>,
+    kalman::Fitted,
+    Option<surrogate::Fitted>,
+) {
     let mut alg2_s = start.alg2;
     alg2_s.front_end.differentiator = differentiator;
-    let mut z = measurements(&mut Alg2::<f64>::new(alg2_s), d.samples);
+    let z_all = measurements(&mut Alg2::<f64>::new(alg2_s), d.samples);
     // Alg 2's errors are coloured (band-limited by the differentiator): the
     // likelihood sees them as independent only a Nyquist interval of the cutoff
     // apart, so it is fitted on every m-th angle and R scaled back by m.
@@ -392,11 +428,11 @@ fn fit_kalman(
         Target::Likelihood => decimation(d.rate, differentiator.cutoff_hz(&start.params)),
         Target::Truth(_) => 1,
     };
-    for (k, v) in z.iter_mut().enumerate() {
-        if k % m != 0 {
-            *v = f64::NAN;
-        }
-    }
+    let z: Vec<f64> = z_all
+        .iter()
+        .enumerate()
+        .map(|(k, v)| if k % m == 0 { *v } else { f64::NAN })
+        .collect();
     let data = kalman::KalmanData {
         dt: &d.dt,
         gyro: d.gyro,
@@ -409,11 +445,27 @@ fn fit_kalman(
     kalman_s.q_angle = f.q_angle;
     kalman_s.q_bias = f.q_bias;
     kalman_s.r_pendulum = f.r;
-    (kalman_s, f)
+    let sur = match (opts.target, d.gyro_errors) {
+        (Target::Likelihood, Some(g)) => {
+            let s = surrogate::Surrogate::new(d.samples, &z_all, &g);
+            let r0 = start.kalman.r_pendulum;
+            let mut fit = surrogate::fit(&start.kalman, r0, &s, d.skip, budget);
+            let [q_angle, q_bias, r] = fit.x;
+            kalman_s.q_angle = q_angle;
+            kalman_s.q_bias = q_bias;
+            kalman_s.r_pendulum = r;
+            fit.nll_at = kalman::nll(&kalman_s, r / m as f64, &data, d.skip);
+            Some(fit)
+        }
+        _ => None,
+    };
+    (kalman_s, f, sur)
 }
 
 /// Tunes every estimator's settings on `samples` (one log, rows in order), starting from
 /// `start`. See the module documentation.
+/// (Long, kept whole: the steps in the order they depend on each other, each one call;
+/// splitting it would pass most of its locals to each part.)
 pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
     let planned = planned_evaluations();
     let tell = |n: u64| {
@@ -470,6 +522,13 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
                 skip,
                 rate,
                 has_accel: ax.iter().any(|v| v.is_finite()),
+                gyro_errors: gyr.as_ref().ok().and_then(|g| {
+                    g.bias.map(|bias| surrogate::GyroErrors {
+                        bias,
+                        density: g.density,
+                        bias_walk: start.ekf.sensors.gyro_bias_walk,
+                    })
+                }),
             };
             fit_filters(start, ekf_start, differentiator, &data, opts, &mut budget)
         }
@@ -477,7 +536,9 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
             kalman: start.kalman,
             ekf: ekf_start,
             kalman_fit: None,
+            kalman_surrogate: None,
             accel_fit: None,
+            ekf_band: None,
             ekf_fit: None,
         },
     };
@@ -485,9 +546,11 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         &start.kalman,
         &fits.kalman,
         fits.kalman_fit.as_ref(),
+        fits.kalman_surrogate.as_ref(),
         fits.accel_fit,
         &ekf_start,
         fits.ekf_fit.as_ref(),
+        fits.ekf_band,
         matches!(opts.target, Target::Truth(_)),
         why_not.as_deref(),
         &mut notes,
@@ -502,8 +565,10 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         kalman: fits.kalman,
         ekf: fits.ekf,
         kalman_fit: fits.kalman_fit,
+        kalman_surrogate: fits.kalman_surrogate,
         accel_fit: fits.accel_fit,
         ekf_fit: fits.ekf_fit,
+        ekf_band: fits.ekf_band,
         notes,
         target: opts.target.name(),
         stopped_by_time_limit: budget.stopped,

@@ -92,11 +92,14 @@ fn gyro_noise(s: &mut ModelSettings<f64>, gyro: &Result<GyroNoise, String>, note
             );
             match g.bias {
                 Some(b) => {
-                    // The bias's prior spread: what was seen, with a floor of 0.05 deg/s
-                    // (the bias drifts, and the estimate has its own error).
-                    s.sensors.gyro_bias = b.hypot(0.05f64.to_radians());
-                    note(notes, "sensors.gyro_bias", format!("{:.3e} rad/s", s.sensors.gyro_bias), false,
-                        format!("mean bias over the log {b:.3e} rad/s ({:.3} deg/s); the initial bias spread is it and 0.05 deg/s in quadrature", b.to_degrees()));
+                    // The filter starts its bias at 0 with this spread: it must cover the
+                    // bias seen (twice it), and is never narrowed below the start's (a
+                    // spread of |b| alone slowed the start: zoo ride 1, 0.063 -> 0.30 deg).
+                    let spread = s.sensors.gyro_bias.max(2.0 * b.abs());
+                    let widened = spread > s.sensors.gyro_bias;
+                    s.sensors.gyro_bias = spread;
+                    note(notes, "sensors.gyro_bias", format!("{spread:.3e} rad/s"), !widened,
+                        format!("mean bias over the log {b:.3e} rad/s ({:.3} deg/s); the filter's initial bias spread (it starts at 0) is the start's or twice the bias seen, whichever is larger", b.to_degrees()));
                 }
                 None => note(notes, "sensors.gyro_bias", format!("{:.3e} rad/s", s.sensors.gyro_bias), true,
                     "no still stretch and too short for the pendulum's tilt change: kept the default".into()),
@@ -192,9 +195,11 @@ pub(super) fn filters(
     start: &KalmanSettings<f64>,
     k: &KalmanSettings<f64>,
     kf: Option<&Fitted>,
+    sur: Option<&super::surrogate::Fitted>,
     accel: Option<(f64, f64, f64)>,
     ekf_start: &ModelSettings<f64>,
     ekf: Option<&EkfFitted>,
+    ekf_band: Option<(f64, f64)>,
     truth: bool,
     why_not: Option<&str>,
     notes: &mut Vec<Note>,
@@ -205,7 +210,7 @@ pub(super) fn filters(
     let why = why_not
         .unwrap_or("not fitted: kept the default")
         .to_string();
-    kalman_notes(start, k, kf, &cost, &why, notes);
+    kalman_notes(start, k, kf, sur, &cost, &why, notes);
     match accel {
         Some((r, b, a)) => note(
             notes,
@@ -229,7 +234,7 @@ pub(super) fn filters(
             },
         ),
     }
-    ekf_notes(ekf_start, ekf, truth, &why, notes);
+    ekf_notes(ekf_start, ekf, ekf_band, truth, &why, notes);
 }
 
 /// The notes of the Kalman filters' Q and R: fitted (`kf`) or kept for `why`.
@@ -237,12 +242,32 @@ fn kalman_notes(
     start: &KalmanSettings<f64>,
     k: &KalmanSettings<f64>,
     kf: Option<&Fitted>,
+    sur: Option<&super::surrogate::Fitted>,
     cost: &dyn Fn(f64, f64) -> String,
     why: &str,
     notes: &mut Vec<Note>,
 ) {
-    let (set, kept, how) = match kf {
-        Some(f) => (
+    let (set, kept, how) = match (kf, sur) {
+        (Some(f), Some(s)) => (
+            k,
+            false,
+            format!(
+                "fitted on a surrogate of kf_alg2's error (alg2 minus the gyro's integral above \
+                 0.2 Hz, and the gyro's estimated noise and bias): predicted RMS {:.4} -> {:.4} \
+                 deg; innovation likelihood (mean -log L) {:.4} at the start, {:.4} here; its \
+                 own optimum ({:.4}: q_angle {:.2e}, q_bias {:.2e}, R {:.2e}) not adopted, as it \
+                 takes alg2's coloured errors for white noise",
+                s.rms_before.to_degrees(),
+                s.rms_after.to_degrees(),
+                f.nll_before,
+                s.nll_at,
+                f.nll_after,
+                f.q_angle,
+                f.q_bias,
+                f.r
+            ),
+        ),
+        (Some(f), None) => (
             k,
             false,
             format!(
@@ -250,7 +275,7 @@ fn kalman_notes(
                 cost(f.nll_before, f.nll_after)
             ),
         ),
-        None => (start, true, why.to_string()),
+        (None, _) => (start, true, why.to_string()),
     };
     let q_angle = format!("{:.4e} rad^2/s", set.q_angle);
     note(notes, "kalman.q_angle", q_angle, kept, how.clone());
@@ -265,11 +290,42 @@ fn kalman_notes(
 fn ekf_notes(
     ekf_start: &ModelSettings<f64>,
     ekf: Option<&EkfFitted>,
+    band: Option<(f64, f64)>,
     truth: bool,
     why: &str,
     notes: &mut Vec<Note>,
 ) {
-    let (p, kept, how) = match ekf {
+    let lik = |e: &EkfFitted| {
+        format!(
+            "the encoder-innovation likelihood fit (mean -log-likelihood {:.4} -> {:.4}) found \
+             jerk {:.3e}, pendulum {:.3e}",
+            e.nll_before, e.nll_after, e.settings.process.jerk, e.settings.process.pendulum
+        )
+    };
+    let (p, kept, how) = match (ekf, band) {
+        (Some(e), Some((k, f))) if !truth && f < k => (
+            e.settings.process,
+            false,
+            format!(
+                "{}; adopted: the EKF's error against the gyro's integral above 0.2 Hz fell \
+                 from {:.4} to {:.4} deg",
+                lik(e),
+                k.to_degrees(),
+                f.to_degrees()
+            ),
+        ),
+        (Some(e), Some((k, f))) if !truth => (
+            ekf_start.process,
+            true,
+            format!(
+                "{}; kept the default: the EKF's error against the gyro's integral above 0.2 Hz \
+                 was {:.4} deg with it, {:.4} without",
+                lik(e),
+                f.to_degrees(),
+                k.to_degrees()
+            ),
+        ),
+        (ekf, _) => match ekf {
         Some(e) if truth => (
             e.settings.process,
             false,
@@ -281,6 +337,7 @@ fn ekf_notes(
         ),
         Some(e) => (ekf_start.process, true, format!("kept: the encoder-innovation likelihood fit (mean -log-likelihood {:.4} -> {:.4}) found jerk {:.3e}, pendulum {:.3e}, which made the EKF worse on the simulated scooter ride (0.041 -> 0.35 deg): the encoder cannot tell the floor's translation from tilt", e.nll_before, e.nll_after, e.settings.process.jerk, e.settings.process.pendulum)),
         None => (ekf_start.process, true, why.to_string()),
+        },
     };
     let jerk = format!("{:.4e} rad^2/s^5", p.jerk);
     note(notes, "ekf.process.jerk", jerk, kept, how.clone());
