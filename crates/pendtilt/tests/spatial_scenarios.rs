@@ -207,3 +207,37 @@ fn ship3d_ekf3d_against_the_fairly_tuned_peers() {
     // with the lever arm from the roll centre well better once tuned.
     assert!(ekf.0 <= best && t.1 < best / 3.0, "{t:?} {ekf:?} vs {best}");
 }
+
+/// Issue 15 item 1 (a start): on ride3d (MODEL.md 7.8; braking at 4.2 m/s^2, turns at
+/// 0.28-0.50 rad/s, speed scale 1.01) ekf3d uses the `speed` column for O's acceleration
+/// (`v' x_b + w_p x v x_b`) and the lever arm from `[mounting] speed_at`. Without the
+/// speed it reads the vehicle's accelerations as tilt, as every peer does.
+/// Measured (seed 1, 120 s): with the speed 0.51 deg RMS (max 5.1) at its defaults, 0.28
+/// tuned; without it 7.9 (max 25) and 2.6 tuned; VQF tuned 4.2. Issue 15's target (0.3 deg
+/// RMS and 1 deg max) is met in RMS once tuned on this seed, not at the defaults, and not
+/// in max (seeds 2 and 3 at 5 Hz for the speed's rate: 1.14 and 0.76 at the defaults, 0.33
+/// and 0.41 tuned).
+#[test]
+fn ride3d_ekf3d_with_the_speed() {
+    let (s, rows) = run("ride3d", 120.0, 1);
+    let from = s.score_from;
+    let with = score(&rows, &mut Ekf::new(settings(&s)), from);
+    let tuned = tuned_ekf(&s, &rows, from);
+    let blind: Vec<LogRow3d> = rows
+        .iter()
+        .map(|r| LogRow3d {
+            speed: f64::NAN,
+            ..*r
+        })
+        .collect();
+    let without = score(&blind, &mut Ekf::new(settings(&s)), from);
+    let vqf_tuned = golden_log(|t| score(&blind, &mut vqf(t), from).0, 0.05, 100.0, 20);
+    println!(
+        "ride3d ekf3d with the speed {:.3} / {:.3} deg (tuned {:.3}); without {:.3} / {:.3}; \
+         VQF tuned {:.3}",
+        with.0, with.1, tuned.1, without.0, without.1, vqf_tuned.1
+    );
+    assert!(with.0 < 0.7 && tuned.1 < 0.35, "{with:?} {tuned:?}");
+    assert!(without.0 > 5.0 * with.0, "{without:?} vs {with:?}");
+    assert!(vqf_tuned.1 > 4.0 * tuned.1, "{vqf_tuned:?} vs {tuned:?}");
+}

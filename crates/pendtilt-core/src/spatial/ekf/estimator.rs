@@ -59,6 +59,10 @@ pub struct ModelBased<T: Real, F> {
     held_for: T,
     // The gyro's smoothed derivative: the body's angular acceleration.
     gyro_diff: SmoothingDifferentiator<T, 3>,
+    // The gyro low-passed to the path's turn rate.
+    path_gyro: Option<Vector3<T>>,
+    // The speed's smoothed derivative: O's longitudinal acceleration.
+    speed_diff: SmoothingDifferentiator<T, 1>,
     // The accelerometer from O, `accel_at - speed_at` \[m\].
     accel_from_centre: Vector3<T>,
     rejected: u32,
@@ -83,10 +87,26 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             smooth: None,
             held_for: T::zero(),
             gyro_diff: SmoothingDifferentiator::new(Response::Bessel, settings.angular_accel_hz),
+            speed_diff: SmoothingDifferentiator::new(Response::Bessel, settings.speed_rate_hz),
+            path_gyro: None,
             accel_from_centre: settings.mounting.from_centre(settings.mounting.accel_at),
             rejected: 0,
             last: Attitude::unknown(),
         }
+    }
+
+    /// O's forward speed and its smoothed rate now; zeros without a speed reading (the
+    /// vehicle is then taken as not accelerating).
+    fn speed(&mut self, s: &SpatialSample<T>, dt: T) -> (T, T) {
+        if !s.speed.is_finite() {
+            return (T::zero(), T::zero());
+        }
+        if dt > T::zero() && self.speed_diff.is_started() {
+            self.speed_diff.update(s.speed, dt);
+        } else {
+            self.speed_diff.start(s.speed);
+        }
+        (s.speed, self.speed_diff.output().d1)
     }
 
     /// The body's angular acceleration now: the gyro's smoothed derivative, zero while the
@@ -246,7 +266,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         let w = drive.gyro - filter.state().bias;
         let acc = Accelerometer {
             gravity: st.params.gravity,
-            lever: lever_arm(&w, &drive.angular_accel, &self.accel_from_centre),
+            lever: drive.centre_accel(&w)
+                + lever_arm(&w, &drive.angular_accel, &self.accel_from_centre),
             r: d * d / dt.max(T::lit(1e-6)) + vib * vib,
         };
         let z = Vector3::new(s.accel[0], s.accel[1], s.accel[2]);
@@ -294,6 +315,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             self.gyro = Some(g);
             let k = T::one() - (-T::two_pi() * T::lit(HOLD_HZ) * dt).exp();
             self.smooth = Some(self.smooth.map_or(g, |m| m + (g - m) * k));
+            let k = T::one() - (-T::two_pi() * self.settings.path_turn_hz * dt).exp();
+            self.path_gyro = Some(self.path_gyro.map_or(g, |m| m + (g - m) * k));
             if dt > T::zero() && self.gyro_diff.is_started() {
                 self.gyro_diff.update_all(s.gyro, dt);
             } else {
@@ -333,9 +356,13 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             self.held_for += dt;
             v * v * (self.held_for * self.held_for - t0 * t0)
         };
+        let (speed, speed_rate) = self.speed(s, dt);
         let drive = Drive {
             gyro,
             angular_accel: self.angular_accel(gyro_ok),
+            path_gyro: self.path_gyro.unwrap_or(gyro),
+            speed,
+            speed_rate,
         };
         let ok = self.predict(dt, &drive, extra);
         if let Some(f) = self.filter.as_mut() {
@@ -378,6 +405,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         self.smooth = None;
         self.held_for = T::zero();
         self.gyro_diff.reset();
+        self.speed_diff.reset();
+        self.path_gyro = None;
         self.rejected = 0;
         self.last = Attitude::unknown();
     }

@@ -55,9 +55,9 @@ impl<T: Real> Measurement<T, State<T>, N, 2> for Encoders<T> {
 pub struct Accelerometer<T: Real> {
     /// g [m/s^2].
     pub gravity: T,
-    /// The known specific force from the point O the body turns about to the
-    /// accelerometer, `wd x r + w x (w x r)` [m/s^2] (see [`crate::spatial::mounting`]);
-    /// it does not depend on the attitude.
+    /// The known specific force beyond gravity: O's acceleration from the speed and the
+    /// lever arm from O to the accelerometer, `wd x r + w x (w x r)` [m/s^2] (see
+    /// [`crate::spatial::mounting`]); it does not depend on the attitude.
     pub lever: Vector3<T>,
     /// Variance per axis: white noise over the sample plus the vibration.
     pub r: T,

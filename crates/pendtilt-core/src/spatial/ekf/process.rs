@@ -53,14 +53,35 @@ pub struct CardanProcess<T: Real> {
     pub pivot_from_centre: Vector3<T>,
 }
 
-/// What drives the process over a step: the gyro's reading and the body's angular
-/// acceleration (the gyro's smoothed derivative), body axes.
+/// What drives the process over a step: the gyro's reading, the body's angular
+/// acceleration (the gyro's smoothed derivative), body axes, and the forward speed of the
+/// point O with its rate (zero when the log has no speed).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Drive<T: Real> {
     /// The gyro's reading, bias not removed \[rad/s\].
     pub gyro: Vector3<T>,
     /// The body's angular acceleration `wd` \[rad/s^2\].
     pub angular_accel: Vector3<T>,
+    /// The gyro's reading low-passed to the rate at which the vehicle's path turns, bias
+    /// not removed \[rad/s\]: the body's faster rotations (suspension, wobble) do not
+    /// turn O's velocity.
+    pub path_gyro: Vector3<T>,
+    /// O's forward speed `v` along body x \[m/s\].
+    pub speed: T,
+    /// Its rate `v'` \[m/s^2\].
+    pub speed_rate: T,
+}
+
+impl<T: Real> Drive<T> {
+    /// O's acceleration in body axes for the body rate `w` (bias removed): `v' x_b +
+    /// w_p x (v x_b)`, the longitudinal and the centripetal acceleration of a vehicle whose
+    /// point O moves along body x (issue 15), with `w_p = w + path_gyro - gyro` the rate
+    /// at which its path turns (the same bias removed).
+    #[inline]
+    pub fn centre_accel(&self, w: &Vector3<T>) -> Vector3<T> {
+        let wp = w + self.path_gyro - self.gyro;
+        Vector3::new(self.speed_rate, wp[2] * self.speed, -wp[1] * self.speed)
+    }
 }
 
 /// `v x`, the cross-product matrix.
@@ -99,7 +120,7 @@ impl<T: Real> CardanProcess<T> {
     ) -> Vector4<T> {
         let pr = &self.params;
         let wd = &d.angular_accel;
-        let f = u * pr.gravity + lever_arm(w, wd, &self.pivot_from_centre);
+        let f = u * pr.gravity + d.centre_accel(w) + lever_arm(w, wd, &self.pivot_from_centre);
         let (sa, ca) = (trig.sa, trig.ca);
         let u2 = ca * w[1] + sa * w[2];
         let u3 = -sa * w[1] + ca * w[2];
@@ -308,6 +329,9 @@ mod tests {
         Drive {
             gyro,
             angular_accel,
+            path_gyro: gyro * 0.8,
+            speed: 7.0,
+            speed_rate: -2.0,
         }
     }
 
@@ -344,36 +368,57 @@ mod tests {
             bias: Vector3::zeros(),
             joints: Vector4::new(-roll, -pitch, 0.0, 0.0),
         };
+        let still = Drive {
+            speed: 0.0,
+            speed_rate: 0.0,
+            ..drive(Vector3::zeros(), Vector3::zeros())
+        };
         let mut y = x;
         for _ in 0..1000 {
-            y = m.step(&y, &drive(Vector3::zeros(), Vector3::zeros()), 1e-3);
+            y = m.step(&y, &still, 1e-3);
         }
         assert!((y.joints - x.joints).norm() < 1e-12, "{}", y.joints);
     }
 
-    /// An angular acceleration about body x turns the pivot about O: it reaches the
-    /// pendulum only as the specific force `wd x r` (the `wd_x` of `a''` and of `p' = wd_x +
-    /// a''` cancel), so the step equals one on a still body whose up direction carries that
+    /// An angular acceleration about body x turns the pivot about O, and O itself
+    /// accelerates with the speed: both reach the pendulum only as the specific force
+    /// `v' x_b + w x (v x_b) + wd x r` (the `wd_x` of `a''` and of `p' = wd_x + a''`
+    /// cancel), so the step equals one on a still body whose up direction carries that
     /// force.
     #[test]
-    fn the_lever_arm_enters_as_a_specific_force() {
+    fn the_lever_arm_and_the_speed_enter_as_a_specific_force() {
         let m = model();
         let j = Vector4::new(-0.2, 0.1, 0.3, -0.1);
         let u = Vector3::new(-0.1, 0.2, 0.97);
         let wd = Vector3::new(4.0, 0.0, 0.0);
         let w = Vector3::zeros();
+        // w = 0: O's acceleration is v' x_b alone.
         let d = drive(w, wd);
         let moved = m.joint_step(&j, &w, &d, &u, 1e-3);
         let at_pivot = CardanProcess {
             pivot_from_centre: Vector3::zeros(),
             ..m
         };
-        let f = u + wd.cross(&m.pivot_from_centre) / m.params.gravity;
-        let still = at_pivot.joint_step(&j, &w, &drive(w, w), &f, 1e-3);
-        assert!((moved - still).norm() < 1e-15, "{moved} vs {still}");
+        let force = wd.cross(&m.pivot_from_centre) + Vector3::new(d.speed_rate, 0.0, 0.0);
+        let f = u + force / m.params.gravity;
+        let still = Drive {
+            speed: 0.0,
+            speed_rate: 0.0,
+            ..drive(w, w)
+        };
+        let same = at_pivot.joint_step(&j, &w, &still, &f, 1e-3);
+        assert!((moved - same).norm() < 1e-15, "{moved} vs {same}");
         // And it matters: 4 rad/s^2 at 0.3 m is 0.12 g.
-        let ignored = m.joint_step(&j, &w, &drive(w, w), &u, 1e-3);
+        let ignored = m.joint_step(&j, &w, &still, &u, 1e-3);
         assert!((moved - ignored).norm() > 1e-4, "{moved} vs {ignored}");
+        // A turn: the centripetal v w_z along body y, -v w_y along z.
+        let turn = Vector3::new(0.0, 0.1, 0.5);
+        let c = d.centre_accel(&turn);
+        assert!((c - Vector3::new(-2.0, 3.5, -0.7)).norm() < 1e-12, "{c}");
+        // Only the path's rate turns O's velocity: here 0.8 of the gyro's 0.5 rad/s.
+        let d = drive(Vector3::new(0.0, 0.0, 0.5), wd);
+        let c = d.centre_accel(&Vector3::new(0.0, 0.0, 0.5));
+        assert!((c - Vector3::new(-2.0, 2.8, 0.0)).norm() < 1e-12, "{c}");
     }
 
     /// The structured `F P F^T` equals the dense product.

@@ -23,6 +23,19 @@ use crate::Real;
 /// the lever arm a phase error of `2 pi f` times it (0.19 rad at 0.9 Hz).
 pub const DEFAULT_ANGULAR_ACCEL_HZ: f64 = 10.0;
 
+/// Default of [`Settings::speed_rate_hz`] \[Hz\]. Lower lags the braking, higher lets
+/// the speed's noise through as a longitudinal acceleration (a standing scooter's speed is
+/// noise alone). Measured (ekf3d, seed 1, defaults / tuned density, deg RMS): ride3d
+/// (120 s) 1 Hz 0.66 / 0.33, 2 Hz 0.51 / 0.28, 5 Hz 0.45 / 0.25; scooter3d (40 s) 1 Hz
+/// 0.160 / 0.079, 2 Hz 0.156 / 0.066, 5 Hz 0.157 / 0.107.
+pub const DEFAULT_SPEED_RATE_HZ: f64 = 2.0;
+
+/// Default of [`Settings::path_turn_hz`] \[Hz\]. Measured on ride3d (120 s, seeds 1-3,
+/// ekf3d at its defaults): 0.5 Hz lags the turns (0.91 deg RMS on seed 1), the raw gyro
+/// (no low-pass) takes the wobble for turns (1.14); 2 Hz gave 0.45, 1.14 and 0.76, 3 Hz
+/// 0.48, 1.20 and 0.75.
+pub const DEFAULT_PATH_TURN_HZ: f64 = 2.0;
+
 /// Settings of the spatial model-based filter.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Settings<T> {
@@ -39,6 +52,16 @@ pub struct Settings<T> {
     /// body's angular acceleration from the gyro, for the lever arm from O to the pivot
     /// and the accelerometer. Default 10 Hz: see [`DEFAULT_ANGULAR_ACCEL_HZ`].
     pub angular_accel_hz: T,
+    /// Cutoff \[Hz\] of the smoothing differentiator (Bessel, 4th order) that takes O's
+    /// longitudinal acceleration from the `speed` column. Default 2 Hz: see
+    /// [`DEFAULT_SPEED_RATE_HZ`].
+    pub speed_rate_hz: T,
+    /// Cutoff \[Hz\] of the one-pole low-pass of the gyro that gives the rate at which the
+    /// vehicle's path turns, for the centripetal acceleration `v w x x_b`: the body's
+    /// faster rotations on its suspension (a yaw wobble of 0.3 deg at 1.5 Hz at 10 m/s is
+    /// 0.5 m/s^2 across) do not turn its velocity. Default 2 Hz: see
+    /// [`DEFAULT_PATH_TURN_HZ`].
+    pub path_turn_hz: T,
     /// Use the accelerometer as a further measurement of the up direction. Default false:
     /// it reads the vibration unfiltered (as in the planar filter).
     pub use_accel: bool,
@@ -70,6 +93,8 @@ impl<T: Real> Default for Settings<T> {
             environment: Environment::default(),
             mounting: Mounting::default(),
             angular_accel_hz: T::lit(DEFAULT_ANGULAR_ACCEL_HZ),
+            speed_rate_hz: T::lit(DEFAULT_SPEED_RATE_HZ),
+            path_turn_hz: T::lit(DEFAULT_PATH_TURN_HZ),
             use_accel: false,
             max_step: T::lit(0.005),
             max_gap: T::lit(0.05),
@@ -91,6 +116,8 @@ impl<T: Real> Settings<T> {
             environment: self.environment.cast(),
             mounting: self.mounting.cast(),
             angular_accel_hz: c(self.angular_accel_hz),
+            speed_rate_hz: c(self.speed_rate_hz),
+            path_turn_hz: c(self.path_turn_hz),
             use_accel: self.use_accel,
             max_step: c(self.max_step),
             max_gap: c(self.max_gap),
