@@ -16,8 +16,10 @@ use pendtilt_core::spatial::pendulum::{Pendulum, PendulumSettings};
 use pendtilt_core::spatial::{Attitude, Mounting, SpatialSample};
 use pendtilt_core::Estimator;
 
+use crate::peers::fusion::FusionSettings;
 use crate::peers::spatial::{
-    madgwick3d, mahony3d, vqf, Imu6, ImuFilter, MADGWICK3D_BETA, MAHONY3D_GAINS, VQF_TAU_ACC,
+    fusion3d, madgwick3d, mahony3d, vqf, Imu6, ImuFilter, MADGWICK3D_BETA, MAHONY3D_GAINS,
+    VQF_TAU_ACC,
 };
 use crate::sim3d::Sensors3d;
 
@@ -184,6 +186,12 @@ pub static REGISTRY3D: &[Entry3d] = &[
         about: "Mahony IMU filter (peer, ahrs)",
         quaternion: false,
         build: |_| Box::new(mahony3d(MAHONY3D_GAINS[0], MAHONY3D_GAINS[1])),
+    },
+    Entry3d {
+        name: "fusion3d",
+        about: "Fusion-style complementary filter with acceleration rejection (peer)",
+        quaternion: false,
+        build: |_| Box::new(fusion3d(FusionSettings::default())),
     },
 ];
 

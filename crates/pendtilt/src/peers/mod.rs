@@ -17,6 +17,7 @@
 //! ([`tune::search_peer_gains`]); [`tune::fit_process_noise`] fits the EKF's process noise
 //! on any log with a true angle.
 pub mod ahrs_planar;
+pub mod fusion;
 pub mod spatial;
 pub mod tune;
 

@@ -1,7 +1,8 @@
 //! The 3-D peers (issue 14 item 3): the IMU filters a user would run instead of a
 //! pendulum, on the same spatial samples, as [`SpatialEstimator`]s: VQF (the `vqf-rs`
 //! port of Laidig and Seel's reference implementation, 6D: gyro + accelerometer),
-//! Madgwick's and Mahony's filters (the `ahrs` crate's IMU updates).
+//! Madgwick's and Mahony's filters (the `ahrs` crate's IMU updates), and a Fusion-style
+//! complementary filter ([`super::fusion`]).
 //!
 //! Common to all (one wrapper, [`Imu6`]): a sample whose time step is refused is held
 //! and flagged; the filter starts on the first sample with a usable accelerometer reading,
@@ -16,9 +17,12 @@ use pendtilt_core::spatial::{Attitude, SpatialEstimator, SpatialSample};
 use pendtilt_core::{Estimator, Flags, StepClock};
 
 use super::ahrs_planar::{PlanarAhrs, MISSING_RATE_TAU};
+use super::fusion::{Fusion, FusionSettings};
 
 /// An IMU filter the wrapper [`Imu6`] drives.
 pub trait ImuFilter {
+    /// What it is built from (its gains or settings).
+    type Params: Copy + core::fmt::Debug;
     /// One gyro + accelerometer step of `dt`; `accel` is `None` when missing. Returns
     /// `false` if the filter skipped the correction.
     fn step(&mut self, gyro: [f64; 3], accel: Option<[f64; 3]>, dt: f64) -> bool;
@@ -34,6 +38,7 @@ fn up_of(q: &UnitQuaternion<f64>) -> [f64; 3] {
 /// Madgwick's and Mahony's filters of the `ahrs` crate, through the planar wrapper's
 /// trait (the sample period and the attitude).
 impl<F: PlanarAhrs> ImuFilter for F {
+    type Params = [f64; 2];
     fn step(&mut self, gyro: [f64; 3], accel: Option<[f64; 3]>, dt: f64) -> bool {
         self.set_period(dt);
         let g = Vector3::from(gyro);
@@ -51,6 +56,7 @@ impl<F: PlanarAhrs> ImuFilter for F {
 }
 
 impl ImuFilter for vqf_rs::VQF {
+    type Params = [f64; 2];
     fn step(&mut self, gyro: [f64; 3], accel: Option<[f64; 3]>, dt: f64) -> bool {
         self.update_gyr_with_ts(gyro, dt);
         match accel {
@@ -68,14 +74,15 @@ impl ImuFilter for vqf_rs::VQF {
     }
 }
 
-/// How a filter is built on the first usable sample: from its roll, pitch and step.
-pub type MakeFilter<F> = fn(roll: f64, pitch: f64, dt: f64, gains: &[f64; 2]) -> F;
+/// How a filter is built on the first usable sample: from its roll, pitch, step and
+/// parameters.
+pub type MakeFilter<F> = fn(roll: f64, pitch: f64, dt: f64, params: &<F as ImuFilter>::Params) -> F;
 
 /// An [`ImuFilter`] as a [`SpatialEstimator`] (see the module documentation).
 #[derive(Debug, Clone)]
-pub struct Imu6<F> {
+pub struct Imu6<F: ImuFilter> {
     make: MakeFilter<F>,
-    gains: [f64; 2],
+    gains: F::Params,
     filter: Option<F>,
     clock: StepClock<f64>,
     mean_rate: Option<[f64; 3]>,
@@ -84,7 +91,7 @@ pub struct Imu6<F> {
 
 impl<F: ImuFilter> Imu6<F> {
     /// A wrapper that builds its filter with `make(roll, pitch, dt, gains)`.
-    pub fn new(make: MakeFilter<F>, gains: [f64; 2]) -> Self {
+    pub fn new(make: MakeFilter<F>, gains: F::Params) -> Self {
         Self {
             make,
             gains,
@@ -95,8 +102,8 @@ impl<F: ImuFilter> Imu6<F> {
         }
     }
 
-    /// The gains it was built with.
-    pub fn gains(&self) -> [f64; 2] {
+    /// The gains (or settings) it was built with.
+    pub fn gains(&self) -> F::Params {
         self.gains
     }
 
@@ -184,7 +191,7 @@ pub const VQF_TAU_ACC: f64 = 3.0;
 /// Madgwick's IMU filter (column `madgwick3d`), gain `beta`.
 pub fn madgwick3d(beta: f64) -> Imu6<ahrs::Madgwick<f64>> {
     Imu6::new(
-        |r, p, dt, g| {
+        |r, p, dt, g: &[f64; 2]| {
             ahrs::Madgwick::new_with_quat(dt, g[0], UnitQuaternion::from_euler_angles(r, p, 0.0))
         },
         [beta, 0.0],
@@ -194,7 +201,7 @@ pub fn madgwick3d(beta: f64) -> Imu6<ahrs::Madgwick<f64>> {
 /// Mahony's IMU filter (column `mahony3d`), gains `kp`, `ki`.
 pub fn mahony3d(kp: f64, ki: f64) -> Imu6<ahrs::Mahony<f64>> {
     Imu6::new(
-        |r, p, dt, g| {
+        |r, p, dt, g: &[f64; 2]| {
             ahrs::Mahony::new_with_quat(
                 dt,
                 g[0],
@@ -212,7 +219,7 @@ pub fn mahony3d(kp: f64, ki: f64) -> Imu6<ahrs::Mahony<f64>> {
 /// imposed; its sample time is the log's first step.
 pub fn vqf(tau_acc: f64) -> Imu6<vqf_rs::VQF> {
     Imu6::new(
-        |_, _, dt, g| {
+        |_, _, dt, g: &[f64; 2]| {
             let params = vqf_rs::Params {
                 tau_acc: g[0],
                 ..Default::default()
@@ -221,6 +228,13 @@ pub fn vqf(tau_acc: f64) -> Imu6<vqf_rs::VQF> {
         },
         [tau_acc, 0.0],
     )
+}
+
+/// The Fusion-style complementary filter (column `fusion3d`, [`super::fusion`]) with
+/// `settings`; it starts at the first accelerometer reading's roll and pitch, then runs
+/// its start-up ramp.
+pub fn fusion3d(settings: FusionSettings) -> Imu6<Fusion> {
+    Imu6::new(|r, p, _, s| Fusion::new(*s, r, p), settings)
 }
 
 /// Every 3-D peer with its default gains, by column name.
@@ -232,6 +246,7 @@ pub fn peers() -> Vec<(&'static str, Box<dyn SpatialEstimator<f64>>)> {
             "mahony3d",
             Box::new(mahony3d(MAHONY3D_GAINS[0], MAHONY3D_GAINS[1])),
         ),
+        ("fusion3d", Box::new(fusion3d(FusionSettings::default()))),
     ]
 }
 
