@@ -6,23 +6,31 @@
 //! list of valid names in its error all come from it. Adding a 3-D estimator is adding an
 //! entry (and, if it has an attitude quaternion, implementing [`Runner3d::quaternion`]).
 //!
+//! A sensor missing for longer than [`Bank3d::restart_gap`] (default the planar bank's
+//! [`RESTART_GAP`]) restarts the estimators that read it ([`Entry3d::reads`]) at its next
+//! good reading, with [`Estimator::resume`], as the planar bank does.
+//!
 //! - [`rig`]: the rig file's `[pendulum3d]` (physical or normalised) and `[mounting]`;
-//! - [`score`]: the inclination error of MODEL.md 7.9 accumulated per estimator.
+//! - [`score`]: the inclination error of MODEL.md 7.9 accumulated per estimator;
+//! - [`gaps`]: which sensor comes back after a long gap.
 use pendtilt_core::spatial::accel::{Accel, AccelSettings};
 use pendtilt_core::spatial::cardan::CardanParams;
 use pendtilt_core::spatial::ekf::{self, Ekf, Ukf};
 use pendtilt_core::spatial::inv::{Inv3d, Inv3dSettings};
 use pendtilt_core::spatial::pendulum::{Pendulum, PendulumSettings};
 use pendtilt_core::spatial::{Attitude, Mounting, SpatialSample};
-use pendtilt_core::Estimator;
+use pendtilt_core::{Estimator, Flags};
 
+use crate::bank::{Inputs, RESTART_GAP};
 use crate::peers::fusion::FusionSettings;
 use crate::peers::spatial::{
     fusion3d, madgwick3d, mahony3d, vqf, Imu6, ImuFilter, MADGWICK3D_BETA, MAHONY3D_GAINS,
     VQF_TAU_ACC,
 };
 use crate::sim3d::Sensors3d;
+use gaps::{GapWatch, Restart3d};
 
+pub mod gaps;
 pub mod rig;
 pub mod score;
 
@@ -89,6 +97,8 @@ pub trait Runner3d {
     fn quaternion(&self) -> Option<[f64; 4]> {
         None
     }
+    /// Prepares to go on after a long gap ([`Estimator::resume`]).
+    fn resume(&mut self);
 }
 
 /// The estimators without a quaternion of their own: roll and pitch only.
@@ -98,6 +108,9 @@ macro_rules! attitude_only {
             fn step(&mut self, s: &SpatialSample<f64>) -> Attitude<f64> {
                 self.update(s)
             }
+            fn resume(&mut self) {
+                Estimator::resume(self)
+            }
         }
     )*};
 }
@@ -106,6 +119,9 @@ attitude_only!(Pendulum<f64>, Accel<f64>, Inv3d<f64>);
 impl<F: ImuFilter> Runner3d for Imu6<F> {
     fn step(&mut self, s: &SpatialSample<f64>) -> Attitude<f64> {
         self.update(s)
+    }
+    fn resume(&mut self) {
+        Estimator::resume(self)
     }
 }
 
@@ -118,6 +134,9 @@ macro_rules! with_quaternion {
             }
             fn quaternion(&self) -> Option<[f64; 4]> {
                 self.quaternion().map(|q| [q.w, q.i, q.j, q.k])
+            }
+            fn resume(&mut self) {
+                Estimator::resume(self)
             }
         }
     )*};
@@ -133,9 +152,35 @@ pub struct Entry3d {
     pub about: &'static str,
     /// Whether it gives an attitude quaternion (`--quaternion` columns).
     pub quaternion: bool,
+    /// The sensors it reads (`phi`: phi_x, phi_y; `gyro`: gyro_x..z; `accel`: ax..az): a
+    /// long gap of one of them restarts it, an implausible reading flags it.
+    pub reads: Inputs,
     /// Builds it.
     pub build: fn(&Settings3d) -> Box<dyn Runner3d>,
 }
+
+const PHI: Inputs = Inputs {
+    phi: true,
+    gyro: false,
+    accel: false,
+};
+const ACCEL: Inputs = Inputs {
+    phi: false,
+    gyro: false,
+    accel: true,
+};
+// ekf3d and ukf3d read the accelerometer too, but only as an optional, gated measurement:
+// its gaps do not restart them.
+const PHI_GYRO: Inputs = Inputs {
+    phi: true,
+    gyro: true,
+    accel: false,
+};
+const IMU: Inputs = Inputs {
+    phi: false,
+    gyro: true,
+    accel: true,
+};
 
 /// Every 3-D estimator, in output column order.
 pub static REGISTRY3D: &[Entry3d] = &[
@@ -143,54 +188,63 @@ pub static REGISTRY3D: &[Entry3d] = &[
         name: "pendulum3d",
         about: "raw encoder angles: roll = phi_x, pitch = phi_y",
         quaternion: false,
+        reads: PHI,
         build: |_| Box::new(Pendulum::<f64>::new(PendulumSettings {})),
     },
     Entry3d {
         name: "accel3d",
         about: "roll and pitch of the accelerometer",
         quaternion: false,
+        reads: ACCEL,
         build: |s| Box::new(Accel::new(s.accel)),
     },
     Entry3d {
         name: "inv3d",
         about: "Algorithm 2 in three dimensions",
         quaternion: false,
+        reads: PHI_GYRO,
         build: |s| Box::new(Inv3d::<f64>::new(Inv3dSettings::from_params(s.ekf.params))),
     },
     Entry3d {
         name: "ekf3d",
         about: "quaternion EKF with the pendulum's equations of motion",
         quaternion: true,
+        reads: PHI_GYRO,
         build: |s| Box::new(Ekf::new(s.ekf)),
     },
     Entry3d {
         name: "ukf3d",
         about: "the same model on the UKF",
         quaternion: true,
+        reads: PHI_GYRO,
         build: |s| Box::new(Ukf::new(s.ekf)),
     },
     Entry3d {
         name: "vqf",
         about: "VQF 6D (peer, vqf-rs)",
         quaternion: false,
+        reads: IMU,
         build: |_| Box::new(vqf(VQF_TAU_ACC)),
     },
     Entry3d {
         name: "madgwick3d",
         about: "Madgwick IMU filter (peer, ahrs)",
         quaternion: false,
+        reads: IMU,
         build: |_| Box::new(madgwick3d(MADGWICK3D_BETA)),
     },
     Entry3d {
         name: "mahony3d",
         about: "Mahony IMU filter (peer, ahrs)",
         quaternion: false,
+        reads: IMU,
         build: |_| Box::new(mahony3d(MAHONY3D_GAINS[0], MAHONY3D_GAINS[1])),
     },
     Entry3d {
         name: "fusion3d",
         about: "Fusion-style complementary filter with acceleration rejection (peer)",
         quaternion: false,
+        reads: IMU,
         build: |_| Box::new(fusion3d(FusionSettings::default())),
     },
 ];
@@ -209,6 +263,11 @@ pub struct Bank3d {
     entries: Vec<&'static Entry3d>,
     runners: Vec<Box<dyn Runner3d>>,
     out: Vec<Attitude<f64>>,
+    /// A sensor missing for longer than this \[s\] restarts the estimators reading it at
+    /// its next good reading. Default [`RESTART_GAP`].
+    pub restart_gap: f64,
+    gaps: GapWatch,
+    restart: Option<(Restart3d, usize)>,
 }
 
 impl std::fmt::Debug for Bank3d {
@@ -248,6 +307,9 @@ impl Bank3d {
             runners: entries.iter().map(|e| (e.build)(settings)).collect(),
             out: Vec::with_capacity(entries.len()),
             entries,
+            restart_gap: RESTART_GAP,
+            gaps: GapWatch::new(),
+            restart: None,
         })
     }
 
@@ -261,13 +323,45 @@ impl Bank3d {
         self.entries[i].quaternion
     }
 
-    /// One sample through every estimator: their outputs in [`Self::names`] order.
+    /// One sample through every estimator: their outputs in [`Self::names`] order. A
+    /// sensor back after a gap longer than [`Self::restart_gap`] first restarts the
+    /// estimators that read it ([`Self::restarted`]).
     pub fn update(&mut self, s: &SpatialSample<f64>) -> &[Attitude<f64>] {
+        self.restart = None;
+        if let Some(r) = self.gaps.observe(s, self.restart_gap) {
+            let mut n = 0;
+            for (e, run) in self.entries.iter().zip(&mut self.runners) {
+                if e.reads.intersects(r.sensors) {
+                    run.resume();
+                    n += 1;
+                }
+            }
+            self.restart = Some((r, n));
+        }
         self.out.clear();
         for r in &mut self.runners {
             self.out.push(r.step(s));
         }
         &self.out
+    }
+
+    /// The restart the last [`Self::update`] made, if any, and how many estimators it
+    /// restarted.
+    pub fn restarted(&self) -> Option<(Restart3d, usize)> {
+        self.restart
+    }
+
+    /// Flags [`Flags::IMPLAUSIBLE`] on the last outputs of the estimators reading one of
+    /// `sensors` (those whose readings of this row were impossible and read as missing).
+    pub fn flag_implausible(&mut self, sensors: Inputs) {
+        if sensors.is_empty() {
+            return;
+        }
+        for (o, e) in self.out.iter_mut().zip(&self.entries) {
+            if e.reads.intersects(sensors) {
+                o.flags |= Flags::IMPLAUSIBLE;
+            }
+        }
     }
 
     /// The outputs of the last [`Self::update`], in [`Self::names`] order.

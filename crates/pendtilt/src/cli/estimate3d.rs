@@ -11,8 +11,13 @@
 //!
 //! Row handling: one output row per data row. A missing cell or a time that does not
 //! increase reaches the estimators as NaN, which they flag and hold on; an encoder angle
-//! beyond +-pi or a rate beyond 100 rad/s is impossible and read as missing too, with a
-//! warning naming its place. A cell that is not a number stops the run with its file,
+//! beyond +-pi, a rate beyond 100 rad/s or a specific force beyond 500 m/s^2 (the planar
+//! reader's physical bounds) is impossible and read as missing too, with a warning naming
+//! its place, and the estimators reading it flag the row `implausible`. A lone time stamp
+//! ahead of the next row's (one glitched stamp between two good ones) is a bad time step of
+//! that row alone, rather than making every following row up to it go back in time. A
+//! sensor missing for longer than the bank's restart gap (0.5 s) restarts the estimators
+//! reading it, with a warning. A cell that is not a number stops the run with its file,
 //! line and column; so does a time column whose steps no sensor rate explains.
 use std::fs::File;
 use std::io::BufReader;
@@ -25,11 +30,12 @@ use pendtilt_core::StepGate;
 use pendtilt_core::spatial::Attitude;
 
 use super::estimate::Args;
+use crate::bank::Inputs;
 use crate::bank3d::rig::Rig3dConfig;
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Settings3d};
 use crate::io::output::{self, NamedPath, OutputFile};
-use crate::io::plausibility::implausible_step;
+use crate::io::plausibility::{implausible_step, DEFAULT_ACCEL_LIMIT, DEFAULT_GYRO_LIMIT};
 use crate::io::{
     Column3d, ColumnMap, DegreeColumns, Estimates3dWriter, Log3dReader, Log3dRecord, TimeUnit,
 };
@@ -44,7 +50,10 @@ pub const DEFAULT_SCORE_FROM: f64 = 5.0;
 const HEAD_ROWS: usize = 64;
 
 /// Largest plausible body rate \[rad/s\] (the planar reader's physical bound).
-const MAX_RATE: f64 = 100.0;
+const MAX_RATE: f64 = DEFAULT_GYRO_LIMIT;
+
+/// Largest plausible specific force \[m/s^2\] (the planar reader's physical bound).
+const MAX_ACCEL: f64 = DEFAULT_ACCEL_LIMIT;
 
 /// True when the first header line of the file at `path` has every 3-D column (comment
 /// and blank lines before it skipped). An unreadable file is not 3-D: the planar reader
@@ -361,11 +370,20 @@ pub(crate) fn pass(
     let mut quats = vec![None; names.len()];
     let mut t0 = None;
     let mut rows = 0u64;
-    let mut rest = std::iter::from_fn(|| log.next_record().transpose());
-    for r in head.into_iter().map(Ok).chain(&mut rest) {
+    let rest = std::iter::from_fn(|| log.next_record().transpose());
+    let mut records = head.into_iter().map(Ok).chain(rest).peekable();
+    while let Some(r) = records.next() {
         let r = r?;
-        let (t, s, roll, pitch) = row.sample(&r, &mut gate);
+        let next_t = match records.peek() {
+            Some(Ok(n)) => Some(n.t),
+            _ => None,
+        };
+        let (t, s, roll, pitch) = row.sample(&r, next_t, &mut gate);
         bank.update(&s);
+        if let Some((re, n)) = bank.restarted() {
+            row.restart_warning(r.line, re, n);
+        }
+        bank.flag_implausible(row.implausible);
         let est = bank.outputs();
         for (i, q) in quats.iter_mut().enumerate() {
             *q = if quaternion { bank.quaternion(i) } else { None };
@@ -424,6 +442,8 @@ struct RowInput<'a> {
     header: &'a [String],
     warnings: Vec<String>,
     more: u64,
+    /// The sensors of the current row with an impossible reading.
+    implausible: Inputs,
 }
 
 impl<'a> RowInput<'a> {
@@ -435,7 +455,28 @@ impl<'a> RowInput<'a> {
             header,
             warnings: Vec::new(),
             more: 0,
+            implausible: Inputs::default(),
         }
+    }
+
+    fn warn(&mut self, w: String) {
+        if self.warnings.len() < MAX_WARNINGS {
+            self.warnings.push(w);
+        } else {
+            self.more += 1;
+        }
+    }
+
+    /// Says that the bank restarted `n` estimators at `line`.
+    fn restart_warning(&mut self, line: u64, r: crate::bank3d::gaps::Restart3d, n: usize) {
+        self.warn(format!(
+            "{}:{line}: {} back after a gap of {:.3} s (longer than the restart gap {} s): \
+             {n} estimators reading it restart from this row",
+            self.file,
+            sensor_names(r.sensors),
+            r.gap,
+            crate::bank::RESTART_GAP
+        ));
     }
 
     /// `x` when plausible, else NaN and a warning naming its place.
@@ -443,61 +484,122 @@ impl<'a> RowInput<'a> {
         if x.abs() <= bound || x.is_nan() {
             return x;
         }
-        if self.warnings.len() < MAX_WARNINGS {
-            let col = self
-                .header
-                .iter()
-                .position(|h| h == name)
-                .map_or(0, |p| p + 1);
-            self.warnings.push(format!(
-                "{}:{line}: column {col} (`{name}`): {x} {unit} is beyond {bound} {unit}, \
-                 impossible: read as missing (in degrees? give --deg)",
-                self.file
-            ));
+        let col = self
+            .header
+            .iter()
+            .position(|h| h == name)
+            .map_or(0, |p| p + 1);
+        let hint = if unit == "m/s^2" {
+            ""
         } else {
-            self.more += 1;
-        }
+            " (in degrees? give --deg)"
+        };
+        // 1e308 as written, not as 309 digits.
+        let x = if x.abs() >= 1e6 {
+            format!("{x:e}")
+        } else {
+            x.to_string()
+        };
+        self.warn(format!(
+            "{}:{line}: column {col} (`{name}`): {x} {unit} is beyond {bound} {unit}, \
+             impossible: read as missing{hint}",
+            self.file
+        ));
         f64::NAN
     }
 
-    /// The sample, with its time \[s\] and the truth (NaN when absent).
+    /// The sample, with its time \[s\] and the truth (NaN when absent); `next_t` is the
+    /// next row's time stamp (in the log's unit), if there is one.
     fn sample(
         &mut self,
         r: &Log3dRecord,
+        next_t: Option<f64>,
         gate: &mut StepGate<f64>,
     ) -> (f64, SpatialSample<f64>, f64, f64) {
         let t = r.t * self.time_scale;
         let k = self.angle_scale;
+        let line = r.line;
+        let phi: [f64; 2] = std::array::from_fn(|i| r.phi[i] * k);
         let phi = [
-            self.plausible(r.line, "phi_x", r.phi[0] * k, std::f64::consts::PI, "rad"),
-            self.plausible(r.line, "phi_y", r.phi[1] * k, std::f64::consts::PI, "rad"),
+            self.plausible(line, "phi_x", phi[0], std::f64::consts::PI, "rad"),
+            self.plausible(line, "phi_y", phi[1], std::f64::consts::PI, "rad"),
         ];
+        let gyro: [f64; 3] = std::array::from_fn(|i| r.gyro[i] * k);
         let gyro = [
-            self.plausible(r.line, "gyro_x", r.gyro[0] * k, MAX_RATE, "rad/s"),
-            self.plausible(r.line, "gyro_y", r.gyro[1] * k, MAX_RATE, "rad/s"),
-            self.plausible(r.line, "gyro_z", r.gyro[2] * k, MAX_RATE, "rad/s"),
+            self.plausible(line, "gyro_x", gyro[0], MAX_RATE, "rad/s"),
+            self.plausible(line, "gyro_y", gyro[1], MAX_RATE, "rad/s"),
+            self.plausible(line, "gyro_z", gyro[2], MAX_RATE, "rad/s"),
         ];
+        let accel = [
+            self.plausible(line, "ax", r.accel[0], MAX_ACCEL, "m/s^2"),
+            self.plausible(line, "ay", r.accel[1], MAX_ACCEL, "m/s^2"),
+            self.plausible(line, "az", r.accel[2], MAX_ACCEL, "m/s^2"),
+        ];
+        // NaN out of a finite cell: the bound refused it.
+        let refused =
+            |raw: &[f64], v: &[f64]| raw.iter().zip(v).any(|(a, b)| !a.is_nan() && b.is_nan());
+        self.implausible = Inputs {
+            phi: refused(&r.phi, &phi),
+            gyro: refused(&r.gyro, &gyro),
+            accel: refused(&r.accel, &accel),
+        };
+        let dt = if self.lone_stamp(t, next_t.map(|n| n * self.time_scale), gate, line) {
+            f64::NAN
+        } else {
+            gate.step(t)
+        };
         let s = SpatialSample {
-            dt: gate.step(t),
+            dt,
             phi,
             gyro,
-            accel: r.accel,
+            accel,
             speed: r.speed.unwrap_or(f64::NAN),
         };
         let truth = |x: Option<f64>| x.map_or(f64::NAN, |v| v * k);
         (t, s, truth(r.roll), truth(r.pitch))
     }
 
+    /// Whether `t` is a lone glitched stamp: after the next row's, which itself follows the
+    /// last accepted one (so the next row, not this one, continues the clock).
+    fn lone_stamp(&mut self, t: f64, next: Option<f64>, gate: &StepGate<f64>, line: u64) -> bool {
+        let (Some(next), Some(last)) = (next, gate.last()) else {
+            return false;
+        };
+        let lone = t > next && next > last;
+        if lone {
+            self.warn(format!(
+                "{}:{line}: column 1 (`t`): {t} s is after the next row's {next} s: a lone \
+                 bad time stamp, this row is held (flagged bad_time_step)",
+                self.file
+            ));
+        }
+        lone
+    }
+
     fn warnings(&self) -> Vec<String> {
         let mut w = self.warnings.clone();
         if self.more > 0 {
             w.push(format!(
-                "{} more impossible readings read as missing",
+                "{} more warnings (impossible readings, restarts, bad time stamps)",
                 self.more
             ));
         }
         w
     }
+}
+
+/// The 3-D log's columns of `sensors`, for messages.
+fn sensor_names(sensors: Inputs) -> String {
+    [
+        (sensors.phi, "phi_x/phi_y"),
+        (sensors.gyro, "gyro_x/y/z"),
+        (sensors.accel, "ax/ay/az"),
+    ]
+    .iter()
+    .filter(|(on, _)| *on)
+    .map(|(_, n)| *n)
+    .collect::<Vec<_>>()
+    .join(", ")
 }
 
 /// The inclination error table (MODEL.md 7.9) in degrees.

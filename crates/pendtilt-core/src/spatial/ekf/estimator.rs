@@ -39,7 +39,8 @@ const HOLD_HZ: f64 = 5.0;
 /// The first sample with both encoder readings starts the filter with the pendulum
 /// hanging still: roll = phi_x, pitch = phi_y, yaw 0. After a gap longer than
 /// [`Settings::max_gap`], or if the filter becomes non-finite, it starts again the same
-/// way. A run of [`Settings::reacquire_after`] rejected encoder readings re-acquires them:
+/// way, but a restart after a gap (or [`Estimator::resume`]) keeps the gyro bias, its
+/// variance grown by the bias walk over the gap: a gap cannot change it more. A run of [`Settings::reacquire_after`] rejected encoder readings re-acquires them:
 /// the covariance grows along a tilt step of the innovation's size that leaves the pendulum
 /// hanging where it is (roll with -a, pitch with -b), and the reading is applied ungated.
 #[derive(Debug, Clone)]
@@ -67,6 +68,8 @@ pub struct ModelBased<T: Real, F> {
     accel_from_centre: Vector3<T>,
     rejected: u32,
     last: Attitude<T>,
+    // The gyro bias and its variances kept over a gap for the next start.
+    kept_bias: Option<(Vector3<T>, Vector3<T>)>,
 }
 
 impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
@@ -92,6 +95,19 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             accel_from_centre: settings.mounting.from_centre(settings.mounting.accel_at),
             rejected: 0,
             last: Attitude::unknown(),
+            kept_bias: None,
+        }
+    }
+
+    /// Keeps the running filter's gyro bias for the next start, its variances grown by the
+    /// bias walk over the time since the last encoder reading.
+    fn keep_bias(&mut self) {
+        let walk = self.settings.sensors.gyro_bias_walk;
+        let grow = walk * walk * self.since_phi.unwrap_or(T::zero());
+        if let Some(f) = self.filter.as_ref() {
+            let p = f.covariance();
+            let var = Vector3::from_fn(|k, _| p[(BIAS + k, BIAS + k)] + grow);
+            self.kept_bias = Some((f.state().bias, var));
         }
     }
 
@@ -153,9 +169,10 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         let (sb, cb) = b.sin_cos();
         // Hanging still: the pendulum's rates about its own x and y axes are zero.
         let u3 = -sa * w[1] + ca * w[2];
+        let kept = self.kept_bias.take();
         let x = State {
             q: UnitQuaternion::from_euler_angles(roll, pitch, T::zero()),
-            bias: Vector3::zeros(),
+            bias: kept.map_or_else(Vector3::zeros, |k| k.0),
             joints: Vector4::new(a, b, sb * u3 / cb, T::zero()),
         };
         let mut p = Cov::<T, N>::zeros();
@@ -167,7 +184,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         p[(ROT + 2, ROT + 2)] = T::lit(HEADING_VARIANCE);
         let b0 = st.sensors.gyro_bias;
         for k in 0..3 {
-            p[(BIAS + k, BIAS + k)] = b0 * b0 + T::lit(1e-12);
+            p[(BIAS + k, BIAS + k)] = kept.map_or(b0 * b0 + T::lit(1e-12), |kept| kept.1[k]);
         }
         p[(A, A)] = self.encoders.r;
         p[(B, B)] = self.encoders.r;
@@ -329,6 +346,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         }
         let coasted = have_phi && self.since_phi.is_some_and(|e| e > self.settings.max_gap);
         if self.filter.is_some() && (dt > self.settings.max_gap || coasted) {
+            self.keep_bias();
             self.filter = None;
         }
         if have_phi {
@@ -409,6 +427,15 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         self.path_gyro = None;
         self.rejected = 0;
         self.last = Attitude::unknown();
+        self.kept_bias = None;
+    }
+
+    /// Forgets everything but the gyro bias (see the type's documentation).
+    fn resume(&mut self) {
+        self.keep_bias();
+        let kept = self.kept_bias;
+        self.reset();
+        self.kept_bias = kept;
     }
 }
 

@@ -1,0 +1,445 @@
+//! Sensor faults and bad readings on 3-D logs (issue 14: every 3-D estimator survives the
+//! bad-input and fault tests the planar ones pass; docs/reliability.md section 8).
+//!
+//! One simulated `scooter3d` ride (seed 3, 30 s, 1 kHz) is written by `pendtilt simulate`;
+//! each fault is injected into a copy of its CSV from t = 8 s, and `pendtilt estimate
+//! --flags` runs every estimator of the 3-D registry on the clean and on the faulty log,
+//! as a user would. For every fault and estimator the test checks: one output row per
+//! input row; every output finite or flagged; and recovery: the time after the fault's end
+//! from which the output stays within 0.05 deg (inclination, MODEL.md 7.9) of the
+//! fault-free run to the end of the log, and the largest difference from 2 s after the end.
+//!
+//! The table of docs/reliability.md section 8 is printed by
+//! `cargo test --release -p pendtilt --test faults3d -- --nocapture`.
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use pendtilt::bank::Inputs;
+use pendtilt::bank3d::REGISTRY3D;
+use pendtilt::core::spatial::attitude::inclination_error;
+
+mod common;
+use common::{pendtilt, s, stderr};
+
+/// When every fault starts \[s\].
+const T_FAULT: f64 = 8.0;
+/// The recovery bound \[deg\].
+const BOUND_DEG: f64 = 0.05;
+/// Clip levels of the saturation cases: below the ride's largest readings (gyro up to
+/// 0.27 rad/s, |az| up to 21 m/s^2), so the clip bites on a quarter of the samples or more.
+const GYRO_CLIP: f64 = 0.1;
+const ACCEL_CLIP: f64 = 12.0;
+
+/// A log as header and text cells (the faults edit cells as text).
+#[derive(Clone)]
+struct Csv {
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl Csv {
+    fn read(path: &Path) -> Self {
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut lines = text.lines();
+        let header = lines.next().unwrap().split(',').map(String::from).collect();
+        let rows = lines
+            .map(|l| l.split(',').map(String::from).collect())
+            .collect();
+        Self { header, rows }
+    }
+
+    fn write(&self, path: &Path) {
+        let mut out = self.header.join(",");
+        out.push('\n');
+        for r in &self.rows {
+            out.push_str(&r.join(","));
+            out.push('\n');
+        }
+        std::fs::write(path, out).unwrap();
+    }
+
+    fn col(&self, name: &str) -> usize {
+        self.header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column {name}"))
+    }
+
+    fn t(&self, row: usize) -> f64 {
+        self.rows[row][0].parse().unwrap()
+    }
+
+    /// The first row at or after `t`.
+    fn row_at(&self, t: f64) -> usize {
+        (0..self.rows.len()).find(|&i| self.t(i) >= t).unwrap()
+    }
+
+    /// Applies `f` to the cells of `columns` on the rows with `from <= t < to`.
+    fn edit(&mut self, columns: &[&str], from: f64, to: f64, f: impl Fn(f64) -> String) {
+        let cols: Vec<usize> = columns.iter().map(|c| self.col(c)).collect();
+        for i in 0..self.rows.len() {
+            let t = self.t(i);
+            if t >= from && t < to {
+                for &c in &cols {
+                    let v: f64 = self.rows[i][c].parse().unwrap_or(f64::NAN);
+                    self.rows[i][c] = f(v);
+                }
+            }
+        }
+    }
+}
+
+const SENSORS: [&str; 8] = [
+    "phi_x", "phi_y", "gyro_x", "gyro_y", "gyro_z", "ax", "ay", "az",
+];
+
+/// One fault: its name, what it does, and the log with it (and when it ends \[s\]).
+struct Fault {
+    name: &'static str,
+    what: &'static str,
+    apply: fn(&mut Csv) -> f64,
+    /// What `estimate` must warn ("" for nothing).
+    warns: &'static str,
+    /// The flag every estimator reading the faulty sensor must carry on the fault's first
+    /// row (`reads` picks them; None: no flag is required).
+    flag: Option<(&'static str, Reads)>,
+}
+
+/// Picks the estimators that read a sensor, by their [`Inputs`].
+type Reads = fn(&Inputs) -> bool;
+
+fn one_row(c: &mut Csv, column: &str, f: impl Fn(f64) -> String) -> f64 {
+    let i = c.row_at(T_FAULT);
+    let (t, next) = (c.t(i), c.t(i + 1));
+    c.edit(&[column], t, next, f);
+    next
+}
+
+const FAULTS: [Fault; 8] = [
+    Fault {
+        name: "gap_10s",
+        what: "every sensor cell empty for 10 s (rows kept)",
+        apply: |c| {
+            c.edit(&SENSORS, T_FAULT, T_FAULT + 10.0, |_| String::new());
+            T_FAULT + 10.0
+        },
+        warns: "phi_x/phi_y, gyro_x/y/z, ax/ay/az back after a gap of 10.001 s (longer than the restart gap 0.5 s): 9 estimators",
+        flag: Some(("sample_missing", |_| true)),
+    },
+    Fault {
+        name: "gyro_1e6",
+        what: "one gyro_x cell 1e6",
+        apply: |c| one_row(c, "gyro_x", |_| "1e6".into()),
+        warns: "column 4 (`gyro_x`): 1e6 rad/s is beyond 100 rad/s, impossible: read as missing",
+        flag: Some(("implausible", |r| r.gyro)),
+    },
+    Fault {
+        name: "accel_-1e308",
+        what: "one ax cell -1e308",
+        apply: |c| one_row(c, "ax", |_| "-1e308".into()),
+        warns: "column 7 (`ax`): -1e308 m/s^2 is beyond 500 m/s^2, impossible: read as missing",
+        flag: Some(("implausible", |r| r.accel)),
+    },
+    Fault {
+        name: "phi_spike",
+        what: "one phi_x cell 1 rad off (plausible, wrong)",
+        apply: |c| one_row(c, "phi_x", |v| (v + 1.0).to_string()),
+        warns: "",
+        flag: None,
+    },
+    Fault {
+        name: "gyro_clipped",
+        what: "every gyro axis clipped at 0.1 rad/s for 2 s",
+        apply: |c| {
+            let cols = ["gyro_x", "gyro_y", "gyro_z"];
+            c.edit(&cols, T_FAULT, T_FAULT + 2.0, |v| {
+                v.clamp(-GYRO_CLIP, GYRO_CLIP).to_string()
+            });
+            T_FAULT + 2.0
+        },
+        warns: "",
+        flag: None,
+    },
+    Fault {
+        name: "accel_clipped",
+        what: "every accelerometer axis clipped at 12 m/s^2 for 2 s",
+        apply: |c| {
+            c.edit(&["ax", "ay", "az"], T_FAULT, T_FAULT + 2.0, |v| {
+                v.clamp(-ACCEL_CLIP, ACCEL_CLIP).to_string()
+            });
+            T_FAULT + 2.0
+        },
+        warns: "",
+        flag: None,
+    },
+    Fault {
+        name: "time_back",
+        what: "one time stamp 1 s back",
+        apply: |c| one_row(c, "t", |v| (v - 1.0).to_string()),
+        warns: "",
+        flag: Some(("bad_time_step", |_| true)),
+    },
+    Fault {
+        name: "time_ahead",
+        what: "one time stamp 50 ms ahead",
+        apply: |c| {
+            let end = one_row(c, "t", |v| (v + 0.05).to_string());
+            end + 0.05
+        },
+        warns: "8.05 s is after the next row's 8.001 s: a lone bad time stamp",
+        flag: Some(("bad_time_step", |_| true)),
+    },
+];
+
+/// The estimates of one run: per estimator, (roll, pitch, flagged) per row, and the times.
+struct Run {
+    t: Vec<f64>,
+    est: BTreeMap<String, Vec<(f64, f64, String)>>,
+    stderr: String,
+}
+
+fn estimate(dir: &Path, log: &Path, name: &str) -> Run {
+    let out = dir.join(format!("{name}.est.csv"));
+    let o = pendtilt(&[
+        "estimate",
+        s(log),
+        "--params",
+        s(&dir.join("ride.rig.toml")),
+        "--scenario",
+        s(&dir.join("ride.scenario.toml")),
+        "--flags",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{name}: {}", stderr(&o));
+    let c = Csv::read(&out);
+    let mut est = BTreeMap::new();
+    for e in REGISTRY3D {
+        let (r, p) = (
+            c.col(&format!("{}_roll", e.name)),
+            c.col(&format!("{}_pitch", e.name)),
+        );
+        let f = c.col(&format!("{}_flags", e.name));
+        let v = c
+            .rows
+            .iter()
+            .map(|x| {
+                let num = |i: usize| x[i].parse::<f64>().unwrap();
+                (num(r), num(p), x.get(f).cloned().unwrap_or_default())
+            })
+            .collect();
+        est.insert(e.name.to_string(), v);
+    }
+    Run {
+        t: c.rows.iter().map(|x| x[0].parse().unwrap()).collect(),
+        est,
+        stderr: stderr(&o),
+    }
+}
+
+/// How one estimator came through one fault.
+#[derive(Debug, Clone, Copy)]
+struct Outcome {
+    /// Time after the fault's end from which it stays within the bound \[s\]; infinite
+    /// when it is not within it at the end of the log.
+    recovery: f64,
+    /// The largest difference from 2 s after the fault's end on \[deg\].
+    after_2s: f64,
+    /// Rows with a non-finite output and no flag, after the first second.
+    unflagged_nan: usize,
+}
+
+fn outcome(
+    clean: &[(f64, f64, String)],
+    faulty: &[(f64, f64, String)],
+    t: &[f64],
+    end: f64,
+) -> Outcome {
+    let mut last_out = None;
+    let mut after_2s = 0.0f64;
+    let mut unflagged_nan = 0;
+    for (i, (c, f)) in clean.iter().zip(faulty).enumerate() {
+        let finite = f.0.is_finite() && f.1.is_finite();
+        if !finite && f.2.is_empty() && t[i] >= 1.0 {
+            unflagged_nan += 1;
+        }
+        if t[i] < end {
+            continue;
+        }
+        let d = inclination_error(c.0, c.1, f.0, f.1).to_degrees();
+        let d = if d.is_finite() { d } else { f64::INFINITY };
+        if d > BOUND_DEG {
+            last_out = Some(i);
+        }
+        if t[i] >= end + 2.0 {
+            after_2s = after_2s.max(d);
+        }
+    }
+    let recovery = match last_out {
+        None => 0.0,
+        Some(i) if i + 1 == t.len() => f64::INFINITY,
+        Some(i) => t[i + 1] - end,
+    };
+    Outcome {
+        recovery,
+        after_2s,
+        unflagged_nan,
+    }
+}
+
+/// Simulates the ride into `dir` (ride.csv, ride.rig.toml, ride.scenario.toml).
+fn simulate(dir: &Path) -> PathBuf {
+    let log = dir.join("ride.csv");
+    let o = pendtilt(&[
+        "simulate",
+        "--scenario",
+        "scooter3d",
+        "--duration",
+        "30",
+        "--seed",
+        "3",
+        "-q",
+        "-o",
+        s(&log),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    log
+}
+
+fn fmt_recovery(r: f64) -> String {
+    if r == 0.0 {
+        "0".into()
+    } else if r.is_finite() {
+        format!("{r:.2} s")
+    } else {
+        "not within".into()
+    }
+}
+
+/// What an estimator is held to after a fault: back within the bound by `recovery` [s]
+/// after the fault's end, and no further than `after_2s` [deg] from the fault-free run from
+/// 2 s after it on.
+#[derive(Debug, Clone, Copy)]
+struct Allowance {
+    recovery: f64,
+    after_2s: f64,
+}
+
+/// 2 s and the 0.05 deg bound for every estimator and fault, except the measured
+/// exceptions of docs/reliability.md section 8 (each with its reason there), held to about
+/// 1.5 times their measured figures so that a regression shows.
+fn allowed(estimator: &str, fault: &str) -> Allowance {
+    let never = |after_2s| Allowance {
+        recovery: f64::INFINITY,
+        after_2s,
+    };
+    let slow = |recovery, after_2s| Allowance { recovery, after_2s };
+    match (fault, estimator) {
+        ("gap_10s", "ekf3d") => slow(15.0, 0.19),
+        ("gap_10s", "ukf3d") => slow(17.0, 0.27),
+        ("gap_10s", "vqf") => never(1.5),
+        ("gap_10s", "mahony3d") => never(14.0),
+        ("gap_10s", "fusion3d") => never(15.0),
+        ("gyro_1e6", "ukf3d") => slow(11.0, 0.1),
+        ("gyro_clipped", "ekf3d" | "ukf3d") => never(1.7),
+        ("gyro_clipped", "vqf") => never(3.2),
+        ("gyro_clipped", "mahony3d") => slow(15.0, 2.0),
+        ("gyro_clipped", "fusion3d") => never(5.0),
+        ("accel_clipped", "vqf") => slow(8.0, 0.16),
+        ("accel_clipped", "mahony3d") => slow(5.5, 0.14),
+        _ => Allowance {
+            recovery: 2.0,
+            after_2s: BOUND_DEG,
+        },
+    }
+}
+
+#[test]
+fn every_3d_estimator_survives_gaps_glitches_saturation_and_time_glitches() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = simulate(dir.path());
+    let clean_csv = Csv::read(&log);
+    let clean = estimate(dir.path(), &log, "clean");
+    let mut table = Vec::new();
+    let mut failures = Vec::new();
+    for fault in &FAULTS {
+        let mut c = clean_csv.clone();
+        let end = (fault.apply)(&mut c);
+        let path = dir.path().join(format!("{}.csv", fault.name));
+        c.write(&path);
+        let run = estimate(dir.path(), &path, fault.name);
+        assert_eq!(run.t.len(), clean.t.len(), "{}: rows", fault.name);
+        let warned: Vec<&str> = run
+            .stderr
+            .lines()
+            .filter(|l| l.contains("warning"))
+            .collect();
+        println!(
+            "{} ({}): {} warning line(s)",
+            fault.name,
+            fault.what,
+            warned.len()
+        );
+        for w in warned.iter().take(3) {
+            println!("    {w}");
+        }
+        assert!(
+            run.stderr.contains(fault.warns),
+            "{}: {}",
+            fault.name,
+            run.stderr
+        );
+        let first = clean.t.iter().position(|&t| t >= T_FAULT).unwrap();
+        for e in REGISTRY3D {
+            if let Some((flag, reads)) = fault.flag {
+                let got = &run.est[e.name][first].2;
+                if reads(&e.reads) && !got.contains(flag) {
+                    failures.push(format!(
+                        "{} {}: flags `{got}`, not {flag}",
+                        fault.name, e.name
+                    ));
+                }
+            }
+            let o = outcome(&clean.est[e.name], &run.est[e.name], &clean.t, end);
+            table.push((fault.name, e.name, o));
+            if o.unflagged_nan > 0 {
+                failures.push(format!(
+                    "{} {}: {} unflagged NaN rows",
+                    fault.name, e.name, o.unflagged_nan
+                ));
+            }
+            let a = allowed(e.name, fault.name);
+            if o.recovery > a.recovery || o.after_2s > a.after_2s {
+                failures.push(format!(
+                    "{} {}: back after {} ({:.4} deg from 2 s on)",
+                    fault.name,
+                    e.name,
+                    fmt_recovery(o.recovery),
+                    o.after_2s
+                ));
+            }
+        }
+    }
+    // The table: one row per estimator, one column per fault.
+    print!("\n| estimator |");
+    for f in &FAULTS {
+        print!(" {} |", f.name);
+    }
+    println!();
+    for e in REGISTRY3D {
+        print!("| {} |", e.name);
+        for f in &FAULTS {
+            let (_, _, o) = table
+                .iter()
+                .find(|x| x.0 == f.name && x.1 == e.name)
+                .unwrap();
+            if o.recovery > 2.0 {
+                print!(" {} ({:.3}) |", fmt_recovery(o.recovery), o.after_2s);
+            } else {
+                print!(" {} |", fmt_recovery(o.recovery));
+            }
+        }
+        println!();
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
