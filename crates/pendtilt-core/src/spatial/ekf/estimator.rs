@@ -40,8 +40,9 @@ const HOLD_HZ: f64 = 5.0;
 /// hanging still: roll = phi_x, pitch = phi_y, yaw 0. After a gap longer than
 /// [`Settings::max_gap`], or if the filter becomes non-finite, it starts again the same
 /// way, but a restart after a gap (or [`Estimator::resume`]) keeps the gyro bias, its
-/// variance grown by the bias walk over the gap: a gap cannot change it more. A run of [`Settings::reacquire_after`] rejected encoder readings re-acquires them:
-/// the covariance grows along a tilt step of the innovation's size that leaves the pendulum
+/// variance grown by the bias walk over the gap: a gap cannot change it more. A run of
+/// [`Settings::reacquire_after`] rejected encoder readings re-acquires them: the
+/// covariance grows along a tilt step of the innovation's size that leaves the pendulum
 /// hanging where it is (roll with -a, pitch with -b), and the reading is applied ungated.
 #[derive(Debug, Clone)]
 pub struct ModelBased<T: Real, F> {
