@@ -123,7 +123,8 @@ const FAULTS: [Fault; 8] = [
             c.edit(&SENSORS, T_FAULT, T_FAULT + 10.0, |_| String::new());
             T_FAULT + 10.0
         },
-        warns: "phi_x/phi_y, gyro_x/y/z, ax/ay/az back after a gap of 10.001 s (longer than the restart gap 0.5 s): 9 estimators",
+        warns: "phi_x/phi_y, gyro_x/y/z, ax/ay/az back after a gap of 10.001 s (longer than \
+                the restart gap 0.5 s): 9 estimators",
         flag: Some(("sample_missing", |_| true)),
     },
     Fault {
