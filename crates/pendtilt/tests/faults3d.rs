@@ -336,13 +336,12 @@ fn allowed(estimator: &str, fault: &str) -> Allowance {
     };
     let slow = |recovery, after_2s| Allowance { recovery, after_2s };
     match (fault, estimator) {
-        ("gap_10s", "ekf3d") => slow(15.0, 0.19),
-        ("gap_10s", "ukf3d") => slow(17.0, 0.27),
+        ("gap_10s", "ekf3d" | "ukf3d") => slow(17.0, 0.2),
         ("gap_10s", "vqf") => never(1.5),
         ("gap_10s", "mahony3d") => never(14.0),
         ("gap_10s", "fusion3d") => never(15.0),
-        ("gyro_1e6", "ukf3d") => slow(11.0, 0.1),
-        ("gyro_clipped", "ekf3d" | "ukf3d") => never(1.7),
+        ("gyro_1e6", "ekf3d" | "ukf3d") => slow(13.0, 0.1),
+        ("gyro_clipped", "ekf3d" | "ukf3d") => never(1.6),
         ("gyro_clipped", "vqf") => never(3.2),
         ("gyro_clipped", "mahony3d") => slow(15.0, 2.0),
         ("gyro_clipped", "fusion3d") => never(5.0),
