@@ -378,3 +378,32 @@ fn rig_forms_and_output_safety() {
     assert!(!o.status.success());
     assert_eq!(std::fs::read(&log).unwrap(), before);
 }
+
+/// Issue 15: a log without a `speed` column is estimated as before, with a note that the
+/// vehicle's own accelerations will bias the estimates; a log with one gets no such note.
+#[test]
+fn a_log_without_speed_says_turns_and_braking_will_bias_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = write(dir.path(), "level.csv", &level_log(200, 1.0, None));
+    let out = dir.path().join("est.csv");
+    let o = pendtilt(&["estimate", s(&log), "-o", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("level.csv has no `speed` column") && e.contains("turns bias them"),
+        "{e}"
+    );
+    let with_speed = simulate(dir.path(), "still3d", &[]);
+    let rig = dir.path().join("still3d.rig.toml");
+    let out2 = dir.path().join("est2.csv");
+    let o = pendtilt(&[
+        "estimate",
+        s(&with_speed),
+        "--params",
+        s(&rig),
+        "-o",
+        s(&out2),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("`speed` column"), "{}", stderr(&o));
+}

@@ -349,6 +349,13 @@ pub(crate) fn pass(
     let mut bank = Bank3d::new(&setup.settings, opts.only).map_err(anyhow::Error::msg)?;
     let names = bank.names();
     let truth = log.has("roll") && log.has("pitch");
+    if !log.has("speed") {
+        // Issue 15: without the speed no estimator knows the vehicle's own acceleration.
+        opts.notice(&format!(
+            "note: {file} has no `speed` column: ekf3d and ukf3d take the vehicle as not \
+             accelerating, so braking, pulling away and turns bias them (and every peer)"
+        ));
+    }
     let with_q: Vec<bool> = (0..names.len())
         .map(|i| quaternion && bank.has_quaternion(i))
         .collect();
