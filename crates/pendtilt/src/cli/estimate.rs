@@ -46,22 +46,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if super::estimate3d::is_3d_log(&args.log) {
         return super::estimate3d::run(args);
     }
-    let given: Vec<&str> = [
-        ("--quaternion", args.quaternion),
-        ("--scenario", args.scenario.is_some()),
-        ("--score-from", args.score_from.is_some()),
-    ]
-    .iter()
-    .filter(|g| g.1)
-    .map(|g| g.0)
-    .collect();
-    anyhow::ensure!(
-        given.is_empty(),
-        "{}: for 3-D logs only (MODEL.md 7.6 columns t, phi_x, phi_y, gyro_x, gyro_y, \
-         gyro_z, ax, ay, az); {} is a planar log",
-        given.join(", "),
-        args.log.display()
-    );
+    super::estimate3d::refuse_3d_options(
+        &[
+            ("--quaternion", args.quaternion),
+            ("--scenario", args.scenario.is_some()),
+            ("--score-from", args.score_from.is_some()),
+        ],
+        &args.log,
+    )?;
     let opts = &args.bank;
     let mut inputs = vec![NamedPath::new("LOG", &args.log)];
     if let Some(p) = &opts.params {

@@ -55,6 +55,20 @@ const MAX_RATE: f64 = DEFAULT_GYRO_LIMIT;
 /// Largest plausible specific force \[m/s^2\] (the planar reader's physical bound).
 const MAX_ACCEL: f64 = DEFAULT_ACCEL_LIMIT;
 
+/// Refuses the options of `given` (name, whether given) that only 3-D logs take, on the
+/// planar log `log`.
+pub(crate) fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::Result<()> {
+    let given: Vec<&str> = given.iter().filter(|g| g.1).map(|g| g.0).collect();
+    anyhow::ensure!(
+        given.is_empty(),
+        "{}: for 3-D logs only (MODEL.md 7.6 columns t, phi_x, phi_y, gyro_x, gyro_y, \
+         gyro_z, ax, ay, az); {} is a planar log",
+        given.join(", "),
+        log.display()
+    );
+    Ok(())
+}
+
 /// True when the first header line of the file at `path` has every 3-D column (comment
 /// and blank lines before it skipped). An unreadable file is not 3-D: the planar reader
 /// then reports it.

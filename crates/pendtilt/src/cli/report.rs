@@ -112,21 +112,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if super::estimate3d::is_3d_log(&args.log) {
         return super::report3d::run(args);
     }
-    let given: Vec<&str> = [
-        ("--scenario", args.scenario.is_some()),
-        ("--score-from", args.score_from.is_some()),
-    ]
-    .iter()
-    .filter(|g| g.1)
-    .map(|g| g.0)
-    .collect();
-    anyhow::ensure!(
-        given.is_empty(),
-        "{}: for 3-D logs only (MODEL.md 7.6 columns t, phi_x, phi_y, gyro_x, gyro_y, \
-         gyro_z, ax, ay, az); {} is a planar log",
-        given.join(", "),
-        args.log.display()
-    );
+    super::estimate3d::refuse_3d_options(
+        &[
+            ("--scenario", args.scenario.is_some()),
+            ("--score-from", args.score_from.is_some()),
+        ],
+        &args.log,
+    )?;
     let bars = Bars::new(args.quiet);
     let out = OutputDir::create("-o", &args.output)?;
     let result = report(&args, out.staging(), &bars);

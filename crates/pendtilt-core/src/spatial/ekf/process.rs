@@ -335,16 +335,21 @@ mod tests {
         }
     }
 
+    /// A tilted, turned state with a swinging pendulum and a gyro bias.
+    fn tilted() -> State<f64> {
+        State {
+            q: UnitQuaternion::from_euler_angles(0.3, -0.2, 0.7),
+            bias: Vector3::new(0.01, -0.02, 0.005),
+            joints: Vector4::new(-0.25, 0.15, 0.4, -0.3),
+        }
+    }
+
     /// The Jacobian maps a small error before the step to the error after it: compare
     /// `step(x ⊞ e) ⊟ step(x)` with `F e` for small `e` in every direction.
     #[test]
     fn the_jacobian_maps_errors_through_the_step() {
         let m = model();
-        let x = State {
-            q: UnitQuaternion::from_euler_angles(0.3, -0.2, 0.7),
-            bias: Vector3::new(0.01, -0.02, 0.005),
-            joints: Vector4::new(-0.25, 0.15, 0.4, -0.3),
-        };
+        let x = tilted();
         let gyro = drive(Vector3::new(0.5, -0.8, 0.3), Vector3::new(2.0, -1.0, 3.0));
         let h = 2e-3;
         let (next, f) = m.step_with_jacobian(&x, &gyro, h);
@@ -425,11 +430,7 @@ mod tests {
     #[test]
     fn propagate_equals_the_dense_product() {
         let m = model();
-        let x = State {
-            q: UnitQuaternion::from_euler_angles(0.3, -0.2, 0.7),
-            bias: Vector3::new(0.01, -0.02, 0.005),
-            joints: Vector4::new(-0.25, 0.15, 0.4, -0.3),
-        };
+        let x = tilted();
         let d = drive(Vector3::new(0.5, -0.8, 0.3), Vector3::new(2.0, -1.0, 3.0));
         let (_, f) = m.step_with_jacobian(&x, &d, 2e-3);
         let a = Cov::<f64, N>::from_fn(|i, j| ((i * 7 + j * 3) % 11) as f64 * 0.1 - 0.4);
