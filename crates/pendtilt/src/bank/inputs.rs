@@ -1,0 +1,65 @@
+//! The sensor sets ([`Inputs`]): which of phi, gyro and ax/ay a log provides or an
+//! estimator reads.
+
+/// The sensors a log provides.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Inputs {
+    /// `phi` (encoder).
+    pub phi: bool,
+    /// `gyro`.
+    pub gyro: bool,
+    /// `ax` and `ay` (accelerometer).
+    pub accel: bool,
+}
+
+impl Inputs {
+    /// All sensors present.
+    pub const ALL: Inputs = Inputs {
+        phi: true,
+        gyro: true,
+        accel: true,
+    };
+
+    /// True when the two sets share a sensor.
+    pub fn intersects(self, other: Inputs) -> bool {
+        (self.phi && other.phi) || (self.gyro && other.gyro) || (self.accel && other.accel)
+    }
+
+    /// True when no sensor is in the set.
+    pub fn is_empty(self) -> bool {
+        !(self.phi || self.gyro || self.accel)
+    }
+
+    /// The sensor names of the set (`phi`, `gyro`, `ax/ay`).
+    pub fn names(self) -> Vec<&'static str> {
+        Inputs::default().lacking(self)
+    }
+
+    pub(super) fn covers(self, need: Inputs) -> bool {
+        (self.phi || !need.phi) && (self.gyro || !need.gyro) && (self.accel || !need.accel)
+    }
+
+    /// Names of the sensors of `need` this set lacks.
+    pub fn lacking(self, need: Inputs) -> Vec<&'static str> {
+        let mut v = Vec::new();
+        if need.phi && !self.phi {
+            v.push("phi");
+        }
+        if need.gyro && !self.gyro {
+            v.push("gyro");
+        }
+        if need.accel && !self.accel {
+            v.push("ax/ay");
+        }
+        v
+    }
+}
+
+/// The sensors in either set.
+pub(super) fn union(a: Inputs, b: Inputs) -> Inputs {
+    Inputs {
+        phi: a.phi || b.phi,
+        gyro: a.gyro || b.gyro,
+        accel: a.accel || b.accel,
+    }
+}

@@ -1,0 +1,30 @@
+//! The estimator bank: every estimator `pendtilt estimate` can run, built from the rig
+//! settings and the columns a log has, run side by side one sample at a time.
+//!
+//! Each entry of [`REGISTRY`] names an output column, the inputs it needs, and how to
+//! build it; Kalman outputs name the estimators whose angles they take as measurements.
+//! Adding an estimator is adding an entry. An entry whose inputs the log lacks is skipped
+//! and reported ([`Bank::skipped`]), never a failure.
+//!
+//! A configurable estimator is, beside its core module: a field of
+//! [`RigConfig`](crate::config::RigConfig) whose type is its core settings (its `[table]`
+//! is then read, written, checked for unknown keys and listed in errors), a comment for
+//! each key in `config.rs`'s `key_comment`, and its entry in `registry.rs`, which builds
+//! it from [`BankSettings::rig`]. A table whose keys are not its settings' fields one for
+//! one adds a serde `with` module in `config/tables.rs`.
+//!
+//! Files: `inputs.rs` the sensor sets ([`Inputs`]); `settings.rs` the settings built
+//! from a rig ([`BankSettings`]); `registry.rs` the table of estimators ([`REGISTRY`],
+//! [`build_alone`]); `running.rs` the running bank ([`Bank`]).
+
+mod inputs;
+mod registry;
+mod running;
+mod settings;
+
+pub use inputs::Inputs;
+pub use registry::{
+    build_alone, BoxedEstimator, Entry, InversionSpec, KalmanSource, Kind, RSelector, REGISTRY,
+};
+pub use running::{any_flag, Bank, Restart, Skipped};
+pub use settings::{BankSettings, RESTART_GAP};
