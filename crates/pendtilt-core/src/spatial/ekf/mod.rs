@@ -1,7 +1,8 @@
 //! `ekf3d` and `ukf3d`: a multiplicative (error-state) quaternion filter whose state
 //! carries the attitude, the gyro bias and the Cardan pendulum's two angles and rates.
-//! The gyro drives the process, the encoders (and, optionally, the accelerometer) are
-//! measurements; nothing is differentiated (MODEL.md section 7, issue 14).
+//! The gyro (and, when the log has it, the speed) drives the process, the encoders (and,
+//! optionally, the accelerometer) are measurements; the encoders are never differentiated
+//! (MODEL.md section 7, issues 14 and 15).
 //!
 //! - [`state`]: the state, its 10-dimensional error and `retract` (composition for the
 //!   attitude);

@@ -5,16 +5,20 @@
 //! the joint axes, `p = w_x + a'` (the ring about body x) and `r = u2 + b'` (the pendulum
 //! about the inner axis; `u2 = cos a w_y + sin a w_z`). In these rates the body's angular
 //! acceleration `wd` drops out of the equations of motion (`p' = a'' + wd_x`,
-//! `r' = b'' + v2 + a' u3`, and the `wd` terms of 7.3 are exactly these), except for the
-//! small cross-inertia term `(Izz - Ixx) sin b cos b v3`, left to the process noise. So the
-//! gyro's reading, vibration and all, enters only through the kinematics `a' = p - w_x`,
-//! `b' = r - u2`. The pivot's specific force is `g u` (the world's up direction in body
-//! axes, from the attitude) plus the lever arm `wd x r + w x (w x r)` from the point O the
-//! body turns about (`[mounting] speed_at`, taken as not accelerating) to the pivot,
-//! `r = P2 - O`: a scooter on its stand swinging about a point 0.25 m below the sensors
-//! moves the pivot by `wd x r`, which at 0.9 Hz and a few degrees is an apparent tilt of
-//! a degree. `wd` is the gyro's smoothed derivative, an input like the gyro (see
-//! [`Drive`]); O's own acceleration is unknown and is the process noise of `p` and `r`.
+//! `r' = b'' + v2 + a' u3`, and the `wd` terms of 7.3 are exactly these) except for the
+//! small cross-inertia term `(Izz - Ixx) sin b cos b v3`. So the gyro's reading, vibration
+//! and all, enters the joints mainly through the kinematics `a' = p - w_x`, `b' = r - u2`;
+//! the encoders are never differentiated.
+//!
+//! The pivot's specific force is `g u` (the world's up direction in body axes, from the
+//! attitude), plus O's acceleration `v' x_b + w_p x (v x_b)` when the log gives O's
+//! forward speed `v` (a vehicle braking and turning, issue 15; O not accelerating
+//! otherwise), plus the lever arm `wd x r + w x (w x r)` from O (`[mounting] speed_at`,
+//! the point the body turns about) to the pivot, `r = P2 - O`: a scooter on its stand
+//! swinging about a point 0.25 m below the sensors moves the pivot by `wd x r`, at 0.9 Hz
+//! and a few degrees an apparent tilt of a degree. `wd`, `v'` and the path's turn rate
+//! `w_p` are smoothed from the gyro and the speed and come in with them ([`Drive`]); what
+//! is left of the pivot's acceleration is unknown and is the process noise of `p` and `r`.
 //!
 //! One step of `h`: the attitude turns by `exp((gyro - bias) h)`; the joints take a
 //! semi-implicit Euler step (rates first, then angles with the new rates). The Jacobian
