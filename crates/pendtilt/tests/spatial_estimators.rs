@@ -1,6 +1,7 @@
 //! The spatial estimators (issue 14 item 2) against the 3-D simulator's truth: a body that
 //! rolls, pitches and yaws at once, with linear and angular vibration and noisy sensors
 //! (MODEL.md 7.8's "noisy" grade). Scored by the inclination error of MODEL.md 7.9.
+use pendtilt::bank3d::score::Inclination;
 use pendtilt::core::spatial::accel::{Accel, AccelSettings};
 use pendtilt::core::spatial::attitude::inclination_error;
 use pendtilt::core::spatial::ekf::{Ekf, Settings, Ukf};
@@ -77,25 +78,20 @@ fn log(secs: f64, seed: u64) -> Vec<LogRow3d> {
 /// RMS and max inclination error [deg] after `from` seconds.
 fn score(rows: &[LogRow3d], e: &mut dyn SpatialEstimator<f64>, from: f64) -> (f64, f64) {
     let mut gate = StepGate::new();
-    let (mut sq, mut n, mut max) = (0.0, 0.0, 0.0f64);
+    let mut inc = Inclination::default();
     for r in rows {
-        let s = SpatialSample {
+        let a = e.update(&SpatialSample {
             dt: gate.step(r.t),
             phi: r.phi,
             gyro: r.gyro,
             accel: r.accel,
             speed: f64::NAN,
-        };
-        let a = e.update(&s);
+        });
         if r.t >= from {
-            let err = inclination_error(a.roll, a.pitch, r.roll, r.pitch).to_degrees();
-            let err = if err.is_finite() { err } else { f64::INFINITY };
-            sq += err * err;
-            n += 1.0;
-            max = max.max(err);
+            inc.add((a.roll, a.pitch), (r.roll, r.pitch));
         }
     }
-    ((sq / n).sqrt(), max)
+    (inc.rms().to_degrees(), inc.max().to_degrees())
 }
 
 /// The filter told the sensors' grade and the environment: this motion's vibration is at
