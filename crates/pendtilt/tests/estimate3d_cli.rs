@@ -407,3 +407,35 @@ fn a_log_without_speed_says_turns_and_braking_will_bias_it() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!stderr(&o).contains("`speed` column"), "{}", stderr(&o));
 }
+
+/// A log with the truth but shorter than the scoring start says why nothing was scored
+/// and how to score it; with `--score-from 0` it is scored (a level, still body: exact).
+#[test]
+fn a_log_shorter_than_the_scoring_start_says_how_to_score_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = format!("{HEAD},roll,pitch\n");
+    for k in 0..500 {
+        text.push_str(&format!("{},0,0,0,0,0,0,0,9.80665,0,0\n", k as f64 * 1e-3));
+    }
+    let log = write(dir.path(), "short.csv", &text);
+    let out = dir.path().join("est.csv");
+    let table = ok(&["estimate", s(&log), "--only", "pendulum3d", "-o", s(&out)]);
+    assert!(
+        table.contains("(0 rows scored)") && table.contains("--score-from SECONDS"),
+        "{table}"
+    );
+    let table = ok(&[
+        "estimate",
+        s(&log),
+        "--only",
+        "pendulum3d",
+        "--score-from",
+        "0",
+        "-o",
+        s(&out),
+    ]);
+    assert!(
+        table.contains("(500 rows scored)") && !table.contains("no row scored"),
+        "{table}"
+    );
+}

@@ -639,6 +639,12 @@ fn score_table(p: &Pass, score_from: f64) -> String {
             s.mean().to_degrees()
         ));
     }
+    if n == 0 {
+        t.push_str(&format!(
+            "no row scored: the truth ends before t0 + {score_from} s; score earlier with \
+             --score-from SECONDS\n"
+        ));
+    }
     t.pop();
     t
 }
