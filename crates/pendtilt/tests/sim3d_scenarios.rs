@@ -501,3 +501,74 @@ fn node_fill_matches_one_call_per_node() {
         }
     }
 }
+
+/// `ride3d` and a variant, both made with `seed`, the vibration off and at 200 Hz to keep
+/// the run short, to `secs`: (truth speed, ride3d's row, the variant's row) per sample.
+fn ride3d_and(variant: &str, seed: u64, secs: f64) -> Vec<(f64, LogRow3d, LogRow3d)> {
+    let quick = |name| {
+        let mut s = Scenario3d::named(name, seed).unwrap();
+        s.duration = secs;
+        s.rate = 200.0;
+        s.motion = s.motion.without_vibration();
+        s
+    };
+    let (base, var) = (quick("ride3d"), quick(variant));
+    base.run(seed)
+        .unwrap()
+        .zip(var.run(seed).unwrap())
+        .map(|((x, a), (_, b))| (x.speed, a, b))
+        .collect()
+}
+
+/// `ride3d_yawbias` is `ride3d` with 0.5 deg/s more on the gyro's z reading, nothing else.
+#[test]
+fn ride3d_yawbias_adds_half_a_degree_per_second_to_gyro_z() {
+    for (_, a, b) in ride3d_and("ride3d_yawbias", 2, 20.0) {
+        assert!(
+            (b.gyro[2] - a.gyro[2] - 0.5f64.to_radians()).abs() < 1e-12,
+            "{b:?}"
+        );
+        let same = LogRow3d { gyro: a.gyro, ..b };
+        assert_eq!(same, a);
+    }
+}
+
+/// `ride3d_slip`'s speed column is ride3d's outside its two slip intervals; inside them a
+/// locked wheel reads 0 (plus noise) while the vehicle still moves at 7-11 m/s, and a
+/// spinning one 3.5 m/s above 1.01 x the truth; every other column is ride3d's.
+#[test]
+fn ride3d_slip_locks_when_braking_and_spins_when_pulling_away() {
+    let s = Scenario3d::named("ride3d_slip", 1).unwrap();
+    let slips = s.slip_intervals();
+    assert_eq!(slips.len(), 2);
+    let lock = slips[0];
+    let spin = slips[1];
+    assert!((lock[0] - 61.8).abs() < 1e-9 && (lock[1] - 62.95).abs() < 1e-9);
+    assert!((spin[0] - 83.5).abs() < 1e-9 && (spin[1] - 85.7).abs() < 1e-9);
+    let (mut locked, mut spun) = (0, 0);
+    for (v, a, b) in ride3d_and("ride3d_slip", 1, 86.5) {
+        let t = a.t;
+        assert_eq!(
+            LogRow3d {
+                speed: a.speed,
+                ..b
+            },
+            a
+        );
+        if slips.iter().all(|i| t < i[0] || t > i[1]) {
+            assert_eq!(a.speed, b.speed, "t = {t}");
+        } else if (61.95..=62.75).contains(&t) {
+            // The hold of the lock: noise alone (0.05 m/s sigma) on 0.
+            assert!(
+                b.speed.abs() < 0.25 && v > 7.0,
+                "t = {t}: {} at {v}",
+                b.speed
+            );
+            locked += 1;
+        } else if (83.8..=85.3).contains(&t) {
+            assert!((b.speed - 1.01 * v - 3.5).abs() < 0.25, "t = {t}");
+            spun += 1;
+        }
+    }
+    assert_eq!((locked, spun), (161, 301));
+}

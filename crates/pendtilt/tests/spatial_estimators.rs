@@ -66,6 +66,7 @@ fn noisy() -> Sensors3d {
         accel_at: [0.0; 3],
         speed_scale: 1.0,
         speed_noise: 0.0,
+        speed_faults: Vec::new(),
     }
 }
 

@@ -1,4 +1,4 @@
-//! `pendtilt simulate --scenario still3d|scooter3d|ship3d|ride3d`: the 3-D branch of
+//! `pendtilt simulate --scenario still3d|scooter3d|ship3d|ride3d|ride3d_yawbias|ride3d_slip`: the 3-D branch of
 //! `simulate` (MODEL.md 7.8). Same files as the planar branch: the log (columns of 7.6), the
 //! rig TOML (`[pendulum3d]`, `[mounting]`) and the resolved scenario beside it, written
 //! safely and renamed into place together.

@@ -50,6 +50,6 @@ pub use dynamics::{specific_force_at, JointState};
 pub use motion::{BodyKinematics, BodyMotion, SineMotion};
 pub use params::Pendulum3d;
 pub use scenario::{Mounting, Rig3d, Run3d, Scenario3d, SCENARIO3D_NAMES};
-pub use sensors::{LogRow3d, SensorBank3d, Sensors3d};
+pub use sensors::{LogRow3d, SensorBank3d, Sensors3d, SpeedFault};
 pub use simulator::{Simulator3d, Truth3d};
 pub use vehicle::{MotionSpec, VehicleMotion};

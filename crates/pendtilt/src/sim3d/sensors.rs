@@ -1,6 +1,10 @@
 //! The 3-axis sensor models of MODEL.md 7.5 and the log row of 7.6 (the `speed` column reads
 //! the vehicle's forward speed of 7.7, 0 for a body that does not travel).
 //!
+//! Wheel slip (issue 15): [`SpeedFault`] stretches where the `speed` reading departs from
+//! the true speed (a spinning wheel reads above it, a locked one drops towards 0), listed
+//! in [`Sensors3d::speed_faults`] so that the scenario file records them.
+//!
 //! White-noise density d gives a per-sample sigma d sqrt(rate); random-walk density q gives
 //! steps of sigma q sqrt(dt). Each noise source draws from its own ChaCha8 stream of the
 //! seed, so a shorter run is the start of a longer one and switching one source off leaves
@@ -15,9 +19,92 @@ use std::f64::consts::TAU;
 use super::dynamics::specific_force_at;
 use super::simulator::Truth3d;
 
-/// Sensor settings (MODEL.md 7.5), SI units. [`Default`] is ideal: no noise, no bias, no
-/// quantisation, accelerometer at P1, speed scale 1.
+/// A stretch of wheel slip: the `speed` reading departs from the true speed and comes
+/// back. With `e(t)` the fault's envelope (0 before `t0`, a smoothstep to 1 over `rise`, 1
+/// for `hold`, a smoothstep back to 0 over `fall`), the reading before its white noise is
+///
+/// ```text
+/// speed = (1 - e + e gain) * scale * v + e * offset
+/// ```
+///
+/// A wheel spinning when pulling away: `gain` 1, `offset` 3.5 m/s (the reading rises above
+/// the truth); a wheel locking when braking: `gain` 0, `offset` 0 (it drops to 0 while the
+/// vehicle still moves).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedFault {
+    /// Start \[s\]: the reading begins to depart from the truth.
+    pub t0: f64,
+    /// Time to depart fully \[s\].
+    pub rise: f64,
+    /// Time fully departed \[s\].
+    pub hold: f64,
+    /// Time to return to the truth \[s\].
+    pub fall: f64,
+    /// Factor on the true reading at full departure (1 spin, 0 lock).
+    pub gain: f64,
+    /// Added at full departure \[m/s\].
+    pub offset: f64,
+}
+
+/// `3 x^2 - 2 x^3` on [0, 1], 0 below, 1 above: a ramp with no step in its rate at its ends.
+fn smoothstep(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
+
+impl SpeedFault {
+    /// The true slip interval `[t0, t0 + rise + hold + fall]` \[s\]: where the reading
+    /// departs from the truth.
+    pub fn interval(&self) -> [f64; 2] {
+        [self.t0, self.t0 + self.rise + self.hold + self.fall]
+    }
+
+    /// The envelope `e(t)` in [0, 1] (see the type's documentation).
+    pub fn envelope(&self, t: f64) -> f64 {
+        let up = if self.rise > 0.0 {
+            smoothstep((t - self.t0) / self.rise)
+        } else {
+            f64::from(t >= self.t0)
+        };
+        let end = self.t0 + self.rise + self.hold;
+        let down = if self.fall > 0.0 {
+            smoothstep((t - end) / self.fall)
+        } else {
+            f64::from(t >= end)
+        };
+        up * (1.0 - down)
+    }
+
+    /// The reading `speed` (without noise) becomes under this fault at `t`.
+    pub fn apply(&self, t: f64, speed: f64) -> f64 {
+        let e = self.envelope(t);
+        (1.0 - e + e * self.gain) * speed + e * self.offset
+    }
+
+    fn validate(&self, k: usize) -> Result<(), crate::sim::SimError> {
+        let all = [
+            self.t0,
+            self.rise,
+            self.hold,
+            self.fall,
+            self.gain,
+            self.offset,
+        ];
+        let times = [self.rise, self.hold, self.fall];
+        if all.iter().any(|v| !v.is_finite()) || times.iter().any(|&v| v < 0.0) {
+            return Err(crate::sim::SimError::invalid(
+                format!("sensors.speed_faults[{k}]"),
+                "values must be finite, rise, hold and fall >= 0 s",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Sensor settings (MODEL.md 7.5), SI units. [`Default`] is ideal: no noise, no bias, no
+/// quantisation, accelerometer at P1, speed scale 1, no speed faults.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Sensors3d {
     /// Encoder resolution: 2^bits steps per turn; 0 = none.
@@ -42,6 +129,10 @@ pub struct Sensors3d {
     pub speed_scale: f64,
     /// Speed white noise, per sample \[m/s\].
     pub speed_noise: f64,
+    /// Wheel-slip stretches of the speed reading, in any order (overlapping ones apply in
+    /// turn). Not written when empty.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub speed_faults: Vec<SpeedFault>,
 }
 
 impl Default for Sensors3d {
@@ -57,6 +148,7 @@ impl Default for Sensors3d {
             accel_at: [0.0; 3],
             speed_scale: 1.0,
             speed_noise: 0.0,
+            speed_faults: Vec::new(),
         }
     }
 }
@@ -79,11 +171,12 @@ impl Sensors3d {
             accel_at: [0.0; 3],
             speed_scale: 1.0,
             speed_noise: 0.05,
+            speed_faults: Vec::new(),
         }
     }
 
-    /// The same without random errors (white noise, bias walk); biases, scale and
-    /// quantisation stay (`--no-noise`).
+    /// The same without random errors (white noise, bias walk); biases, scale, speed
+    /// faults and quantisation stay (`--no-noise`).
     pub fn without_noise(self) -> Self {
         Self {
             encoder_noise: 0.0,
@@ -101,6 +194,12 @@ impl Sensors3d {
             accel_at: self.accel_at,
             ..Self::default()
         }
+    }
+
+    /// The true slip intervals of [`Sensors3d::speed_faults`] \[s\] (see
+    /// [`SpeedFault::interval`]).
+    pub fn slip_intervals(&self) -> Vec<[f64; 2]> {
+        self.speed_faults.iter().map(SpeedFault::interval).collect()
     }
 
     /// Checks every value; errors name the `sensors.<key>`.
@@ -131,6 +230,9 @@ impl Sensors3d {
                 "sensors",
                 "biases, accel_at and speed_scale must be finite",
             ));
+        }
+        for (k, f) in self.speed_faults.iter().enumerate() {
+            f.validate(k)?;
         }
         if self.encoder_bits > 32 {
             return Err(crate::sim::SimError::invalid(
@@ -222,7 +324,6 @@ impl SensorBank3d {
     /// Sensors `s` sampled at `rate` Hz, noise drawn from `seed`.
     pub fn new(s: Sensors3d, rate: f64, seed: u64) -> Self {
         Self {
-            s,
             sigma: [
                 s.gyro_noise_density * rate.sqrt(),
                 s.accel_noise_density * rate.sqrt(),
@@ -237,6 +338,7 @@ impl SensorBank3d {
                 stream::SPEED,
             ]
             .map(|k| rng(seed, k)),
+            s,
         }
     }
 
@@ -264,7 +366,11 @@ impl SensorBank3d {
             phi,
             gyro,
             accel,
-            speed: s.speed_scale * x.speed + s.speed_noise * gauss(sr),
+            speed: s
+                .speed_faults
+                .iter()
+                .fold(s.speed_scale * x.speed, |v, f| f.apply(x.t, v))
+                + s.speed_noise * gauss(sr),
             roll: x.body.euler[0][0],
             pitch: x.body.euler[1][0],
         }
@@ -324,7 +430,7 @@ mod tests {
             ..Sensors3d::default()
         };
         let xs = truth(20.0);
-        let mut bank = SensorBank3d::new(s, 1000.0, 7);
+        let mut bank = SensorBank3d::new(s.clone(), 1000.0, 7);
         let rows: Vec<_> = xs.iter().map(|x| bank.read(x)).collect();
         let q = TAU / 16384.0;
         let n = rows.len() as f64;
@@ -376,13 +482,48 @@ mod tests {
         let xs = truth(4.0);
         let mut ends = Vec::new();
         for seed in 0..200 {
-            let mut bank = SensorBank3d::new(s, 1000.0, seed);
+            let mut bank = SensorBank3d::new(s.clone(), 1000.0, seed);
             let last = xs.iter().map(|x| bank.read(x)).last().unwrap();
             ends.push(last.gyro[1] - xs.last().unwrap().body.w[1]);
         }
         let sd = (ends.iter().map(|v| v * v).sum::<f64>() / ends.len() as f64).sqrt();
         let expect = 2e-3 * (3.999f64).sqrt();
         assert!((sd / expect - 1.0).abs() < 0.15, "{sd} vs {expect}");
+    }
+
+    /// The fault's envelope by hand: smoothstep up over `rise`, hold, down over `fall`; a
+    /// spin adds the offset, a lock scales the reading to 0.
+    #[test]
+    fn speed_fault_envelope_and_reading() {
+        let spin = SpeedFault {
+            t0: 10.0,
+            rise: 0.4,
+            hold: 1.0,
+            fall: 0.2,
+            gain: 1.0,
+            offset: 3.0,
+        };
+        assert_eq!(spin.interval(), [10.0, 11.6]);
+        // x = 0.25: 3 x^2 - 2 x^3 = 0.15625.
+        let cases = [
+            (9.9, 0.0),
+            (10.1, 0.15625),
+            (10.2, 0.5),
+            (10.9, 1.0),
+            (11.5, 0.5),
+        ];
+        for (t, e) in cases {
+            assert!((spin.envelope(t) - e).abs() < 1e-12, "{t}");
+            assert!((spin.apply(t, 8.0) - (8.0 + 3.0 * e)).abs() < 1e-12, "{t}");
+        }
+        assert_eq!(spin.envelope(11.7), 0.0);
+        let lock = SpeedFault {
+            gain: 0.0,
+            offset: 0.0,
+            ..spin
+        };
+        assert!((lock.apply(10.2, 8.0) - 4.0).abs() < 1e-12);
+        assert_eq!(lock.apply(10.5, 8.0), 0.0);
     }
 
     /// An accelerometer away from P1 reads the rigid-body transfer of f_P1 (7.1).
