@@ -439,3 +439,58 @@ fn a_log_shorter_than_the_scoring_start_says_how_to_score_it() {
         "{table}"
     );
 }
+
+/// The printed RMS and max of estimator `name` from `estimate`'s score table.
+fn printed(stdout: &str, name: &str) -> (f64, f64) {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with(&format!("{name} ")))
+        .unwrap_or_else(|| panic!("no {name} row in {stdout}"));
+    let v: Vec<f64> = line
+        .split_whitespace()
+        .skip(1)
+        .map(|x| x.parse().unwrap())
+        .collect();
+    (v[0], v[1])
+}
+
+/// A rig file's `[ekf3d]` table reaches the filter: on the whole ride3d (seed 1, 120 s) the
+/// default vibration density (the standing scooter's 0.02) lets the model's misses at
+/// 15 m/s through as a gyro bias and the gate rejects the encoders for runs of 200 samples
+/// (measured 0.513 deg RMS, 5.23 max); a car's `vibration_density = 0.15` gives 0.278 RMS
+/// and 0.65 max (issue 15's 0.3 / 1 deg, here on the inclination, which bounds roll and
+/// pitch alike).
+#[test]
+fn the_rig_files_ekf3d_table_tunes_the_filter_for_a_car() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = simulate(dir.path(), "ride3d", &["--seed", "1"]);
+    let scen = dir.path().join("ride3d.scenario.toml");
+    let rig = dir.path().join("ride3d.rig.toml");
+    let text = std::fs::read_to_string(&rig).unwrap();
+    let car = write(
+        dir.path(),
+        "car.rig.toml",
+        &format!("{text}\n[ekf3d]\nvibration_density = 0.15\n"),
+    );
+    let run = |rig: &Path, out: &str| {
+        let out = dir.path().join(out);
+        let args = [
+            "estimate",
+            s(&log),
+            "--params",
+            s(rig),
+            "--scenario",
+            s(&scen),
+        ];
+        let stdout = ok(&[&args[..], &["--only", "ekf3d", "-o", s(&out)]].concat());
+        printed(&stdout, "ekf3d")
+    };
+    let default = run(&rig, "a.csv");
+    let tuned = run(&car, "b.csv");
+    println!("ride3d ekf3d: default {default:?}, [ekf3d] vibration_density 0.15 {tuned:?}");
+    assert!(tuned.0 < 0.3 && tuned.1 < 1.0, "{tuned:?}");
+    assert!(
+        tuned.0 < default.0 && tuned.1 < default.1,
+        "{tuned:?} vs {default:?}"
+    );
+}

@@ -1,11 +1,13 @@
 //! The 3-D rig file (MODEL.md 7.6) as `estimate` reads it: `[pendulum3d]` in the physical
 //! form ([`Pendulum3d`], what `simulate` writes) or the normalised one
 //! ([`CardanParams`]: `a_x, a_y, b_x, b_y, b_z, b_ring, c, gravity`, every key given),
-//! never both; `[mounting]` optional. Errors name the file, and the line and column when
+//! never both; `[mounting]` optional; `[ekf3d]` optional ([`Ekf3dConfig`]: the spatial
+//! filter's settings a rig may change). Errors name the file, and the line and column when
 //! the TOML parser gives a position.
 use std::path::Path;
 
 use pendtilt_core::spatial::cardan::CardanParams;
+use pendtilt_core::spatial::ekf;
 use serde::Deserialize;
 
 use crate::sim3d::{Mounting, Pendulum3d};
@@ -32,13 +34,70 @@ impl Pendulum3dConfig {
     }
 }
 
-/// A 3-D rig file: the pendulum and where the sensors sit.
+/// A 3-D rig file: the pendulum, where the sensors sit and the spatial filter's settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rig3dConfig {
     /// `[pendulum3d]`.
     pub pendulum3d: Pendulum3dConfig,
     /// `[mounting]` (default: every sensor at P1).
     pub mounting: Mounting,
+    /// `[ekf3d]` (default: every key absent, the filter's defaults).
+    pub ekf3d: Ekf3dConfig,
+}
+
+/// `[ekf3d]`: the settings of `ekf3d` and `ukf3d` a rig may set, each optional and each
+/// the field of [`ekf::Settings`] of the same name (documented there, with its default).
+/// A travelling vehicle may want a larger `vibration_density` than the standing
+/// scooter's default: see the README's "3-D" section.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ekf3dConfig {
+    /// [`pendtilt_core::ekf::Environment::vibration_density`] \[m/s^2/sqrt(Hz)\].
+    pub vibration_density: Option<f64>,
+    /// [`ekf::Settings::angular_accel_hz`] \[Hz\].
+    pub angular_accel_hz: Option<f64>,
+    /// [`ekf::Settings::speed_rate_hz`] \[Hz\].
+    pub speed_rate_hz: Option<f64>,
+    /// [`ekf::Settings::path_turn_hz`] \[Hz\].
+    pub path_turn_hz: Option<f64>,
+    /// [`ekf::Settings::use_accel`].
+    pub use_accel: Option<bool>,
+}
+
+impl Ekf3dConfig {
+    /// `key: why` for a value no filter can use.
+    fn check(&self) -> Result<(), String> {
+        for (key, v) in [
+            ("vibration_density", self.vibration_density),
+            ("angular_accel_hz", self.angular_accel_hz),
+            ("speed_rate_hz", self.speed_rate_hz),
+            ("path_turn_hz", self.path_turn_hz),
+        ] {
+            if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
+                return Err(format!("ekf3d.{key}: {v} must be finite and > 0"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes the keys given into `s`.
+    pub fn apply(&self, s: &mut ekf::Settings<f64>) {
+        if let Some(v) = self.vibration_density {
+            s.environment.vibration_density = v;
+        }
+        if let Some(v) = self.angular_accel_hz {
+            s.angular_accel_hz = v;
+        }
+        if let Some(v) = self.speed_rate_hz {
+            s.speed_rate_hz = v;
+        }
+        if let Some(v) = self.path_turn_hz {
+            s.path_turn_hz = v;
+        }
+        if let Some(v) = self.use_accel {
+            s.use_accel = v;
+        }
+    }
 }
 
 impl Default for Rig3dConfig {
@@ -47,6 +106,7 @@ impl Default for Rig3dConfig {
         Self {
             pendulum3d: Pendulum3dConfig::Physical(Pendulum3d::default()),
             mounting: Mounting::default(),
+            ekf3d: Ekf3dConfig::default(),
         }
     }
 }
@@ -57,6 +117,8 @@ struct File<P> {
     pendulum3d: P,
     #[serde(default)]
     mounting: Mounting,
+    #[serde(default)]
+    ekf3d: Ekf3dConfig,
 }
 
 /// `file:line:column: message` from a TOML error (the position when it has a span).
@@ -119,17 +181,21 @@ impl Rig3dConfig {
             f.pendulum3d
                 .validate()
                 .map_err(|e| format!("{origin}: {e}"))?;
+            f.ekf3d.check().map_err(|e| format!("{origin}: {e}"))?;
             return Ok(Self {
                 pendulum3d: Pendulum3dConfig::Physical(f.pendulum3d),
                 mounting: f.mounting,
+                ekf3d: f.ekf3d,
             });
         }
         let f: File<CardanParams<f64>> =
             toml::from_str(text).map_err(|e| toml_error(origin, text, &e))?;
         check_normalised(&f.pendulum3d).map_err(|e| format!("{origin}: pendulum3d.{e}"))?;
+        f.ekf3d.check().map_err(|e| format!("{origin}: {e}"))?;
         Ok(Self {
             pendulum3d: Pendulum3dConfig::Normalised(f.pendulum3d),
             mounting: f.mounting,
+            ekf3d: f.ekf3d,
         })
     }
 }
@@ -161,6 +227,38 @@ fn check_normalised(c: &CardanParams<f64>) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `[ekf3d]` sets the filter's fields of the same name and nothing else; a misspelt key
+    /// or an impossible value is an error naming the file, the key and (for a key) the line.
+    #[test]
+    fn the_ekf3d_table_sets_the_filter_settings() {
+        let rig = crate::sim3d::Rig3d::default().to_toml_string().unwrap();
+        let text = format!("{rig}\n[ekf3d]\nvibration_density = 0.15\nspeed_rate_hz = 5.0\n");
+        let c = Rig3dConfig::from_toml_str(&text, "r.toml").unwrap();
+        let mut s = ekf::Settings::<f64>::default();
+        let before = s;
+        c.ekf3d.apply(&mut s);
+        assert_eq!(s.environment.vibration_density, 0.15);
+        assert_eq!(s.speed_rate_hz, 5.0);
+        s.environment.vibration_density = before.environment.vibration_density;
+        s.speed_rate_hz = before.speed_rate_hz;
+        assert_eq!(s, before);
+        let bad = text.replace("speed_rate_hz", "speed_rate");
+        let e = Rig3dConfig::from_toml_str(&bad, "r.toml").unwrap_err();
+        let line = bad
+            .lines()
+            .position(|l| l.starts_with("speed_rate"))
+            .unwrap()
+            + 1;
+        assert!(e.starts_with(&format!("r.toml:{line}:")), "{e}");
+        assert!(e.contains("speed_rate"), "{e}");
+        let bad = text.replace("= 0.15", "= -1.0");
+        let e = Rig3dConfig::from_toml_str(&bad, "r.toml").unwrap_err();
+        assert_eq!(
+            e,
+            "r.toml: ekf3d.vibration_density: -1 must be finite and > 0"
+        );
+    }
 
     /// The physical and the normalised form of one pendulum give the same parameters.
     #[test]

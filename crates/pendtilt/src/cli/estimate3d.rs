@@ -194,11 +194,13 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
     let settings = match (opts.params, &scenario) {
         (Some(p), s) => {
             let rig = Rig3dConfig::load(p).map_err(anyhow::Error::msg)?;
-            Settings3d::new(
+            let mut settings = Settings3d::new(
                 rig.pendulum3d.params(),
                 rig.mounting,
                 s.as_ref().map(|s| &s.sensors),
-            )
+            );
+            rig.ekf3d.apply(&mut settings.ekf);
+            settings
         }
         (None, Some(s)) => Settings3d::of_scenario(s),
         (None, None) => {
