@@ -16,7 +16,10 @@
 //! `v_x = b_y (b'' - K_b / b_y)`, `v_z = sqrt(1 - v_x^2 - v_y^2)` (a body without linear
 //! acceleration: `|f| = g`), and the world's up direction in body axes is
 //! `u = Rx(a) Ry(b) v`, less the pivot's lever-arm terms `wd x r12 + w x (w x r12)` when it
-//! sits off the IMU point. On a pure roll this is exactly the planar Eq (21),
+//! sits off the IMU point. A travelling vehicle's known acceleration (the `speed` column,
+//! issue 15: [`super::travel`]) is the pivot's too: `u = f / g - (a_O + wd x r + w x (w x
+//! r)) / g` with `r` the pivot from O (`[mounting] speed_at`), which without a speed and
+//! with O at the IMU point is the lever arm above. On a pure roll this is exactly the planar Eq (21),
 //! `theta = phi + asin(a phi' + b (phi'' - theta''))`: `v_y` is the asin's argument (test
 //! `a_pure_roll_is_the_planar_algorithm_2`).
 //!
@@ -26,11 +29,14 @@
 //! (its theta'' only). The gyroscopic terms use the gyro through the same low-pass.
 use super::attitude::roll_pitch_from_up;
 use super::cardan::{CardanParams, JointTrig};
+use super::mounting::{lever_arm, Mounting};
+use super::travel::{Travel, TravelSettings};
 use super::{Attitude, SpatialSample};
 use crate::estimators::equations::Kinematics;
 use crate::estimators::front_end::{FrontEnd, FrontEndSettings};
 use crate::estimators::theta_dd::DEFAULT_WINDOW_CAPACITY;
 use crate::{Estimator, Flags, PendulumParams, Real, Sample};
+use nalgebra::Vector3;
 
 /// Settings of [`Inv3d`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -41,6 +47,11 @@ pub struct Inv3dSettings<T> {
     /// scale), as Algorithm 2's. Default: Algorithm 2's defaults for the x axis'
     /// pendulum (its natural frequency sets the differentiator's cutoff).
     pub front_end: FrontEndSettings<T>,
+    /// Where the sensors sit; its `speed_at` is the point O whose speed the `speed` column
+    /// gives and about which the body turns. Default: P1.
+    pub mounting: Mounting<T>,
+    /// How the speed and the gyro give O's acceleration. Default: [`TravelSettings`]'s.
+    pub travel: TravelSettings<T>,
 }
 
 impl<T: Real> Default for Inv3dSettings<T> {
@@ -60,6 +71,8 @@ impl<T: Real> Inv3dSettings<T> {
         Self {
             params,
             front_end: FrontEndSettings::from_params(planar),
+            mounting: Mounting::default(),
+            travel: TravelSettings::default(),
         }
     }
 }
@@ -69,6 +82,7 @@ impl<T: Real> Inv3dSettings<T> {
 pub struct Inv3d<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
     settings: Inv3dSettings<T>,
     axes: [FrontEnd<T, W>; 3],
+    travel: Travel<T>,
     last: Attitude<T>,
 }
 
@@ -78,6 +92,7 @@ impl<T: Real, const W: usize> Inv3d<T, W> {
         let fe = FrontEnd::new(&settings.front_end, true);
         Self {
             axes: [fe.clone(), fe.clone(), fe],
+            travel: Travel::new(settings.travel),
             settings,
             last: Attitude::unknown(),
         }
@@ -90,6 +105,22 @@ impl<T: Real, const W: usize> Inv3d<T, W> {
 
     fn hold(&self, flags: Flags) -> Attitude<T> {
         Attitude { flags, ..self.last }
+    }
+
+    /// The pivot's acceleration \[m/s^2\], body axes: O's from the speed and the gyro,
+    /// and the lever arm from O at the front ends' rate `w` and angular acceleration `wd`.
+    fn pivot_accel(&mut self, s: &SpatialSample<T>, w: [T; 3], wd: [T; 3]) -> [T; 3] {
+        let (w, wd) = (Vector3::from(w), Vector3::from(wd));
+        if s.gyro.iter().all(|g| g.is_finite()) {
+            self.travel.gyro(&Vector3::from(s.gyro), s.dt);
+        }
+        self.travel.speed(s.speed, s.dt);
+        let p = &self.settings.params;
+        let r = self
+            .settings
+            .mounting
+            .from_centre(p.c.map(|c| c * p.gravity));
+        (self.travel.centre_accel(&Vector3::zeros()) + lever_arm(&w, &wd, &r)).into()
     }
 }
 
@@ -132,47 +163,54 @@ impl<T: Real, const W: usize> Inv3d<T, W> {
     }
 }
 
-/// The specific force at the pivot over g, in pendulum axes, that the joint equations
-/// require (see the module documentation), clamped to a unit horizontal part; `true` if
-/// it had to be.
+/// The horizontal part `(v_x, v_y)` of the specific force at the pivot over g, in
+/// pendulum axes, that the joint equations require (see the module documentation).
 fn pendulum_axes_force<T: Real>(
     p: &CardanParams<T>,
     trig: &JointTrig<T>,
     k: &AxesKinematics<T>,
     w: [T; 3],
     wd: [T; 3],
-) -> ([T; 3], bool) {
+) -> [T; 2] {
     // Encoder convention: phi = -angle (MODEL.md 7.2).
     let (ad, bd) = (-k[0].dphi, -k[1].dphi);
     let (add, bdd) = (-k[0].ddphi, -k[1].ddphi);
     let k0 = p.joint_accelerations_with(trig, ad, bd, w, wd, [T::zero(); 3]);
     let ia = p.b_x * trig.cb * trig.cb + p.b_z * trig.sb * trig.sb;
-    let mut vy = (p.b_ring + ia) * (k0[0] - add) / trig.cb;
-    let mut vx = p.b_y * (bdd - k0[1]);
-    let mut r2 = vx * vx + vy * vy;
+    [
+        p.b_y * (bdd - k0[1]),
+        (p.b_ring + ia) * (k0[0] - add) / trig.cb,
+    ]
+}
+
+/// The world's up direction in body axes from the pendulum's horizontal specific force
+/// `v_xy` (pendulum axes, over g) and the pivot's known acceleration over g, `acc` (body
+/// axes): `u = f / g - acc` with `|u| = 1`, which fixes the one unknown, `v_z` (the
+/// pendulum hangs below its pivot: the positive root). With `d = R^T acc`,
+/// `v_z = d_z + sqrt(1 - |v_xy - d_xy|^2)`; a horizontal part beyond the unit circle
+/// (as Eq 21's asin argument out of [-1, 1]) is clamped to it, and `true` says so.
+fn up_from<T: Real>(v_xy: [T; 2], trig: &JointTrig<T>, acc: [T; 3]) -> ([T; 3], bool) {
+    let JointTrig { sa, ca, sb, cb } = *trig;
+    // R = Rx(a) Ry(b): pendulum -> body; d = R^T acc.
+    let (ry, rz) = (ca * acc[1] + sa * acc[2], -sa * acc[1] + ca * acc[2]);
+    let d = [cb * acc[0] - sb * rz, ry, sb * acc[0] + cb * rz];
+    let (mut hx, mut hy) = (v_xy[0] - d[0], v_xy[1] - d[1]);
+    let mut r2 = hx * hx + hy * hy;
     let clamped = r2 > T::one() || !r2.is_finite();
     if clamped {
-        // Inconsistent with a hanging pendulum (as Eq 21's asin argument out of
-        // [-1, 1]): the horizontal part is clamped to the unit circle.
         let scale = if r2.is_finite() && r2 > T::zero() {
             T::one() / r2.sqrt()
         } else {
             T::zero()
         };
-        vx *= scale;
-        vy *= scale;
+        hx *= scale;
+        hy *= scale;
         r2 = T::one();
     }
-    ([vx, vy, (T::one() - r2).max(T::zero()).sqrt()], clamped)
-}
-
-/// `a x b`.
-fn cross<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
+    // u = R (v - d), with v - d = (hx, hy, sqrt(1 - r2)).
+    let hz = (T::one() - r2).max(T::zero()).sqrt();
+    let (x, z) = (cb * hx + sb * hz, -sb * hx + cb * hz);
+    ([x, ca * hy - sa * z, sa * hy + ca * z], clamped)
 }
 
 impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
@@ -184,25 +222,17 @@ impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
             Ok(x) => x,
             Err(flags) => return self.hold(flags),
         };
-        let p = &self.settings.params;
         let trig = JointTrig::of(-k[0].phi, -k[1].phi);
         let w = [k[0].gyro_filtered, k[1].gyro_filtered, k[2].gyro_filtered];
         let wd = [k[0].theta_dd, k[1].theta_dd, k[2].theta_dd];
-        let (v, clamped) = pendulum_axes_force(p, &trig, &k, w, wd);
+        let a = self.pivot_accel(s, w, wd);
+        let p = &self.settings.params;
+        let v = pendulum_axes_force(p, &trig, &k, w, wd);
+        let (u, clamped) = up_from(v, &trig, a.map(|x| x / p.gravity));
         if clamped {
             flags |= Flags::ASIN_CLAMPED;
         }
-        // f / g = Rx(a) Ry(b) v, less the pivot offset's lever-arm terms
-        // wd x c + w x (w x c) (in units of g, c = r12 / g).
-        let JointTrig { sa, ca, sb, cb } = trig;
-        let (hx, hz) = (cb * v[0] + sb * v[2], -sb * v[0] + cb * v[2]);
-        let mut f = [hx, ca * v[1] - sa * hz, sa * v[1] + ca * hz];
-        if p.c.iter().any(|c| *c != T::zero()) {
-            let t = cross(wd, p.c);
-            let cc = cross(w, cross(w, p.c));
-            f = core::array::from_fn(|i| f[i] - t[i] - cc[i]);
-        }
-        let (roll, pitch) = roll_pitch_from_up(f);
+        let (roll, pitch) = roll_pitch_from_up(u);
         if !(roll.is_finite() && pitch.is_finite()) {
             return self.hold(flags | Flags::SAMPLE_MISSING);
         }
@@ -214,6 +244,7 @@ impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
         for fe in &mut self.axes {
             fe.reset();
         }
+        self.travel.reset();
         self.last = Attitude::unknown();
     }
 }
@@ -265,5 +296,72 @@ mod tests {
 
     fn nan() -> f64 {
         f64::NAN
+    }
+}
+
+#[cfg(test)]
+mod travel_tests {
+    use super::*;
+
+    /// A level body accelerating forward at 1.5 m/s^2 with its pendulum hanging along the
+    /// specific force `(a, 0, g)`: tilted back, as a nose-up pitch of atan(a / g) reads.
+    /// With the speed, inv3d's pitch is the body's, 0; without, the apparent -atan(a / g).
+    #[test]
+    fn a_steady_acceleration_is_taken_out_of_the_tilt() {
+        let p = CardanParams::<f64>::default();
+        let acc = 1.5;
+        let apparent = -(acc / p.gravity).atan();
+        for (speed, expect) in [(true, 0.0), (false, apparent)] {
+            let mut inv = Inv3d::<f64>::new(Inv3dSettings::from_params(p));
+            let mut last = Attitude::unknown();
+            for k in 0..6000 {
+                let t = k as f64 * 1e-3;
+                let s = SpatialSample {
+                    dt: if k == 0 { 0.0 } else { 1e-3 },
+                    phi: [0.0, apparent],
+                    gyro: [0.0; 3],
+                    accel: [f64::NAN; 3],
+                    speed: if speed { 2.0 + acc * t } else { f64::NAN },
+                };
+                last = inv.update(&s);
+            }
+            assert!(last.roll.abs() < 1e-6, "{speed}: roll {}", last.roll);
+            assert!(
+                (last.pitch - expect).abs() < 1e-4,
+                "{speed}: pitch {} vs {expect}",
+                last.pitch
+            );
+        }
+    }
+
+    /// A level body in a steady left turn (10 m/s, 0.2 rad/s about z): the centripetal
+    /// 2 m/s^2 towards +y swings the pendulum outwards, as a roll of atan(v w / g) reads.
+    /// With the speed inv3d's roll is the body's, 0 (within what the pendulum's own
+    /// turning adds, `w^2` against `g / l`); without, the apparent roll.
+    #[test]
+    fn a_steady_turn_is_taken_out_of_the_tilt() {
+        let p = CardanParams::<f64>::default();
+        let (v, w) = (10.0, 0.2);
+        let apparent = (v * w / p.gravity).atan();
+        for (speed, expect) in [(true, 0.0), (false, apparent)] {
+            let mut inv = Inv3d::<f64>::new(Inv3dSettings::from_params(p));
+            let mut last = Attitude::unknown();
+            for k in 0..6000 {
+                let s = SpatialSample {
+                    dt: if k == 0 { 0.0 } else { 1e-3 },
+                    phi: [apparent, 0.0],
+                    gyro: [0.0, 0.0, w],
+                    accel: [f64::NAN; 3],
+                    speed: if speed { v } else { f64::NAN },
+                };
+                last = inv.update(&s);
+            }
+            assert!(
+                (last.roll - expect).abs() < 2e-3,
+                "{speed}: roll {} vs {expect}",
+                last.roll
+            );
+            assert!(last.pitch.abs() < 2e-3, "{speed}: pitch {}", last.pitch);
+        }
     }
 }

@@ -14,6 +14,7 @@
 //! - [`cardan`]: the pendulum's normalised parameters and its equations of motion
 //!   (MODEL.md 7.3), for the model-based filter;
 //! - [`mounting`]: where the sensors sit, and the lever arm between body points;
+//! - [`travel`]: a travelling vehicle's known acceleration from its speed and the gyro;
 //! - [`pendulum`]: `pendulum3d`, the raw encoder angles;
 //! - [`accel`]: `accel3d`, roll and pitch from the accelerometer;
 //! - [`inv`]: `inv3d`, Algorithm 2 in three dimensions (the joint equations solved for
@@ -27,6 +28,7 @@ pub mod inv;
 pub mod mounting;
 pub mod pendulum;
 pub mod sample;
+pub mod travel;
 
 pub use mounting::Mounting;
 pub use sample::{Attitude, SpatialEstimator, SpatialSample};

@@ -18,6 +18,7 @@ use pendtilt_core::spatial::cardan::CardanParams;
 use pendtilt_core::spatial::ekf::{self, Ekf, Ukf};
 use pendtilt_core::spatial::inv::{Inv3d, Inv3dSettings};
 use pendtilt_core::spatial::pendulum::{Pendulum, PendulumSettings};
+use pendtilt_core::spatial::travel::TravelSettings;
 use pendtilt_core::spatial::{Attitude, Mounting, SpatialSample};
 use pendtilt_core::{Estimator, Flags};
 
@@ -76,6 +77,19 @@ impl Settings3d {
         Self {
             ekf,
             accel: AccelSettings::default(),
+        }
+    }
+
+    /// `inv3d`'s settings: the spatial filter's pendulum, mounting and travel settings.
+    pub fn inv3d(&self) -> Inv3dSettings<f64> {
+        let e = &self.ekf;
+        Inv3dSettings {
+            mounting: e.mounting,
+            travel: TravelSettings {
+                speed_rate_hz: e.speed_rate_hz,
+                path_turn_hz: e.path_turn_hz,
+            },
+            ..Inv3dSettings::from_params(e.params)
         }
     }
 
@@ -203,7 +217,7 @@ pub static REGISTRY3D: &[Entry3d] = &[
         about: "Algorithm 2 in three dimensions",
         quaternion: false,
         reads: PHI_GYRO,
-        build: |s| Box::new(Inv3d::<f64>::new(Inv3dSettings::from_params(s.ekf.params))),
+        build: |s| Box::new(Inv3d::<f64>::new(s.inv3d())),
     },
     Entry3d {
         name: "ekf3d",

@@ -23,18 +23,9 @@ use crate::Real;
 /// the lever arm a phase error of `2 pi f` times it (0.19 rad at 0.9 Hz).
 pub const DEFAULT_ANGULAR_ACCEL_HZ: f64 = 10.0;
 
-/// Default of [`Settings::speed_rate_hz`] \[Hz\]. Lower lags the braking, higher lets
-/// the speed's noise through as a longitudinal acceleration (a standing scooter's speed is
-/// noise alone). Measured (ekf3d, seed 1, defaults / tuned density, deg RMS): ride3d
-/// (120 s) 1 Hz 0.66 / 0.33, 2 Hz 0.51 / 0.28, 5 Hz 0.45 / 0.25; scooter3d (40 s) 1 Hz
-/// 0.160 / 0.079, 2 Hz 0.156 / 0.066, 5 Hz 0.157 / 0.107.
-pub const DEFAULT_SPEED_RATE_HZ: f64 = 2.0;
-
-/// Default of [`Settings::path_turn_hz`] \[Hz\]. Measured on ride3d (120 s, seeds 1-3,
-/// ekf3d at its defaults): 0.5 Hz lags the turns (0.91 deg RMS on seed 1), the raw gyro
-/// (no low-pass) takes the wobble for turns (1.14); 2 Hz gave 0.45, 1.14 and 0.76, 3 Hz
-/// 0.48, 1.20 and 0.75.
-pub const DEFAULT_PATH_TURN_HZ: f64 = 2.0;
+/// The defaults of [`Settings::speed_rate_hz`] and [`Settings::path_turn_hz`] (with their
+/// measurements): the travelling vehicle's, [`crate::spatial::travel`].
+pub use crate::spatial::travel::{DEFAULT_PATH_TURN_HZ, DEFAULT_SPEED_RATE_HZ};
 
 /// Settings of the spatial model-based filter.
 #[derive(Debug, Clone, Copy, PartialEq)]
