@@ -455,11 +455,9 @@ fn printed(stdout: &str, name: &str) -> (f64, f64) {
 }
 
 /// A rig file's `[ekf3d]` table reaches the filter: on the whole ride3d (seed 1, 120 s) the
-/// default vibration density (the standing scooter's 0.02) lets the model's misses at
-/// 15 m/s through as a gyro bias and the gate rejects the encoders for runs of 200 samples
-/// (measured 0.513 deg RMS, 5.23 max); a car's `vibration_density = 0.15` gives 0.278 RMS
-/// and 0.65 max (issue 15's 0.3 / 1 deg, here on the inclination, which bounds roll and
-/// pitch alike).
+/// default vibration density (the standing scooter's 0.02) gives 0.285 deg RMS, 0.71 max
+/// (inclination); a car's `vibration_density = 0.15` 0.245 and 0.49 (issue 15's 0.3 / 1 deg,
+/// here on the inclination, which bounds roll and pitch alike).
 #[test]
 fn the_rig_files_ekf3d_table_tunes_the_filter_for_a_car() {
     let dir = tempfile::tempdir().unwrap();

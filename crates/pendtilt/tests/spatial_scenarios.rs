@@ -5,15 +5,16 @@
 //! spatial_scenarios -- --nocapture`).
 //!
 //! Measured (seed 1, 40 s): scooter3d VQF 0.209 deg RMS (tau_acc 0.71 s), Madgwick 0.99,
-//! Mahony 1.30, pendulum3d 0.54; ekf3d 0.156 at its defaults, 0.066 tuned (3.2x better
+//! Mahony 1.30, pendulum3d 0.54; ekf3d 0.069 at its defaults, 0.055 tuned (3.8x better
 //! than VQF). The issue's target (1/5 of the best peer and 0.05 deg) is NOT reached. The
 //! scooter turns about a point O 0.25 m below the IMU; ekf3d carries the lever arm from O
 //! (`[mounting] speed_at`) to the pivot with the gyro's smoothed derivative (without it:
-//! 0.12 tuned); what is left is mostly the 5-200 Hz broadband vibration near the
-//! pendulum's band (0.027 tuned without it, measured before the speed term). ship3d: VQF
-//! 1.80, Madgwick 1.90, Mahony 1.90; ekf3d 0.48 at its defaults, 0.17 tuned (the roll
-//! centre 5 m below and the ship's surge from the speed; 1.08 and 0.46 without the speed,
-//! 1.04 tuned without the lever arm too). still3d: ekf3d 0.0025 deg RMS, ukf3d 0.0027 (target 0.01).
+//! 0.097 tuned). Before the encoders' variance carried the vibration's jitter
+//! (`encoder_jitter`) ekf3d was 0.156 at its defaults and 0.066 tuned. ship3d: VQF 1.80,
+//! Madgwick 1.90, Mahony 1.90; ekf3d 0.43 at its defaults, 0.165 tuned (the roll centre
+//! 5 m below and the ship's surge from the speed). ride3d (120 s): ekf3d 0.285 at its
+//! defaults, 0.71 max, 0.242 tuned; 7.2 without the speed; VQF 4.2 tuned. still3d: ekf3d
+//! 0.0026 deg RMS, ukf3d 0.0028 (target 0.01).
 //!
 //! The Fusion-style peer (`fusion3d`), its gain searched the same way: scooter3d 9.0 deg
 //! (gain 10: its 10 deg acceleration rejection refuses 87 % of the vibrating
@@ -143,7 +144,10 @@ fn scooter3d_ekf3d_against_the_fairly_tuned_peers() {
     let (fus, mah) = (by("fusion3d, no rejection"), by("mahony3d"));
     assert!((fus - mah).abs() < 0.02 * mah, "{fus} {mah}");
     let best = peers.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);
-    assert!(t.1 < best / 2.5 && ekf.0 < best, "{t:?} {ekf:?} vs {best}");
+    assert!(
+        t.1 < best / 3.5 && ekf.0 < best / 2.5,
+        "{t:?} {ekf:?} vs {best}"
+    );
     // The lever arm from the stand is what the scenario's [mounting] buys: with the body
     // taken to turn about P1, ekf3d tuned the same way is worse (0.12 deg).
     let mut blind = s.clone();
@@ -228,15 +232,14 @@ fn ship3d_ekf3d_against_the_fairly_tuned_peers() {
     assert!(ekf.0 <= best && t.1 < best / 3.0, "{t:?} {ekf:?} vs {best}");
 }
 
-/// Issue 15 item 1 (a start): on ride3d (MODEL.md 7.8; braking at 4.2 m/s^2, turns at
-/// 0.28-0.50 rad/s, speed scale 1.01) ekf3d uses the `speed` column for O's acceleration
+/// Issue 15 item 1: on ride3d (MODEL.md 7.8; braking at 4.2 m/s^2, turns at 0.28-0.50
+/// rad/s, speed scale 1.01) ekf3d uses the `speed` column for O's acceleration
 /// (`v' x_b + w_p x v x_b`) and the lever arm from `[mounting] speed_at`. Without the
 /// speed it reads the vehicle's accelerations as tilt, as every peer does.
-/// Measured (seed 1, 120 s): with the speed 0.51 deg RMS (max 5.1) at its defaults, 0.28
-/// tuned; without it 7.9 (max 25) and 2.6 tuned; VQF tuned 4.2. Issue 15's target (0.3 deg
-/// RMS and 1 deg max) is met in RMS once tuned on this seed, not at the defaults, and not
-/// in max (seeds 2 and 3 at 5 Hz for the speed's rate: 1.14 and 0.76 at the defaults, 0.33
-/// and 0.41 tuned).
+/// Measured (seed 1, 120 s, inclination): with the speed 0.285 deg RMS (max 0.71) at its
+/// defaults, 0.242 tuned; without it 7.2 (max 32); VQF tuned 4.2. Issue 15's target (0.3
+/// deg RMS and 1 deg max) is met at the defaults on this seed; on seeds 2 and 3 it is not
+/// (0.432 and 0.451 RMS, max 1.51 and 0.94).
 #[test]
 fn ride3d_ekf3d_with_the_speed() {
     let (s, rows) = run("ride3d", 120.0, 1);
@@ -257,7 +260,10 @@ fn ride3d_ekf3d_with_the_speed() {
          VQF tuned {:.3}",
         with.0, with.1, tuned.1, without.0, without.1, vqf_tuned.1
     );
-    assert!(with.0 < 0.7 && tuned.1 < 0.35, "{with:?} {tuned:?}");
+    assert!(
+        with.0 < 0.3 && with.1 < 1.0 && tuned.1 < 0.3,
+        "{with:?} {tuned:?}"
+    );
     assert!(without.0 > 5.0 * with.0, "{without:?} vs {with:?}");
     assert!(vqf_tuned.1 > 4.0 * tuned.1, "{vqf_tuned:?} vs {tuned:?}");
 }

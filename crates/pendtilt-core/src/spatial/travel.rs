@@ -10,12 +10,15 @@ use crate::filters::diff::{Response, SmoothingDifferentiator};
 use crate::Real;
 use nalgebra::Vector3;
 
-/// Default of [`TravelSettings::speed_rate_hz`] \[Hz\]. Lower lags the braking, higher lets
-/// the speed's noise through as a longitudinal acceleration (a standing scooter's speed is
-/// noise alone). Measured (ekf3d, seed 1, defaults / tuned density, deg RMS): ride3d
-/// (120 s) 1 Hz 0.66 / 0.33, 2 Hz 0.51 / 0.28, 5 Hz 0.45 / 0.25; scooter3d (40 s) 1 Hz
-/// 0.160 / 0.079, 2 Hz 0.156 / 0.066, 5 Hz 0.157 / 0.107.
-pub const DEFAULT_SPEED_RATE_HZ: f64 = 2.0;
+/// Default of [`TravelSettings::speed_rate_hz`] \[Hz\]. Lower lags the braking (the lag
+/// times the jerk is a longitudinal force the model misses; the Bessel filter's delay is
+/// 0.17 s at 2 Hz, 67 ms at 5 Hz), higher lets the speed's noise through as a
+/// longitudinal acceleration (a standing scooter's speed is noise alone). Measured
+/// (ekf3d at its defaults, 120 s, seeds 1/2/3, deg RMS inclination / max roll or pitch
+/// error): ride3d 2 Hz 0.340/0.483/0.514 (max 1.06/1.57/1.54), 3 Hz 0.305/0.453/0.477,
+/// 5 Hz 0.285/0.432/0.451 (max 0.71/1.51/0.94); scooter3d 2 Hz 0.053/0.059/0.057, 5 Hz
+/// 0.055/0.060/0.058.
+pub const DEFAULT_SPEED_RATE_HZ: f64 = 5.0;
 
 /// Default of [`TravelSettings::path_turn_hz`] \[Hz\]. Measured on ride3d (120 s, seeds
 /// 1-3, ekf3d at its defaults): 0.5 Hz lags the turns (0.91 deg RMS on seed 1), the raw
@@ -27,7 +30,7 @@ pub const DEFAULT_PATH_TURN_HZ: f64 = 2.0;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TravelSettings<T> {
     /// Cutoff \[Hz\] of the smoothing differentiator (Bessel, 4th order) that takes O's
-    /// longitudinal acceleration from the `speed` column. Default 2 Hz: see
+    /// longitudinal acceleration from the `speed` column. Default 5 Hz: see
     /// [`DEFAULT_SPEED_RATE_HZ`].
     pub speed_rate_hz: T,
     /// Cutoff \[Hz\] of the one-pole low-pass of the gyro that gives the rate at which the

@@ -18,7 +18,6 @@ use pendtilt_core::spatial::cardan::CardanParams;
 use pendtilt_core::spatial::ekf::{self, Ekf, Ukf};
 use pendtilt_core::spatial::inv::{Inv3d, Inv3dSettings};
 use pendtilt_core::spatial::pendulum::{Pendulum, PendulumSettings};
-use pendtilt_core::spatial::travel::TravelSettings;
 use pendtilt_core::spatial::{Attitude, Mounting, SpatialSample};
 use pendtilt_core::{Estimator, Flags};
 
@@ -80,16 +79,12 @@ impl Settings3d {
         }
     }
 
-    /// `inv3d`'s settings: the spatial filter's pendulum, mounting and travel settings.
+    /// `inv3d`'s settings: the spatial filter's pendulum and mounting, inv3d's own defaults
+    /// otherwise.
     pub fn inv3d(&self) -> Inv3dSettings<f64> {
-        let e = &self.ekf;
         Inv3dSettings {
-            mounting: e.mounting,
-            travel: TravelSettings {
-                speed_rate_hz: e.speed_rate_hz,
-                path_turn_hz: e.path_turn_hz,
-            },
-            ..Inv3dSettings::from_params(e.params)
+            mounting: self.ekf.mounting,
+            ..Inv3dSettings::from_params(self.ekf.params)
         }
     }
 

@@ -60,6 +60,8 @@ pub struct Ekf3dConfig {
     pub speed_rate_hz: Option<f64>,
     /// [`ekf::Settings::path_turn_hz`] \[Hz\].
     pub path_turn_hz: Option<f64>,
+    /// [`ekf::Settings::encoder_jitter`] \[rad\].
+    pub encoder_jitter: Option<f64>,
     /// [`ekf::Settings::use_accel`].
     pub use_accel: Option<bool>,
 }
@@ -77,6 +79,12 @@ impl Ekf3dConfig {
                 return Err(format!("ekf3d.{key}: {v} must be finite and > 0"));
             }
         }
+        if let Some(v) = self
+            .encoder_jitter
+            .filter(|v| !(v.is_finite() && *v >= 0.0))
+        {
+            return Err(format!("ekf3d.encoder_jitter: {v} must be finite and >= 0"));
+        }
         Ok(())
     }
 
@@ -93,6 +101,9 @@ impl Ekf3dConfig {
         }
         if let Some(v) = self.path_turn_hz {
             s.path_turn_hz = v;
+        }
+        if let Some(v) = self.encoder_jitter {
+            s.encoder_jitter = v;
         }
         if let Some(v) = self.use_accel {
             s.use_accel = v;

@@ -79,7 +79,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         Self {
             model: settings.process_model(),
             encoders: Encoders {
-                r: settings.sensors.encoder_variance().max(T::lit(1e-14)),
+                r: settings.encoder_variance().max(T::lit(1e-14)),
             },
             q_step: T::zero(),
             q: Cov::<T, N>::zeros(),

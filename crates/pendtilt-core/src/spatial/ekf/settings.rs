@@ -3,7 +3,8 @@
 //!
 //! The sensors' noise figures ([`SensorNoise`]) and the environment ([`Environment`]) are
 //! the planar filter's types: one definition of each figure. What they become here:
-//! - encoders: `r = q^2 / 12 + sigma^2` per axis ([`SensorNoise::encoder_variance`]);
+//! - encoders: `r = q^2 / 12 + sigma^2 + j^2` per axis ([`SensorNoise::encoder_variance`]
+//!   and the vibration's jitter `j`, [`Settings::encoder_jitter`]);
 //! - gyro: its density diffuses the attitude and the joint angles (it drives the
 //!   process); its bias walks at [`SensorNoise::gyro_bias_walk`];
 //! - the pendulum's rates: an unknown specific force `d` across the pendulum forces its
@@ -27,6 +28,15 @@ pub const DEFAULT_ANGULAR_ACCEL_HZ: f64 = 10.0;
 /// measurements): the travelling vehicle's, [`crate::spatial::travel`].
 pub use crate::spatial::travel::{DEFAULT_PATH_TURN_HZ, DEFAULT_SPEED_RATE_HZ};
 
+/// Default of [`Settings::encoder_jitter`] \[deg\]. Measured (ekf3d, deg RMS inclination,
+/// 120 s, seeds 1/2/3, scenario sensor figures), without -> 0.05 deg:
+/// - scooter3d: 0.109/0.086/0.079 -> 0.054/0.059/0.057;
+/// - ride3d: 0.51/1.21/0.83 (max 5.0/8.8/7.3) -> 0.340/0.483/0.514 (max 1.06/1.57/1.54;
+///   with the speed's derivative at 5 Hz rather than 2, 0.285/0.432/0.451);
+/// - ship3d: 0.305/0.243/0.235 -> 0.307/0.245/0.235; still3d (noise-free, 6 s) 0.003
+///   either way, ukf3d too. 0.03 and 0.1 gave 0.054 and 0.053 on scooter3d seed 1.
+pub const DEFAULT_ENCODER_JITTER_DEG: f64 = 0.05;
+
 /// Settings of the spatial model-based filter.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Settings<T> {
@@ -44,7 +54,7 @@ pub struct Settings<T> {
     /// and the accelerometer. Default 10 Hz: see [`DEFAULT_ANGULAR_ACCEL_HZ`].
     pub angular_accel_hz: T,
     /// Cutoff \[Hz\] of the smoothing differentiator (Bessel, 4th order) that takes O's
-    /// longitudinal acceleration from the `speed` column. Default 2 Hz: see
+    /// longitudinal acceleration from the `speed` column. Default 5 Hz: see
     /// [`DEFAULT_SPEED_RATE_HZ`].
     pub speed_rate_hz: T,
     /// Cutoff \[Hz\] of the one-pole low-pass of the gyro that gives the rate at which the
@@ -53,6 +63,16 @@ pub struct Settings<T> {
     /// 0.5 m/s^2 across) do not turn its velocity. Default 2 Hz: see
     /// [`DEFAULT_PATH_TURN_HZ`].
     pub path_turn_hz: T,
+    /// Standard deviation \[rad\] of the encoders' jitter from the vibration above the
+    /// pendulum's band, added to their own noise ([`SensorNoise::encoder_variance`]):
+    /// the process model forces the pendulum with white noise of the vibration's density
+    /// near its natural frequency, but an engine's tones and the road's broadband above it
+    /// still move it (1.5 m/s^2 at 18 Hz swings the default pendulum by 0.13 deg), and
+    /// two axes vibrating out of phase trace an ellipse that the joint kinematics explain
+    /// only as a turn about z: with the encoders' noise alone ekf3d took ride3d's idling
+    /// engine for a gyro z bias of 5.3 deg/s within 4 s (true 0.2), roll 1 deg off.
+    /// Default 0.05 deg: see [`DEFAULT_ENCODER_JITTER_DEG`].
+    pub encoder_jitter: T,
     /// Use the accelerometer as a further measurement of the up direction. Default false:
     /// it reads the vibration unfiltered (as in the planar filter).
     pub use_accel: bool,
@@ -86,6 +106,7 @@ impl<T: Real> Default for Settings<T> {
             angular_accel_hz: T::lit(DEFAULT_ANGULAR_ACCEL_HZ),
             speed_rate_hz: T::lit(DEFAULT_SPEED_RATE_HZ),
             path_turn_hz: T::lit(DEFAULT_PATH_TURN_HZ),
+            encoder_jitter: T::lit(DEFAULT_ENCODER_JITTER_DEG.to_radians()),
             use_accel: false,
             max_step: T::lit(0.005),
             max_gap: T::lit(0.05),
@@ -109,6 +130,7 @@ impl<T: Real> Settings<T> {
             angular_accel_hz: c(self.angular_accel_hz),
             speed_rate_hz: c(self.speed_rate_hz),
             path_turn_hz: c(self.path_turn_hz),
+            encoder_jitter: c(self.encoder_jitter),
             use_accel: self.use_accel,
             max_step: c(self.max_step),
             max_gap: c(self.max_gap),
@@ -116,6 +138,12 @@ impl<T: Real> Settings<T> {
             innovation_gate: c(self.innovation_gate),
             reacquire_after: self.reacquire_after,
         }
+    }
+
+    /// The variance of one encoder reading \[rad^2\]: the sensor's and the vibration's
+    /// jitter ([`Settings::encoder_jitter`]).
+    pub fn encoder_variance(&self) -> T {
+        self.sensors.encoder_variance() + self.encoder_jitter * self.encoder_jitter
     }
 
     /// The process model these settings describe.
