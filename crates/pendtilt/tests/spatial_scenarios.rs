@@ -237,7 +237,8 @@ fn ship3d_ekf3d_against_the_fairly_tuned_peers() {
 /// (`v' x_b + w_p x v x_b`) and the lever arm from `[mounting] speed_at`. Without the
 /// speed it reads the vehicle's accelerations as tilt, as every peer does.
 /// Measured (seed 1, 120 s, inclination): with the speed 0.285 deg RMS (max 0.71) at its
-/// defaults, 0.242 tuned; without it 7.2 (max 32); VQF tuned 4.2. Issue 15's target (0.3
+/// defaults, 0.242 tuned; without it 7.2 (max 32); VQF tuned 4.2 (max 7.68, so ekf3d is
+/// 10.8x better in max: issue 15 asks 10x against the best tuned peer). Issue 15's target (0.3
 /// deg RMS and 1 deg max) is met at the defaults on this seed; on seeds 2 and 3 it is not
 /// (0.432 and 0.451 RMS, max 1.51 and 0.94).
 #[test]
@@ -255,11 +256,14 @@ fn ride3d_ekf3d_with_the_speed() {
         .collect();
     let without = score(&blind, &mut Ekf::new(settings(&s)), from);
     let vqf_tuned = golden_log(|t| score(&blind, &mut vqf(t), from).0, 0.05, 100.0, 20);
+    // VQF's max error at its RMS-tuned gain (issue 15: the compensated ekf3d 10x better).
+    let vqf_max = score(&blind, &mut vqf(vqf_tuned.0), from).1;
     println!(
         "ride3d ekf3d with the speed {:.3} / {:.3} deg (tuned {:.3}); without {:.3} / {:.3}; \
-         VQF tuned {:.3}",
-        with.0, with.1, tuned.1, without.0, without.1, vqf_tuned.1
+         VQF tuned {:.3} / {:.3}",
+        with.0, with.1, tuned.1, without.0, without.1, vqf_tuned.1, vqf_max
     );
+    assert!(vqf_max > 10.0 * with.1, "{vqf_max} vs {with:?}");
     assert!(
         with.0 < 0.3 && with.1 < 1.0 && tuned.1 < 0.3,
         "{with:?} {tuned:?}"
