@@ -27,6 +27,10 @@ bitflags::bitflags! {
         /// A reading of the row was implausible (beyond its sensor's full scale or
         /// physically impossible) and was read as missing before any estimator saw it.
         const IMPLAUSIBLE = 1 << 7;
+        /// The wheel-speed reading disagreed with the accelerometer (wheel spin or lock):
+        /// it was not used for this sample, the speed was carried by the accelerometer
+        /// (ekf3d, ukf3d; issue 15).
+        const SLIP = 1 << 8;
     }
 }
 
@@ -43,7 +47,7 @@ pub struct FlagNames(Flags);
 
 impl core::fmt::Display for FlagNames {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        const NAMES: [(Flags, &str); 8] = [
+        const NAMES: [(Flags, &str); 9] = [
             (Flags::INITIALISING, "initialising"),
             (Flags::ASIN_CLAMPED, "asin_clamped"),
             (Flags::SAMPLE_MISSING, "sample_missing"),
@@ -52,6 +56,7 @@ impl core::fmt::Display for FlagNames {
             (Flags::MEASUREMENT_SKIPPED, "measurement_skipped"),
             (Flags::ENCODER_WRAPPED, "encoder_wrapped"),
             (Flags::IMPLAUSIBLE, "implausible"),
+            (Flags::SLIP, "slip"),
         ];
         let mut first = true;
         for (flag, name) in NAMES {

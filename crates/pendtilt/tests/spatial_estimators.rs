@@ -302,7 +302,7 @@ fn ekf3d_is_five_times_better_than_the_best_fairly_tuned_peer() {
 }
 
 /// What a firmware carries per estimator in f32 (the 3-D loop of examples/firmware builds
-/// them for a Cortex-M4F: about 34.9 kB of code with all four; .ci/run prints the size).
+/// them for a Cortex-M4F: about 36.9 kB of code with all four; .ci/run prints the size).
 #[test]
 fn state_sizes_in_f32() {
     use std::mem::size_of;
@@ -317,8 +317,9 @@ fn state_sizes_in_f32() {
     }
     // The EKF's 10 x 10 covariance and its cached process noise dominate (2 x 400 bytes);
     // the smoothing differentiators of the gyro (the angular acceleration for the lever
-    // arm) and of the speed (O's acceleration) add about 500.
-    assert!(sizes[3].1 < 1700, "{sizes:?}");
+    // arm) and of the speed (O's acceleration) add about 500, the wheel-slip detector's
+    // (the speed and the accelerometer's longitudinal acceleration) about 360 more.
+    assert!(sizes[3].1 < 2050, "{sizes:?}");
 }
 
 /// Issue 14 item 5: a whole 2-hour log at 1 kHz in f32 against f64 (closed-form readings:

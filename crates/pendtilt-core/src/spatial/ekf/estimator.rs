@@ -3,6 +3,7 @@
 use super::measurement::{Accelerometer, Encoders};
 use super::process::{CardanProcess, Drive};
 use super::settings::Settings;
+use super::slip::{longitudinal_accel, SlipDetector};
 use super::state::{Error, State, A, B, BIAS, N, P, R, ROT};
 use crate::engine::{substeps, Cov, Gate, GaussianFilter, Measurement, ProcessModel, Rejected};
 use crate::filters::diff::{Response, SmoothingDifferentiator};
@@ -67,6 +68,8 @@ pub struct ModelBased<T: Real, F> {
     speed_diff: SmoothingDifferentiator<T, 1>,
     // The accelerometer from O, `accel_at - speed_at` \[m\].
     accel_from_centre: Vector3<T>,
+    // Wheel slip on the speed.
+    slip: SlipDetector<T>,
     rejected: u32,
     last: Attitude<T>,
     // The gyro bias and its variances kept over a gap for the next start.
@@ -94,6 +97,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             speed_diff: SmoothingDifferentiator::new(Response::Bessel, settings.speed_rate_hz),
             path_gyro: None,
             accel_from_centre: settings.mounting.from_centre(settings.mounting.accel_at),
+            slip: SlipDetector::new(settings.slip),
             rejected: 0,
             last: Attitude::unknown(),
             kept_bias: None,
@@ -112,18 +116,44 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         }
     }
 
-    /// O's forward speed and its smoothed rate now; zeros without a speed reading (the
-    /// vehicle is then taken as not accelerating).
-    fn speed(&mut self, s: &SpatialSample<T>, dt: T) -> (T, T) {
+    /// O's forward speed and its smoothed rate now, and [`Flags::SLIP`] when the wheel
+    /// slips (the speed is then the one the slip detector carries, `super::slip`); zeros
+    /// without a speed reading (the vehicle is then taken as not accelerating). `gyro` and
+    /// `wd` are the drive's rate and angular acceleration.
+    fn speed(
+        &mut self,
+        s: &SpatialSample<T>,
+        dt: T,
+        gyro: &Vector3<T>,
+        wd: &Vector3<T>,
+    ) -> (T, T, Flags) {
         if !s.speed.is_finite() {
-            return (T::zero(), T::zero());
+            self.slip.reset();
+            return (T::zero(), T::zero(), Flags::empty());
         }
-        if dt > T::zero() && self.speed_diff.is_started() {
-            self.speed_diff.update(s.speed, dt);
+        let a = match self.filter.as_ref() {
+            Some(f) if s.accel.iter().all(|v| v.is_finite()) => longitudinal_accel(
+                &Vector3::new(s.accel[0], s.accel[1], s.accel[2]),
+                &f.state().up(),
+                self.settings.params.gravity,
+                &(gyro - f.state().bias),
+                wd,
+                &self.accel_from_centre,
+            ),
+            _ => T::nan(),
+        };
+        let v = self.slip.update(s.speed, a, dt);
+        // A slip's start or end switches the speed's source: not an acceleration.
+        self.speed_diff.shift_signal(0, v.jump);
+        if let Some(rate) = v.restart.filter(|_| self.speed_diff.is_started()) {
+            self.speed_diff.restart_signal_on_ramp(0, v.speed, rate);
+        } else if dt > T::zero() && self.speed_diff.is_started() {
+            self.speed_diff.update(v.speed, dt);
         } else {
-            self.speed_diff.start(s.speed);
+            self.speed_diff.start(v.speed);
         }
-        (s.speed, self.speed_diff.output().d1)
+        let flag = if v.slip { Flags::SLIP } else { Flags::empty() };
+        (v.speed, self.speed_diff.output().d1, flag)
     }
 
     /// The body's angular acceleration now: the gyro's smoothed derivative, zero while the
@@ -143,6 +173,11 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// The filter's state (attitude, gyro bias, joints), once started.
     pub fn state(&self) -> Option<&State<T>> {
         self.filter.as_ref().map(|f| f.state())
+    }
+
+    /// The wheel-slip detector (whether it slips, the speed it carries).
+    pub fn slip_detector(&self) -> &SlipDetector<T> {
+        &self.slip
     }
 
     /// The error covariance, once started.
@@ -375,10 +410,12 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             self.held_for += dt;
             v * v * (self.held_for * self.held_for - t0 * t0)
         };
-        let (speed, speed_rate) = self.speed(s, dt);
+        let angular_accel = self.angular_accel(gyro_ok);
+        let (speed, speed_rate, slip) = self.speed(s, dt, &gyro, &angular_accel);
+        flags |= slip;
         let drive = Drive {
             gyro,
-            angular_accel: self.angular_accel(gyro_ok),
+            angular_accel,
             path_gyro: self.path_gyro.unwrap_or(gyro),
             speed,
             speed_rate,
@@ -425,6 +462,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         self.held_for = T::zero();
         self.gyro_diff.reset();
         self.speed_diff.reset();
+        self.slip.reset();
         self.path_gyro = None;
         self.rejected = 0;
         self.last = Attitude::unknown();

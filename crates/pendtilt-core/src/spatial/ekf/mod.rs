@@ -9,12 +9,14 @@
 //! - [`process`]: the gyro and the pendulum's equations of motion as a process model of
 //!   the engine;
 //! - [`measurement`]: the encoders and the accelerometer as measurement models;
+//! - [`slip`]: wheel-slip detection on the speed (the speed against the accelerometer);
 //! - [`settings`]: settings and how the noise follows from the sensors;
 //! - [`estimator`]: the streaming estimator around the engine's EKF or UKF.
 pub mod estimator;
 pub mod measurement;
 pub mod process;
 pub mod settings;
+pub mod slip;
 pub mod state;
 
 pub use estimator::ModelBased;

@@ -37,6 +37,125 @@ pub use crate::spatial::travel::{DEFAULT_PATH_TURN_HZ, DEFAULT_SPEED_RATE_HZ};
 ///   either way, ukf3d too. 0.03 and 0.1 gave 0.054 and 0.053 on scooter3d seed 1.
 pub const DEFAULT_ENCODER_JITTER_DEG: f64 = 0.05;
 
+/// Defaults of [`SlipSettings`] (issue 15, wheel slip; module `super::slip`). Measured
+/// with ekf3d at its other defaults (`cargo test --release -p pendtilt --test ride3d_slip
+/// -- --nocapture`; the sweep on 2026-12-02: ride3d seeds 1-3, scooter3d and ship3d
+/// 120 s, ride3d_slip seeds 1-3).
+pub mod slip_defaults {
+    /// [`super::SlipSettings::hz`] \[Hz\]: the cutoff of the detector's Bessel filter
+    /// (the speed's derivative and the accelerometer's longitudinal acceleration alike).
+    /// Its delay (`2.11 / w_c`, 67 ms at 5 Hz) is most of the detection's; higher lets
+    /// more of the engine's and the road's vibration through. Measured: at 5 Hz (gate 2)
+    /// no false slip on the five plain 120 s logs, the lock on ride3d_slip flagged 26-33
+    /// ms after it starts and the spin 56-65 ms after; at 10 Hz 215 falsely flagged
+    /// samples on ride3d seed 2 (gate 2) and ekf3d's largest error during the lock (seed
+    /// 1) 1.34 deg against 1.21.
+    pub const HZ: f64 = 5.0;
+    /// [`super::SlipSettings::gate`] \[m/s^2\]: the accelerations through the same filter
+    /// disagree by at most 0.97 m/s^2 on plain ride3d (seed 1, 120 s) (engine and road vibration, the
+    /// attitude's error, the lever arm from the smoothed gyro), while a wheel locking or
+    /// spinning changes the reading at 10-100 m/s^2. Measured at 5 Hz: no false slip at
+    /// 1.5, 2 or 3 on the plain logs; detection 3-5 ms later at 3 than at 1.5.
+    pub const GATE: f64 = 2.0;
+    /// [`super::SlipSettings::impossible`] \[m/s^2\]: 1.5 g. A car brakes at up to 1 g
+    /// (1.2 g on racing tyres), pulls away at well under; a wheel that locks or spins
+    /// changes its reading at tens of m/s^2.
+    pub const IMPOSSIBLE: f64 = 1.5 * 9.80665;
+    /// [`super::SlipSettings::speed_tolerance`] \[m/s\]: a few times the reading's noise
+    /// after the filter (0.05 m/s white in the noisy grade) plus the carried speed's lead
+    /// before the slip (0.13 m/s braking at 4 m/s^2 on ride3d_slip seed 1).
+    pub const SPEED_TOLERANCE: f64 = 0.3;
+    /// [`super::SlipSettings::drift`] \[m/s^2\]: what the carried speed may drift per
+    /// second of slip. Measured: 0.46 m/s over the 1.3 s lock on ride3d_slip seed 1
+    /// (ekf3d's attitude error while braking, ~1 deg, is 0.17 m/s^2).
+    pub const DRIFT: f64 = 0.5;
+    /// [`super::SlipSettings::hold`] \[s\]: a reading that comes back must stay for this
+    /// long (the filter's delay and a margin). Measured: the spin (83.5-85.7 s) is flagged
+    /// to 85.97 s, the lock (61.8-62.95 s) to 63.25 s, seed 1.
+    pub const HOLD: f64 = 0.2;
+    /// [`super::SlipSettings::timeout`] \[s\]: the carried speed's drift (at DRIFT) reaches
+    /// 2.5 m/s by then; a longer slip is better taken as a wrong but smooth reading. Not
+    /// reached on ride3d_slip.
+    pub const TIMEOUT: f64 = 5.0;
+    /// [`super::SlipSettings::follow_hz`] \[Hz\]: low enough that the detection's delay
+    /// (30-65 ms) lets little of the wheel's departure into the carried speed (at 0.3 Hz
+    /// about 6 % of it per 50 ms), high enough that the accelerometer's error (0.25 m/s^2
+    /// while braking) leaves it within the tolerance (0.13 m/s). Not tuned.
+    pub const FOLLOW_HZ: f64 = 0.3;
+}
+
+/// Wheel-slip detection on the `speed` column (module `super::slip`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlipSettings<T> {
+    /// Detect slip and drop the speed while it lasts. Default true.
+    pub enabled: bool,
+    /// Cutoff \[Hz\] of the Bessel filter through which the speed (differentiated) and the
+    /// accelerometer's longitudinal acceleration (low-passed) are compared. Default: see
+    /// [`slip_defaults::HZ`].
+    pub hz: T,
+    /// Slip when the two longitudinal accelerations differ by more than this \[m/s^2\].
+    /// Default: see [`slip_defaults::GATE`].
+    pub gate: T,
+    /// Slip when the speed's derivative alone is beyond this \[m/s^2\]. Default 1.5 g:
+    /// see [`slip_defaults::IMPOSSIBLE`].
+    pub impossible: T,
+    /// The slip ends once the reading is this close to the carried speed \[m/s\] (plus
+    /// [`Self::drift`] times the slip's length; and the
+    /// accelerations agree within half the gate) for [`Self::hold`]. Default: see
+    /// [`slip_defaults::SPEED_TOLERANCE`].
+    pub speed_tolerance: T,
+    /// How the speed tolerance grows with the slip's length \[m/s^2\]: the carried speed
+    /// integrates the accelerometer's bias and the attitude's error (`g` times it).
+    /// Default: see [`slip_defaults::DRIFT`].
+    pub drift: T,
+    /// How long the reading must agree before the slip ends \[s\]. Default: see
+    /// [`slip_defaults::HOLD`].
+    pub hold: T,
+    /// The longest slip \[s\]: after it the reading is trusted again (the carried speed
+    /// drifts with the accelerometer's bias and the attitude's error). Default: see
+    /// [`slip_defaults::TIMEOUT`].
+    pub timeout: T,
+    /// Crossover \[Hz\] of the complementary filter that carries the speed between slips
+    /// (the reading below it, the accelerometer above). Default: see
+    /// [`slip_defaults::FOLLOW_HZ`].
+    pub follow_hz: T,
+}
+
+impl<T: Real> Default for SlipSettings<T> {
+    fn default() -> Self {
+        use slip_defaults as d;
+        Self {
+            enabled: true,
+            hz: T::lit(d::HZ),
+            gate: T::lit(d::GATE),
+            impossible: T::lit(d::IMPOSSIBLE),
+            speed_tolerance: T::lit(d::SPEED_TOLERANCE),
+            drift: T::lit(d::DRIFT),
+            hold: T::lit(d::HOLD),
+            timeout: T::lit(d::TIMEOUT),
+            follow_hz: T::lit(d::FOLLOW_HZ),
+        }
+    }
+}
+
+impl<T: Real> SlipSettings<T> {
+    /// The same settings in another scalar type.
+    pub fn cast<U: Real>(&self) -> SlipSettings<U> {
+        let c = |x: T| U::lit(x.to_f64());
+        SlipSettings {
+            enabled: self.enabled,
+            hz: c(self.hz),
+            gate: c(self.gate),
+            impossible: c(self.impossible),
+            speed_tolerance: c(self.speed_tolerance),
+            drift: c(self.drift),
+            hold: c(self.hold),
+            timeout: c(self.timeout),
+            follow_hz: c(self.follow_hz),
+        }
+    }
+}
+
 /// Settings of the spatial model-based filter.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Settings<T> {
@@ -73,6 +192,9 @@ pub struct Settings<T> {
     /// engine for a gyro z bias of 5.3 deg/s within 4 s (true 0.2), roll 1 deg off.
     /// Default 0.05 deg: see [`DEFAULT_ENCODER_JITTER_DEG`].
     pub encoder_jitter: T,
+    /// Wheel-slip detection on the `speed` column (it uses the accelerometer whether or
+    /// not [`Self::use_accel`] is set). Default on: see [`SlipSettings`].
+    pub slip: SlipSettings<T>,
     /// Use the accelerometer as a further measurement of the up direction. Default false:
     /// it reads the vibration unfiltered (as in the planar filter).
     pub use_accel: bool,
@@ -107,6 +229,7 @@ impl<T: Real> Default for Settings<T> {
             speed_rate_hz: T::lit(DEFAULT_SPEED_RATE_HZ),
             path_turn_hz: T::lit(DEFAULT_PATH_TURN_HZ),
             encoder_jitter: T::lit(DEFAULT_ENCODER_JITTER_DEG.to_radians()),
+            slip: SlipSettings::default(),
             use_accel: false,
             max_step: T::lit(0.005),
             max_gap: T::lit(0.05),
@@ -131,6 +254,7 @@ impl<T: Real> Settings<T> {
             speed_rate_hz: c(self.speed_rate_hz),
             path_turn_hz: c(self.path_turn_hz),
             encoder_jitter: c(self.encoder_jitter),
+            slip: self.slip.cast(),
             use_accel: self.use_accel,
             max_step: c(self.max_step),
             max_gap: c(self.max_gap),
