@@ -4,16 +4,14 @@
 //! stretches needed (87 s for the slips); `estimate --flags` writes `slip`. Run with `-- --nocapture` for the figures
 //! (`cargo test --release -p pendtilt --test ride3d_slip -- --nocapture`).
 //!
-//! Measured (seed 1): the lock flagged 29 ms after it starts, the spin 64 ms after (issue
-//! target 100 ms); no sample flagged outside the slips, none on plain ride3d (120 s), where
-//! the two accelerations disagree by at most 1.0 m/s^2 (gate 2). ekf3d's largest
-//! inclination error during the lock is 1.21 deg with the detector and 77 deg without (the
-//! filter loses the pendulum); plain ride3d, no slip, is already 1.155 deg there (ekf3d's
-//! error while braking at 4 m/s^2), so the issue's 1 deg is NOT reached during the lock.
-//! During the spin: 0.39 deg with the detector, 68 without, 0.39 on plain ride3d.
-//! ride3d_yawbias (120 s): ekf3d 0.503 deg RMS, 5.24 max (plain ride3d 0.51 and 5.2: the
-//! path's turn rate is the low-passed gyro with the filter's bias removed, and the filter
-//! estimates the z bias).
+//! Measured (seed 1, ekf3d at its defaults: speed's derivative at 5 Hz, encoder jitter
+//! 0.05 deg): the lock flagged 30 ms after it starts, the spin 64 ms after (issue target
+//! 100 ms); no sample flagged outside the slips, none on plain ride3d (120 s), where the
+//! two accelerations disagree by at most 0.96 m/s^2 (gate 2). ekf3d's largest inclination
+//! error during the lock is 0.60 deg with the detector and 49 deg without (the filter
+//! loses the pendulum), 0.57 on plain ride3d there; during the spin 0.35 deg with the
+//! detector, 78 without, 0.32 on plain ride3d. The issue's 1 deg holds. ride3d_yawbias
+//! (120 s): ekf3d 0.284 deg RMS, 0.70 max (inclination).
 use pendtilt::bank3d::score::Inclination;
 use pendtilt::bank3d::Settings3d;
 use pendtilt::core::spatial::attitude::inclination_error;
@@ -132,9 +130,8 @@ fn slip_is_flagged_within_100_ms_and_the_speed_dropped() {
         );
         assert!(first >= iv[0] && first <= iv[0] + 0.1, "{name}: {first}");
         assert!(last >= iv[1] - 0.2, "{name} ended early: {last}");
-        // The issue's 1 deg holds where plain ride3d is below it; during the lock ekf3d's
-        // braking error alone is 1.155 deg (module documentation).
-        assert!(with <= 1.0f64.max(none + 0.15), "{name}: {with} vs {none}");
+        // Issue 15: no error above 1 deg during the slip.
+        assert!(with <= 1.0, "{name}: {with} (plain ride3d {none})");
         assert!(without > 10.0, "{name}: {without}");
     }
     let stray = on
@@ -167,8 +164,8 @@ fn plain_ride3d_is_never_slip() {
 }
 
 /// ride3d_yawbias (0.7 deg/s of z bias in all): ekf3d's roll/pitch error, measured and
-/// bounded generously (the issue asks 0.3 deg RMS and 1 deg max: not reached, as on plain
-/// ride3d).
+/// bounded generously (the issue asks 0.3 deg RMS and 1 deg max of roll and pitch; the
+/// inclination error measured is 0.284 and 0.70).
 #[test]
 fn ride3d_yawbias_ekf3d_error() {
     let (s, rows) = run("ride3d_yawbias", 120.0);
@@ -182,7 +179,7 @@ fn ride3d_yawbias_ekf3d_error() {
     }
     let (rms, max) = (inc.rms().to_degrees(), inc.max().to_degrees());
     println!("ride3d_yawbias: ekf3d {rms:.3} deg RMS, {max:.3} max");
-    assert!(rms < 0.8 && max < 8.0, "{rms} {max}");
+    assert!(rms < 0.4 && max < 1.5, "{rms} {max}");
 }
 
 /// `estimate --flags` writes `slip` in ekf3d's flags column on the slipping rows: a 10 s
