@@ -86,7 +86,14 @@ fn outputs_equal_the_recorded_digests() {
     let rep = dir.path().join("reproduce");
     let o = pendtilt(&["reproduce", "--out", s(&rep)]);
     assert!(o.status.success(), "reproduce: {}", stderr(&o));
-    for part in ["scooter", "sigmoid", "still3d", "scooter3d", "ship3d"] {
+    for part in [
+        "scooter",
+        "sigmoid",
+        "still3d",
+        "scooter3d",
+        "ship3d",
+        "ride3d",
+    ] {
         now.insert(
             format!("reproduce/{part}/report.json"),
             digest(&rep.join(part).join("report.json")),

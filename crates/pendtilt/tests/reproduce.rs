@@ -186,21 +186,34 @@ fn reproduce_end_to_end_on_a_short_ride() {
 /// and scooter3d's numbers equal to `simulate` + `estimate` on the same scenario and seed.
 fn spatial_part(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome, top: &str, md: &str) {
     let registry: Vec<&str> = REGISTRY3D.iter().map(|e| e.name).collect();
-    let scenarios = ["still3d", "scooter3d", "ship3d"];
+    // (name, a moving vehicle: a ride section and its figure first)
+    let scenarios = [
+        ("still3d", false),
+        ("scooter3d", false),
+        ("ship3d", true),
+        ("ride3d", true),
+    ];
     assert_eq!(out.spatial.len(), scenarios.len());
     assert!(top.contains("3-D: inclination error") && md.contains("## 3-D: inclination error"));
-    for (o, name) in out.spatial.iter().zip(scenarios) {
+    for (o, (name, ride)) in out.spatial.iter().zip(scenarios) {
         let names: Vec<&str> = o.data.inclination.iter().map(|r| r.name.as_str()).collect();
         assert_eq!(names, registry, "{name}");
-        assert_eq!(o.figures.len(), 3, "{name}");
-        for f in &o.figures {
+        assert_eq!(o.data.ride.is_some(), ride, "{name}");
+        let n_fig = 3 + usize::from(ride);
+        assert_eq!(o.figures.len(), n_fig, "{name}");
+        for (k, f) in o.figures.iter().enumerate() {
             assert!(std::fs::metadata(&f.svg).unwrap().len() > 10_000);
             assert_eq!(png_size(&f.png), (f.width, f.height), "{}", f.png.display());
-            assert_eq!(f.axes.len(), registry.len(), "one panel per estimator");
+            if ride && k == 0 {
+                // roll, pitch, inclination error and the accelerations
+                assert_eq!(f.axes.len(), 4, "{name} ride figure");
+            } else {
+                assert_eq!(f.axes.len(), registry.len(), "one panel per estimator");
+            }
         }
         let json: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(&o.json).unwrap()).unwrap();
-        assert_eq!(json["figures"].as_array().unwrap().len(), 3);
+        assert_eq!(json["figures"].as_array().unwrap().len(), n_fig);
         assert!(
             top.contains(&format!("href=\"{name}/index.html\"")),
             "{name}"

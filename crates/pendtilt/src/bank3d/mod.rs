@@ -31,6 +31,7 @@ use crate::sim3d::Sensors3d;
 use gaps::{GapWatch, Restart3d};
 
 pub mod gaps;
+pub mod ride;
 pub mod rig;
 pub mod score;
 

@@ -275,6 +275,8 @@ pub(crate) struct Row<'a> {
     pub quats: &'a [Option<[f64; 4]>],
     /// True roll and pitch \[rad\] (NaN when absent).
     pub truth: (f64, f64),
+    /// The sample the estimators got (a ride report reads the speed and gyro from it).
+    pub sample: &'a SpatialSample<f64>,
 }
 
 /// Warnings printed in full; the rest are counted.
@@ -424,6 +426,7 @@ pub(crate) fn pass(
             est,
             quats: &quats,
             truth: (roll, pitch),
+            sample: &s,
         })?;
         rows += 1;
     }

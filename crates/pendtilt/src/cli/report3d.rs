@@ -2,25 +2,31 @@
 //! the same pass over the log as `pendtilt estimate` (`estimate3d::pass`, so the
 //! same rig, sensor figures, scoring start and row handling), kept in memory and drawn by
 //! [`crate::report::spatial::SpatialReport`]: roll, pitch and inclination error figures, the
-//! RMS / max / mean table, `report.md`, `report.json`, `index.html`.
+//! RMS / max / mean table, `report.md`, `report.json`, `index.html`. On a log with a
+//! `speed` column it is a ride report too ([`crate::report::spatial::ride`]): `ekf3d` is
+//! run once more without the speed ([`crate::bank3d::ride::WithoutSpeed`]) and set beside
+//! itself per phase of the ride.
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
 use super::estimate3d::{pass, setup, Options3d, Row, Sink3d};
 use super::report::Args;
+use crate::bank3d::ride::WithoutSpeed;
 use crate::io::output::{self, OutputDir};
 use crate::report::markdown::text_table_markdown;
 use crate::report::spatial::page::inclination_table;
 use crate::report::spatial::{RollPitch, SpatialReport};
 
-/// The rows of a pass, in memory.
-#[derive(Default)]
+/// The rows of a pass, in memory, and the ride's extra run.
 struct Memory {
     t: Vec<f64>,
     truth: (Vec<f64>, Vec<f64>),
     est: Vec<RollPitch>,
     file: String,
+    speed: Vec<f64>,
+    gyro_z: Vec<f64>,
+    without_speed: WithoutSpeed,
 }
 
 impl Sink3d for Memory {
@@ -55,6 +61,9 @@ impl Sink3d for Memory {
             s.roll.push(a.roll);
             s.pitch.push(a.pitch);
         }
+        self.speed.push(r.sample.speed);
+        self.gyro_z.push(r.sample.gyro[2]);
+        self.without_speed.update(r.sample);
         Ok(())
     }
 }
@@ -91,8 +100,13 @@ fn report(args: &Args, opts: &Options3d, dir: &Path) -> anyhow::Result<PathBuf> 
     let setup = setup(opts)?;
     let file = args.log.display().to_string();
     let mut mem = Memory {
+        t: Vec::new(),
+        truth: (Vec::new(), Vec::new()),
+        est: Vec::new(),
         file: file.clone(),
-        ..Memory::default()
+        speed: Vec::new(),
+        gyro_z: Vec::new(),
+        without_speed: WithoutSpeed::new(&setup.settings),
     };
     let result = pass(opts, &setup, false, &mut mem)?;
     if !args.quiet {
@@ -130,8 +144,17 @@ fn report(args: &Args, opts: &Options3d, dir: &Path) -> anyhow::Result<PathBuf> 
     for w in &result.warnings {
         report = report.note(&format!("warning: {w}"));
     }
+    let compared = mem
+        .est
+        .iter()
+        .any(|e| e.name == crate::bank3d::ride::COMPENSATED);
     for s in mem.est {
         report = report.estimate(s)?;
+    }
+    if let Some(ride) = mem.without_speed.ride(mem.speed, mem.gyro_z) {
+        if compared {
+            report = report.ride(ride)?;
+        }
     }
     let out = report
         .write(dir)

@@ -15,7 +15,7 @@ use crate::report::claims::Claim;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Directory to write into (created): index.html, report.md, claims.json, scooter/,
-    /// sigmoid/, and the 3-D scenarios still3d/, scooter3d/, ship3d/.
+    /// sigmoid/, and the 3-D scenarios still3d/, scooter3d/, ship3d/, ride3d/.
     #[arg(long, short = 'o', visible_alias = "out")]
     pub output: PathBuf,
     /// Length of the scooter test ride \[s\].

@@ -12,6 +12,7 @@ use pendtilt_core::StepGate;
 
 use super::progress::{Progress, CHUNK};
 use super::Timings;
+use crate::bank3d::ride::WithoutSpeed;
 use crate::bank3d::{Bank3d, Settings3d};
 use crate::report::claims::fmt_sig;
 use crate::report::html::TextTable;
@@ -31,12 +32,14 @@ pub struct SpatialRide {
 }
 
 /// The default 3-D part: `still3d` whole (6 s), the first 60 s of `scooter3d` and of
-/// `ship3d` (120 s each; halved to keep `reproduce` quick), all with `seed`.
+/// `ship3d` (120 s each; halved to keep `reproduce` quick), and `ride3d` whole (120 s: its
+/// braking and turns run to 111 s), all with `seed`.
 pub fn default_rides(seed: u64) -> Vec<SpatialRide> {
     [
         ("still3d", None),
         ("scooter3d", Some(60.0)),
         ("ship3d", Some(60.0)),
+        ("ride3d", None),
     ]
     .into_iter()
     .map(|(name, duration)| SpatialRide {
@@ -120,23 +123,32 @@ pub fn estimate3d(rec: &Record3d, settings: &Settings3d) -> anyhow::Result<Vec<R
 
 /// One 3-D scenario simulated, estimated and reported into `out/<name>`.
 pub fn ride3d_report(
-    ride: &SpatialRide,
+    spec: &SpatialRide,
     out: &Path,
     progress: &dyn Progress,
     timings: &mut Timings,
 ) -> anyhow::Result<SpatialOutput> {
     let started = Instant::now();
-    let mut scenario = Scenario3d::named(&ride.name, ride.seed)?;
+    let mut scenario = Scenario3d::named(&spec.name, spec.seed)?;
     let whole = scenario.duration;
-    if let Some(d) = ride.duration {
+    if let Some(d) = spec.duration {
         scenario.duration = d.min(whole);
     }
-    let label = format!("{} (seed {})", ride.name, ride.seed);
-    let rec = simulate3d(&label, &scenario, ride.seed, progress)?;
+    let label = format!("{} (seed {})", spec.name, spec.seed);
+    let rec = simulate3d(&label, &scenario, spec.seed, progress)?;
     timings.simulate += started.elapsed();
     let started = Instant::now();
     progress.stage(&format!("3-D estimators on {label}"), 0);
-    let series = estimate3d(&rec, &Settings3d::of_scenario(&scenario))?;
+    let settings = Settings3d::of_scenario(&scenario);
+    let series = estimate3d(&rec, &settings)?;
+    let mut without = WithoutSpeed::new(&settings);
+    for s in &rec.samples {
+        without.update(s);
+    }
+    let ride = without.ride(
+        rec.samples.iter().map(|s| s.speed).collect(),
+        rec.samples.iter().map(|s| s.gyro[2]).collect(),
+    );
     timings.estimate += started.elapsed();
     let started = Instant::now();
     progress.stage(&format!("metrics and figures of {label}"), 0);
@@ -150,7 +162,7 @@ pub fn ride3d_report(
         format!("{} s", secs(whole))
     };
     let mut report = SpatialReport::new(
-        &format!("{} (3-D, seed {})", ride.name, ride.seed),
+        &format!("{} (3-D, seed {})", spec.name, spec.seed),
         rec.t,
         rec.truth.roll,
         rec.truth.pitch,
@@ -160,15 +172,18 @@ pub fn ride3d_report(
         "`Scenario3d::named(\"{}\", {})` of MODEL.md 7.8, {length}, simulated in memory; \
          every 3-D estimator with the scenario's rig and sensor noise figures (as `pendtilt \
          estimate --scenario` takes them); the peers at their default gains, not tuned.",
-        ride.name, ride.seed
+        spec.name, spec.seed
     ));
     for s in series {
         report = report.estimate(s)?;
     }
-    let dir = out.join(&ride.name);
+    if let Some(r) = ride {
+        report = report.ride(r)?;
+    }
+    let dir = out.join(&spec.name);
     let written = report
         .write(&dir)
-        .with_context(|| format!("writing the {} report into {}", ride.name, dir.display()))?;
+        .with_context(|| format!("writing the {} report into {}", spec.name, dir.display()))?;
     timings.report += started.elapsed();
     Ok(written)
 }

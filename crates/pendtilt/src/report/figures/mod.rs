@@ -108,7 +108,30 @@ pub enum LegendPosition {
     LowerLeft,
     /// Bottom right.
     LowerRight,
+    /// Outside the plot area, in a column on its right (with the shades' labels and the
+    /// note on points beyond the axis under it): covers no data.
+    Outside,
 }
+
+/// A stretch of the abscissa shaded behind the curves (a phase of a ride, the unscored
+/// start-up), listed in the legend by its label.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shade {
+    /// Start, in abscissa units.
+    pub from: f64,
+    /// End.
+    pub to: f64,
+    /// Its fill (drawn with [`SHADE_ALPHA`]).
+    pub colour: RGBColor,
+    /// Legend label (shades with the same label share one entry).
+    pub label: String,
+}
+
+/// Opacity of a [`Shade`]: light enough that the grid and the curves read through it.
+pub const SHADE_ALPHA: f64 = 0.22;
+
+/// Width of the [`LegendPosition::Outside`] column \[px\].
+const OUTSIDE_W: u32 = 210;
 
 /// Title, axis labels and size of a figure.
 #[derive(Debug, Clone, PartialEq)]
@@ -131,6 +154,8 @@ pub struct FigureSpec {
     pub robust: Option<RobustRange>,
     /// Legend corner.
     pub legend: LegendPosition,
+    /// Stretches shaded behind the curves, in drawing order.
+    pub shades: Vec<Shade>,
 }
 
 /// One drawn set of axes of a figure: its ordinate range and what lies beyond it.
@@ -156,6 +181,7 @@ impl FigureSpec {
             y_range: None,
             robust: Some(RobustRange::default()),
             legend: LegendPosition::UpperLeft,
+            shades: Vec::new(),
         }
     }
 }
@@ -251,12 +277,20 @@ fn build_axis(
     })
 }
 
+/// One entry of a legend drawn outside the plot area.
+enum Entry {
+    /// A curve: its label, colour, and whether it is drawn as points.
+    Curve(String, RGBColor, bool),
+    /// A shade's label and colour.
+    Shade(String, RGBColor),
+}
+
 /// Draws one set of axes on `area`. Lines are cut at the frame ([`clip_runs`]) and drawn as
 /// `width` one-pixel polylines stacked a pixel apart: a thick polyline's mitred corners
 /// on a spiky signal would reach far outside the plot (through the title and the axis).
-// Long because it is one linear drawing routine on one chart: mesh, curves, excursion
-// marks, the note, the legend, in drawing order; split, each piece would need the chart's
-// full plotters type and the same ranges and pixel sizes handed back and forth.
+// Long because it is one linear drawing routine on one chart: mesh, shades, curves,
+// excursion marks, the note, the legend, in drawing order; split, each piece would need
+// the chart's full plotters type and the same ranges and pixel sizes handed back and forth.
 fn draw_axis<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     axis: &Axis,
@@ -265,9 +299,11 @@ fn draw_axis<DB: DrawingBackend>(
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("{e:?}");
     let spec = &axis.spec;
     let (xr, yr) = axis.ranges;
+    let outside = spec.legend == LegendPosition::Outside;
     let mut chart = ChartBuilder::on(area)
         .caption(&spec.title, (FAMILY, caption_px).into_font())
         .margin(18)
+        .margin_right(if outside { 18 + OUTSIDE_W } else { 18 })
         .x_label_area_size(60)
         .y_label_area_size(80)
         .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
@@ -282,9 +318,23 @@ fn draw_axis<DB: DrawingBackend>(
         .bold_line_style(RGBColor(210, 210, 210))
         .draw()
         .map_err(e)?;
+    chart
+        .draw_series(
+            spec.shades
+                .iter()
+                .filter(|s| s.to > xr.0 && s.from < xr.1)
+                .map(|s| {
+                    Rectangle::new(
+                        [(s.from.max(xr.0), yr.0), (s.to.min(xr.1), yr.1)],
+                        s.colour.mix(SHADE_ALPHA).filled(),
+                    )
+                }),
+        )
+        .map_err(e)?;
     let (w_px, h_px) = chart.plotting_area().dim_in_pixel();
     let dx = (xr.1 - xr.0) / f64::from(w_px.max(1));
     let dy = (yr.1 - yr.0) / f64::from(h_px.max(1));
+    let mut entries = Vec::new();
     for p in &axis.prepared {
         let colour = p.colour;
         let mut labelled = false;
@@ -307,6 +357,7 @@ fn draw_axis<DB: DrawingBackend>(
                                 PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
                             });
                             labelled = true;
+                            entries.push(Entry::Curve(p.name.clone(), colour, false));
                         }
                     }
                 }
@@ -332,6 +383,7 @@ fn draw_axis<DB: DrawingBackend>(
                 ann.label(p.name.as_str())
                     .legend(move |(x, y)| Circle::new((x + 12, y), 4, colour.filled()));
                 labelled = true;
+                entries.push(Entry::Curve(p.name.clone(), colour, true));
             }
         }
         if !labelled {
@@ -342,10 +394,12 @@ fn draw_axis<DB: DrawingBackend>(
             } else {
                 "beyond the axis"
             };
+            let label = format!("{} ({why})", p.name);
+            entries.push(Entry::Curve(label.clone(), colour, true));
             chart
                 .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
                 .map_err(e)?
-                .label(format!("{} ({why})", p.name))
+                .label(label)
                 .legend(move |(x, y)| Circle::new((x + 12, y), 4, colour.stroke_width(1)));
         }
     }
@@ -365,8 +419,24 @@ fn draw_axis<DB: DrawingBackend>(
             )
         }))
         .map_err(e)?;
-    if let Some(note) = axis.beyond.note() {
-        let note = format!("{note} (red marks)");
+    let note = axis.beyond.note().map(|n| format!("{n} (red marks)"));
+    if outside {
+        for s in &spec.shades {
+            let seen = entries
+                .iter()
+                .any(|x| matches!(x, Entry::Shade(l, _) if *l == s.label));
+            if !seen && s.to > xr.0 && s.from < xr.1 {
+                entries.push(Entry::Shade(s.label.clone(), s.colour));
+            }
+        }
+        let plot = chart.plotting_area();
+        let origin = (
+            plot.get_base_pixel().0 - area.get_base_pixel().0 + w_px as i32 + 14,
+            plot.get_base_pixel().1 - area.get_base_pixel().1,
+        );
+        return draw_outside_legend(area, origin, &entries, note.as_deref());
+    }
+    if let Some(note) = note {
         let font = (FAMILY, 16).into_font().color(&mark);
         let (tw_px, th_px) = area.estimate_text_size(&note, &font).map_err(e)?;
         let x_right = xr.1 - 8.0 * dx;
@@ -388,7 +458,7 @@ fn draw_axis<DB: DrawingBackend>(
             .map_err(e)?;
     }
     let pos = match spec.legend {
-        LegendPosition::UpperLeft => SeriesLabelPosition::UpperLeft,
+        LegendPosition::UpperLeft | LegendPosition::Outside => SeriesLabelPosition::UpperLeft,
         LegendPosition::UpperRight => SeriesLabelPosition::UpperRight,
         LegendPosition::LowerLeft => SeriesLabelPosition::LowerLeft,
         LegendPosition::LowerRight => SeriesLabelPosition::LowerRight,
@@ -401,6 +471,73 @@ fn draw_axis<DB: DrawingBackend>(
         .label_font((FAMILY, 18))
         .draw()
         .map_err(e)?;
+    Ok(())
+}
+
+/// The legend of [`LegendPosition::Outside`]: one line per entry from `origin` (pixels in
+/// `area`, the top left of the column), then the note on points beyond the axis in red,
+/// wrapped to the column: beside the plot, it covers neither the data nor the red marks.
+fn draw_outside_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    (x0, mut y): (i32, i32),
+    entries: &[Entry],
+    note: Option<&str>,
+) -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("{e:?}");
+    let font = (FAMILY, 15).into_font();
+    const LINE: i32 = 19;
+    for entry in entries {
+        let label = match entry {
+            Entry::Curve(label, colour, points) => {
+                if *points {
+                    area.draw(&Circle::new((x0 + 12, y + 8), 4, colour.filled()))
+                } else {
+                    area.draw(&PathElement::new(
+                        vec![(x0, y + 8), (x0 + 24, y + 8)],
+                        colour.stroke_width(3),
+                    ))
+                }
+                .map_err(e)?;
+                label
+            }
+            Entry::Shade(label, colour) => {
+                area.draw(&Rectangle::new(
+                    [(x0, y + 1), (x0 + 24, y + 15)],
+                    colour.mix(SHADE_ALPHA * 2.0).filled(),
+                ))
+                .map_err(e)?;
+                label
+            }
+        };
+        area.draw(&Text::new(label.clone(), (x0 + 32, y), font.clone()))
+            .map_err(e)?;
+        y += LINE;
+    }
+    if let Some(note) = note {
+        let red = (FAMILY, 14).into_font().color(&RGBColor(200, 0, 0));
+        let width = OUTSIDE_W - 20;
+        let mut line = String::new();
+        let mut lines = Vec::new();
+        for word in note.split_whitespace() {
+            let trial = if line.is_empty() {
+                word.to_string()
+            } else {
+                format!("{line} {word}")
+            };
+            let (w, _) = area.estimate_text_size(&trial, &red).map_err(e)?;
+            if w > width && !line.is_empty() {
+                lines.push(std::mem::replace(&mut line, word.to_string()));
+            } else {
+                line = trial;
+            }
+        }
+        lines.push(line);
+        y += 6;
+        for l in lines {
+            area.draw(&Text::new(l, (x0, y), red.clone())).map_err(e)?;
+            y += LINE - 2;
+        }
+    }
     Ok(())
 }
 

@@ -5,7 +5,9 @@ use std::path::Path;
 
 use super::{InclinationRow, RollPitch, SpatialReport};
 use crate::report::claims::fmt_sig;
-use crate::report::figures::{plot_panels, Curve, FigureFiles, FigureSpec, Panel, RobustRange};
+use crate::report::figures::{
+    plot_panels, Curve, FigureFiles, FigureSpec, LegendPosition, Panel, RobustRange, Shade,
+};
 use crate::report::ReportError;
 
 /// Width of a figure and height of one panel \[px\].
@@ -39,14 +41,17 @@ fn degrees(v: &[f64]) -> Vec<f64> {
 }
 
 impl SpatialReport {
-    /// Draws `roll`, `pitch` and `inclination` (PNG and SVG) into `dir`; returns each
-    /// with its caption. `rows` are the scores, in estimator order (for the panel titles).
+    /// Draws `roll`, `pitch` and `inclination` (PNG and SVG) into `dir`, `shades` behind
+    /// every panel ([`SpatialReport::shades`]); returns each with its caption. `rows` are
+    /// the scores, in estimator order (for the panel titles).
     pub(super) fn draw(
         &self,
         dir: &Path,
         rows: &[InclinationRow],
+        shades: &[Shade],
     ) -> Result<Vec<(FigureFiles, String)>, ReportError> {
         let from = super::secs(self.score_from);
+        let shaded = shade_words(shades);
         let scaling = format!(
             "Each panel's ordinate covers 0.5-99.5 % of its points from {from} s after the \
              first row on (the start-up before that is left out of the scaling, not out of \
@@ -54,23 +59,23 @@ impl SpatialReport {
         );
         let mut out = Vec::new();
         for angle in [Angle::Roll, Angle::Pitch] {
-            let f = self.angle_figure(dir, angle)?;
+            let f = self.angle_figure(dir, angle, shades)?;
             let caption = format!(
                 "{} of every estimator (colour) against the true {} (black), in degrees, one \
-                 panel per estimator. {scaling}.{}",
+                 panel per estimator. {scaling}.{shaded}{}",
                 capitalised(angle.word()),
                 angle.word(),
                 beyond(&f)
             );
             out.push((f, caption));
         }
-        let f = self.inclination_figure(dir, rows)?;
+        let f = self.inclination_figure(dir, rows, shades)?;
         let caption = format!(
             "Inclination error (the angle between the estimated and the true up direction, \
              MODEL.md 7.9) of every estimator, in degrees; each panel's title gives its RMS \
              and max over the scored rows (t >= t0 + {from} s), as in the table. Each \
              ordinate runs from 0 to the largest error from t0 + {from} s on, or to 1.5 times \
-             the 99.5th percentile there when a few spikes reach higher.{}",
+             the 99.5th percentile there when a few spikes reach higher.{shaded}{}",
             beyond(&f)
         );
         out.push((f, caption));
@@ -78,7 +83,12 @@ impl SpatialReport {
     }
 
     /// Roll or pitch \[deg\]: per estimator, the truth and its estimate.
-    fn angle_figure(&self, dir: &Path, angle: Angle) -> Result<FigureFiles, ReportError> {
+    fn angle_figure(
+        &self,
+        dir: &Path,
+        angle: Angle,
+        shades: &[Shade],
+    ) -> Result<FigureFiles, ReportError> {
         let truth = degrees(angle.of(&self.truth));
         let est: Vec<Vec<f64>> = self
             .estimates
@@ -97,6 +107,8 @@ impl SpatialReport {
                 let mut spec =
                     FigureSpec::new(&e.name, "time [s]", &format!("{} [deg]", angle.word()));
                 spec.robust = Some(robust);
+                spec.legend = LegendPosition::Outside;
+                spec.shades = shades.to_vec();
                 Panel {
                     spec,
                     // the truth on top, thin: visible through a noisy estimate, and an
@@ -130,6 +142,7 @@ impl SpatialReport {
         &self,
         dir: &Path,
         rows: &[InclinationRow],
+        shades: &[Shade],
     ) -> Result<FigureFiles, ReportError> {
         let scored = self.scored_rows();
         let errors: Vec<Vec<f64>> = self
@@ -158,6 +171,8 @@ impl SpatialReport {
                 // frame
                 spec.y_range = Some((-0.02 * top, top));
                 spec.robust = None;
+                spec.legend = LegendPosition::Outside;
+                spec.shades = shades.to_vec();
                 Panel {
                     spec,
                     curves: vec![Curve::line(&e.name, &self.t, v)],
@@ -195,6 +210,24 @@ fn error_ceiling(e: &[f64], scored: &[bool]) -> f64 {
     top.max(1e-3)
 }
 
+/// " Shaded: the start-up before t0 + 5 s (not scored, grey), turning (blue), ..." for a
+/// caption, or "" without shades.
+fn shade_words(shades: &[Shade]) -> String {
+    let mut seen: Vec<&str> = Vec::new();
+    for s in shades {
+        if !seen.contains(&s.label.as_str()) {
+            seen.push(&s.label);
+        }
+    }
+    if seen.is_empty() {
+        return String::new();
+    }
+    format!(
+        " Shaded, as the legend beside each panel says: {}.",
+        seen.join(", ")
+    )
+}
+
 fn capitalised(w: &str) -> String {
     let mut c = w.chars();
     c.next()
@@ -203,7 +236,7 @@ fn capitalised(w: &str) -> String {
 }
 
 /// " N points beyond the ordinate axes (...)" when the figure cut any, else "".
-fn beyond(f: &FigureFiles) -> String {
+pub(super) fn beyond(f: &FigureFiles) -> String {
     match f.beyond_total() {
         0 => String::new(),
         n => {

@@ -8,7 +8,9 @@
 //! rows with `t >= t0 + score_from` (t0 the first finite time).
 //!
 //! - [`draw`]: the three figures (one panel per estimator each);
-//! - [`page`]: the table, Markdown, JSON and HTML.
+//! - [`phases`]: a ride's turning, braking and accelerating, found from the log;
+//! - [`ride`]: on a log with a speed, the filter with and without it, per phase;
+//! - [`page`]: the tables, Markdown, JSON and HTML.
 use std::path::PathBuf;
 
 use pendtilt_core::spatial::attitude::inclination_error;
@@ -21,6 +23,10 @@ use crate::bank3d::score::Inclination;
 
 pub mod draw;
 pub mod page;
+pub mod phases;
+pub mod ride;
+
+pub use ride::{Ride, RideData};
 
 /// The roll and pitch of one estimator (or of the truth) \[rad\], one value per row.
 #[derive(Debug, Clone, PartialEq)]
@@ -80,6 +86,10 @@ pub struct SpatialData {
     pub figures: Vec<SpatialFigure>,
     /// Notes at the end of the page.
     pub notes: Vec<String>,
+    /// On a ride (a log with a speed, [`SpatialReport::ride`]): the filter with and
+    /// without the speed, per phase.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ride: Option<RideData>,
 }
 
 /// What [`SpatialReport::write`] wrote.
@@ -108,6 +118,7 @@ pub struct SpatialReport {
     intro: Vec<String>,
     notes: Vec<String>,
     palette: Palette,
+    ride: Option<Ride>,
 }
 
 impl SpatialReport {
@@ -145,6 +156,7 @@ impl SpatialReport {
             intro: Vec::new(),
             notes: Vec::new(),
             palette: Palette::default(),
+            ride: None,
         })
     }
 
@@ -158,6 +170,38 @@ impl SpatialReport {
             return Err(ReportError::DuplicateName(series.name));
         }
         self.estimates.push(series);
+        Ok(self)
+    }
+
+    /// Makes it a ride report: the phases, and `ride.compensated` (an estimate added
+    /// before) beside the same filter without the speed. Errors: lengths that differ, an
+    /// unknown compensated estimate, an uncompensated name already taken.
+    pub fn ride(mut self, ride: Ride) -> Result<Self, ReportError> {
+        let n = self.t.len();
+        for (what, v) in [("speed", &ride.speed), ("gyro z", &ride.gyro_z)] {
+            if v.len() != n {
+                return Err(ReportError::LengthMismatch {
+                    name: what.into(),
+                    expected: n,
+                    got: v.len(),
+                });
+            }
+        }
+        check_len(&ride.uncompensated, n)?;
+        if !self.estimates.iter().any(|e| e.name == ride.compensated) {
+            return Err(ReportError::Invalid(format!(
+                "ride: no estimate named {}",
+                ride.compensated
+            )));
+        }
+        let u = &ride.uncompensated.name;
+        if u.trim().is_empty()
+            || u == &self.truth.name
+            || self.estimates.iter().any(|e| &e.name == u)
+        {
+            return Err(ReportError::DuplicateName(u.clone()));
+        }
+        self.ride = Some(ride);
         Ok(self)
     }
 

@@ -2,8 +2,10 @@
 //! `report.json` and `index.html`.
 use std::path::Path;
 
+use super::ride::{phase_shades, ride_table};
 use super::{InclinationRow, SpatialData, SpatialFigure, SpatialOutput, SpatialReport};
 use crate::report::claims::fmt_sig;
+use crate::report::figures::{FigureFiles, Shade};
 use crate::report::html::{FigureRef, HtmlPage, TextTable};
 use crate::report::markdown::text_table_markdown;
 use crate::report::ReportError;
@@ -55,15 +57,82 @@ fn write_file(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
 }
 
 impl SpatialReport {
+    /// The unscored start-up, shaded grey (none when scoring starts at the first row).
+    fn start_shade(&self) -> Option<Shade> {
+        let t0 = self.t.iter().copied().find(|t| t.is_finite())?;
+        (self.score_from > 0.0).then(|| Shade {
+            from: t0,
+            to: t0 + self.score_from,
+            colour: plotters::style::RGBColor(110, 110, 110),
+            label: "not scored".into(),
+        })
+    }
+
+    /// The best of the ride's peers by the inclination table (lowest finite RMS).
+    fn best_peer<'a>(&self, rows: &'a [InclinationRow]) -> Option<&'a str> {
+        let peers = &self.ride.as_ref()?.peers;
+        rows.iter()
+            .filter(|r| peers.contains(&r.name) && r.rms_deg.is_finite())
+            .min_by(|a, b| a.rms_deg.total_cmp(&b.rms_deg))
+            .map(|r| r.name.as_str())
+    }
+
+    /// On a ride: its data and figure (first on the page), else `None`.
+    fn ride_part(
+        &self,
+        dir: &Path,
+        rows: &[InclinationRow],
+        shades: &mut Vec<Shade>,
+    ) -> Result<Option<(super::RideData, FigureFiles, String)>, ReportError> {
+        let Some((signals, phases)) = self.ride_phases() else {
+            return Ok(None);
+        };
+        shades.extend(phase_shades(&phases));
+        let Some(data) = self.ride_data(&phases, self.best_peer(rows)) else {
+            return Ok(None);
+        };
+        let f = self.ride_figure(dir, &data, &signals, shades)?;
+        let peer = data
+            .best_peer
+            .as_ref()
+            .map(|p| format!(", and the best peer of this report, {p},"))
+            .unwrap_or_default();
+        let caption = format!(
+            "{c} with the speed (its colour) and the same filter without it ({u}, grey){peer} \
+             over time: roll and pitch error (estimate - truth) and inclination error, in \
+             degrees; the phases found from the log shaded (turning blue, braking purple, \
+             accelerating green; {n} found), the unscored start-up grey. Bottom panel: the \
+             accelerations the phases are found from, smoothed (v w_z centripetal, dv/dt \
+             longitudinal), thresholds +-{thr} m/s^2. Each error ordinate covers 0.5-99.5 % \
+             of its points after the start-up, widened by a quarter.{}",
+            super::draw::beyond(&f),
+            c = data.compensated,
+            u = data.uncompensated,
+            n = data.phases.len(),
+            thr = super::secs(data.threshold_mps2),
+        );
+        Ok(Some((data, f, caption)))
+    }
+
     /// Scores, draws and writes everything into `dir` (created): `index.html`,
-    /// `report.md`, `report.json`, `roll`, `pitch` and `inclination` (`.png`, `.svg`).
+    /// `report.md`, `report.json`, `roll`, `pitch` and `inclination` (`.png`, `.svg`), and
+    /// on a ride `ride` first.
     pub fn write(&self, dir: &Path) -> Result<SpatialOutput, ReportError> {
         let (rows, scored) = self.scores()?;
         std::fs::create_dir_all(dir).map_err(|source| ReportError::Io {
             path: dir.display().to_string(),
             source,
         })?;
-        let drawn = self.draw(dir, &rows)?;
+        let mut shades: Vec<Shade> = self.start_shade().into_iter().collect();
+        let mut drawn = Vec::new();
+        let ride = match self.ride_part(dir, &rows, &mut shades)? {
+            Some((data, f, caption)) => {
+                drawn.push((f, caption));
+                Some(data)
+            }
+            None => None,
+        };
+        drawn.extend(self.draw(dir, &rows, &shades)?);
         let samples = self.t.len();
         let rate_hz = super::median_rate(&self.t)?;
         let data = SpatialData {
@@ -84,8 +153,14 @@ impl SpatialReport {
                 })
                 .collect(),
             notes: self.notes.clone(),
+            ride,
         };
-        let table = inclination_table(&data.inclination, self.score_from, scored);
+        let mut tables = vec![inclination_table(
+            &data.inclination,
+            self.score_from,
+            scored,
+        )];
+        tables.extend(data.ride.as_ref().map(ride_table));
         let mut intro = self.intro.clone();
         intro.push(format!(
             "{samples} rows at {:.1} Hz ({:.2} s); estimators: {}.",
@@ -98,13 +173,13 @@ impl SpatialReport {
                 .join(", ")
         ));
         let markdown = dir.join("report.md");
-        write_file(&markdown, self.markdown(&intro, &table, &data).as_bytes())?;
+        write_file(&markdown, self.markdown(&intro, &tables, &data).as_bytes())?;
         let json = dir.join("report.json");
         write_file(&json, serde_json::to_string_pretty(&data)?.as_bytes())?;
         let page = HtmlPage {
             title: self.title.clone(),
             intro,
-            text_tables: vec![table],
+            text_tables: tables,
             figures: data
                 .figures
                 .iter()
@@ -117,7 +192,15 @@ impl SpatialReport {
             notes: self.notes.clone(),
             ..HtmlPage::default()
         };
-        let html = page.write(dir, "index.html", &self.palette)?;
+        // the ride table's swatches are its phases' shades
+        let mut palette = self.palette.clone();
+        for k in super::phases::PhaseKind::ALL {
+            palette.set(k.word(), super::ride::shade_style(k));
+        }
+        for blank in ["steady", "all"] {
+            palette.set(blank, plotters::style::RGBColor(255, 255, 255));
+        }
+        let html = page.write(dir, "index.html", &palette)?;
         Ok(SpatialOutput {
             html,
             markdown,
@@ -127,16 +210,18 @@ impl SpatialReport {
         })
     }
 
-    fn markdown(&self, intro: &[String], table: &TextTable, data: &SpatialData) -> String {
+    fn markdown(&self, intro: &[String], tables: &[TextTable], data: &SpatialData) -> String {
         let mut md = format!("# {}\n\n", self.title);
         for p in intro {
             md.push_str(&format!("{p}\n\n"));
         }
-        md.push_str(&format!(
-            "## {}\n\n{}\n",
-            table.heading,
-            text_table_markdown(table)
-        ));
+        for table in tables {
+            md.push_str(&format!(
+                "## {}\n\n{}\n",
+                table.heading,
+                text_table_markdown(table)
+            ));
+        }
         md.push_str("## Figures\n\n");
         for f in &data.figures {
             md.push_str(&format!("![{}]({})\n\n{}\n\n", f.title, f.png, f.caption));
