@@ -2,10 +2,12 @@
 //! bad-input and fault tests the planar ones pass; docs/reliability.md section 8).
 //!
 //! One simulated `scooter3d` ride (seed 3, 30 s, 1 kHz) is written by `pendtilt simulate`;
-//! each fault is injected into a copy of its CSV from t = 8 s, and `pendtilt estimate
+//! each fault is injected into a copy of its CSV from t = 8 s (`gyro_range`: a gyro of a
+//! smaller range, clipping the whole log, with the rig saying so), and `pendtilt estimate
 //! --flags` runs every estimator of the 3-D registry on the clean and on the faulty log,
 //! as a user would. For every fault and estimator the test checks: one output row per
-//! input row; every output finite or flagged; and recovery: the time after the fault's end
+//! input row; every output finite or flagged; the flag on the fault's first row for every
+//! estimator reading the faulty sensor; and recovery: the time after the fault's end
 //! from which the output stays within 0.05 deg (inclination, MODEL.md 7.9) of the
 //! fault-free run to the end of the log, and the largest difference from 2 s after the end.
 //!
@@ -29,6 +31,12 @@ const BOUND_DEG: f64 = 0.05;
 /// 0.27 rad/s, |az| up to 21 m/s^2), so the clip bites on a quarter of the samples or more.
 const GYRO_CLIP: f64 = 0.1;
 const ACCEL_CLIP: f64 = 12.0;
+/// The full scale \[rad/s\] of the gyro in the `gyro_range` case: every gyro cell clipped
+/// at it and the rig saying so (`[gyro] full_scale`). The ride's readings pass it in three
+/// short stretches (vibration peaks on the largest swings, from 14.5 s, 23.3 s and 28.5 s);
+/// the log is cut at [`RANGE_LOG_END`] so that one stretch is followed by 7 s without any.
+const GYRO_RANGE: f64 = 0.35;
+const RANGE_LOG_END: f64 = 22.0;
 
 /// A log as header and text cells (the faults edit cells as text).
 #[derive(Clone)]
@@ -63,6 +71,14 @@ impl Csv {
             .iter()
             .position(|h| h == name)
             .unwrap_or_else(|| panic!("no column {name}"))
+    }
+
+    /// The first and the last row where `self` differs from `other`.
+    fn differs(&self, other: &Csv) -> Option<(usize, usize)> {
+        let d: Vec<usize> = (0..self.rows.len().min(other.rows.len()))
+            .filter(|&i| self.rows[i] != other.rows[i])
+            .collect();
+        Some((*d.first()?, *d.last()?))
     }
 
     fn t(&self, row: usize) -> f64 {
@@ -103,6 +119,8 @@ struct Fault {
     /// The flag every estimator reading the faulty sensor must carry on the fault's first
     /// row (`reads` picks them; None: no flag is required).
     flag: Option<(&'static str, Reads)>,
+    /// TOML added to the rig file for the faulty run ("" for none).
+    rig: &'static str,
 }
 
 /// Picks the estimators that read a sensor, by their [`Inputs`].
@@ -115,7 +133,7 @@ fn one_row(c: &mut Csv, column: &str, f: impl Fn(f64) -> String) -> f64 {
     next
 }
 
-const FAULTS: [Fault; 8] = [
+const FAULTS: [Fault; 9] = [
     Fault {
         name: "gap_10s",
         what: "every sensor cell empty for 10 s (rows kept)",
@@ -126,6 +144,7 @@ const FAULTS: [Fault; 8] = [
         warns: "phi_x/phi_y, gyro_x/y/z, ax/ay/az back after a gap of 10.001 s (longer than \
                 the restart gap 0.5 s): 9 estimators",
         flag: Some(("sample_missing", |_| true)),
+        rig: "",
     },
     Fault {
         name: "gyro_1e6",
@@ -133,6 +152,7 @@ const FAULTS: [Fault; 8] = [
         apply: |c| one_row(c, "gyro_x", |_| "1e6".into()),
         warns: "column 4 (`gyro_x`): 1e6 rad/s is beyond 100 rad/s, impossible: read as missing",
         flag: Some(("implausible", |r| r.gyro)),
+        rig: "",
     },
     Fault {
         name: "accel_-1e308",
@@ -140,6 +160,7 @@ const FAULTS: [Fault; 8] = [
         apply: |c| one_row(c, "ax", |_| "-1e308".into()),
         warns: "column 7 (`ax`): -1e308 m/s^2 is beyond 500 m/s^2, impossible: read as missing",
         flag: Some(("implausible", |r| r.accel)),
+        rig: "",
     },
     Fault {
         name: "phi_spike",
@@ -147,10 +168,11 @@ const FAULTS: [Fault; 8] = [
         apply: |c| one_row(c, "phi_x", |v| (v + 1.0).to_string()),
         warns: "",
         flag: None,
+        rig: "",
     },
     Fault {
         name: "gyro_clipped",
-        what: "every gyro axis clipped at 0.1 rad/s for 2 s",
+        what: "every gyro axis clipped at 0.1 rad/s for 2 s, full scale unknown",
         apply: |c| {
             let cols = ["gyro_x", "gyro_y", "gyro_z"];
             c.edit(&cols, T_FAULT, T_FAULT + 2.0, |v| {
@@ -160,6 +182,32 @@ const FAULTS: [Fault; 8] = [
         },
         warns: "",
         flag: None,
+        rig: "",
+    },
+    Fault {
+        name: "gyro_range",
+        what: "a gyro of full scale 0.35 rad/s (rig [gyro] full_scale): every cell clipped \
+               at it, log cut at 22 s",
+        apply: |c| {
+            let cols: Vec<usize> = ["gyro_x", "gyro_y", "gyro_z"]
+                .iter()
+                .map(|n| c.col(n))
+                .collect();
+            c.rows
+                .retain(|r| r[0].parse::<f64>().unwrap() < RANGE_LOG_END);
+            for r in &mut c.rows {
+                for &i in &cols {
+                    let v: f64 = r[i].parse().unwrap();
+                    if v.abs() > GYRO_RANGE {
+                        r[i] = v.clamp(-GYRO_RANGE, GYRO_RANGE).to_string();
+                    }
+                }
+            }
+            f64::NAN
+        },
+        warns: "",
+        flag: Some(("saturated", |r| r.gyro)),
+        rig: "[gyro]\nfull_scale = 0.35\n",
     },
     Fault {
         name: "accel_clipped",
@@ -172,6 +220,7 @@ const FAULTS: [Fault; 8] = [
         },
         warns: "",
         flag: None,
+        rig: "",
     },
     Fault {
         name: "time_back",
@@ -179,6 +228,7 @@ const FAULTS: [Fault; 8] = [
         apply: |c| one_row(c, "t", |v| (v - 1.0).to_string()),
         warns: "",
         flag: Some(("bad_time_step", |_| true)),
+        rig: "",
     },
     Fault {
         name: "time_ahead",
@@ -189,6 +239,7 @@ const FAULTS: [Fault; 8] = [
         },
         warns: "8.05 s is after the next row's 8.001 s: a lone bad time stamp",
         flag: Some(("bad_time_step", |_| true)),
+        rig: "",
     },
 ];
 
@@ -199,13 +250,21 @@ struct Run {
     stderr: String,
 }
 
-fn estimate(dir: &Path, log: &Path, name: &str) -> Run {
+fn estimate(dir: &Path, log: &Path, name: &str, rig: &str) -> Run {
     let out = dir.join(format!("{name}.est.csv"));
+    let params = if rig.is_empty() {
+        dir.join("ride.rig.toml")
+    } else {
+        let p = dir.join(format!("{name}.rig.toml"));
+        let base = std::fs::read_to_string(dir.join("ride.rig.toml")).unwrap();
+        std::fs::write(&p, format!("{base}\n{rig}")).unwrap();
+        p
+    };
     let o = pendtilt(&[
         "estimate",
         s(log),
         "--params",
-        s(&dir.join("ride.rig.toml")),
+        s(&params),
         "--scenario",
         s(&dir.join("ride.scenario.toml")),
         "--flags",
@@ -340,11 +399,12 @@ fn allowed(estimator: &str, fault: &str) -> Allowance {
         ("gap_10s", "vqf") => never(1.5),
         ("gap_10s", "mahony3d") => never(14.0),
         ("gap_10s", "fusion3d") => never(15.0),
-        ("gyro_1e6", "ekf3d" | "ukf3d") => slow(13.0, 0.1),
         ("gyro_clipped", "ekf3d" | "ukf3d") => never(1.6),
         ("gyro_clipped", "vqf") => never(3.2),
         ("gyro_clipped", "mahony3d") => slow(15.0, 2.0),
         ("gyro_clipped", "fusion3d") => never(5.0),
+        ("gyro_range", "vqf") => slow(4.0, 0.1),
+        ("gyro_range", "fusion3d") => never(0.13),
         ("accel_clipped", "vqf") => slow(8.0, 0.16),
         ("accel_clipped", "mahony3d") => slow(5.5, 0.14),
         _ => Allowance {
@@ -359,16 +419,20 @@ fn every_3d_estimator_survives_gaps_glitches_saturation_and_time_glitches() {
     let dir = tempfile::tempdir().unwrap();
     let log = simulate(dir.path());
     let clean_csv = Csv::read(&log);
-    let clean = estimate(dir.path(), &log, "clean");
+    let clean = estimate(dir.path(), &log, "clean", "");
     let mut table = Vec::new();
     let mut failures = Vec::new();
     for fault in &FAULTS {
         let mut c = clean_csv.clone();
         let end = (fault.apply)(&mut c);
+        // The fault's first and last edited rows; NaN from `apply`: it ends after the last.
+        let (first, last) = c.differs(&clean_csv).unwrap();
+        let end = if end.is_nan() { c.t(last + 1) } else { end };
         let path = dir.path().join(format!("{}.csv", fault.name));
         c.write(&path);
-        let run = estimate(dir.path(), &path, fault.name);
-        assert_eq!(run.t.len(), clean.t.len(), "{}: rows", fault.name);
+        let run = estimate(dir.path(), &path, fault.name, fault.rig);
+        assert_eq!(run.t.len(), c.rows.len(), "{}: rows", fault.name);
+        let t = &clean.t[..run.t.len()];
         let warned: Vec<&str> = run
             .stderr
             .lines()
@@ -389,7 +453,6 @@ fn every_3d_estimator_survives_gaps_glitches_saturation_and_time_glitches() {
             fault.name,
             run.stderr
         );
-        let first = clean.t.iter().position(|&t| t >= T_FAULT).unwrap();
         for e in REGISTRY3D {
             if let Some((flag, reads)) = fault.flag {
                 let got = &run.est[e.name][first].2;
@@ -400,7 +463,7 @@ fn every_3d_estimator_survives_gaps_glitches_saturation_and_time_glitches() {
                     ));
                 }
             }
-            let o = outcome(&clean.est[e.name], &run.est[e.name], &clean.t, end);
+            let o = outcome(&clean.est[e.name], &run.est[e.name], t, end);
             table.push((fault.name, e.name, o));
             if o.unflagged_nan > 0 {
                 failures.push(format!(

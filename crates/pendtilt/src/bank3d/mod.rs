@@ -80,13 +80,15 @@ impl Settings3d {
         }
     }
 
-    /// `inv3d`'s settings: the spatial filter's pendulum and mounting, inv3d's own defaults
-    /// otherwise.
+    /// `inv3d`'s settings: the spatial filter's pendulum, mounting and gyro full scale (its
+    /// front end's), inv3d's own defaults otherwise.
     pub fn inv3d(&self) -> Inv3dSettings<f64> {
-        Inv3dSettings {
+        let mut s = Inv3dSettings {
             mounting: self.ekf.mounting,
             ..Inv3dSettings::from_params(self.ekf.params)
-        }
+        };
+        s.front_end.gyro = self.ekf.gyro;
+        s
     }
 
     /// The settings for a simulated scenario: its rig's pendulum and mounting and its
@@ -192,6 +194,12 @@ const IMU: Inputs = Inputs {
     accel: true,
 };
 
+/// The rig's gyro full scale, for the peers' `saturated` flag (ekf3d, ukf3d and inv3d's
+/// front end read it from their settings).
+fn full_scale(s: &Settings3d) -> Option<f64> {
+    s.ekf.gyro.checked_full_scale()
+}
+
 /// Every 3-D estimator, in output column order.
 pub static REGISTRY3D: &[Entry3d] = &[
     Entry3d {
@@ -234,28 +242,34 @@ pub static REGISTRY3D: &[Entry3d] = &[
         about: "VQF 6D (peer, vqf-rs)",
         quaternion: false,
         reads: IMU,
-        build: |_| Box::new(vqf(VQF_TAU_ACC)),
+        build: |s| Box::new(vqf(VQF_TAU_ACC).with_gyro_full_scale(full_scale(s))),
     },
     Entry3d {
         name: "madgwick3d",
         about: "Madgwick IMU filter (peer, ahrs)",
         quaternion: false,
         reads: IMU,
-        build: |_| Box::new(madgwick3d(MADGWICK3D_BETA)),
+        build: |s| Box::new(madgwick3d(MADGWICK3D_BETA).with_gyro_full_scale(full_scale(s))),
     },
     Entry3d {
         name: "mahony3d",
         about: "Mahony IMU filter (peer, ahrs)",
         quaternion: false,
         reads: IMU,
-        build: |_| Box::new(mahony3d(MAHONY3D_GAINS[0], MAHONY3D_GAINS[1])),
+        build: |s| {
+            Box::new(
+                mahony3d(MAHONY3D_GAINS[0], MAHONY3D_GAINS[1]).with_gyro_full_scale(full_scale(s)),
+            )
+        },
     },
     Entry3d {
         name: "fusion3d",
         about: "Fusion-style complementary filter with acceleration rejection (peer)",
         quaternion: false,
         reads: IMU,
-        build: |_| Box::new(fusion3d(FusionSettings::default())),
+        build: |s| {
+            Box::new(fusion3d(FusionSettings::default()).with_gyro_full_scale(full_scale(s)))
+        },
     },
 ];
 

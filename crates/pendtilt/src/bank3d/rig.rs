@@ -2,10 +2,12 @@
 //! form ([`Pendulum3d`], what `simulate` writes) or the normalised one
 //! ([`CardanParams`]: `a_x, a_y, b_x, b_y, b_z, b_ring, c, gravity`, every key given),
 //! never both; `[mounting]` optional; `[ekf3d]` optional ([`Ekf3dConfig`]: the spatial
-//! filter's settings a rig may change). Errors name the file, and the line and column when
-//! the TOML parser gives a position.
+//! filter's settings a rig may change); `[gyro]` optional, the planar rig's table (its
+//! `full_scale` \[rad/s\]). Errors name the file, and the line and column when the TOML
+//! parser gives a position.
 use std::path::Path;
 
+use pendtilt_core::params::GyroSettings;
 use pendtilt_core::spatial::cardan::CardanParams;
 use pendtilt_core::spatial::ekf;
 use serde::Deserialize;
@@ -43,6 +45,9 @@ pub struct Rig3dConfig {
     pub mounting: Mounting,
     /// `[ekf3d]` (default: every key absent, the filter's defaults).
     pub ekf3d: Ekf3dConfig,
+    /// `[gyro]`: its full scale (default unknown). A reading at it is clipped and flagged
+    /// `saturated`; beyond it, impossible and read as missing.
+    pub gyro: GyroSettings<f64>,
 }
 
 /// `[ekf3d]`: the settings of `ekf3d` and `ukf3d` a rig may set, each optional and each
@@ -118,6 +123,7 @@ impl Default for Rig3dConfig {
             pendulum3d: Pendulum3dConfig::Physical(Pendulum3d::default()),
             mounting: Mounting::default(),
             ekf3d: Ekf3dConfig::default(),
+            gyro: GyroSettings::default(),
         }
     }
 }
@@ -130,6 +136,8 @@ struct File<P> {
     mounting: Mounting,
     #[serde(default)]
     ekf3d: Ekf3dConfig,
+    #[serde(default)]
+    gyro: GyroSettings<f64>,
 }
 
 /// `file:line:column: message` from a TOML error (the position when it has a span).
@@ -193,21 +201,36 @@ impl Rig3dConfig {
                 .validate()
                 .map_err(|e| format!("{origin}: {e}"))?;
             f.ekf3d.check().map_err(|e| format!("{origin}: {e}"))?;
+            check_gyro(&f.gyro).map_err(|e| format!("{origin}: {e}"))?;
             return Ok(Self {
                 pendulum3d: Pendulum3dConfig::Physical(f.pendulum3d),
                 mounting: f.mounting,
                 ekf3d: f.ekf3d,
+                gyro: f.gyro,
             });
         }
         let f: File<CardanParams<f64>> =
             toml::from_str(text).map_err(|e| toml_error(origin, text, &e))?;
         check_normalised(&f.pendulum3d).map_err(|e| format!("{origin}: pendulum3d.{e}"))?;
         f.ekf3d.check().map_err(|e| format!("{origin}: {e}"))?;
+        check_gyro(&f.gyro).map_err(|e| format!("{origin}: {e}"))?;
         Ok(Self {
             pendulum3d: Pendulum3dConfig::Normalised(f.pendulum3d),
             mounting: f.mounting,
             ekf3d: f.ekf3d,
+            gyro: f.gyro,
         })
+    }
+}
+
+/// `key: why` for a gyro full scale no gyro has (the planar rig's rule).
+fn check_gyro(g: &GyroSettings<f64>) -> Result<(), String> {
+    match g.full_scale {
+        Some(v) if !(v.is_finite() && v > 0.0) => Err(format!(
+            "gyro.full_scale: the full scale must be > 0 [rad/s] (leave it out when unknown), \
+             got {v}"
+        )),
+        _ => Ok(()),
     }
 }
 
@@ -313,5 +336,33 @@ mod tests {
         assert!(e.contains("mixes the physical form (mass)"), "{e}");
         let e = Rig3dConfig::from_toml_str("[pendulum3d]\nmass = -1\n", "r.toml").unwrap_err();
         assert!(e.contains("pendulum3d.mass"), "{e}");
+    }
+
+    /// `[gyro]` is the planar rig's table: its full scale is read, and one no gyro has is
+    /// refused with the key.
+    #[test]
+    fn the_gyro_full_scale_is_read_and_checked() {
+        let r = Rig3dConfig::from_toml_str("[pendulum3d]\n[gyro]\nfull_scale = 0.35\n", "r.toml")
+            .unwrap();
+        assert_eq!(r.gyro.full_scale, Some(0.35));
+        assert_eq!(
+            Rig3dConfig::from_toml_str("[pendulum3d]\n", "r.toml")
+                .unwrap()
+                .gyro
+                .full_scale,
+            None
+        );
+        let e = Rig3dConfig::from_toml_str("[pendulum3d]\n[gyro]\nfull_scale = -2\n", "r.toml")
+            .unwrap_err();
+        assert!(
+            e.starts_with("r.toml: gyro.full_scale") && e.contains("-2"),
+            "{e}"
+        );
+        let e =
+            Rig3dConfig::from_toml_str("[pendulum3d]\n[gyro]\nrange = 2\n", "r.toml").unwrap_err();
+        assert!(
+            e.starts_with("r.toml:3:1: ") && e.contains("full_scale"),
+            "{e}"
+        );
     }
 }

@@ -11,7 +11,8 @@
 //!
 //! Row handling: one output row per data row. A missing cell or a time that does not
 //! increase reaches the estimators as NaN, which they flag and hold on; an encoder angle
-//! beyond +-pi, a rate beyond 100 rad/s or a specific force beyond 500 m/s^2 (the planar
+//! beyond +-pi, a rate beyond 100 rad/s (or the rig's `[gyro] full_scale`; a reading at it is
+//! kept and flagged `saturated`) or a specific force beyond 500 m/s^2 (the planar
 //! reader's physical bounds) is impossible and read as missing too, with a warning naming
 //! its place, and the estimators reading it flag the row `implausible`. A lone time stamp
 //! ahead of the next row's (one glitched stamp between two good ones) is a bad time step of
@@ -35,7 +36,9 @@ use crate::bank3d::rig::Rig3dConfig;
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Settings3d};
 use crate::io::output::{self, NamedPath, OutputFile};
-use crate::io::plausibility::{implausible_step, DEFAULT_ACCEL_LIMIT, DEFAULT_GYRO_LIMIT};
+use crate::io::plausibility::{
+    implausible_step, DEFAULT_ACCEL_LIMIT, DEFAULT_GYRO_LIMIT, FULL_SCALE_ROUNDING,
+};
 use crate::io::{
     Column3d, ColumnMap, DegreeColumns, Estimates3dWriter, Log3dReader, Log3dRecord, TimeUnit,
 };
@@ -200,6 +203,7 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
                 s.as_ref().map(|s| &s.sensors),
             );
             rig.ekf3d.apply(&mut settings.ekf);
+            settings.ekf.gyro = rig.gyro;
             settings
         }
         (None, Some(s)) => Settings3d::of_scenario(s),
@@ -460,6 +464,15 @@ fn check_time_unit(file: &str, head: &[Log3dRecord]) -> anyhow::Result<()> {
     }
 }
 
+/// A value as the log wrote it: 1e308, not 309 digits.
+fn written(x: f64) -> String {
+    if x.abs() >= 1e6 {
+        format!("{x:e}")
+    } else {
+        x.to_string()
+    }
+}
+
 /// Turns records into samples: units, plausibility, the time step.
 struct RowInput<'a> {
     time_scale: f64,
@@ -470,6 +483,9 @@ struct RowInput<'a> {
     more: u64,
     /// The sensors of the current row with an impossible reading.
     implausible: Inputs,
+    /// The rig's gyro full scale \[rad/s\], if given: the gyro's bound instead of
+    /// [`MAX_RATE`] (a reading at it, to [`FULL_SCALE_ROUNDING`], is clipped but real).
+    gyro_full_scale: Option<f64>,
 }
 
 impl<'a> RowInput<'a> {
@@ -482,6 +498,7 @@ impl<'a> RowInput<'a> {
             warnings: Vec::new(),
             more: 0,
             implausible: Inputs::default(),
+            gyro_full_scale: setup.settings.ekf.gyro.checked_full_scale(),
         }
     }
 
@@ -507,6 +524,11 @@ impl<'a> RowInput<'a> {
 
     /// `x` when plausible, else NaN and a warning naming its place.
     fn plausible(&mut self, line: u64, name: &str, x: f64, bound: f64, unit: &str) -> f64 {
+        if unit == "rad/s" {
+            if let Some(fs) = self.gyro_full_scale {
+                return self.beyond_full_scale(line, name, x, fs);
+            }
+        }
         if x.abs() <= bound || x.is_nan() {
             return x;
         }
@@ -520,16 +542,30 @@ impl<'a> RowInput<'a> {
         } else {
             " (in degrees? give --deg)"
         };
-        // 1e308 as written, not as 309 digits.
-        let x = if x.abs() >= 1e6 {
-            format!("{x:e}")
-        } else {
-            x.to_string()
-        };
+        let x = written(x);
         self.warn(format!(
             "{}:{line}: column {col} (`{name}`): {x} {unit} is beyond {bound} {unit}, \
              impossible: read as missing{hint}",
             self.file
+        ));
+        f64::NAN
+    }
+
+    /// Gyro reading `x` when within the rig's full scale `fs`, else NaN and a warning.
+    fn beyond_full_scale(&mut self, line: u64, name: &str, x: f64, fs: f64) -> f64 {
+        if x.abs() <= fs * (1.0 + FULL_SCALE_ROUNDING) || x.is_nan() {
+            return x;
+        }
+        let col = self
+            .header
+            .iter()
+            .position(|h| h == name)
+            .map_or(0, |p| p + 1);
+        self.warn(format!(
+            "{}:{line}: column {col} (`{name}`): {} rad/s exceeds the full scale {fs} rad/s \
+             (rig [gyro] full_scale): read as missing",
+            self.file,
+            written(x)
         ));
         f64::NAN
     }

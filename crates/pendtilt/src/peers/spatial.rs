@@ -9,7 +9,9 @@
 //! at its roll and pitch (Madgwick and Mahony; VQF starts itself); a missing gyro reading
 //! is bridged by the gyro's recent mean (as the planar peers do, see
 //! [`super::ahrs_planar::MISSING_RATE_TAU`]); a missing accelerometer reading skips the
-//! correction (flagged). Roll and pitch are those of the filter's up direction in body
+//! correction (flagged); a gyro reading at or beyond the rig's full scale
+//! ([`Imu6::with_gyro_full_scale`]) is flagged `saturated` (and still used: the filters
+//! have no other rate). Roll and pitch are those of the filter's up direction in body
 //! axes.
 use nalgebra_ahrs::{UnitQuaternion, Vector3};
 use pendtilt_core::spatial::attitude::roll_pitch_from_up;
@@ -87,6 +89,7 @@ pub struct Imu6<F: ImuFilter> {
     clock: StepClock<f64>,
     mean_rate: Option<[f64; 3]>,
     last: Attitude<f64>,
+    gyro_full_scale: Option<f64>,
 }
 
 impl<F: ImuFilter> Imu6<F> {
@@ -99,7 +102,16 @@ impl<F: ImuFilter> Imu6<F> {
             clock: StepClock::new(),
             mean_rate: None,
             last: Attitude::unknown(),
+            gyro_full_scale: None,
         }
+    }
+
+    /// The same wrapper flagging [`Flags::SATURATED`] on a gyro reading at or beyond
+    /// `full_scale` \[rad/s\] on any axis (`None`, or a bound that is not positive: no
+    /// check).
+    pub fn with_gyro_full_scale(mut self, full_scale: Option<f64>) -> Self {
+        self.gyro_full_scale = full_scale.filter(|f| *f > 0.0);
+        self
     }
 
     /// The gains (or settings) it was built with.
@@ -145,6 +157,11 @@ impl<F: ImuFilter> Estimator for Imu6<F> {
             };
             return self.last;
         };
+        if let Some(fs) = self.gyro_full_scale {
+            if s.gyro.iter().any(|g| g.abs() >= fs) {
+                flags |= Flags::SATURATED;
+            }
+        }
         let gyro = if gyro_ok {
             let k = (dt / MISSING_RATE_TAU).min(1.0);
             let m = self.mean_rate.unwrap_or(s.gyro);
@@ -176,7 +193,7 @@ impl<F: ImuFilter> Estimator for Imu6<F> {
     }
 
     fn reset(&mut self) {
-        *self = Self::new(self.make, self.gains);
+        *self = Self::new(self.make, self.gains).with_gyro_full_scale(self.gyro_full_scale);
     }
 }
 

@@ -14,6 +14,7 @@
 //! - accelerometer (optional): `d_a^2 / dt + sigma_vib^2` per axis.
 use super::process::{CardanProcess, ProcessNoise};
 use crate::ekf::{Environment, SensorNoise};
+use crate::params::GyroSettings;
 use crate::spatial::cardan::CardanParams;
 use crate::spatial::mounting::Mounting;
 use crate::Real;
@@ -164,6 +165,12 @@ pub struct Settings<T> {
     pub params: CardanParams<T>,
     /// Sensor noise figures. Default: the planar filter's defaults.
     pub sensors: SensorNoise<T>,
+    /// The gyro's full scale (the rig file's `[gyro]`, the planar estimators' one
+    /// definition), per axis: a sample with an axis at or beyond it is flagged
+    /// [`crate::Flags::SATURATED`] and the attitude is loosened against the joint angles
+    /// by the rate the clip may hide, so that the encoders carry it (see
+    /// [`super::ModelBased`]). Default: unknown (no check).
+    pub gyro: GyroSettings<T>,
     /// The body's motion and vibration. Default: the planar filter's (the scooter).
     pub environment: Environment<T>,
     /// Where the sensors sit: the accelerometer, and the point O the body turns about
@@ -224,6 +231,7 @@ impl<T: Real> Default for Settings<T> {
         Self {
             params: CardanParams::default(),
             sensors: SensorNoise::default(),
+            gyro: GyroSettings::default(),
             environment: Environment::default(),
             mounting: Mounting::default(),
             angular_accel_hz: T::lit(DEFAULT_ANGULAR_ACCEL_HZ),
@@ -249,6 +257,9 @@ impl<T: Real> Settings<T> {
         Settings {
             params: self.params.cast(),
             sensors: self.sensors.cast(),
+            gyro: GyroSettings {
+                full_scale: self.gyro.full_scale.map(c),
+            },
             environment: self.environment.cast(),
             mounting: self.mounting.cast(),
             angular_accel_hz: c(self.angular_accel_hz),
