@@ -395,7 +395,7 @@ fn allowed(estimator: &str, fault: &str) -> Allowance {
     };
     let slow = |recovery, after_2s| Allowance { recovery, after_2s };
     match (fault, estimator) {
-        ("gap_10s", "ekf3d" | "ukf3d") => slow(17.0, 0.2),
+        ("gap_10s", "ekf3d" | "ukf3d") => slow(8.0, 0.12),
         ("gap_10s", "vqf") => never(0.7),
         ("gap_10s", "mahony3d") => slow(11.0, 1.0),
         ("gap_10s", "fusion3d") => never(15.0),
