@@ -118,14 +118,22 @@ impl<T: Real, const W: usize> Inv3d<T, W> {
         Attitude { flags, ..self.last }
     }
 
-    /// The pivot's acceleration \[m/s^2\], body axes: O's from the speed and the gyro,
-    /// and the lever arm from O at the front ends' rate `w` and angular acceleration `wd`.
-    fn pivot_accel(&mut self, s: &SpatialSample<T>, w: [T; 3], wd: [T; 3]) -> [T; 3] {
-        let (w, wd) = (Vector3::from(w), Vector3::from(wd));
+    /// Feeds the speed and the gyro to the travel filters on every row with a usable time
+    /// step, held rows included, so that their clocks follow the log's.
+    fn track_travel(&mut self, s: &SpatialSample<T>) {
+        if !(s.dt.is_finite() && s.dt >= T::zero()) {
+            return;
+        }
         if s.gyro.iter().all(|g| g.is_finite()) {
             self.travel.gyro(&Vector3::from(s.gyro), s.dt);
         }
         self.travel.speed(s.speed, s.dt);
+    }
+
+    /// The pivot's acceleration \[m/s^2\], body axes: O's from the speed and the gyro,
+    /// and the lever arm from O at the front ends' rate `w` and angular acceleration `wd`.
+    fn pivot_accel(&self, w: [T; 3], wd: [T; 3]) -> [T; 3] {
+        let (w, wd) = (Vector3::from(w), Vector3::from(wd));
         let p = &self.settings.params;
         let r = self
             .settings
@@ -229,6 +237,7 @@ impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
     type Output = Attitude<T>;
 
     fn update(&mut self, s: &SpatialSample<T>) -> Attitude<T> {
+        self.track_travel(s);
         let (k, mut flags) = match self.front_ends(s) {
             Ok(x) => x,
             Err(flags) => return self.hold(flags),
@@ -236,7 +245,7 @@ impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
         let trig = JointTrig::of(-k[0].phi, -k[1].phi);
         let w = [k[0].gyro_filtered, k[1].gyro_filtered, k[2].gyro_filtered];
         let wd = [k[0].theta_dd, k[1].theta_dd, k[2].theta_dd];
-        let a = self.pivot_accel(s, w, wd);
+        let a = self.pivot_accel(w, wd);
         let p = &self.settings.params;
         let v = pendulum_axes_force(p, &trig, &k, w, wd);
         let (u, clamped) = up_from(v, &trig, a.map(|x| x / p.gravity));
