@@ -40,12 +40,7 @@ fn plain_log() -> &'static (Scenario3d, Vec<LogRow3d>) {
 
 /// ekf3d's settings as `estimate --scenario` builds them.
 fn settings(s: &Scenario3d) -> Settings<f64> {
-    Settings3d::new(
-        s.rig.pendulum3d.normalised(),
-        s.rig.mounting,
-        Some(&s.sensors),
-    )
-    .ekf
+    Settings3d::of_scenario(s).ekf
 }
 
 /// One row of ekf3d's run: t, the estimate (roll, pitch), the slip flag, the inclination

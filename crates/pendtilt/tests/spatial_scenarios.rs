@@ -63,12 +63,7 @@ fn score(rows: &[LogRow3d], e: &mut dyn SpatialEstimator<f64>, from: f64) -> (f6
 /// ekf3d's settings from the scenario as `estimate --scenario` builds them: its pendulum,
 /// its mounting and its sensors' data-sheet figures.
 fn settings(s: &Scenario3d) -> Settings<f64> {
-    Settings3d::new(
-        s.rig.pendulum3d.normalised(),
-        s.rig.mounting,
-        Some(&s.sensors),
-    )
-    .ekf
+    Settings3d::of_scenario(s).ekf
 }
 
 /// ekf3d tuned the same way: 20 golden steps of its one environment figure, the density of

@@ -522,6 +522,14 @@ impl<'a> RowInput<'a> {
         ));
     }
 
+    /// The 1-based column of `name` in the header (0 if absent), for warnings.
+    fn column(&self, name: &str) -> usize {
+        self.header
+            .iter()
+            .position(|h| h == name)
+            .map_or(0, |p| p + 1)
+    }
+
     /// `x` when plausible, else NaN and a warning naming its place.
     fn plausible(&mut self, line: u64, name: &str, x: f64, bound: f64, unit: &str) -> f64 {
         if unit == "rad/s" {
@@ -532,11 +540,7 @@ impl<'a> RowInput<'a> {
         if x.abs() <= bound || x.is_nan() {
             return x;
         }
-        let col = self
-            .header
-            .iter()
-            .position(|h| h == name)
-            .map_or(0, |p| p + 1);
+        let col = self.column(name);
         let hint = if unit == "m/s^2" {
             ""
         } else {
@@ -556,11 +560,7 @@ impl<'a> RowInput<'a> {
         if x.abs() <= fs * (1.0 + FULL_SCALE_ROUNDING) || x.is_nan() {
             return x;
         }
-        let col = self
-            .header
-            .iter()
-            .position(|h| h == name)
-            .map_or(0, |p| p + 1);
+        let col = self.column(name);
         self.warn(format!(
             "{}:{line}: column {col} (`{name}`): {} rad/s exceeds the full scale {fs} rad/s \
              (rig [gyro] full_scale): read as missing",
