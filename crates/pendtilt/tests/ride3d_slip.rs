@@ -16,7 +16,6 @@ use pendtilt::bank3d::score::Inclination;
 use pendtilt::bank3d::Settings3d;
 use pendtilt::core::spatial::attitude::inclination_error;
 use pendtilt::core::spatial::ekf::{Ekf, Settings};
-use pendtilt::core::spatial::SpatialSample;
 use pendtilt::core::{Estimator, Flags, StepGate};
 use pendtilt::sim3d::scenario::Scenario3d;
 use pendtilt::sim3d::LogRow3d;
@@ -58,13 +57,7 @@ fn trace(rows: &[LogRow3d], st: Settings<f64>) -> Vec<Row> {
     let mut gate = StepGate::new();
     rows.iter()
         .map(|r| {
-            let a = e.update(&SpatialSample {
-                dt: gate.step(r.t),
-                phi: r.phi,
-                gyro: r.gyro,
-                accel: r.accel,
-                speed: r.speed,
-            });
+            let a = e.update(&r.sample(gate.step(r.t)));
             Row {
                 t: r.t,
                 est: (a.roll, a.pitch),

@@ -82,11 +82,8 @@ fn score(rows: &[LogRow3d], e: &mut dyn SpatialEstimator<f64>, from: f64) -> (f6
     let mut inc = Inclination::default();
     for r in rows {
         let a = e.update(&SpatialSample {
-            dt: gate.step(r.t),
-            phi: r.phi,
-            gyro: r.gyro,
-            accel: r.accel,
             speed: f64::NAN,
+            ..r.sample(gate.step(r.t))
         });
         if r.t >= from {
             inc.add((a.roll, a.pitch), (r.roll, r.pitch));
@@ -148,11 +145,8 @@ fn samples(rows: &[LogRow3d]) -> Vec<SpatialSample<f64>> {
     let mut gate = StepGate::new();
     rows.iter()
         .map(|r| SpatialSample {
-            dt: gate.step(r.t),
-            phi: r.phi,
-            gyro: r.gyro,
-            accel: r.accel,
             speed: f64::NAN,
+            ..r.sample(gate.step(r.t))
         })
         .collect()
 }

@@ -26,7 +26,7 @@ use pendtilt::bank3d::Settings3d;
 use pendtilt::core::spatial::attitude::inclination_error;
 use pendtilt::core::spatial::ekf::{Ekf, Settings, Ukf};
 use pendtilt::core::spatial::pendulum::{Pendulum, PendulumSettings};
-use pendtilt::core::spatial::{SpatialEstimator, SpatialSample};
+use pendtilt::core::spatial::SpatialEstimator;
 use pendtilt::core::StepGate;
 use pendtilt::peers::fusion::FusionSettings;
 use pendtilt::peers::spatial::{fusion3d, madgwick3d, mahony3d, vqf};
@@ -46,13 +46,7 @@ fn score(rows: &[LogRow3d], e: &mut dyn SpatialEstimator<f64>, from: f64) -> (f6
     let mut gate = StepGate::new();
     let mut inc = Inclination::default();
     for r in rows {
-        let a = e.update(&SpatialSample {
-            dt: gate.step(r.t),
-            phi: r.phi,
-            gyro: r.gyro,
-            accel: r.accel,
-            speed: r.speed,
-        });
+        let a = e.update(&r.sample(gate.step(r.t)));
         if r.t >= from {
             inc.add((a.roll, a.pitch), (r.roll, r.pitch));
         }
@@ -192,16 +186,7 @@ fn still3d_steps() {
         let mut gate = StepGate::new();
         for x in sim {
             let r = bank.read(&x);
-            let a = pendtilt::core::Estimator::update(
-                &mut p,
-                &SpatialSample {
-                    dt: gate.step(r.t),
-                    phi: r.phi,
-                    gyro: r.gyro,
-                    accel: r.accel,
-                    speed: r.speed,
-                },
-            );
+            let a = pendtilt::core::Estimator::update(&mut p, &r.sample(gate.step(r.t)));
             worst = worst.max(inclination_error(a.roll, a.pitch, r.roll, r.pitch));
         }
     }

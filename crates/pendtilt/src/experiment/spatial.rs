@@ -84,13 +84,7 @@ pub fn simulate3d(
     let mut gate = StepGate::new();
     for (k, (_, row)) in run.enumerate() {
         rec.t.push(row.t);
-        rec.samples.push(SpatialSample {
-            dt: gate.step(row.t),
-            phi: row.phi,
-            gyro: row.gyro,
-            accel: row.accel,
-            speed: row.speed,
-        });
+        rec.samples.push(row.sample(gate.step(row.t)));
         rec.truth.roll.push(row.roll);
         rec.truth.pitch.push(row.pitch);
         if (k as u64 + 1) % CHUNK == 0 {

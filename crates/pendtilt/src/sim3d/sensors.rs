@@ -270,6 +270,17 @@ impl LogRow3d {
         "pitch",
     ];
 
+    /// The sensor readings as the 3-D estimators take them, `dt` after the previous row.
+    pub fn sample(&self, dt: f64) -> pendtilt_core::spatial::SpatialSample<f64> {
+        pendtilt_core::spatial::SpatialSample {
+            dt,
+            phi: self.phi,
+            gyro: self.gyro,
+            accel: self.accel,
+            speed: self.speed,
+        }
+    }
+
     /// The values in [`LogRow3d::COLUMNS`] order.
     pub fn values(&self) -> [f64; 12] {
         [
