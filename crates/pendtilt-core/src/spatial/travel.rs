@@ -4,9 +4,13 @@
 //! derivative, the centripetal part from the rate `w_p` at which the path turns (the gyro
 //! low-passed, so that the body's faster swings on its suspension are not taken for turns).
 //!
-//! [`Travel`] keeps the two filters per sample; the estimators that model the pendulum's
-//! specific force add `a_O` and the lever arm from O ([`super::mounting::lever_arm`]).
+//! [`Travel`] keeps the two filters per sample (inv3d and ekf3d/ukf3d alike; the latter
+//! feed it the slip detector's speed, [`Travel::slipped_speed`]); the estimators that model
+//! the pendulum's specific force add `a_O` and the lever arm from O
+//! ([`super::mounting::lever_arm`]).
+use super::ekf::slip::SpeedVerdict;
 use crate::filters::diff::{Response, SmoothingDifferentiator};
+use crate::filters::one_pole::{OnePole, OnePoleGain};
 use crate::Real;
 use nalgebra::Vector3;
 
@@ -63,9 +67,8 @@ impl<T: Real> TravelSettings<T> {
 /// O's speed, its smoothed rate and the path's turn rate, sample by sample.
 #[derive(Debug, Clone)]
 pub struct Travel<T: Real> {
-    settings: TravelSettings<T>,
     speed_diff: SmoothingDifferentiator<T, 1>,
-    path_gyro: Option<Vector3<T>>,
+    path_gyro: OnePole<T, 3>,
     // The last speed reading, `None` when it was missing.
     speed: Option<T>,
 }
@@ -74,32 +77,58 @@ impl<T: Real> Travel<T> {
     /// Nothing seen yet.
     pub fn new(settings: TravelSettings<T>) -> Self {
         Self {
-            settings,
             speed_diff: SmoothingDifferentiator::new(Response::Bessel, settings.speed_rate_hz),
-            path_gyro: None,
+            path_gyro: OnePole::new(OnePoleGain::from_hz(settings.path_turn_hz)),
             speed: None,
         }
     }
 
     /// Takes a gyro reading `dt` after the last (the first one starts the low-pass).
+    #[inline]
     pub fn gyro(&mut self, g: &Vector3<T>, dt: T) {
-        let k = T::one() - (-T::two_pi() * self.settings.path_turn_hz * dt).exp();
-        self.path_gyro = Some(self.path_gyro.map_or(*g, |m| m + (g - m) * k));
+        self.path_gyro.update(g, dt);
     }
 
     /// Takes a speed reading `dt` after the last; a missing one (`NaN`) counts as a
     /// vehicle at rest, not accelerating, and leaves the derivative where it was.
     pub fn speed(&mut self, v: T, dt: T) {
         if !v.is_finite() {
-            self.speed = None;
+            self.no_speed();
             return;
         }
+        self.differentiate(v, dt);
+    }
+
+    /// The speed `v` (finite) `dt` after the last into the derivative (the first one, or
+    /// one with no step, starts it).
+    fn differentiate(&mut self, v: T, dt: T) {
         if dt > T::zero() && self.speed_diff.is_started() {
             self.speed_diff.update(v, dt);
         } else {
             self.speed_diff.start(v);
         }
         self.speed = Some(v);
+    }
+
+    /// Takes the slip detector's verdict on a speed reading `dt` after the last: its speed
+    /// (the reading, or the carried one while the wheel slips) is differentiated, and the
+    /// switches of source are not taken for accelerations: a slip's end shifts the
+    /// derivative's level by the verdict's jump, a slip's start restarts it on the
+    /// accelerometer's rate ([`super::ekf::slip`]).
+    pub fn slipped_speed(&mut self, v: &SpeedVerdict<T>, dt: T) {
+        self.speed_diff.shift_signal(0, v.jump);
+        if let Some(rate) = v.restart.filter(|_| self.speed_diff.is_started()) {
+            self.speed_diff.restart_signal_on_ramp(0, v.speed, rate);
+            self.speed = Some(v.speed);
+        } else {
+            self.differentiate(v.speed, dt);
+        }
+    }
+
+    /// Takes the lack of a speed reading: the vehicle counts as at rest, not accelerating,
+    /// and the derivative stays where it was.
+    pub fn no_speed(&mut self) {
+        self.speed = None;
     }
 
     /// The last speed reading \[m/s\] (0 when it was missing).
@@ -115,13 +144,13 @@ impl<T: Real> Travel<T> {
 
     /// The low-passed gyro, once a reading was seen.
     pub fn path_gyro(&self) -> Option<Vector3<T>> {
-        self.path_gyro
+        self.path_gyro.value()
     }
 
     /// O's acceleration in body axes, `v' x_b + w_p x (v x_b)`, with `w_p` the path's turn
     /// rate (the low-passed gyro, less `bias`).
     pub fn centre_accel(&self, bias: &Vector3<T>) -> Vector3<T> {
-        let wp = self.path_gyro.unwrap_or_else(Vector3::zeros) - bias;
+        let wp = self.path_gyro().unwrap_or_else(Vector3::zeros) - bias;
         let v = self.forward_speed();
         Vector3::new(self.speed_rate(), wp[2] * v, -wp[1] * v)
     }
@@ -129,7 +158,7 @@ impl<T: Real> Travel<T> {
     /// Forgets every reading.
     pub fn reset(&mut self) {
         self.speed_diff.reset();
-        self.path_gyro = None;
+        self.path_gyro.reset();
         self.speed = None;
     }
 }

@@ -7,8 +7,10 @@ use super::slip::{longitudinal_accel, SlipDetector};
 use super::state::{Error, State, A, B, BIAS, N, P, R, ROT};
 use crate::engine::{substeps, Cov, Gate, GaussianFilter, Measurement, ProcessModel, Rejected};
 use crate::filters::diff::{Response, SmoothingDifferentiator};
+use crate::filters::one_pole::{OnePole, OnePoleGain};
 use crate::spatial::attitude::roll_pitch_from_up;
 use crate::spatial::mounting::lever_arm;
+use crate::spatial::travel::{Travel, TravelSettings};
 use crate::spatial::{Attitude, SpatialSample};
 use crate::{Estimator, Flags, Real, StepClock};
 use nalgebra::{SVector, UnitQuaternion, Vector3, Vector4};
@@ -61,9 +63,9 @@ pub struct ModelBased<T: Real, F> {
     since_phi: Option<T>,
     gyro: Option<Vector3<T>>,
     // The gyro low-passed (HOLD_HZ): what a hold bridges with.
-    smooth: Option<Vector3<T>>,
+    smooth: OnePole<T, 3>,
     // The mean square of the gyro's departure from `smooth`, per axis (VIBRATION_TAU).
-    vibration: Option<Vector3<T>>,
+    vibration: OnePole<T, 3>,
     // How long the gyro reading has been held \[s\].
     held_for: T,
     // How long each gyro axis has been at its full scale \[s\].
@@ -72,10 +74,8 @@ pub struct ModelBased<T: Real, F> {
     clip_slope: Vector3<T>,
     // The gyro's smoothed derivative: the body's angular acceleration.
     gyro_diff: SmoothingDifferentiator<T, 3>,
-    // The gyro low-passed to the path's turn rate.
-    path_gyro: Option<Vector3<T>>,
-    // The speed's smoothed derivative: O's longitudinal acceleration.
-    speed_diff: SmoothingDifferentiator<T, 1>,
+    // The path's turn rate and the (slip-checked) speed with its smoothed derivative.
+    travel: Travel<T>,
     // The accelerometer from O, `accel_at - speed_at` \[m\].
     accel_from_centre: Vector3<T>,
     // Wheel slip on the speed.
@@ -101,14 +101,16 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             clock: StepClock::new(),
             since_phi: None,
             gyro: None,
-            smooth: None,
-            vibration: None,
+            smooth: OnePole::new(OnePoleGain::from_hz(T::lit(HOLD_HZ))),
+            vibration: OnePole::new(OnePoleGain::from_time_constant(T::lit(VIBRATION_TAU))),
             held_for: T::zero(),
             clipped_for: Vector3::zeros(),
             clip_slope: Vector3::zeros(),
             gyro_diff: SmoothingDifferentiator::new(Response::Bessel, settings.angular_accel_hz),
-            speed_diff: SmoothingDifferentiator::new(Response::Bessel, settings.speed_rate_hz),
-            path_gyro: None,
+            travel: Travel::new(TravelSettings {
+                speed_rate_hz: settings.speed_rate_hz,
+                path_turn_hz: settings.path_turn_hz,
+            }),
             accel_from_centre: settings.mounting.from_centre(settings.mounting.accel_at),
             slip: SlipDetector::new(settings.slip),
             rejected: 0,
@@ -142,6 +144,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     ) -> (T, T, Flags) {
         if !s.speed.is_finite() {
             self.slip.reset();
+            self.travel.no_speed();
             return (T::zero(), T::zero(), Flags::empty());
         }
         let a = match self.filter.as_ref() {
@@ -156,17 +159,9 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             _ => T::nan(),
         };
         let v = self.slip.update(s.speed, a, dt);
-        // A slip's start or end switches the speed's source: not an acceleration.
-        self.speed_diff.shift_signal(0, v.jump);
-        if let Some(rate) = v.restart.filter(|_| self.speed_diff.is_started()) {
-            self.speed_diff.restart_signal_on_ramp(0, v.speed, rate);
-        } else if dt > T::zero() && self.speed_diff.is_started() {
-            self.speed_diff.update(v.speed, dt);
-        } else {
-            self.speed_diff.start(v.speed);
-        }
+        self.travel.slipped_speed(&v, dt);
         let flag = if v.slip { Flags::SLIP } else { Flags::empty() };
-        (v.speed, self.speed_diff.output().d1, flag)
+        (self.travel.forward_speed(), self.travel.speed_rate(), flag)
     }
 
     /// The body's angular acceleration now: the gyro's smoothed derivative, zero while the
@@ -226,7 +221,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// encoder innovation turn the attitude by 0.07 deg, which the filter then took 7 s to
     /// forget.
     fn hold_variance(&self) -> Vector3<T> {
-        self.vibration.unwrap_or_else(|| {
+        self.vibration.value().unwrap_or_else(|| {
             let v = self.settings.environment.angular_vibration_rms;
             Vector3::repeat(v * v)
         })
@@ -433,16 +428,11 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         if gyro_ok {
             let g = Vector3::new(s.gyro[0], s.gyro[1], s.gyro[2]);
             self.gyro = Some(g);
-            let k = T::one() - (-T::two_pi() * T::lit(HOLD_HZ) * dt).exp();
-            let m = self.smooth.map_or(g, |m| m + (g - m) * k);
-            self.smooth = Some(m);
+            let m = self.smooth.update(&g, dt);
             if dt > T::zero() {
-                let k = T::one() - (-dt / T::lit(VIBRATION_TAU)).exp();
-                let d2 = (g - m).component_mul(&(g - m));
-                self.vibration = Some(self.vibration.map_or(d2, |v| v + (d2 - v) * k));
+                self.vibration.update(&(g - m).component_mul(&(g - m)), dt);
             }
-            let k = T::one() - (-T::two_pi() * self.settings.path_turn_hz * dt).exp();
-            self.path_gyro = Some(self.path_gyro.map_or(g, |m| m + (g - m) * k));
+            self.travel.gyro(&g, dt);
             if dt > T::zero() && self.gyro_diff.is_started() {
                 self.gyro_diff.update_all(s.gyro, dt);
             } else {
@@ -469,7 +459,11 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             };
         }
         let mut flags = Flags::empty();
-        let gyro = if gyro_ok { self.gyro } else { self.smooth };
+        let gyro = if gyro_ok {
+            self.gyro
+        } else {
+            self.smooth.value()
+        };
         let gyro = gyro.unwrap_or_else(Vector3::zeros);
         // A held gyro reading misses the rate's change, the angular vibration's above all:
         // the attitude's variance grows as (v t)^2 over a hold of t.
@@ -493,7 +487,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         let drive = Drive {
             gyro,
             angular_accel,
-            path_gyro: self.path_gyro.unwrap_or(gyro),
+            path_gyro: self.travel.path_gyro().unwrap_or(gyro),
             speed,
             speed_rate,
         };
@@ -535,15 +529,14 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         self.clock.restart();
         self.since_phi = None;
         self.gyro = None;
-        self.smooth = None;
-        self.vibration = None;
+        self.smooth.reset();
+        self.vibration.reset();
         self.held_for = T::zero();
         self.clipped_for = Vector3::zeros();
         self.clip_slope = Vector3::zeros();
         self.gyro_diff.reset();
-        self.speed_diff.reset();
+        self.travel.reset();
         self.slip.reset();
-        self.path_gyro = None;
         self.rejected = 0;
         self.last = Attitude::unknown();
         self.kept_bias = None;

@@ -39,6 +39,7 @@
 //! Without an accelerometer reading only the derivative bound detects slip, and `v_c` is
 //! held.
 use crate::filters::diff::{Response, SmoothingDifferentiator};
+use crate::filters::one_pole::OnePoleGain;
 use crate::spatial::mounting::lever_arm;
 use crate::Real;
 use nalgebra::Vector3;
@@ -84,6 +85,8 @@ pub struct SlipDetector<T: Real> {
     diff: SmoothingDifferentiator<T, 2>,
     // The carried speed and the last longitudinal acceleration it was carried with.
     carried: T,
+    // The gain that pulls `carried` towards the reading between slips (follow_hz).
+    follow: OnePoleGain<T>,
     accel: T,
     slipping: bool,
     // How long the reading has agreed (while slipping) or how long the slip lasts [s].
@@ -107,6 +110,7 @@ impl<T: Real> SlipDetector<T> {
             diff: SmoothingDifferentiator::new(Response::Bessel, settings.hz),
             settings,
             carried: T::zero(),
+            follow: OnePoleGain::from_hz(settings.follow_hz),
             accel: T::zero(),
             slipping: false,
             agree_for: T::zero(),
@@ -116,9 +120,13 @@ impl<T: Real> SlipDetector<T> {
         }
     }
 
-    /// Forgets the past (a new start, or the speed column went missing).
+    /// Forgets the past (a new start, or the speed column went missing). Nothing changes
+    /// before the first reading starts the filter, so a detector not started is as new:
+    /// a log without speed resets it on every row, and this keeps that free.
     pub fn reset(&mut self) {
-        *self = Self::new(self.settings);
+        if self.diff.is_started() {
+            *self = Self::new(self.settings);
+        }
     }
 
     /// Whether the wheel slips now.
@@ -214,8 +222,7 @@ impl<T: Real> SlipDetector<T> {
                 restart: Some(if have_accel { from_accel } else { T::zero() }),
             };
         }
-        let k = T::one() - (-T::two_pi() * st.follow_hz * dt).exp();
-        self.carried += (speed - self.carried) * k;
+        self.carried += (speed - self.carried) * self.follow.gain(dt);
         pass
     }
 }
