@@ -115,7 +115,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             model: settings.process_model(),
             accel,
             encoder: Encoder {
-                r: settings.sensors.encoder_variance().max(T::lit(1e-14)),
+                r: settings.encoder_variance().max(T::lit(1e-14)),
             },
             q_step: T::zero(),
             q: Cov::<T>::zeros(),

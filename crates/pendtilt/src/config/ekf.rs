@@ -18,6 +18,10 @@ pub struct EkfConfig {
     /// Encoder noise, standard deviation \[rad\].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub encoder_noise: Option<f64>,
+    /// The pendulum's jitter from vibration above its band, standard deviation \[rad\]
+    /// (`ModelSettings::encoder_jitter`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub encoder_jitter: Option<f64>,
     /// Gyro white-noise density \[rad/s/sqrt(Hz)\].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gyro_density: Option<f64>,
@@ -59,6 +63,7 @@ impl EkfConfig {
             s.sensors.encoder_bits = b;
         }
         set(&mut s.sensors.encoder_noise, self.encoder_noise);
+        set(&mut s.encoder_jitter, self.encoder_jitter);
         set(&mut s.sensors.gyro_density, self.gyro_density);
         set(&mut s.sensors.gyro_bias, self.gyro_bias);
         set(&mut s.sensors.accel_density, self.accel_density);
@@ -74,6 +79,7 @@ impl EkfConfig {
         Self {
             encoder_bits: Some(s.sensors.encoder_bits),
             encoder_noise: Some(s.sensors.encoder_noise),
+            encoder_jitter: Some(s.encoder_jitter),
             gyro_density: Some(s.sensors.gyro_density),
             gyro_bias: Some(s.sensors.gyro_bias),
             accel_density: Some(s.sensors.accel_density),
@@ -88,6 +94,7 @@ impl EkfConfig {
     pub(super) fn values(&self) -> Vec<(&'static str, f64)> {
         [
             ("ekf.encoder_noise", self.encoder_noise),
+            ("ekf.encoder_jitter", self.encoder_jitter),
             ("ekf.gyro_density", self.gyro_density),
             ("ekf.gyro_bias", self.gyro_bias),
             ("ekf.accel_density", self.accel_density),
@@ -114,6 +121,7 @@ mod tests {
         other.sensors.encoder_bits = 14;
         other.sensors.gyro_density = 3e-4;
         other.accel_vibration = 0.7;
+        other.encoder_jitter = 4e-4;
         other.process.jerk = 12.0;
         other.process.pendulum = 3.5;
         other.process.bias = 2e-9;

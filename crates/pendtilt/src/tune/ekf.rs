@@ -103,7 +103,7 @@ fn sense(f: &mut ExtendedKalman<f64>, sensor: &Sum, z: f64, score: bool, acc: &m
 /// filter fails.
 pub fn nll(st: &ModelSettings<f64>, samples: &[Sample<f64>], skip: usize) -> f64 {
     let model = st.process_model();
-    let r_enc = st.sensors.encoder_variance().max(1e-14);
+    let r_enc = st.encoder_variance().max(1e-14);
     let encoder = Sum {
         idx: &[PHI],
         r: r_enc,

@@ -5,6 +5,9 @@
 //! - [`encoder`]: encoder quantisation step and noise.
 //! - [`gyro`]: gyro noise density and bias (still stretches, else the high band).
 //! - [`accel`]: accelerometer noise floor and the vibration level per band.
+//! - [`forcing`]: the EKF's pendulum forcing density (the accelerometer's residual near
+//!   the natural frequency) and the encoder's jitter (the encoder's power above the
+//!   pendulum's band).
 //! - [`cutoff`]: the differentiator cutoff of Algorithms 1-3: measured against the
 //!   gyro's integral in the band above 0.2 Hz ([`mod@reference`]) when the log has a gyro,
 //!   else from the encoder's spectrum (a noise/delay trade-off rule).
@@ -41,6 +44,7 @@ pub mod accel;
 pub mod cutoff;
 pub mod ekf;
 pub mod encoder;
+pub mod forcing;
 pub mod gyro;
 pub mod kalman;
 mod notes;
@@ -185,6 +189,10 @@ pub struct Tuned {
     pub gyro: Result<gyro::GyroNoise, String>,
     /// Accelerometer noise and vibration.
     pub accel: Result<accel::AccelNoise, String>,
+    /// The encoder's jitter from vibration above the pendulum's band \[rad\].
+    pub jitter: Result<f64, String>,
+    /// The pendulum's forcing density near its natural frequency.
+    pub forcing: Result<forcing::Forcing, String>,
     /// The spectral rule's choice.
     pub cutoff: Result<cutoff::CutoffChoice, String>,
     /// The cutoff measured against the gyro: (multiple of the natural frequency, RMS
@@ -496,7 +504,9 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
     let gyr = gyro::estimate(&gyro_v, &phi, rate);
     let acc = accel::estimate(&ax, &ay, rate, f_n);
     let cut = cutoff::choose(&phi, rate, &start.params, &start_diff);
-    let ekf_start = notes::sensor_settings(&start.ekf, &enc, &gyr, &acc, &mut notes);
+    let mut ekf_start = notes::sensor_settings(&start.ekf, &enc, &gyr, &acc, &mut notes);
+    let jit = forcing::jitter(&phi, rate, f_n);
+    notes::jitter(&mut ekf_start, &jit, &mut notes);
     let duration = samples.len() as f64 / rate;
     let why_not = why_not_fit(duration, tilt_range(&phi, rate));
     let fit_rows = samples
@@ -504,6 +514,8 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         .min((opts.fit_seconds * rate).round() as usize);
     let fit_samples = &samples[..fit_rows];
     let skip = (kalman::BURN_IN * rate).round() as usize;
+    let force = forcing::forcing(&ekf_start, fit_samples, rate, skip);
+    notes::forcing(&mut ekf_start, &force, &mut notes);
     let bias = gyr.as_ref().ok().and_then(|g| g.bias);
     let cutoff_by_gyro = bias
         .filter(|_| duration >= MIN_FIT_SECONDS)
@@ -555,10 +567,22 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         why_not.as_deref(),
         &mut notes,
     );
+    if force.is_ok() {
+        // The process noise "kept" by the filters' notes is the start's, whose pendulum
+        // forcing was measured: not a default.
+        for n in notes.iter_mut().filter(|n| n.key == "ekf.process.pendulum") {
+            if n.kept_default {
+                n.kept_default = false;
+                n.how += " (the start's value is the accelerometer's measured forcing)";
+            }
+        }
+    }
     Tuned {
         encoder: enc,
         gyro: gyr,
         accel: acc,
+        jitter: jit,
+        forcing: force,
         cutoff: cut,
         cutoff_by_gyro,
         differentiator,

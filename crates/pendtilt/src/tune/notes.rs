@@ -159,6 +159,49 @@ fn accel_noise(
     }
 }
 
+/// The encoder's jitter into `s`, from its estimate.
+pub(super) fn jitter(s: &mut ModelSettings<f64>, j: &Result<f64, String>, notes: &mut Vec<Note>) {
+    match j {
+        Ok(j) => {
+            s.encoder_jitter = *j;
+            note(notes, "ekf.encoder_jitter", format!("{j:.3e} rad"), false, format!(
+                "power of phi from {} x f_n to 0.3 x the rate less its white floor ({:.4} deg RMS): the pendulum's jitter from vibration above its band",
+                super::forcing::JITTER_TIMES_NATURAL, j.to_degrees()));
+        }
+        Err(why) => note(
+            notes,
+            "ekf.encoder_jitter",
+            format!("{:.3e} rad", s.encoder_jitter),
+            true,
+            format!("{why}: kept the default"),
+        ),
+    }
+}
+
+/// The EKF's pendulum forcing density into `s`, from its estimate.
+pub(super) fn forcing(
+    s: &mut ModelSettings<f64>,
+    f: &Result<super::forcing::Forcing, String>,
+    notes: &mut Vec<Note>,
+) {
+    match f {
+        Ok(f) => {
+            let before = s.process.pendulum;
+            s.process.pendulum = f.process;
+            note(notes, "ekf.process.pendulum", format!("{:.4e} 1/s^3", f.process), false, format!(
+                "the accelerometer's residual (ax less the EKF's g sin theta - d theta'') near f_n: {:.3e} m/s^2/sqrt(Hz), squared over (b g)^2 (was {before:.4e}); the likelihood fit below starts here",
+                f.density));
+        }
+        Err(why) => note(
+            notes,
+            "ekf.process.pendulum",
+            format!("{:.4e} 1/s^3", s.process.pendulum),
+            true,
+            format!("{why}: kept the default"),
+        ),
+    }
+}
+
 /// The cutoff's note.
 pub(super) fn cutoff(
     c: &Result<CutoffChoice, String>,
@@ -318,7 +361,7 @@ fn ekf_notes(
             ekf_start.process,
             true,
             format!(
-                "{}; kept the default: the EKF's error against the gyro's integral above 0.2 Hz \
+                "{}; kept the start's: the EKF's error against the gyro's integral above 0.2 Hz \
                  was {:.4} deg with it, {:.4} without",
                 lik(e),
                 f.to_degrees(),

@@ -127,6 +127,7 @@ mod tests {
         for key in [
             "sensors.encoder_bits",
             "sensors.encoder_noise",
+            "ekf.encoder_jitter",
             "sensors.gyro_density",
             "sensors.gyro_bias",
             "sensors.accel_density",
