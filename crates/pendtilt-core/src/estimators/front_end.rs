@@ -148,8 +148,11 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
         } else {
             self.diff.update_all(u, dt);
         }
-        let (theta_dd, gyro_filtered, gyro_flags) = self.theta_dd(s.gyro, gyro, dt);
+        // Read phi's derivatives before the gyro's step, right after the update: read
+        // after it, the compiler re-loaded the state just stored, a store-forwarding stall
+        // that made alg1 (f64) 1.4x slower (docs/performance.md).
         let d = self.diff.signal(0);
+        let (theta_dd, gyro_filtered, gyro_flags) = self.theta_dd(s.gyro, gyro, dt);
         let phi_used = match self.phi_source {
             PhiSource::Raw => phi,
             PhiSource::Filtered => d.value,
