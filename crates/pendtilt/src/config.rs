@@ -38,6 +38,7 @@
 //!
 //! [alg1]                # Eq (20)
 //! phi = "raw"           # or "filtered"
+//! # cutoff_times_natural = 1.3  # alg1's own cutoff; default [differentiator]'s
 //!
 //! [alg2]                # Eqs (21)-(22)
 //! phi = "raw"
@@ -262,9 +263,10 @@ pub struct RigConfig {
     pub accel: AccelSettings<f64>,
     /// `[gyro]`: the rate gyro, for alg2, alg3 and every `kf_*`.
     pub gyro: GyroSettings<f64>,
-    /// `[alg1]`, Eq (20): the key `phi` ([`FrontEndSettings::phi`]).
+    /// `[alg1]`, Eq (20): the key `phi` ([`FrontEndSettings::phi`]) and Algorithm 1's own
+    /// cutoff `cutoff_times_natural` ([`Alg1Table`]).
     #[serde(with = "tables::alg1")]
-    pub alg1: Alg1Settings<f64>,
+    pub alg1: Alg1Table,
     /// `[alg2]`, Eqs (21)-(22): `phi`, `theta_dd = "matched" | "window"` with `window`
     /// \[s\] ([`FrontEndSettings::theta_dd`]), `pivot_offset`, `delay_compensation`.
     #[serde(with = "tables::alg2")]
@@ -276,6 +278,21 @@ pub struct RigConfig {
     /// `[ekf]`: the `ekf` and `ukf` filters' noise figures ([`EkfConfig`]); written empty
     /// when no key is set (every figure then derived from the default sensors).
     pub ekf: EkfConfig,
+}
+
+/// The `[alg1]` table: Algorithm 1's settings and, if it has one, its own differentiator
+/// cutoff.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Alg1Table {
+    /// Eq (20): its front end's `phi` (the rest of the front end from the shared tables).
+    pub settings: Alg1Settings<f64>,
+    /// Algorithm 1's differentiator cutoff as a multiple of the natural frequency, in
+    /// place of `[differentiator]`'s (the response stays that table's). Default none: the
+    /// shared cutoff. `pendtilt tune` sets it: measured on issue 12's zoo, Algorithm 1
+    /// (phi and phi'' only) and Algorithm 2 (with the gyro) want cutoffs far apart on a
+    /// slow pendulum (ride 12, f_n 0.5 Hz: alg1 best at 1.34 f_n, alg2 at 10 f_n), and
+    /// one cutoff for both, chosen for both together, was worse than either's default.
+    pub cutoff_times_natural: Option<f64>,
 }
 
 /// Name used in errors for configurations built in memory rather than read from a file.
@@ -403,11 +420,14 @@ impl RigConfig {
         }
     }
 
-    /// Settings of `alg1`, from `[pendulum]`, `[differentiator]`, `[gyro]` and `[alg1]`.
+    /// Settings of `alg1`, from `[pendulum]`, `[differentiator]`, `[gyro]` and `[alg1]`
+    /// (its own cutoff, if it has one).
     pub fn alg1_settings(&self) -> Alg1Settings<f64> {
-        Alg1Settings {
-            front_end: self.front_end(&self.alg1.front_end),
+        let mut front_end = self.front_end(&self.alg1.settings.front_end);
+        if let Some(x) = self.alg1.cutoff_times_natural {
+            front_end.differentiator.cutoff = pendtilt_core::filters::diff::Cutoff::TimesNatural(x);
         }
+        Alg1Settings { front_end }
     }
 
     /// Settings of `alg2`, from `[pendulum]`, `[differentiator]`, `[gyro]` and `[alg2]`.
@@ -521,6 +541,7 @@ fn key_comment(table: &str, key: &str) -> Option<&'static str> {
         ("accel", "full_scale") => "accelerometer full scale [m/s^2]",
         ("gyro", "full_scale") => "gyro full scale [rad/s]",
         ("alg1" | "alg2" | "alg3", "phi") => "raw | filtered",
+        ("alg1", "cutoff_times_natural") => "alg1's own cutoff / natural frequency",
         ("alg2" | "alg3", "theta_dd") => "matched | window (Eq 22)",
         ("alg2" | "alg3", "window") => "Eq (22) window [s]",
         ("alg2", "pivot_offset") => "add the l12 term to alg2",

@@ -374,6 +374,35 @@ fn estimator_tables_map_onto_core_settings() {
 }
 
 #[test]
+fn alg1_may_have_its_own_cutoff() {
+    use pendtilt::core::filters::diff::{Cutoff, Response};
+    let text = "[pendulum]\na = 0.04\nb = 0.005\n\
+        [differentiator]\nresponse = \"bessel\"\ncutoff_hz = 3\n\
+        [alg1]\ncutoff_times_natural = 0.8\n";
+    let cfg = RigConfig::from_toml_str(text, "rig.toml").unwrap();
+    let d1 = cfg.alg1_settings().front_end.differentiator;
+    // Its own cutoff, the shared response; everyone else keeps [differentiator]'s.
+    assert_eq!(d1.cutoff, Cutoff::TimesNatural(0.8));
+    assert_eq!(d1.response, Response::Bessel);
+    assert_eq!(
+        cfg.alg2_settings().front_end.differentiator.cutoff,
+        Cutoff::Hz(3.0)
+    );
+    assert_eq!(
+        cfg.alg3_settings().front_end.differentiator.cutoff,
+        Cutoff::Hz(3.0)
+    );
+    let back = RigConfig::from_toml_str(&cfg.to_toml_string(), "again.toml").unwrap();
+    assert_eq!(back, cfg, "{}", cfg.to_toml_string());
+    impossible(
+        "[alg1]\ncutoff_times_natural = -1\n",
+        "alg1.cutoff_times_natural",
+        Some(2),
+        "> 0",
+    );
+}
+
+#[test]
 fn fitted_alg3_gains_round_trip() {
     use pendtilt::core::estimators::equations::Alg3Gains;
     let mut cfg = RigConfig::from_params(PendulumParams {

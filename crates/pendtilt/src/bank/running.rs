@@ -398,7 +398,7 @@ mod tests {
         for alg1_filtered in [false, true] {
             let mut s = BankSettings::from_params(p);
             if alg1_filtered {
-                s.rig.alg1.front_end.phi = PhiSource::Filtered;
+                s.rig.alg1.settings.front_end.phi = PhiSource::Filtered;
             }
             s.rig.alg3.gains.n = 0.003;
             // As a rig file from `simulate` has it: alg1 must still share.

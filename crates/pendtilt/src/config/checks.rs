@@ -158,6 +158,12 @@ fn check_estimators(e: &RigConfig, issues: &mut Vec<Issue>) {
     }
     positive(
         issues,
+        "alg1.cutoff_times_natural",
+        e.alg1.cutoff_times_natural,
+        "the cutoff must be > 0 (a multiple of f_n; leave it out for [differentiator]'s)",
+    );
+    positive(
+        issues,
         "accel.prefilter_hz",
         e.accel.prefilter_hz,
         "the prefilter cutoff must be > 0 [Hz] (leave it out to turn it off)",

@@ -128,36 +128,44 @@ pub(super) mod differentiator {
 /// `[alg1]`: [`Alg1Settings`] (its front end's `phi`).
 pub(super) mod alg1 {
     use super::*;
+    use crate::config::Alg1Table;
 
     #[derive(Serialize, Deserialize)]
     #[serde(deny_unknown_fields, default)]
     struct Keys {
         phi: PhiSource,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        cutoff_times_natural: Option<f64>,
     }
 
     impl Default for Keys {
         fn default() -> Self {
             Self {
                 phi: Alg1Settings::<f64>::default().front_end.phi,
+                cutoff_times_natural: None,
             }
         }
     }
 
-    pub fn serialize<S: Serializer>(a: &Alg1Settings<f64>, s: S) -> Result<S::Ok, S::Error> {
+    pub fn serialize<S: Serializer>(a: &Alg1Table, s: S) -> Result<S::Ok, S::Error> {
         Keys {
-            phi: a.front_end.phi,
+            phi: a.settings.front_end.phi,
+            cutoff_times_natural: a.cutoff_times_natural,
         }
         .serialize(s)
     }
 
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Alg1Settings<f64>, D::Error> {
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Alg1Table, D::Error> {
         let k = Keys::deserialize(d)?;
         let d = Alg1Settings::<f64>::default();
-        Ok(Alg1Settings {
-            front_end: FrontEndSettings {
-                phi: k.phi,
-                ..d.front_end
+        Ok(Alg1Table {
+            settings: Alg1Settings {
+                front_end: FrontEndSettings {
+                    phi: k.phi,
+                    ..d.front_end
+                },
             },
+            cutoff_times_natural: k.cutoff_times_natural,
         })
     }
 }

@@ -128,17 +128,55 @@ pub fn choose(
     })
 }
 
-/// Golden-section steps of [`by_gyro_reference`].
-const GOLDEN_STEPS: usize = 14;
-/// Cost evaluations [`by_gyro_reference`] makes (two inner points, one per step, both ends).
-pub const EVALUATIONS: u64 = GOLDEN_STEPS as u64 + 4;
+/// Log-spaced points of the grid over 0.4-10 times f_n that [`by_gyro_reference`] starts
+/// each search with (ratio 1.5 between points).
+const GRID_POINTS: usize = 9;
+/// Golden-section steps of [`by_gyro_reference`] between the best grid point's neighbours.
+const GOLDEN_STEPS: usize = 6;
+/// Cost evaluations [`by_gyro_reference`] makes: per algorithm the grid, then the
+/// golden-section search (two inner points, one per step, both ends).
+pub const EVALUATIONS: u64 = 2 * (GRID_POINTS + GOLDEN_STEPS + 4) as u64;
 
-/// The cutoff measured against the gyro's integral ([`super::reference`]): the multiple of
-/// the natural frequency in 0.4-10 (golden-section search in log scale, 14 steps) that
-/// minimises the sum of Algorithm 1's and Algorithm 2's squared band errors ([`EVALUATIONS`]
-/// runs of each). Returns the
-/// multiple and the RMS of the two band errors there \[rad\]. Used
-/// whenever the log has a gyro; the spectral rule of [`choose`] is the fallback.
+/// The cutoffs measured against the gyro's integral ([`super::reference`]), one per
+/// algorithm: (multiple of f_n, RMS band error there \[rad\]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GyroCutoffs {
+    /// Algorithm 1's (phi and phi'' alone).
+    pub alg1: (f64, f64),
+    /// Algorithm 2's (with the gyro): the shared `[differentiator]`, which Algorithm 3
+    /// and the `kf_*` filters' measurement take too.
+    pub alg2: (f64, f64),
+}
+
+/// The least of `cost` over multiples 0.4-10 of f_n: a log-spaced grid of [`GRID_POINTS`]
+/// (the band error has several minima on a slow pendulum: zoo ride 12's alg1 at 0.4 and
+/// 1.34 f_n, where a golden-section search alone may settle in the wrong one), then a
+/// golden-section search between the best point's neighbours.
+fn least(mut cost: impl FnMut(f64) -> f64) -> (f64, f64) {
+    let (lo, hi) = (0.4f64, 10.0f64);
+    let grid: Vec<f64> = (0..GRID_POINTS)
+        .map(|k| lo * (hi / lo).powf(k as f64 / (GRID_POINTS - 1) as f64))
+        .collect();
+    let costs: Vec<f64> = grid.iter().map(|&x| cost(x)).collect();
+    let i = (0..GRID_POINTS)
+        .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
+        .unwrap_or(0);
+    let (a, b) = (
+        grid[i.saturating_sub(1)],
+        grid[(i + 1).min(GRID_POINTS - 1)],
+    );
+    let (x, c) = crate::peers::tune::golden_log(&mut cost, a, b, GOLDEN_STEPS);
+    if c < costs[i] {
+        (x, c)
+    } else {
+        (grid[i], costs[i])
+    }
+}
+
+/// The cutoffs measured against the gyro's integral ([`super::reference`]): for Algorithm
+/// 1 and Algorithm 2 apart, the multiple of the natural frequency in 0.4-10 with the least
+/// band error (a grid, then a golden-section search; [`EVALUATIONS`] runs in all). Used whenever the log has a gyro;
+/// the spectral rule of [`choose`] is the fallback.
 ///
 /// Each cost evaluation ticks `budget`; past its deadline the cost is infinite (the
 /// caller then keeps the other rule's cutoff).
@@ -146,7 +184,11 @@ pub const EVALUATIONS: u64 = GOLDEN_STEPS as u64 + 4;
 /// Why: on the simulated scooter ride (60 s, seed 5) the spectral rule alone chose
 /// 5.4 Hz where the default 2.8 Hz was better (alg1 0.99 deg against 0.56 deg): what it
 /// calls tilt below its valley holds the floor's low-frequency translation too, which the
-/// pendulum cannot tell from tilt. The gyro can.
+/// pendulum cannot tell from tilt. The gyro can. Apart, because one cutoff for both
+/// (the least sum of their squared band errors) suited neither on slow pendulums: zoo
+/// ride 12 (f_n 0.5 Hz) took 0.4 f_n, where alg1's error was 4.57 deg (1.34 f_n: 3.13)
+/// and alg2's 4.56 (10 f_n: 1.49); each band error followed its true error within 15 %
+/// over the whole range there.
 pub fn by_gyro_reference(
     samples: &[pendtilt_core::Sample<f64>],
     alg1: &pendtilt_core::estimators::alg1::Alg1Settings<f64>,
@@ -154,45 +196,45 @@ pub fn by_gyro_reference(
     bias: f64,
     skip: usize,
     budget: &mut super::search::Budget,
-) -> (f64, f64) {
+) -> GyroCutoffs {
     use pendtilt_core::estimators::alg1::Alg1;
     use pendtilt_core::estimators::alg2::Alg2;
     use pendtilt_core::estimators::front_end::FrontEndSettings;
     use pendtilt_core::PlanarEstimator;
     let reference = super::reference::integral(samples, bias);
-    let run = |e: &mut dyn PlanarEstimator<f64>| -> f64 {
-        let est: Vec<f64> = samples.iter().map(|s| e.update(s).theta).collect();
-        super::reference::band_error(&est, &reference, samples, skip)
-    };
-    let mut cost = |x: f64| {
+    let mut run = |e: &mut dyn PlanarEstimator<f64>| -> f64 {
         if !budget.tick() {
             return f64::INFINITY;
         }
-        let d = DiffSettings {
+        let est: Vec<f64> = samples.iter().map(|s| e.update(s).theta).collect();
+        super::reference::band_error(&est, &reference, samples, skip)
+    };
+    let at = |fe: &FrontEndSettings<f64>, x: f64| FrontEndSettings {
+        differentiator: DiffSettings {
             response: alg2.front_end.differentiator.response,
             cutoff: Cutoff::TimesNatural(x),
-        };
-        let e1 = run(&mut Alg1::<f64>::new(
+        },
+        ..*fe
+    };
+    let one = least(|x| {
+        run(&mut Alg1::<f64>::new(
             pendtilt_core::estimators::alg1::Alg1Settings {
-                front_end: FrontEndSettings {
-                    differentiator: d,
-                    ..alg1.front_end
-                },
+                front_end: at(&alg1.front_end, x),
             },
-        ));
-        let e2 = run(&mut Alg2::<f64>::new(
+        ))
+    });
+    let two = least(|x| {
+        run(&mut Alg2::<f64>::new(
             pendtilt_core::estimators::alg2::Alg2Settings {
-                front_end: FrontEndSettings {
-                    differentiator: d,
-                    ..alg2.front_end
-                },
+                front_end: at(&alg2.front_end, x),
                 ..*alg2
             },
-        ));
-        e1 * e1 + e2 * e2
-    };
-    let (x, c) = crate::peers::tune::golden_log(&mut cost, 0.4, 10.0, GOLDEN_STEPS);
-    (x, (c / 2.0).sqrt())
+        ))
+    });
+    GyroCutoffs {
+        alg1: one,
+        alg2: two,
+    }
 }
 
 #[cfg(test)]

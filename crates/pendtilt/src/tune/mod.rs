@@ -196,9 +196,13 @@ pub struct Tuned {
     /// The spectral rule's choice.
     pub cutoff: Result<cutoff::CutoffChoice, String>,
     /// The cutoff measured against the gyro: (multiple of the natural frequency, RMS
-    /// band error of Algorithms 1-2 there \[rad\]).
+    /// band error of Algorithm 2 there \[rad\]).
     pub cutoff_by_gyro: Option<(f64, f64)>,
-    /// The differentiator of Algorithms 1-3.
+    /// Algorithm 1's own cutoff measured against the gyro: (multiple of the natural
+    /// frequency, RMS band error there \[rad\]); the rig file's `[alg1]
+    /// cutoff_times_natural`.
+    pub alg1_cutoff: Option<(f64, f64)>,
+    /// The differentiator of Algorithms 1-3 (Algorithm 1's cutoff apart, when measured).
     pub differentiator: DiffSettings<f64>,
     /// The `kf_*` filters.
     pub kalman: KalmanSettings<f64>,
@@ -517,14 +521,14 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
     let force = forcing::forcing(&ekf_start, fit_samples, rate, skip);
     notes::forcing(&mut ekf_start, &force, &mut notes);
     let bias = gyr.as_ref().ok().and_then(|g| g.bias);
-    let cutoff_by_gyro = bias
-        .filter(|_| duration >= MIN_FIT_SECONDS)
-        .map(|b| {
-            cutoff::by_gyro_reference(fit_samples, &start.alg1, &start.alg2, b, skip, &mut budget)
-        })
-        .filter(|(_, e)| e.is_finite());
+    let by_gyro = bias.filter(|_| duration >= MIN_FIT_SECONDS).map(|b| {
+        cutoff::by_gyro_reference(fit_samples, &start.alg1, &start.alg2, b, skip, &mut budget)
+    });
+    let cutoff_by_gyro = by_gyro.map(|c| c.alg2).filter(|(_, e)| e.is_finite());
+    let alg1_cutoff = by_gyro.map(|c| c.alg1).filter(|(_, e)| e.is_finite());
     let differentiator = adopted_differentiator(start, cutoff_by_gyro, &cut);
     notes::cutoff(&cut, cutoff_by_gyro, &start_diff, &start.params, &mut notes);
+    notes::alg1_cutoff(alg1_cutoff, &start.params, &mut notes);
     let fits = match why_not {
         None => {
             let data = FitData {
@@ -585,6 +589,7 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         forcing: force,
         cutoff: cut,
         cutoff_by_gyro,
+        alg1_cutoff,
         differentiator,
         kalman: fits.kalman,
         ekf: fits.ekf,

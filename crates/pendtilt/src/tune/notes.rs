@@ -202,6 +202,21 @@ pub(super) fn forcing(
     }
 }
 
+/// Algorithm 1's own cutoff's note.
+pub(super) fn alg1_cutoff(
+    c: Option<(f64, f64)>,
+    params: &PendulumParams<f64>,
+    notes: &mut Vec<Note>,
+) {
+    match c {
+        Some((x, e)) => note(notes, "alg1.cutoff_times_natural", format!("{x:.3}"), false, format!(
+            "{:.3} Hz: least error of Algorithm 1 against the gyro's integral above {} Hz ({:.4} deg RMS); apart from Algorithm 2's, which suits it poorly on a slow pendulum",
+            x * params.natural_frequency_hz(), super::reference::CORNER_HZ, e.to_degrees())),
+        None => note(notes, "alg1.cutoff_times_natural", "none".into(), true,
+            "no gyro bias estimate to measure it against (or too short): alg1 takes [differentiator]'s cutoff".into()),
+    }
+}
+
 /// The cutoff's note.
 pub(super) fn cutoff(
     c: &Result<CutoffChoice, String>,
@@ -220,7 +235,7 @@ pub(super) fn cutoff(
     if let Some((x, e)) = by_gyro {
         let f_n = params.natural_frequency_hz();
         note(notes, "differentiator.cutoff_hz", format!("{:.3} Hz", x * f_n), false, format!(
-            "{x:.3} x f_n: least error of Algorithms 1-2 against the gyro's integral above {} Hz ({:.4} deg RMS); {rule}",
+            "{x:.3} x f_n: least error of Algorithm 2 against the gyro's integral above {} Hz ({:.4} deg RMS); {rule}",
             super::reference::CORNER_HZ, e.to_degrees()));
         return;
     }

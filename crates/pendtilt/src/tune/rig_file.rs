@@ -14,6 +14,7 @@ pub fn tuned_rig(rig: &RigConfig, t: &Tuned) -> RigConfig {
     out.kalman.r_pendulum = t.kalman.r_pendulum;
     out.kalman.r_accel = t.kalman.r_accel;
     out.differentiator = t.differentiator;
+    out.alg1.cutoff_times_natural = t.alg1_cutoff.map(|c| c.0);
     out.ekf = EkfConfig::from_settings(&t.ekf);
     out
 }
@@ -139,10 +140,11 @@ mod tests {
             "ekf.process.jerk",
             "ekf.process.pendulum",
             "differentiator.cutoff_hz",
+            "alg1.cutoff_times_natural",
         ] {
             let (table, k) = place(key);
             assert!(
-                ["ekf", "kalman", "differentiator"].contains(&table),
+                ["ekf", "kalman", "differentiator", "alg1"].contains(&table),
                 "{key}"
             );
             if let Some(k) = k {
