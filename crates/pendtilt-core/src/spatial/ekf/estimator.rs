@@ -308,24 +308,21 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             self.q = self.model.q(h);
             self.q_step = h;
         }
-        let mut q = self.q;
-        // A rate error turns the attitude one way and the joint angles the other (as the
-        // gyro's own noise does, see `CardanProcess::q`).
-        let share = extra / T::lit(n as f64);
-        for k in 0..3 {
-            q[(ROT + k, ROT + k)] += share[k];
-        }
-        for (k, joint) in [(0, A), (1, B)] {
-            q[(joint, joint)] += share[k];
-            q[(ROT + k, joint)] -= share[k];
-            q[(joint, ROT + k)] -= share[k];
-        }
+        let with_extra;
+        // Nothing to add (the usual case: a gyro reading within its range) leaves the cached
+        // noise as it is, uncopied.
+        let q = if extra.iter().all(|e| *e == T::zero()) {
+            &self.q
+        } else {
+            with_extra = add_rate_noise(self.q, &(extra / T::lit(n as f64)));
+            &with_extra
+        };
         let Some(filter) = self.filter.as_mut() else {
             return false;
         };
         let mut ok = true;
         for _ in 0..n {
-            ok &= filter.predict(&self.model, drive, h, &q);
+            ok &= filter.predict(&self.model, drive, h, q);
         }
         ok
     }
@@ -395,6 +392,21 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             Err(_) => Flags::MEASUREMENT_SKIPPED,
         }
     }
+}
+
+/// `q` with `share[k]` more variance of the rotation about body axis `k` over the step (a
+/// held or clipped gyro's rate error): it turns the attitude one way and the joint angles
+/// the other (as the gyro's own noise does, see `CardanProcess::q`).
+fn add_rate_noise<T: Real>(mut q: Cov<T, N>, share: &Vector3<T>) -> Cov<T, N> {
+    for k in 0..3 {
+        q[(ROT + k, ROT + k)] += share[k];
+    }
+    for (k, joint) in [(0, A), (1, B)] {
+        q[(joint, joint)] += share[k];
+        q[(ROT + k, joint)] -= share[k];
+        q[(joint, ROT + k)] -= share[k];
+    }
+    q
 }
 
 /// Scales the covariance along the unobserved heading back to [`HEADING_VARIANCE`] once it
