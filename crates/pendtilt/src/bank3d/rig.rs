@@ -61,10 +61,12 @@ pub struct Ekf3dConfig {
     pub vibration_density: Option<f64>,
     /// [`ekf::Settings::angular_accel_hz`] \[Hz\].
     pub angular_accel_hz: Option<f64>,
-    /// [`ekf::Settings::speed_rate_hz`] \[Hz\].
+    /// [`pendtilt_core::spatial::travel::TravelSettings::speed_rate_hz`] \[Hz\] of [`ekf::Settings::travel`].
     pub speed_rate_hz: Option<f64>,
-    /// [`ekf::Settings::path_turn_hz`] \[Hz\].
+    /// [`pendtilt_core::spatial::travel::TravelSettings::path_turn_hz`] \[Hz\] (`inf`: the gyro as read).
     pub path_turn_hz: Option<f64>,
+    /// [`pendtilt_core::spatial::travel::TravelSettings::path_pitch_hz`] \[Hz\] (`inf`: the gyro as read).
+    pub path_pitch_hz: Option<f64>,
     /// [`ekf::Settings::encoder_jitter`] \[rad\].
     pub encoder_jitter: Option<f64>,
     /// [`ekf::Settings::use_accel`].
@@ -78,10 +80,19 @@ impl Ekf3dConfig {
             ("vibration_density", self.vibration_density),
             ("angular_accel_hz", self.angular_accel_hz),
             ("speed_rate_hz", self.speed_rate_hz),
-            ("path_turn_hz", self.path_turn_hz),
         ] {
             if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
                 return Err(format!("ekf3d.{key}: {v} must be finite and > 0"));
+            }
+        }
+        for (key, v) in [
+            ("path_turn_hz", self.path_turn_hz),
+            ("path_pitch_hz", self.path_pitch_hz),
+        ] {
+            if let Some(v) = v.filter(|v| v.is_nan() || *v <= 0.0) {
+                return Err(format!(
+                    "ekf3d.{key}: {v} must be > 0 (inf takes the gyro as read)"
+                ));
             }
         }
         if let Some(v) = self
@@ -102,10 +113,13 @@ impl Ekf3dConfig {
             s.angular_accel_hz = v;
         }
         if let Some(v) = self.speed_rate_hz {
-            s.speed_rate_hz = v;
+            s.travel.speed_rate_hz = v;
         }
         if let Some(v) = self.path_turn_hz {
-            s.path_turn_hz = v;
+            s.travel.path_turn_hz = v;
+        }
+        if let Some(v) = self.path_pitch_hz {
+            s.travel.path_pitch_hz = v;
         }
         if let Some(v) = self.encoder_jitter {
             s.encoder_jitter = v;
@@ -273,9 +287,9 @@ mod tests {
         let before = s;
         c.ekf3d.apply(&mut s);
         assert_eq!(s.environment.vibration_density, 0.15);
-        assert_eq!(s.speed_rate_hz, 5.0);
+        assert_eq!(s.travel.speed_rate_hz, 5.0);
         s.environment.vibration_density = before.environment.vibration_density;
-        s.speed_rate_hz = before.speed_rate_hz;
+        s.travel.speed_rate_hz = before.travel.speed_rate_hz;
         assert_eq!(s, before);
         let bad = text.replace("speed_rate_hz", "speed_rate");
         let e = Rig3dConfig::from_toml_str(&bad, "r.toml").unwrap_err();
@@ -291,6 +305,18 @@ mod tests {
         assert_eq!(
             e,
             "r.toml: ekf3d.vibration_density: -1 must be finite and > 0"
+        );
+        // The path's rates may be taken as read (inf), not cut off entirely.
+        let inf = format!("{text}path_pitch_hz = inf\npath_turn_hz = 3.0\n");
+        let c = Rig3dConfig::from_toml_str(&inf, "r.toml").unwrap();
+        c.ekf3d.apply(&mut s);
+        assert_eq!(s.travel.path_pitch_hz, f64::INFINITY);
+        assert_eq!(s.travel.path_turn_hz, 3.0);
+        let zero = inf.replace("path_turn_hz = 3.0", "path_turn_hz = 0.0");
+        let e = Rig3dConfig::from_toml_str(&zero, "r.toml").unwrap_err();
+        assert!(
+            e.contains("ekf3d.path_turn_hz: 0 must be > 0 (inf takes"),
+            "{e}"
         );
     }
 

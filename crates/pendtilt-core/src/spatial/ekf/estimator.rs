@@ -10,7 +10,7 @@ use crate::filters::diff::{Response, SmoothingDifferentiator};
 use crate::filters::one_pole::{OnePole, OnePoleGain};
 use crate::spatial::attitude::roll_pitch_from_up;
 use crate::spatial::mounting::lever_arm;
-use crate::spatial::travel::{Travel, TravelSettings};
+use crate::spatial::travel::Travel;
 use crate::spatial::{Attitude, SpatialSample};
 use crate::{Estimator, Flags, Real, StepClock};
 use nalgebra::{SVector, UnitQuaternion, Vector3, Vector4};
@@ -107,10 +107,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             clipped_for: Vector3::zeros(),
             clip_slope: Vector3::zeros(),
             gyro_diff: SmoothingDifferentiator::new(Response::Bessel, settings.angular_accel_hz),
-            travel: Travel::new(TravelSettings {
-                speed_rate_hz: settings.speed_rate_hz,
-                path_turn_hz: settings.path_turn_hz,
-            }),
+            travel: Travel::new(settings.travel),
             accel_from_centre: settings.mounting.from_centre(settings.mounting.accel_at),
             slip: SlipDetector::new(settings.slip),
             rejected: 0,
@@ -500,6 +497,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             gyro,
             angular_accel,
             path_gyro: self.travel.path_gyro().unwrap_or(gyro),
+            slow_gyro: self.smooth.value().unwrap_or(gyro),
             speed,
             speed_rate,
         };

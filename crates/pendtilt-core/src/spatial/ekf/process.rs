@@ -70,6 +70,10 @@ pub struct Drive<T: Real> {
     /// not removed \[rad/s\]: the body's faster rotations (suspension, wobble) do not
     /// turn O's velocity.
     pub path_gyro: Vector3<T>,
+    /// The gyro's reading low-passed at 5 Hz, bias not removed \[rad/s\]: the body's slow
+    /// rate, at which the z bias's lever-arm term is taken
+    /// ([`CardanProcess::z_bias_partials`]).
+    pub slow_gyro: Vector3<T>,
     /// O's forward speed `v` along body x \[m/s\].
     pub speed: T,
     /// Its rate `v'` \[m/s^2\].
@@ -167,8 +171,8 @@ impl<T: Real> CardanProcess<T> {
     }
 
     /// The partial derivatives of [`Self::joint_step`] with respect to the joints (4 x 4),
-    /// the body rate (4 x 3) and the up direction (4 x 3) at the joints `j` that the step
-    /// takes to `next`.
+    /// the body rate's x and y (4 x 2) and the up direction (4 x 3) at the joints `j` that
+    /// the step takes to `next`.
     /// The up direction enters 7.3 linearly (through the specific force), so its columns
     /// are exact; the others are forward differences of step `sqrt(eps)` (the filter needs
     /// them to a few digits: a test checks them against the step itself). The angles'
@@ -182,7 +186,7 @@ impl<T: Real> CardanProcess<T> {
         dr: &Drive<T>,
         u: &Vector3<T>,
         h: T,
-    ) -> (SMatrix<T, 4, 4>, SMatrix<T, 4, 3>, SMatrix<T, 4, 3>) {
+    ) -> (SMatrix<T, 4, 4>, SMatrix<T, 4, 2>, SMatrix<T, 4, 3>) {
         let d = T::default_epsilon().sqrt();
         let trig = *trig;
         let shift = d.sin_cos();
@@ -200,8 +204,8 @@ impl<T: Real> CardanProcess<T> {
             let c = (self.joint_step_in(&t_hi, &hi, w, dr, &f, h) - next) / d;
             dj.set_column(k, &c);
         }
-        let mut dw = SMatrix::<T, 4, 3>::zeros();
-        for k in 0..3 {
+        let mut dw = SMatrix::<T, 4, 2>::zeros();
+        for k in 0..2 {
             let mut hi = *w;
             hi[k] += d;
             let c = (self.joint_step_with(&trig, j, &hi, dr, u, h) - next) / d;
@@ -229,6 +233,38 @@ impl<T: Real> CardanProcess<T> {
             2 => h * da[col],
             _ => h * db[col],
         })
+    }
+}
+
+impl<T: Real> CardanProcess<T> {
+    /// The step's partial derivatives with respect to the body rate's z as the z bias
+    /// moves them, given the step's up partials `du`.
+    ///
+    /// The z bias reaches the joints three ways: through the attitude (the rotation
+    /// error's columns, kept), through the pivot's specific force (O's centripetal
+    /// acceleration `v w_z` across, the lever arm's `w x (w x r)`), and through the Cardan
+    /// kinematics and the pendulum's Coriolis terms (`sin a w_z` in the inner joint's
+    /// rate, `a' u3`), products of the bias with the pendulum's own swing. An engine
+    /// shaking two axes out of phase swings the pendulum round an ellipse at its
+    /// frequency, which those last terms cannot tell from a turn about z: with them,
+    /// ekf3d took ride3d's idling engine for a z bias of -2 deg/s within 6 s (seed 2,
+    /// true 0.2) and the first run-up for 1.6 deg/s (roll 1.5 deg off). So the z column
+    /// is the specific force's alone, at the body's slow rate `w_s` ([`Drive::slow_gyro`]
+    /// less the bias; the lever arm's vibrating part is another such product), and exact:
+    /// `du / g (v e_y + e_z x (w_s x r) + w_s x (e_z x r))`.
+    pub fn z_bias_partials(
+        &self,
+        du: &SMatrix<T, 4, 3>,
+        d: &Drive<T>,
+        bias: &Vector3<T>,
+    ) -> Vector4<T> {
+        let ws = d.slow_gyro - bias;
+        let r = &self.pivot_from_centre;
+        let ez = Vector3::z();
+        let df = Vector3::new(T::zero(), d.speed, T::zero())
+            + ez.cross(&ws.cross(r))
+            + ws.cross(&ez.cross(r));
+        du * (df / self.params.gravity)
     }
 }
 
@@ -274,7 +310,9 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
         let (dj, dw, du) = self.joint_partials(&trig, [&x.joints, &next.joints], &w, d, &u, h);
         f.fixed_view_mut::<4, 4>(A, A).copy_from(&dj);
         // w = gyro - bias; u(q exp d) = u + u x d.
-        f.fixed_view_mut::<4, 3>(A, BIAS).copy_from(&(-dw));
+        f.fixed_view_mut::<4, 2>(A, BIAS).copy_from(&(-dw));
+        let dz = self.z_bias_partials(&du, d, &x.bias);
+        f.fixed_view_mut::<4, 1>(A, BIAS + 2).copy_from(&(-dz));
         f.fixed_view_mut::<4, 3>(A, ROT).copy_from(&(du * skew(&u)));
         (next, f)
     }
@@ -376,6 +414,7 @@ mod tests {
             gyro,
             angular_accel,
             path_gyro: gyro * 0.8,
+            slow_gyro: gyro * 0.9,
             speed: 7.0,
             speed_rate: -2.0,
         }
@@ -391,7 +430,8 @@ mod tests {
     }
 
     /// The Jacobian maps a small error before the step to the error after it: compare
-    /// `step(x ⊞ e) ⊟ step(x)` with `F e` for small `e` in every direction.
+    /// `step(x ⊞ e) ⊟ step(x)` with `F e` for small `e` in every direction but the z
+    /// bias's (by design the specific force's alone: the next tests).
     #[test]
     fn the_jacobian_maps_errors_through_the_step() {
         let m = model();
@@ -399,7 +439,7 @@ mod tests {
         let gyro = drive(Vector3::new(0.5, -0.8, 0.3), Vector3::new(2.0, -1.0, 3.0));
         let h = 2e-3;
         let (next, f) = m.step_with_jacobian(&x, &gyro, h);
-        for k in 0..N {
+        for k in (0..N).filter(|&k| k != BIAS + 2) {
             let mut e = Error::<f64>::zeros();
             e[k] = 1e-6;
             let moved = next.local(&m.step(&x.retract(&e), &gyro, h));
@@ -407,6 +447,58 @@ mod tests {
             let err = (moved - lin).norm();
             assert!(err < 1e-3 * 1e-6 + 1e-12, "direction {k}: {moved} vs {lin}");
         }
+    }
+
+    /// Where the z bias moves nothing but the specific force (the pendulum hanging at
+    /// rest, a = 0, the body not turning), its column is the step's own derivative: O's
+    /// centripetal term `v` across, with the mounting's lever arm.
+    #[test]
+    fn the_z_bias_column_is_the_specific_forces_derivative() {
+        let m = model();
+        let bias = Vector3::new(0.01, -0.02, 0.005);
+        let x = State {
+            q: UnitQuaternion::from_euler_angles(0.0, -0.2, 0.7),
+            bias,
+            joints: Vector4::new(0.0, 0.2, 0.0, 0.0),
+        };
+        let mut d = drive(bias, Vector3::zeros());
+        d.slow_gyro = bias;
+        d.path_gyro = bias;
+        let h = 2e-3;
+        let (next, f) = m.step_with_jacobian(&x, &d, h);
+        let mut e = Error::<f64>::zeros();
+        e[BIAS + 2] = 1e-6;
+        let moved = next.local(&m.step(&x.retract(&e), &d, h));
+        let lin = f * e;
+        assert!(lin[A + 2].abs() > 1e-9, "the speed moves p: {lin}");
+        assert!((moved - lin).norm() < 1e-3 * lin.norm(), "{moved} vs {lin}");
+    }
+
+    /// The z column does not follow the pendulum's swing (the engine's ellipse) or the
+    /// body's vibration: the same for any joint rates and any fast gyro reading, at the
+    /// same angles and slow rate.
+    #[test]
+    fn the_z_bias_column_ignores_the_swing_and_the_vibration() {
+        let m = model();
+        let x = tilted();
+        let d = drive(Vector3::new(0.5, -0.8, 0.3), Vector3::new(2.0, -1.0, 3.0));
+        let mut swinging = x;
+        swinging.joints[2] += 3.0;
+        swinging.joints[3] -= 2.0;
+        let mut shaken = d;
+        shaken.gyro += Vector3::new(0.4, -0.3, 0.2);
+        let h = 2e-3;
+        let col = |x: &State<f64>, d: &Drive<f64>| {
+            m.step_with_jacobian(x, d, h)
+                .1
+                .fixed_view::<4, 1>(A, BIAS + 2)
+                .into_owned()
+        };
+        let base = col(&x, &d);
+        assert!(base.norm() > 1e-8);
+        assert!((col(&swinging, &d) - base).norm() < 1e-12 * base.norm().max(1.0));
+        // The up partials change with the joints' angles only; the fast rate not at all.
+        assert_eq!(col(&x, &shaken), base);
     }
 
     /// A pendulum hanging still on a still, tilted body stays where it is.
@@ -420,6 +512,7 @@ mod tests {
             joints: Vector4::new(-roll, -pitch, 0.0, 0.0),
         };
         let still = Drive {
+            slow_gyro: Vector3::zeros(),
             speed: 0.0,
             speed_rate: 0.0,
             ..drive(Vector3::zeros(), Vector3::zeros())
@@ -453,6 +546,7 @@ mod tests {
         let force = wd.cross(&m.pivot_from_centre) + Vector3::new(d.speed_rate, 0.0, 0.0);
         let f = u + force / m.params.gravity;
         let still = Drive {
+            slow_gyro: Vector3::zeros(),
             speed: 0.0,
             speed_rate: 0.0,
             ..drive(w, w)

@@ -25,9 +25,11 @@ use crate::Real;
 /// the lever arm a phase error of `2 pi f` times it (0.19 rad at 0.9 Hz).
 pub const DEFAULT_ANGULAR_ACCEL_HZ: f64 = 10.0;
 
-/// The defaults of [`Settings::speed_rate_hz`] and [`Settings::path_turn_hz`] (with their
-/// measurements): the travelling vehicle's, [`crate::spatial::travel`].
-pub use crate::spatial::travel::{DEFAULT_PATH_TURN_HZ, DEFAULT_SPEED_RATE_HZ};
+/// The defaults of [`Settings::travel`] (with their measurements): the travelling
+/// vehicle's, [`crate::spatial::travel`].
+pub use crate::spatial::travel::{
+    TravelSettings, DEFAULT_PATH_PITCH_HZ, DEFAULT_PATH_TURN_HZ, DEFAULT_SPEED_RATE_HZ,
+};
 
 /// Default of [`Settings::encoder_jitter`] \[deg\]. Measured (ekf3d, deg RMS inclination,
 /// 120 s, seeds 1/2/3, scenario sensor figures), without -> 0.05 deg:
@@ -180,16 +182,9 @@ pub struct Settings<T> {
     /// body's angular acceleration from the gyro, for the lever arm from O to the pivot
     /// and the accelerometer. Default 10 Hz: see [`DEFAULT_ANGULAR_ACCEL_HZ`].
     pub angular_accel_hz: T,
-    /// Cutoff \[Hz\] of the smoothing differentiator (Bessel, 4th order) that takes O's
-    /// longitudinal acceleration from the `speed` column. Default 5 Hz: see
-    /// [`DEFAULT_SPEED_RATE_HZ`].
-    pub speed_rate_hz: T,
-    /// Cutoff \[Hz\] of the one-pole low-pass of the gyro that gives the rate at which the
-    /// vehicle's path turns, for the centripetal acceleration `v w x x_b`: the body's
-    /// faster rotations on its suspension (a yaw wobble of 0.3 deg at 1.5 Hz at 10 m/s is
-    /// 0.5 m/s^2 across) do not turn its velocity. Default 2 Hz: see
-    /// [`DEFAULT_PATH_TURN_HZ`].
-    pub path_turn_hz: T,
+    /// How the `speed` column and the gyro give O's acceleration (the speed's smoothed
+    /// rate, the path's turn and pitch rates). Default: [`TravelSettings`]'s.
+    pub travel: TravelSettings<T>,
     /// Standard deviation \[rad\] of the encoders' jitter from the vibration above the
     /// pendulum's band, added to their own noise ([`SensorNoise::encoder_variance`]):
     /// the process model forces the pendulum with white noise of the vibration's density
@@ -235,8 +230,7 @@ impl<T: Real> Default for Settings<T> {
             environment: Environment::default(),
             mounting: Mounting::default(),
             angular_accel_hz: T::lit(DEFAULT_ANGULAR_ACCEL_HZ),
-            speed_rate_hz: T::lit(DEFAULT_SPEED_RATE_HZ),
-            path_turn_hz: T::lit(DEFAULT_PATH_TURN_HZ),
+            travel: TravelSettings::default(),
             encoder_jitter: T::lit(DEFAULT_ENCODER_JITTER_DEG.to_radians()),
             slip: SlipSettings::default(),
             use_accel: false,
@@ -263,8 +257,7 @@ impl<T: Real> Settings<T> {
             environment: self.environment.cast(),
             mounting: self.mounting.cast(),
             angular_accel_hz: c(self.angular_accel_hz),
-            speed_rate_hz: c(self.speed_rate_hz),
-            path_turn_hz: c(self.path_turn_hz),
+            travel: self.travel.cast(),
             encoder_jitter: c(self.encoder_jitter),
             slip: self.slip.cast(),
             use_accel: self.use_accel,
