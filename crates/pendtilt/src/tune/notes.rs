@@ -361,12 +361,13 @@ fn ekf_notes(
         )
     };
     let (p, kept, how) = match (ekf, band) {
-        (Some(e), Some((k, f))) if !truth && f < k => (
+        (Some(e), Some((k, f))) if !truth && super::ekf::only_lowers(ekf_start, &e.settings) => (
             e.settings.process,
             false,
             format!(
-                "{}; adopted: the EKF's error against the gyro's integral above 0.2 Hz fell \
-                 from {:.4} to {:.4} deg",
+                "{}; adopted: it lowers the process noise (a fit that raises it absorbs \
+                 coloured encoder errors: see tune::ekf::only_lowers); the EKF's error \
+                 against the gyro's integral above 0.2 Hz {:.4} -> {:.4} deg",
                 lik(e),
                 k.to_degrees(),
                 f.to_degrees()
@@ -376,8 +377,9 @@ fn ekf_notes(
             ekf_start.process,
             true,
             format!(
-                "{}; kept the start's: the EKF's error against the gyro's integral above 0.2 Hz \
-                 was {:.4} deg with it, {:.4} without",
+                "{}; kept the start's: the fit raises a density, which the likelihood does \
+                 to absorb coloured encoder errors (see tune::ekf::only_lowers); the EKF's \
+                 error against the gyro's integral above 0.2 Hz {:.4} deg with it, {:.4} without",
                 lik(e),
                 f.to_degrees(),
                 k.to_degrees()
@@ -393,7 +395,12 @@ fn ekf_notes(
                 e.nll_after.to_degrees()
             ),
         ),
-        Some(e) => (ekf_start.process, true, format!("kept: the encoder-innovation likelihood fit (mean -log-likelihood {:.4} -> {:.4}) found jerk {:.3e}, pendulum {:.3e}, which made the EKF worse on the simulated scooter ride (0.041 -> 0.35 deg): the encoder cannot tell the floor's translation from tilt", e.nll_before, e.nll_after, e.settings.process.jerk, e.settings.process.pendulum)),
+        Some(e) if super::ekf::only_lowers(ekf_start, &e.settings) => (
+            e.settings.process,
+            false,
+            format!("{}; adopted: it lowers the process noise (see tune::ekf::only_lowers)", lik(e)),
+        ),
+        Some(e) => (ekf_start.process, true, format!("kept: the encoder-innovation likelihood fit (mean -log-likelihood {:.4} -> {:.4}) found jerk {:.3e}, pendulum {:.3e}, raising a density, which the likelihood does to absorb coloured encoder errors (see tune::ekf::only_lowers)", e.nll_before, e.nll_after, e.settings.process.jerk, e.settings.process.pendulum)),
         None => (ekf_start.process, true, why.to_string()),
         },
     };
