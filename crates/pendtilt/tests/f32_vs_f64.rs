@@ -234,11 +234,12 @@ fn the_clock_age_does_not_cost_f32_accuracy() {
 
 /// A whole 2-hour log at 1 kHz (7.2 million samples; a slow two-tone tilt with 40 Hz
 /// vibration, the pendulum lagging it): every estimator of the bank in f32 stays within
-/// 0.01 deg of f64 over the last minute (measured: 0.00013 deg at most), and nowhere
-/// further than 0.05 deg after the first 10 s; except the live-supervised Alg 3, whose
-/// f32 and f64 refits (Newton, every 2 s, 3600 of them) drift apart: measured
-/// 0.0113 deg RMS over the last minute and 0.053 deg at most (the 0.01 deg is not
-/// reached for it), bounded here at twice that.
+/// 0.01 deg of f64 over the last minute, and nowhere further than 0.05 deg after the
+/// first 10 s. The live-supervised Alg 3 is the hard one: its refit (Newton, every 2 s,
+/// 3600 of them) is ill-conditioned on this log (phi' and the gyro nearly proportional),
+/// so it amplifies the f32 rounding of its terms and sums; it drifted 0.0113 deg RMS
+/// (0.053 max) from f64 until the differentiator ran in delta form and the refit's sums
+/// were compensated (docs/reliability.md section 6).
 #[test]
 fn a_two_hour_log_in_f32_stays_within_a_hundredth_of_a_degree_of_f64() {
     let p = PendulumParams::<f64>::default();
@@ -278,14 +279,6 @@ fn a_two_hour_log_in_f32_stays_within_a_hundredth_of_a_degree_of_f64() {
         let rms = (sq[j] / 60_000.0).sqrt().to_degrees();
         let max = worst[j].to_degrees();
         println!("{name:<16} last minute RMS {rms:.6} deg, max after 10 s {max:.6} deg");
-        let (rms_bound, max_bound) = if *name == "alg3_supervised" {
-            (0.025, 0.11)
-        } else {
-            (0.01, 0.05)
-        };
-        assert!(
-            rms < rms_bound && max < max_bound,
-            "{name}: {rms} / {max} deg"
-        );
+        assert!(rms < 0.01 && max < 0.05, "{name}: {rms} / {max} deg");
     }
 }

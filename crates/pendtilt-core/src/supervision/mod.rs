@@ -14,14 +14,16 @@
 //!   by either method, with fixed-capacity buffers and no allocation; its settings in
 //!   [`settings`].
 //! - Private to the supervisor: `ring` (the window of Eq (29) terms and the passes Newton
-//!   takes over it), `asin` (changes of asin without cancellation), `objective` (what
-//!   Newton minimises, [`Objective`], and its differences).
+//!   takes over it), `asin` (changes of asin without cancellation), `compensated` (its
+//!   sums, compensated), `objective` (what Newton minimises, [`Objective`], and its
+//!   differences).
 //!
 //! Why this is cheap enough to run live: for a fixed differentiator, the per-sample
 //! kinematics (phi, phi', phi'', G_d, G_k) do not depend on K, L, M, N. They are computed
 //! once per sample by the running estimator and kept in a ring buffer; each evaluation
 //! of the cost for new gains is then one pass of Eq (30) over the buffer.
 mod asin;
+mod compensated;
 pub mod newton;
 mod objective;
 mod ring;

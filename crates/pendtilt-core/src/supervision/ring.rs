@@ -1,19 +1,21 @@
 //! The ring buffer of the Eq (29) terms and the passes over its window that Newton's
 //! refit takes: the cost, the finite differences in one pass, and the change for a step.
 use super::asin::{asin_changes, asin_diff, cos_of_asin, PAIRS};
+use super::compensated::Compensated;
 use super::Objective;
 use crate::estimators::equations::clamped_asin;
 use crate::Real;
 
 /// Sums of one pass for Newton: `S0 = sum r^2`, the first and second differences of the
-/// sum (upper triangle), and the residual count. See [`Ring::differences`].
+/// sum (upper triangle), and the residual count, each summed with compensation. See
+/// [`Ring::differences`].
 pub(super) struct PassSums<T> {
     /// `S0`, the sum of squared residuals at the gains of the pass.
-    pub s0: T,
+    pub s0: Compensated<T>,
     /// `S(g + dg_j) - S0`.
-    pub first: [T; 4],
+    pub first: [Compensated<T>; 4],
     /// `S(g + dg_j + dg_k) - S(g + dg_j) - S(g + dg_k) + S0`, upper triangle.
-    pub second: [[T; 4]; 4],
+    pub second: [[Compensated<T>; 4]; 4],
     /// Residuals summed.
     pub count: usize,
 }
@@ -27,17 +29,17 @@ impl<T: Real> PassSums<T> {
     fn add(&mut self, r: T, a: &[T; 4], b: &[T; 6]) {
         let two = T::lit(2.0);
         let r2 = two * r;
-        self.s0 += r * r;
+        self.s0.add(r * r);
         for (f, &am) in self.first.iter_mut().zip(a) {
-            *f += am * (r2 + am);
+            f.add(am * (r2 + am));
         }
         for (p, &(ja, kb)) in PAIRS.iter().enumerate() {
             let b = b[p];
-            self.second[ja][kb] += r2 * b + two * a[ja] * a[kb] + b * (two * (a[ja] + a[kb]) + b);
+            self.second[ja][kb].add(r2 * b + two * a[ja] * a[kb] + b * (two * (a[ja] + a[kb]) + b));
         }
         // Pairs with N: s is additive in N, so its second change is 0.
         for m in 0..4 {
-            self.second[m][3] += two * a[m] * a[3];
+            self.second[m][3].add(two * a[m] * a[3]);
         }
         self.count += 1;
     }
@@ -151,10 +153,11 @@ impl<T: Real, const CAP: usize> Ring<T, CAP> {
     pub(super) fn differences(&mut self, g: &[T; 4], dg: &[T; 4], window: usize) -> PassSums<T> {
         let (mut j, n) = self.span(window);
         let zero = T::zero();
+        let nil = Compensated::zero();
         let mut out = PassSums {
-            s0: zero,
-            first: [zero; 4],
-            second: [[zero; 4]; 4],
+            s0: nil,
+            first: [nil; 4],
+            second: [[nil; 4]; 4],
             count: 0,
         };
         // Previous sample: x, u, w, the changes of s for each step and the second changes.
@@ -200,7 +203,7 @@ impl<T: Real, const CAP: usize> Ring<T, CAP> {
         let (mut j, n) = self.span(window);
         let zero = T::zero();
         let two = T::lit(2.0);
-        let mut sum = zero;
+        let mut sum = Compensated::zero();
         let mut pds = zero;
         for i in 0..n {
             let x = &self.x[j];
@@ -210,7 +213,7 @@ impl<T: Real, const CAP: usize> Ring<T, CAP> {
             let ds = asin_diff(u, self.w0[j], u1, cos_of_asin(u1), d) + dg[3] * x[3];
             if i > 0 && self.linked[j] {
                 let a = (ds - pds) * self.inv_dt[j];
-                sum += a * (two * self.r0[j] + a);
+                sum.add(a * (two * self.r0[j] + a));
             }
             pds = ds;
             j += 1;
@@ -218,7 +221,7 @@ impl<T: Real, const CAP: usize> Ring<T, CAP> {
                 j = 0;
             }
         }
-        sum
+        sum.value()
     }
 }
 
@@ -253,10 +256,10 @@ mod tests {
             let dg = [dp, dp, dp, dp];
             let sums = r.differences(&g, &dg, 50);
             let n = sums.count as f64;
-            let m1 = sums.first.map(|v| v / n);
-            let m2 = sums.second.map(|row| row.map(|v| v / n));
+            let m1 = sums.first.map(|v| v.value() / n);
+            let m2 = sums.second.map(|row| row.map(|v| v.value() / n));
             for objective in [Objective::MeanSquare, Objective::Rms] {
-                let (f0, d) = objective_differences(objective, sums.s0 / n, &m1, &m2, 1);
+                let (f0, d) = objective_differences(objective, sums.s0.value() / n, &m1, &m2, 1);
                 let cost = |q: [f64; 4]| r.cost(&q, 50, objective);
                 let plus = |j: usize, k: Option<usize>| {
                     let mut q = g;
@@ -292,7 +295,8 @@ mod tests {
                     g[2] + step[2],
                     g[3] + step[3],
                 ];
-                let (dq, fq) = objective_change(objective, sums.s0 / n, r.change(&step, 50) / n);
+                let (dq, fq) =
+                    objective_change(objective, sums.s0.value() / n, r.change(&step, 50) / n);
                 assert!((fq - cost(q)).abs() < 1e-12, "{fq} vs {}", cost(q));
                 assert!((dq - (cost(q) - f0)).abs() < 1e-12);
             }

@@ -26,9 +26,17 @@
 //! rounding noise and the f32 refit wandered (0.66 deg RMS from f64 on a scooter ride).
 //! Here every difference is accumulated per sample as a difference (`a (2 r + a)` for the
 //! change of `r^2`, the asin's change from its derivatives, `asin(u1) - asin(u0)` by
-//! `asin(d (u1 + u0) / (u1 w0 + u0 w1))`), and the RMS differences are formed from them without cancellation; the
-//! f32 gains then follow the f64 ones to 1e-3 and the estimate to 1e-4 deg
-//! (`tests/f32_vs_f64.rs`).
+//! `asin(d (u1 + u0) / (u1 w0 + u0 w1))`), and the RMS differences are formed from them
+//! without cancellation; the f32 gains then follow the f64 ones to 1e-3 and the estimate
+//! to 1e-4 deg (`tests/f32_vs_f64.rs`).
+//!
+//! Over hours it needs two more things, because on a window where phi' and the gyro are
+//! nearly proportional the cost is nearly flat along one direction of (K, N) and the
+//! Newton step amplifies small errors of its inputs by the Hessian's condition number:
+//! the window's sums are compensated (Kahan), and the estimator's derivatives come from
+//! the differentiator in delta form ([`crate::filters::diff`]), 3x closer to f64's. Either
+//! alone left the f32 estimate 0.006-0.013 deg RMS from f64 after two hours (3600
+//! refits); both, 0.0008 (docs/reliability.md section 6).
 //!
 //! The gains adapt when the rig changes: a change of friction moves K, a change of the
 //! sample time (a clock that drifts against the time stamps) moves all four.
@@ -296,9 +304,9 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
                 break;
             }
             let inv_n = T::one() / T::lit(sums.count as f64);
-            let m1 = sums.first.map(|v| v * inv_n);
-            let m2 = sums.second.map(|row| row.map(|v| v * inv_n));
-            let m0 = sums.s0 * inv_n;
+            let m1 = sums.first.map(|v| v.value() * inv_n);
+            let m2 = sums.second.map(|row| row.map(|v| v.value() * inv_n));
+            let m0 = sums.s0.value() * inv_n;
             let (f0, d) = objective_differences(sup.objective, m0, &m1, &m2, 1);
             f = f0;
             let ring = &self.ring;
