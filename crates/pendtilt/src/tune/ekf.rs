@@ -236,3 +236,27 @@ pub fn fit(
     );
     EkfFitted::better_of(start, with_parameters(start, &x), before, after)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_a_fit_that_takes_process_noise_out_is_adopted() {
+        let start = ModelSettings::<f64>::default();
+        let at = |j: f64, p: f64| {
+            with_parameters(
+                &start,
+                &[j * start.process.jerk, p * start.process.pendulum],
+            )
+        };
+        assert!(only_lowers(&start, &at(0.1, 1.0)));
+        assert!(only_lowers(&start, &at(1.0, 1e-3)));
+        assert!(only_lowers(&start, &at(0.5, 0.5)));
+        // Raising either density, even while lowering the other, is refused.
+        assert!(!only_lowers(&start, &at(340.0, 0.82)));
+        assert!(!only_lowers(&start, &at(1e-4, 16.0)));
+        // No change is no fit to adopt.
+        assert!(!only_lowers(&start, &at(1.0, 1.0)));
+    }
+}
