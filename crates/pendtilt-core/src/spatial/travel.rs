@@ -5,27 +5,27 @@
 //! ([`PathRate`]: the gyro's z as read, its y low-passed, so that the body's pitching on its
 //! suspension is not taken for a change of grade).
 //!
-//! [`Travel`] keeps the two filters per sample (inv3d and ekf3d/ukf3d alike; the latter
-//! feed it the slip detector's speed, [`Travel::slipped_speed`]); the estimators that model
-//! the pendulum's specific force add `a_O` and the lever arm from O
-//! ([`super::mounting::lever_arm`]).
-use super::ekf::slip::SpeedVerdict;
+//! [`Travel`] keeps the two filters per sample for inv3d, which inverts without a state;
+//! ekf3d/ukf3d carry O's speed and rate as states and take only [`PathRate`] from here.
+//! The estimators that model the pendulum's specific force add `a_O` and the lever arm
+//! from O ([`super::mounting::lever_arm`]).
 use crate::filters::diff::{Response, SmoothingDifferentiator};
 use crate::filters::one_pole::OnePoleGain;
 use crate::Real;
 use nalgebra::Vector3;
 
-/// Default of [`TravelSettings::speed_rate_hz`] \[Hz\]. Lower lags the braking (the lag
-/// times the jerk is a longitudinal force the model misses; the Bessel filter's delay is
-/// 0.17 s at 2 Hz, 67 ms at 5 Hz), higher lets the speed's noise through as a
-/// longitudinal acceleration (a standing scooter's speed is noise alone). Measured
-/// (ekf3d at its defaults, 120 s, seeds 1/2/3, deg RMS inclination / max roll or pitch
-/// error): ride3d 2 Hz 0.340/0.483/0.514 (max 1.06/1.57/1.54), 3 Hz 0.305/0.453/0.477,
-/// 5 Hz 0.285/0.432/0.451 (max 0.71/1.51/0.94); scooter3d 2 Hz 0.053/0.059/0.057, 5 Hz
-/// 0.055/0.060/0.058.
+/// Default of [`TravelSettings::speed_rate_hz`] \[Hz\] (inv3d sets its own, 1 Hz; ekf3d
+/// carries the speed and its rate as states, `super::ekf::SpeedSettings`). Lower lags
+/// the braking (the lag times the jerk is a longitudinal force the model misses; the
+/// Bessel filter's delay is 0.17 s at 2 Hz, 67 ms at 5 Hz), higher lets the speed's
+/// noise through as a longitudinal acceleration (a standing scooter's speed is noise
+/// alone). Measured when ekf3d used it (at its defaults, 120 s, seeds 1/2/3, deg RMS
+/// inclination / max roll or pitch error): ride3d 2 Hz 0.340/0.483/0.514 (max
+/// 1.06/1.57/1.54), 5 Hz 0.285/0.432/0.451 (max 0.71/1.51/0.94); scooter3d 2 Hz
+/// 0.053/0.059/0.057, 5 Hz 0.055/0.060/0.058.
 pub const DEFAULT_SPEED_RATE_HZ: f64 = 5.0;
 
-/// Default of [`TravelSettings::path_turn_hz`] \[Hz\]: infinite, the gyro's z as read.
+/// Default of [`PathSettings::path_turn_hz`] \[Hz\]: infinite, the gyro's z as read.
 /// A vehicle's path turns with its body about O (a wheel that rolls does not slide
 /// sideways), so the body's yaw rate is the path's; a low-pass lags the turns, and the lag
 /// times the turn's rate of change times the speed is a lateral force the model misses
@@ -37,7 +37,7 @@ pub const DEFAULT_SPEED_RATE_HZ: f64 = 5.0;
 /// m/s, about O) then enters as a turn, at 1.5 Hz: the filter averages it out.
 pub const DEFAULT_PATH_TURN_HZ: f64 = f64::INFINITY;
 
-/// Default of [`TravelSettings::path_pitch_hz`] \[Hz\]. The path pitches only as the road's
+/// Default of [`PathSettings::path_pitch_hz`] \[Hz\]. The path pitches only as the road's
 /// grade changes (slowly); the body's pitching on its suspension (0.4 deg at 1.6 Hz per
 /// 10 m/s on ride3d) does not turn its velocity, but times the speed it would be a
 /// vertical force of 1 m/s^2 at 15 m/s. Measured on ride3d (as above, turns as read):
@@ -46,13 +46,21 @@ pub const DEFAULT_PATH_TURN_HZ: f64 = f64::INFINITY;
 /// 3 was 0.35.
 pub const DEFAULT_PATH_PITCH_HZ: f64 = 0.5;
 
-/// How the speed and the gyro become O's acceleration.
+/// How the speed and the gyro become O's acceleration (inv3d's: ekf3d estimates the
+/// speed's rate, and takes only the path's rate from here, [`PathSettings`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TravelSettings<T> {
     /// Cutoff \[Hz\] of the smoothing differentiator (Bessel, 4th order) that takes O's
     /// longitudinal acceleration from the `speed` column. Default 5 Hz: see
     /// [`DEFAULT_SPEED_RATE_HZ`].
     pub speed_rate_hz: T,
+    /// The path's turn and pitch rates.
+    pub path: PathSettings<T>,
+}
+
+/// How the gyro gives the rate at which the vehicle's path turns and pitches.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathSettings<T> {
     /// Cutoff \[Hz\] of the one-pole low-pass of the gyro's z that gives the rate at which
     /// the vehicle's path turns, for the centripetal acceleration `v w_z` across. Default
     /// infinite (the gyro as read): see [`DEFAULT_PATH_TURN_HZ`].
@@ -67,6 +75,14 @@ impl<T: Real> Default for TravelSettings<T> {
     fn default() -> Self {
         Self {
             speed_rate_hz: T::lit(DEFAULT_SPEED_RATE_HZ),
+            path: PathSettings::default(),
+        }
+    }
+}
+
+impl<T: Real> Default for PathSettings<T> {
+    fn default() -> Self {
+        Self {
             path_turn_hz: T::lit(DEFAULT_PATH_TURN_HZ),
             path_pitch_hz: T::lit(DEFAULT_PATH_PITCH_HZ),
         }
@@ -78,6 +94,15 @@ impl<T: Real> TravelSettings<T> {
     pub fn cast<U: Real>(&self) -> TravelSettings<U> {
         TravelSettings {
             speed_rate_hz: U::lit(self.speed_rate_hz.to_f64()),
+            path: self.path.cast(),
+        }
+    }
+}
+
+impl<T: Real> PathSettings<T> {
+    /// The same settings in another scalar type.
+    pub fn cast<U: Real>(&self) -> PathSettings<U> {
+        PathSettings {
             path_turn_hz: U::lit(self.path_turn_hz.to_f64()),
             path_pitch_hz: U::lit(self.path_pitch_hz.to_f64()),
         }
@@ -85,7 +110,7 @@ impl<T: Real> TravelSettings<T> {
 }
 
 /// The rate at which the vehicle's path turns, from the gyro: its y low-passed at
-/// [`TravelSettings::path_pitch_hz`], its z at [`TravelSettings::path_turn_hz`] (x, which
+/// [`PathSettings::path_pitch_hz`], its z at [`PathSettings::path_turn_hz`] (x, which
 /// O's acceleration does not use, as read). Bias not removed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PathRate<T: Real> {
@@ -96,7 +121,7 @@ pub struct PathRate<T: Real> {
 
 impl<T: Real> PathRate<T> {
     /// Nothing seen yet.
-    pub fn new(settings: &TravelSettings<T>) -> Self {
+    pub fn new(settings: &PathSettings<T>) -> Self {
         Self {
             pitch: OnePoleGain::from_hz(settings.path_pitch_hz),
             turn: OnePoleGain::from_hz(settings.path_turn_hz),
@@ -142,7 +167,7 @@ impl<T: Real> Travel<T> {
     pub fn new(settings: TravelSettings<T>) -> Self {
         Self {
             speed_diff: SmoothingDifferentiator::new(Response::Bessel, settings.speed_rate_hz),
-            path: PathRate::new(&settings),
+            path: PathRate::new(&settings.path),
             speed: None,
         }
     }
@@ -172,21 +197,6 @@ impl<T: Real> Travel<T> {
             self.speed_diff.start(v);
         }
         self.speed = Some(v);
-    }
-
-    /// Takes the slip detector's verdict on a speed reading `dt` after the last: its speed
-    /// (the reading, or the carried one while the wheel slips) is differentiated, and the
-    /// switches of source are not taken for accelerations: a slip's end shifts the
-    /// derivative's level by the verdict's jump, a slip's start restarts it on the
-    /// accelerometer's rate ([`super::ekf::slip`]).
-    pub fn slipped_speed(&mut self, v: &SpeedVerdict<T>, dt: T) {
-        self.speed_diff.shift_signal(0, v.jump);
-        if let Some(rate) = v.restart.filter(|_| self.speed_diff.is_started()) {
-            self.speed_diff.restart_signal_on_ramp(0, v.speed, rate);
-            self.speed = Some(v.speed);
-        } else {
-            self.differentiate(v.speed, dt);
-        }
     }
 
     /// Takes the lack of a speed reading: the vehicle counts as at rest, not accelerating,
@@ -236,7 +246,7 @@ mod tests {
     /// (`1 / sqrt(1 + (1.6 / 0.5)^2)` = 0.30), a steady pitch rate (a grade's change) kept.
     #[test]
     fn turns_pass_and_the_suspensions_pitch_is_cut() {
-        let mut p = PathRate::<f64>::new(&TravelSettings::default());
+        let mut p = PathRate::<f64>::new(&PathSettings::default());
         let dt = 1e-3;
         let (f, amp) = (1.6, 0.05);
         let mut peak: f64 = 0.0;

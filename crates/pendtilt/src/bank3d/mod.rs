@@ -73,6 +73,7 @@ impl Settings3d {
             n.gyro_density = s.gyro_noise_density;
             n.gyro_bias_walk = s.gyro_bias_walk;
             n.accel_density = s.accel_noise_density;
+            ekf.speed.noise = s.speed_noise;
         }
         Self {
             ekf,

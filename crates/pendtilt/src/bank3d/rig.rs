@@ -61,11 +61,13 @@ pub struct Ekf3dConfig {
     pub vibration_density: Option<f64>,
     /// [`ekf::Settings::angular_accel_hz`] \[Hz\].
     pub angular_accel_hz: Option<f64>,
-    /// [`pendtilt_core::spatial::travel::TravelSettings::speed_rate_hz`] \[Hz\] of [`ekf::Settings::travel`].
-    pub speed_rate_hz: Option<f64>,
-    /// [`pendtilt_core::spatial::travel::TravelSettings::path_turn_hz`] \[Hz\] (`inf`: the gyro as read).
+    /// [`ekf::SpeedSettings::noise`] \[m/s\] of [`ekf::Settings::speed`].
+    pub speed_noise: Option<f64>,
+    /// [`ekf::SpeedSettings::jerk_density`] \[m/s^3/sqrt(Hz)\] of [`ekf::Settings::speed`].
+    pub jerk_density: Option<f64>,
+    /// [`pendtilt_core::spatial::travel::PathSettings::path_turn_hz`] \[Hz\] (`inf`: the gyro as read).
     pub path_turn_hz: Option<f64>,
-    /// [`pendtilt_core::spatial::travel::TravelSettings::path_pitch_hz`] \[Hz\] (`inf`: the gyro as read).
+    /// [`pendtilt_core::spatial::travel::PathSettings::path_pitch_hz`] \[Hz\] (`inf`: the gyro as read).
     pub path_pitch_hz: Option<f64>,
     /// [`ekf::Settings::encoder_jitter`] \[rad\].
     pub encoder_jitter: Option<f64>,
@@ -79,7 +81,8 @@ impl Ekf3dConfig {
         for (key, v) in [
             ("vibration_density", self.vibration_density),
             ("angular_accel_hz", self.angular_accel_hz),
-            ("speed_rate_hz", self.speed_rate_hz),
+            ("speed_noise", self.speed_noise),
+            ("jerk_density", self.jerk_density),
         ] {
             if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
                 return Err(format!("ekf3d.{key}: {v} must be finite and > 0"));
@@ -112,14 +115,17 @@ impl Ekf3dConfig {
         if let Some(v) = self.angular_accel_hz {
             s.angular_accel_hz = v;
         }
-        if let Some(v) = self.speed_rate_hz {
-            s.travel.speed_rate_hz = v;
+        if let Some(v) = self.speed_noise {
+            s.speed.noise = v;
+        }
+        if let Some(v) = self.jerk_density {
+            s.speed.jerk_density = v;
         }
         if let Some(v) = self.path_turn_hz {
-            s.travel.path_turn_hz = v;
+            s.path.path_turn_hz = v;
         }
         if let Some(v) = self.path_pitch_hz {
-            s.travel.path_pitch_hz = v;
+            s.path.path_pitch_hz = v;
         }
         if let Some(v) = self.encoder_jitter {
             s.encoder_jitter = v;
@@ -281,25 +287,21 @@ mod tests {
     #[test]
     fn the_ekf3d_table_sets_the_filter_settings() {
         let rig = crate::sim3d::Rig3d::default().to_toml_string().unwrap();
-        let text = format!("{rig}\n[ekf3d]\nvibration_density = 0.15\nspeed_rate_hz = 5.0\n");
+        let text = format!("{rig}\n[ekf3d]\nvibration_density = 0.15\njerk_density = 5.0\n");
         let c = Rig3dConfig::from_toml_str(&text, "r.toml").unwrap();
         let mut s = ekf::Settings::<f64>::default();
         let before = s;
         c.ekf3d.apply(&mut s);
         assert_eq!(s.environment.vibration_density, 0.15);
-        assert_eq!(s.travel.speed_rate_hz, 5.0);
+        assert_eq!(s.speed.jerk_density, 5.0);
         s.environment.vibration_density = before.environment.vibration_density;
-        s.travel.speed_rate_hz = before.travel.speed_rate_hz;
+        s.speed.jerk_density = before.speed.jerk_density;
         assert_eq!(s, before);
-        let bad = text.replace("speed_rate_hz", "speed_rate");
+        let bad = text.replace("jerk_density", "jerk");
         let e = Rig3dConfig::from_toml_str(&bad, "r.toml").unwrap_err();
-        let line = bad
-            .lines()
-            .position(|l| l.starts_with("speed_rate"))
-            .unwrap()
-            + 1;
+        let line = bad.lines().position(|l| l.starts_with("jerk")).unwrap() + 1;
         assert!(e.starts_with(&format!("r.toml:{line}:")), "{e}");
-        assert!(e.contains("speed_rate"), "{e}");
+        assert!(e.contains("jerk"), "{e}");
         let bad = text.replace("= 0.15", "= -1.0");
         let e = Rig3dConfig::from_toml_str(&bad, "r.toml").unwrap_err();
         assert_eq!(
@@ -310,8 +312,8 @@ mod tests {
         let inf = format!("{text}path_pitch_hz = inf\npath_turn_hz = 3.0\n");
         let c = Rig3dConfig::from_toml_str(&inf, "r.toml").unwrap();
         c.ekf3d.apply(&mut s);
-        assert_eq!(s.travel.path_pitch_hz, f64::INFINITY);
-        assert_eq!(s.travel.path_turn_hz, 3.0);
+        assert_eq!(s.path.path_pitch_hz, f64::INFINITY);
+        assert_eq!(s.path.path_turn_hz, 3.0);
         let zero = inf.replace("path_turn_hz = 3.0", "path_turn_hz = 0.0");
         let e = Rig3dConfig::from_toml_str(&zero, "r.toml").unwrap_err();
         assert!(

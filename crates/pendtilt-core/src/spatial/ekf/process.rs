@@ -11,14 +11,22 @@
 //! the encoders are never differentiated.
 //!
 //! The pivot's specific force is `g u` (the world's up direction in body axes, from the
-//! attitude), plus O's acceleration `v' x_b + w_p x (v x_b)` when the log gives O's
-//! forward speed `v` (a vehicle braking and turning, issue 15; O not accelerating
-//! otherwise), plus the lever arm `wd x r + w x (w x r)` from O (`[mounting] speed_at`,
+//! attitude), plus O's acceleration `v' x_b + w_p x (v x_b)` from O's forward speed `v`
+//! and its rate `v'`, both states (a vehicle braking and turning, issue 15; held at zero
+//! without a `speed` column: O not accelerating), plus the lever arm `wd x r + w x (w x r)` from O (`[mounting] speed_at`,
 //! the point the body turns about) to the pivot, `r = P2 - O`: a scooter on its stand
 //! swinging about a point 0.25 m below the sensors moves the pivot by `wd x r`, at 0.9 Hz
-//! and a few degrees an apparent tilt of a degree. `wd`, `v'` and the path's turn rate
-//! `w_p` are smoothed from the gyro and the speed and come in with them ([`Drive`]); what
-//! is left of the pivot's acceleration is unknown and is the process noise of `p` and `r`.
+//! and a few degrees an apparent tilt of a degree. `wd` and the path's turn rate `w_p` are
+//! smoothed from the gyro and come in with it ([`Drive`]); what is left of the pivot's
+//! acceleration is unknown and is the process noise of `p` and `r`.
+//!
+//! `v'` is a random walk (white jerk, [`ProcessNoise::jerk`]) and `v` its integral; the
+//! `speed` column measures `v` ([`super::measurement::Speed`]). So the filter takes O's
+//! acceleration from the speed only where the speed knows it (slowly) and from the
+//! pendulum against the gyro elsewhere (the pendulum reads tilt plus acceleration, the
+//! gyro the tilt's changes), the way an inertial navigator is aided by a velocity: the
+//! speed's derivative alone let its noise through as a longitudinal force (a standing
+//! scooter's speed column is noise alone), or lagged the braking.
 //!
 //! One step of `h`: the attitude turns by `exp((gyro - bias) h)`; the joints take a
 //! semi-implicit Euler step (rates first, then angles with the new rates). The Jacobian
@@ -26,12 +34,12 @@
 //! forward differences in the working precision for the joints and the body rate (step
 //! `sqrt(eps)`): 7.3 has some forty partial derivatives, and the filter needs them to a
 //! few digits only; a test checks them against the step itself.
-use super::state::{State, A, B, BIAS, N, P, R, ROT};
+use super::state::{State, A, ACC, B, BIAS, N, P, R, ROT, V};
 use crate::engine::{Cov, ProcessModel};
 use crate::spatial::cardan::{CardanParams, JointTrig};
 use crate::spatial::mounting::lever_arm;
 use crate::Real;
-use nalgebra::{Matrix3, SMatrix, UnitQuaternion, Vector3, Vector4};
+use nalgebra::{Matrix3, SMatrix, SVector, UnitQuaternion, Vector2, Vector3, Vector4};
 
 /// Continuous-time process noise densities.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,6 +52,9 @@ pub struct ProcessNoise<T> {
     /// Density of the pendulum's unmodelled angular acceleration per axis
     /// [rad/s^2/sqrt(Hz)]: the pivot's unknown linear acceleration over `g b`.
     pub joints: [T; 2],
+    /// Density of O's jerk along body x [m/s^3/sqrt(Hz)]: how fast the vehicle's
+    /// forward acceleration `v'` may change.
+    pub jerk: T,
 }
 
 /// The spatial process model (see the module documentation).
@@ -58,8 +69,8 @@ pub struct CardanProcess<T: Real> {
 }
 
 /// What drives the process over a step: the gyro's reading, the body's angular
-/// acceleration (the gyro's smoothed derivative), body axes, and the forward speed of the
-/// point O with its rate (zero when the log has no speed).
+/// acceleration (the gyro's smoothed derivative), body axes, and the gyro smoothed to the
+/// path's and the body's slow rates.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Drive<T: Real> {
     /// The gyro's reading, bias not removed \[rad/s\].
@@ -74,21 +85,24 @@ pub struct Drive<T: Real> {
     /// rate, at which the z bias's lever-arm term is taken
     /// ([`CardanProcess::z_bias_partials`]).
     pub slow_gyro: Vector3<T>,
-    /// O's forward speed `v` along body x \[m/s\].
-    pub speed: T,
-    /// Its rate `v'` \[m/s^2\].
-    pub speed_rate: T,
 }
 
 impl<T: Real> Drive<T> {
-    /// O's acceleration in body axes for the body rate `w` (bias removed): `v' x_b +
-    /// w_p x (v x_b)`, the longitudinal and the centripetal acceleration of a vehicle whose
-    /// point O moves along body x (issue 15), with `w_p = w + path_gyro - gyro` the rate
-    /// at which its path turns (the same bias removed).
+    /// O's acceleration in body axes for the body rate `w` (bias removed) and O's forward
+    /// speed and its rate `travel = (v, v')`: `v' x_b + w_p x (v x_b)`, the longitudinal
+    /// and the centripetal acceleration of a vehicle whose point O moves along body x
+    /// (issue 15), with `w_p = w + path_gyro - gyro` the rate at which its path turns (the
+    /// same bias removed).
     #[inline]
-    pub fn centre_accel(&self, w: &Vector3<T>) -> Vector3<T> {
+    pub fn centre_accel(&self, w: &Vector3<T>, travel: &Vector2<T>) -> Vector3<T> {
+        self.centre_accel_per_speed(w) * travel[0] + Vector3::new(travel[1], T::zero(), T::zero())
+    }
+
+    /// The derivative of [`Self::centre_accel`] with respect to `v`: `w_p x x_b`.
+    #[inline]
+    pub fn centre_accel_per_speed(&self, w: &Vector3<T>) -> Vector3<T> {
         let wp = w + self.path_gyro - self.gyro;
-        Vector3::new(self.speed_rate, wp[2] * self.speed, -wp[1] * self.speed)
+        Vector3::new(T::zero(), wp[2], -wp[1])
     }
 }
 
@@ -101,18 +115,18 @@ pub(crate) fn skew<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
 
 impl<T: Real> CardanProcess<T> {
     /// One semi-implicit Euler step of the joints `j = (a, b, p, r)` over `h` for the
-    /// bias-corrected body rate `w`, the drive `d` (for the angular acceleration) and the up
-    /// direction `u` (body axes).
+    /// bias-corrected body rate `w`, the drive `d` (for the angular acceleration), the up
+    /// direction `u` (body axes) and O's speed and its rate `travel`.
     #[inline]
     pub fn joint_step(
         &self,
         j: &Vector4<T>,
         w: &Vector3<T>,
         d: &Drive<T>,
-        u: &Vector3<T>,
+        (u, travel): (&Vector3<T>, &Vector2<T>),
         h: T,
     ) -> Vector4<T> {
-        self.joint_step_with(&JointTrig::of(j[0], j[1]), j, w, d, u, h)
+        self.joint_step_with(&JointTrig::of(j[0], j[1]), j, w, d, (u, travel), h)
     }
 
     /// [`Self::joint_step`] with the sines and cosines of `j`'s angles given.
@@ -123,18 +137,25 @@ impl<T: Real> CardanProcess<T> {
         j: &Vector4<T>,
         w: &Vector3<T>,
         d: &Drive<T>,
-        u: &Vector3<T>,
+        ut: (&Vector3<T>, &Vector2<T>),
         h: T,
     ) -> Vector4<T> {
-        self.joint_step_in(trig, j, w, d, &self.pivot_force(w, d, u), h)
+        self.joint_step_in(trig, j, w, d, &self.pivot_force(w, d, ut), h)
     }
 
-    /// The specific force at the pivot for the body rate `w` and the up direction `u`:
-    /// gravity, O's acceleration and the lever arm from O.
+    /// The specific force at the pivot for the body rate `w`, the up direction `u` and O's
+    /// speed and rate `travel`: gravity, O's acceleration and the lever arm from O.
     #[inline]
-    fn pivot_force(&self, w: &Vector3<T>, d: &Drive<T>, u: &Vector3<T>) -> Vector3<T> {
+    fn pivot_force(
+        &self,
+        w: &Vector3<T>,
+        d: &Drive<T>,
+        (u, travel): (&Vector3<T>, &Vector2<T>),
+    ) -> Vector3<T> {
         let wd = &d.angular_accel;
-        u * self.params.gravity + d.centre_accel(w) + lever_arm(w, wd, &self.pivot_from_centre)
+        u * self.params.gravity
+            + d.centre_accel(w, travel)
+            + lever_arm(w, wd, &self.pivot_from_centre)
     }
 
     /// [`Self::joint_step_with`] with the pivot's specific force `f` given (the same for
@@ -184,14 +205,14 @@ impl<T: Real> CardanProcess<T> {
         [j, next]: [&Vector4<T>; 2],
         w: &Vector3<T>,
         dr: &Drive<T>,
-        u: &Vector3<T>,
+        ut: (&Vector3<T>, &Vector2<T>),
         h: T,
     ) -> (SMatrix<T, 4, 4>, SMatrix<T, 4, 2>, SMatrix<T, 4, 3>) {
         let d = T::default_epsilon().sqrt();
         let trig = *trig;
         let shift = d.sin_cos();
         let none = (T::zero(), T::one());
-        let f = self.pivot_force(w, dr, u);
+        let f = self.pivot_force(w, dr, ut);
         let mut dj = SMatrix::<T, 4, 4>::zeros();
         for k in 0..4 {
             let mut hi = *j;
@@ -208,7 +229,7 @@ impl<T: Real> CardanProcess<T> {
         for k in 0..2 {
             let mut hi = *w;
             hi[k] += d;
-            let c = (self.joint_step_with(&trig, j, &hi, dr, u, h) - next) / d;
+            let c = (self.joint_step_with(&trig, j, &hi, dr, ut, h) - next) / d;
             dw.set_column(k, &c);
         }
         (dj, dw, self.up_partials(&trig, h))
@@ -257,11 +278,12 @@ impl<T: Real> CardanProcess<T> {
         du: &SMatrix<T, 4, 3>,
         d: &Drive<T>,
         bias: &Vector3<T>,
+        speed: T,
     ) -> Vector4<T> {
         let ws = d.slow_gyro - bias;
         let r = &self.pivot_from_centre;
         let ez = Vector3::z();
-        let df = Vector3::new(T::zero(), d.speed, T::zero())
+        let df = Vector3::new(T::zero(), speed, T::zero())
             + ez.cross(&ws.cross(r))
             + ws.cross(&ez.cross(r));
         du * (df / self.params.gravity)
@@ -280,7 +302,8 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
         State {
             q,
             bias: x.bias,
-            joints: self.joint_step(&x.joints, &w, d, &x.up(), h),
+            joints: self.joint_step(&x.joints, &w, d, (&x.up(), &x.travel), h),
+            travel: travel_step(&x.travel, h),
         }
     }
 
@@ -296,10 +319,12 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
         let trig = JointTrig::of(x.joints[0], x.joints[1]);
         let mut q = x.q * turn;
         q.renormalize_fast();
+        let ut = (&u, &x.travel);
         let next = State {
             q,
             bias: x.bias,
-            joints: self.joint_step_with(&trig, &x.joints, &w, d, &u, h),
+            joints: self.joint_step_with(&trig, &x.joints, &w, d, ut, h),
+            travel: travel_step(&x.travel, h),
         };
         let mut f = Cov::<T, N>::identity();
         // Rotation error: d' = exp(w h)^T d - h d_bias (first order in h for the bias).
@@ -307,61 +332,39 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
         f.fixed_view_mut::<3, 3>(ROT, ROT).copy_from(&rt);
         f.fixed_view_mut::<3, 3>(ROT, BIAS)
             .copy_from(&(Matrix3::identity() * -h));
-        let (dj, dw, du) = self.joint_partials(&trig, [&x.joints, &next.joints], &w, d, &u, h);
+        let (dj, dw, du) = self.joint_partials(&trig, [&x.joints, &next.joints], &w, d, ut, h);
         f.fixed_view_mut::<4, 4>(A, A).copy_from(&dj);
         // w = gyro - bias; u(q exp d) = u + u x d.
         f.fixed_view_mut::<4, 2>(A, BIAS).copy_from(&(-dw));
-        let dz = self.z_bias_partials(&du, d, &x.bias);
+        let dz = self.z_bias_partials(&du, d, &x.bias, x.travel[0]);
         f.fixed_view_mut::<4, 1>(A, BIAS + 2).copy_from(&(-dz));
         f.fixed_view_mut::<4, 3>(A, ROT).copy_from(&(du * skew(&u)));
+        // O's speed and rate enter the specific force linearly, as `g u` does.
+        let per_g = du / self.params.gravity;
+        f.fixed_view_mut::<4, 1>(A, V)
+            .copy_from(&(per_g * d.centre_accel_per_speed(&w)));
+        f.fixed_view_mut::<4, 1>(A, ACC).copy_from(&per_g.column(0));
+        f[(V, ACC)] = h;
         (next, f)
     }
 
-    /// `F P F^T` on the blocks of `F = [[R, -h I, 0], [0, I, 0], [J]]` (rotation, bias and
-    /// joint rows) that are not structurally zero or the identity: `M = F P` on the
-    /// rotation and joint rows (the bias rows are P's), then each block of `M F^T` from the
-    /// blocks of F it needs, averaged with its mirror image's (those of the bias rows equal
-    /// theirs: P is exactly symmetric on entry). The same sums in the same order as the
-    /// dense product symmetrised, so the same bits, at about 880 multiplications (the
-    /// dense product: 2000); a test checks it against the dense product.
+    /// `F P F^T` through the rows of `F` that are not the identity's: `F X` is `X` with
+    /// the rotation, joint and speed rows replaced ([`apply_f`]), so `F P F^T = F (F P)^T`
+    /// (P is exactly symmetric on entry) costs two such products, about 1,700
+    /// multiplications against the dense product's 3,500, symmetrised; a test checks it
+    /// against the dense product.
     #[inline]
     fn propagate(&self, f: &Cov<T, N>, p: &Cov<T, N>) -> Cov<T, N> {
-        let half = T::lit(0.5);
-        let r = f.fixed_view::<3, 3>(ROT, ROT);
-        let minus_h = f[(ROT, BIAS)];
-        let j = f.fixed_view::<4, N>(A, 0);
-        let jt = j.transpose();
-        let m_rot = r * p.fixed_rows::<3>(ROT) + p.fixed_rows::<3>(BIAS) * minus_h;
-        let m_j = j * p;
-        // M times F's rotation rows and joint rows, each block with its mirror image.
-        let rot_rot = m_rot.fixed_columns::<3>(ROT) * r.transpose()
-            + m_rot.fixed_columns::<3>(BIAS) * minus_h;
-        let j_rot =
-            m_j.fixed_columns::<3>(ROT) * r.transpose() + m_j.fixed_columns::<3>(BIAS) * minus_h;
-        let rot_j = (m_rot * jt + j_rot.transpose()) * half;
-        let j_j = m_j * jt;
-        let mut out = *p;
-        out.fixed_view_mut::<3, 3>(ROT, ROT)
-            .copy_from(&((rot_rot + rot_rot.transpose()) * half));
-        out.fixed_view_mut::<3, 3>(ROT, BIAS)
-            .copy_from(&m_rot.fixed_columns::<3>(BIAS));
-        out.fixed_view_mut::<3, 3>(BIAS, ROT)
-            .copy_from(&m_rot.fixed_columns::<3>(BIAS).transpose());
-        out.fixed_view_mut::<3, 4>(ROT, A).copy_from(&rot_j);
-        out.fixed_view_mut::<4, 3>(A, ROT)
-            .copy_from(&rot_j.transpose());
-        out.fixed_view_mut::<4, 3>(A, BIAS)
-            .copy_from(&m_j.fixed_columns::<3>(BIAS));
-        out.fixed_view_mut::<3, 4>(BIAS, A)
-            .copy_from(&m_j.fixed_columns::<3>(BIAS).transpose());
-        out.fixed_view_mut::<4, 4>(A, A)
-            .copy_from(&((j_j + j_j.transpose()) * half));
+        let m = apply_f(f, p).transpose();
+        let mut out = apply_f(f, &m);
+        crate::engine::update::symmetrise(&mut out);
         out
     }
 
     /// Gyro noise turns the attitude and, oppositely, the joint angles it moves past
     /// (`a' = p - w_x`, `b' = r - u2`; the cross terms are those at small `a`); the
-    /// pendulum's rates take the unmodelled acceleration as a double integrator.
+    /// pendulum's rates take the unmodelled acceleration as a double integrator. O's jerk
+    /// is [`CardanProcess::jerk_noise`].
     fn q(&self, h: T) -> Cov<T, N> {
         let n = &self.noise;
         let mut q = Cov::<T, N>::zeros();
@@ -388,6 +391,45 @@ impl<T: Real> ProcessModel<T, N> for CardanProcess<T> {
     }
 }
 
+impl<T: Real> CardanProcess<T> {
+    /// The jerk's process noise over `h` as two rank-one terms, `Q = v1 v1^T + v2 v2^T`
+    /// with `Q = j^2 [[h^3/3, h^2/2], [h^2/2, h]]` on `(v, v')` (white jerk of density
+    /// `j`): not in [`ProcessModel::q`], because it applies only while the `speed` column
+    /// reads O's speed (without it both are held at zero), so the estimator adds it per
+    /// sample ([`crate::engine::GaussianFilter::inflate`]).
+    pub fn jerk_noise(&self, h: T) -> [SVector<T, N>; 2] {
+        let s = self.noise.jerk * h.sqrt();
+        let mut v1 = SVector::<T, N>::zeros();
+        v1[V] = s * h / T::lit(2.0);
+        v1[ACC] = s;
+        let mut v2 = SVector::<T, N>::zeros();
+        v2[V] = s * h / T::lit(12.0).sqrt();
+        [v1, v2]
+    }
+}
+
+/// O's speed and rate after `h`: the rate held (a random walk), the speed its integral.
+#[inline]
+fn travel_step<T: Real>(travel: &Vector2<T>, h: T) -> Vector2<T> {
+    Vector2::new(travel[0] + h * travel[1], travel[1])
+}
+
+/// `F X` for the process Jacobian `F`, whose rows are the identity's but for the rotation
+/// (`[R, -h I, 0]`), the joints (full) and the speed (`e_v + h e_v'`).
+#[inline]
+fn apply_f<T: Real>(f: &Cov<T, N>, x: &Cov<T, N>) -> Cov<T, N> {
+    let r = f.fixed_view::<3, 3>(ROT, ROT);
+    let minus_h = f[(ROT, BIAS)];
+    let rot = r * x.fixed_rows::<3>(ROT) + x.fixed_rows::<3>(BIAS) * minus_h;
+    let joints = f.fixed_view::<4, N>(A, 0) * x;
+    let speed = x.row(V) + x.row(ACC) * f[(V, ACC)];
+    let mut out = *x;
+    out.fixed_rows_mut::<3>(ROT).copy_from(&rot);
+    out.fixed_rows_mut::<4>(A).copy_from(&joints);
+    out.set_row(V, &speed);
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -404,6 +446,7 @@ mod tests {
                 gyro: 1e-4,
                 bias: 1e-5,
                 joints: [0.3, 0.3],
+                jerk: 2.0,
             },
             pivot_from_centre: Vector3::new(0.01, -0.05, 0.3),
         }
@@ -415,8 +458,6 @@ mod tests {
             angular_accel,
             path_gyro: gyro * 0.8,
             slow_gyro: gyro * 0.9,
-            speed: 7.0,
-            speed_rate: -2.0,
         }
     }
 
@@ -426,6 +467,7 @@ mod tests {
             q: UnitQuaternion::from_euler_angles(0.3, -0.2, 0.7),
             bias: Vector3::new(0.01, -0.02, 0.005),
             joints: Vector4::new(-0.25, 0.15, 0.4, -0.3),
+            travel: Vector2::new(7.0, -2.0),
         }
     }
 
@@ -460,6 +502,7 @@ mod tests {
             q: UnitQuaternion::from_euler_angles(0.0, -0.2, 0.7),
             bias,
             joints: Vector4::new(0.0, 0.2, 0.0, 0.0),
+            travel: Vector2::new(7.0, 0.0),
         };
         let mut d = drive(bias, Vector3::zeros());
         d.slow_gyro = bias;
@@ -510,11 +553,10 @@ mod tests {
             q: UnitQuaternion::from_euler_angles(roll, pitch, 1.2),
             bias: Vector3::zeros(),
             joints: Vector4::new(-roll, -pitch, 0.0, 0.0),
+            travel: Vector2::zeros(),
         };
         let still = Drive {
             slow_gyro: Vector3::zeros(),
-            speed: 0.0,
-            speed_rate: 0.0,
             ..drive(Vector3::zeros(), Vector3::zeros())
         };
         let mut y = x;
@@ -538,36 +580,36 @@ mod tests {
         let w = Vector3::zeros();
         // w = 0: O's acceleration is v' x_b alone.
         let d = drive(w, wd);
-        let moved = m.joint_step(&j, &w, &d, &u, 1e-3);
+        let travel = Vector2::new(7.0, -2.0);
+        let moved = m.joint_step(&j, &w, &d, (&u, &travel), 1e-3);
         let at_pivot = CardanProcess {
             pivot_from_centre: Vector3::zeros(),
             ..m
         };
-        let force = wd.cross(&m.pivot_from_centre) + Vector3::new(d.speed_rate, 0.0, 0.0);
+        let force = wd.cross(&m.pivot_from_centre) + Vector3::new(travel[1], 0.0, 0.0);
         let f = u + force / m.params.gravity;
         let still = Drive {
             slow_gyro: Vector3::zeros(),
-            speed: 0.0,
-            speed_rate: 0.0,
             ..drive(w, w)
         };
-        let same = at_pivot.joint_step(&j, &w, &still, &f, 1e-3);
+        let at_rest = Vector2::zeros();
+        let same = at_pivot.joint_step(&j, &w, &still, (&f, &at_rest), 1e-3);
         assert!((moved - same).norm() < 1e-15, "{moved} vs {same}");
         // And it matters: 4 rad/s^2 at 0.3 m is 0.12 g.
-        let ignored = m.joint_step(&j, &w, &still, &u, 1e-3);
+        let ignored = m.joint_step(&j, &w, &still, (&u, &at_rest), 1e-3);
         assert!((moved - ignored).norm() > 1e-4, "{moved} vs {ignored}");
         // A turn: the centripetal v w_z along body y, -v w_y along z.
         let turn = Vector3::new(0.0, 0.1, 0.5);
-        let c = d.centre_accel(&turn);
+        let c = d.centre_accel(&turn, &travel);
         assert!((c - Vector3::new(-2.0, 3.5, -0.7)).norm() < 1e-12, "{c}");
         // Only the path's rate turns O's velocity: here 0.8 of the gyro's 0.5 rad/s.
         let d = drive(Vector3::new(0.0, 0.0, 0.5), wd);
-        let c = d.centre_accel(&Vector3::new(0.0, 0.0, 0.5));
+        let c = d.centre_accel(&Vector3::new(0.0, 0.0, 0.5), &travel);
         assert!((c - Vector3::new(-2.0, 2.8, 0.0)).norm() < 1e-12, "{c}");
     }
 
-    /// The structured `F P F^T` equals the dense product symmetrised, bit for bit (the
-    /// same sums in the same order; the structural zeros add nothing).
+    /// The structured `F P F^T` equals the dense product symmetrised (to rounding: the
+    /// sums run in another order).
     #[test]
     fn propagate_equals_the_dense_product() {
         let m = model();
@@ -579,6 +621,33 @@ mod tests {
         assert_eq!(p, p.transpose());
         let mut dense = f * p * f.transpose();
         crate::engine::update::symmetrise(&mut dense);
-        assert_eq!(m.propagate(&f, &p), dense);
+        let fast = m.propagate(&f, &p);
+        assert_eq!(fast, fast.transpose());
+        let err = (fast - dense).abs().max();
+        assert!(err < 1e-13 * dense.abs().max(), "{err}");
+    }
+
+    /// The jerk's two rank-one terms sum to white jerk's covariance on `(v, v')` over `h`.
+    #[test]
+    fn the_jerk_noise_is_white_jerk_integrated() {
+        let m = model();
+        let h = 4e-3;
+        let [v1, v2] = m.jerk_noise(h);
+        let q = v1 * v1.transpose() + v2 * v2.transpose();
+        let j2 = m.noise.jerk * m.noise.jerk;
+        let want = [
+            (V, V, j2 * h * h * h / 3.0),
+            (V, ACC, j2 * h * h / 2.0),
+            (ACC, ACC, j2 * h),
+        ];
+        for (r, c, w) in want {
+            assert!(
+                (q[(r, c)] - w).abs() < 1e-12 * w,
+                "{r} {c}: {} vs {w}",
+                q[(r, c)]
+            );
+            assert_eq!(q[(r, c)], q[(c, r)]);
+        }
+        assert_eq!(q.iter().filter(|x| **x != 0.0).count(), 4);
     }
 }

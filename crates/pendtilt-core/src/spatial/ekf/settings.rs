@@ -25,11 +25,65 @@ use crate::Real;
 /// the lever arm a phase error of `2 pi f` times it (0.19 rad at 0.9 Hz).
 pub const DEFAULT_ANGULAR_ACCEL_HZ: f64 = 10.0;
 
-/// The defaults of [`Settings::travel`] (with their measurements): the travelling
+/// The defaults of [`Settings::path`] (with their measurements): the travelling
 /// vehicle's, [`crate::spatial::travel`].
-pub use crate::spatial::travel::{
-    TravelSettings, DEFAULT_PATH_PITCH_HZ, DEFAULT_PATH_TURN_HZ, DEFAULT_SPEED_RATE_HZ,
-};
+pub use crate::spatial::travel::{PathSettings, DEFAULT_PATH_PITCH_HZ, DEFAULT_PATH_TURN_HZ};
+
+/// Default of [`SpeedSettings::noise`] \[m/s\]: MODEL.md 7.7's noisy grade.
+pub const DEFAULT_SPEED_NOISE: f64 = 0.05;
+
+/// Default of [`SpeedSettings::jerk_density`] \[m/s^3/sqrt(Hz)\]. Low, because the
+/// pendulum against the gyro reads O's acceleration well above the speed's own band (it
+/// reads tilt plus acceleration, the gyro the tilt's changes): the jerk's density need
+/// only cover what that leaves to the speed. Measured (ekf3d, 120 s, seed 1, deg RMS
+/// inclination / max; ride3d seeds 1/2/3 RMS): 0.1: ride3d 0.160/0.179/0.267; 0.25:
+/// 0.158/0.177/0.269; 0.5: 0.158/0.178/0.271 (max 0.68/0.77/0.63), scooter3d 0.0458,
+/// ship3d 0.228; 2: 0.165/0.181/0.272, scooter3d 0.0456, ship3d 0.229; 10: ride3d 0.185
+/// (max 0.77), ship3d 0.230. Before O's speed and rate were states (the speed's
+/// derivative through a 5 Hz Bessel filter): ride3d 0.174/0.213/0.294, scooter3d 0.0562,
+/// ship3d 0.297 (max 2.24).
+pub const DEFAULT_JERK_DENSITY: f64 = 0.5;
+
+/// Default of [`SpeedSettings::initial_rate`] \[m/s^2\]: a vehicle whose speed is first
+/// read while it brakes or pulls away (0.2 g).
+pub const DEFAULT_INITIAL_SPEED_RATE: f64 = 2.0;
+
+/// O's forward speed and its rate as states (issue 15): the `speed` column measures the
+/// speed, the rate is a random walk.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpeedSettings<T> {
+    /// Standard deviation of one `speed` reading \[m/s\]. Default 0.05: see
+    /// [`DEFAULT_SPEED_NOISE`].
+    pub noise: T,
+    /// Density of O's jerk along body x \[m/s^3/sqrt(Hz)\]: how fast the vehicle's
+    /// forward acceleration may change. Default: see [`DEFAULT_JERK_DENSITY`].
+    pub jerk_density: T,
+    /// Standard deviation of O's forward acceleration when the speed is first read
+    /// \[m/s^2\]. Default 2: see [`DEFAULT_INITIAL_SPEED_RATE`].
+    pub initial_rate: T,
+}
+
+impl<T: Real> Default for SpeedSettings<T> {
+    fn default() -> Self {
+        Self {
+            noise: T::lit(DEFAULT_SPEED_NOISE),
+            jerk_density: T::lit(DEFAULT_JERK_DENSITY),
+            initial_rate: T::lit(DEFAULT_INITIAL_SPEED_RATE),
+        }
+    }
+}
+
+impl<T: Real> SpeedSettings<T> {
+    /// The same settings in another scalar type.
+    pub fn cast<U: Real>(&self) -> SpeedSettings<U> {
+        let c = |x: T| U::lit(x.to_f64());
+        SpeedSettings {
+            noise: c(self.noise),
+            jerk_density: c(self.jerk_density),
+            initial_rate: c(self.initial_rate),
+        }
+    }
+}
 
 /// Default of [`Settings::encoder_jitter`] \[deg\]. Measured (ekf3d, deg RMS inclination,
 /// 120 s, seeds 1/2/3, scenario sensor figures), without -> 0.05 deg:
@@ -182,9 +236,12 @@ pub struct Settings<T> {
     /// body's angular acceleration from the gyro, for the lever arm from O to the pivot
     /// and the accelerometer. Default 10 Hz: see [`DEFAULT_ANGULAR_ACCEL_HZ`].
     pub angular_accel_hz: T,
-    /// How the `speed` column and the gyro give O's acceleration (the speed's smoothed
-    /// rate, the path's turn and pitch rates). Default: [`TravelSettings`]'s.
-    pub travel: TravelSettings<T>,
+    /// How the gyro gives the rate at which the vehicle's path turns and pitches, for O's
+    /// centripetal acceleration. Default: [`PathSettings`]'s.
+    pub path: PathSettings<T>,
+    /// O's forward speed and its rate: the `speed` column's noise and the jerk. Default:
+    /// [`SpeedSettings`]'s.
+    pub speed: SpeedSettings<T>,
     /// Standard deviation \[rad\] of the encoders' jitter from the vibration above the
     /// pendulum's band, added to their own noise ([`SensorNoise::encoder_variance`]):
     /// the process model forces the pendulum with white noise of the vibration's density
@@ -230,7 +287,8 @@ impl<T: Real> Default for Settings<T> {
             environment: Environment::default(),
             mounting: Mounting::default(),
             angular_accel_hz: T::lit(DEFAULT_ANGULAR_ACCEL_HZ),
-            travel: TravelSettings::default(),
+            path: PathSettings::default(),
+            speed: SpeedSettings::default(),
             encoder_jitter: T::lit(DEFAULT_ENCODER_JITTER_DEG.to_radians()),
             slip: SlipSettings::default(),
             use_accel: false,
@@ -257,7 +315,8 @@ impl<T: Real> Settings<T> {
             environment: self.environment.cast(),
             mounting: self.mounting.cast(),
             angular_accel_hz: c(self.angular_accel_hz),
-            travel: self.travel.cast(),
+            path: self.path.cast(),
+            speed: self.speed.cast(),
             encoder_jitter: c(self.encoder_jitter),
             slip: self.slip.cast(),
             use_accel: self.use_accel,
@@ -286,6 +345,7 @@ impl<T: Real> Settings<T> {
                 gyro: self.sensors.gyro_density,
                 bias: self.sensors.gyro_bias_walk,
                 joints: [d / (g * (p.b_x + p.b_ring)), d / (g * p.b_y)],
+                jerk: self.speed.jerk_density,
             },
             pivot_from_centre: self.mounting.from_centre(p.c.map(|c| c * g)),
         }

@@ -26,15 +26,8 @@
 //!   derivatives agree within half the gate, for [`SlipSettings::hold`] on end; or after
 //!   [`SlipSettings::timeout`].
 //!
-//! The process differentiates the speed it is given, so the switches of source must not
-//! read as accelerations. At a slip's start the process's differentiator has already taken
-//! in the first few tens of ms of the wheel's departure (tens of m/s^2): it restarts on the
-//! carried speed with the accelerometer's acceleration as its rate
-//! ([`SpeedVerdict::restart`],
-//! [`crate::filters::diff::SmoothingDifferentiator::restart_signal_on_ramp`]). At its end
-//! the speed steps from `v_c` back to the reading: [`SpeedVerdict::jump`] says by how
-//! much, and the differentiator takes it as a shift of its level
-//! ([`crate::filters::diff::SmoothingDifferentiator::shift_signal`]).
+//! ekf3d/ukf3d skip the speed measurement while the wheel slips: O's speed and its rate are
+//! states of the filter, carried through the slip by the pendulum against the gyro.
 //!
 //! Without an accelerometer reading only the derivative bound detects slip, and `v_c` is
 //! held.
@@ -69,12 +62,6 @@ pub struct SpeedVerdict<T> {
     pub speed: T,
     /// The wheel slips: the reading is not used.
     pub slip: bool,
-    /// At a slip's end: the step \[m/s\] from the carried speed back to the reading, a
-    /// switch of source, not motion (zero otherwise).
-    pub jump: T,
-    /// At a slip's start: the rate \[m/s^2\] to restart the speed's differentiator with
-    /// (the accelerometer's longitudinal acceleration, low-passed); `None` otherwise.
-    pub restart: Option<T>,
 }
 
 /// The slip detector (see the module documentation). No allocation; f32 or f64.
@@ -153,12 +140,7 @@ impl<T: Real> SlipDetector<T> {
         let st = self.settings;
         let have_accel = accel.is_finite();
         let a = if have_accel { accel } else { T::zero() };
-        let pass = SpeedVerdict {
-            speed,
-            slip: false,
-            jump: T::zero(),
-            restart: None,
-        };
+        let pass = SpeedVerdict { speed, slip: false };
         if !st.enabled {
             return pass;
         }
@@ -201,14 +183,12 @@ impl<T: Real> SlipDetector<T> {
             };
             if self.agree_for >= st.hold || self.slip_for >= st.timeout {
                 self.slipping = false;
-                let jump = speed - self.carried;
                 self.carried = speed;
-                return SpeedVerdict { jump, ..pass };
+                return pass;
             }
             return SpeedVerdict {
                 speed: self.carried,
                 slip: true,
-                ..pass
             };
         }
         if tripped {
@@ -218,8 +198,6 @@ impl<T: Real> SlipDetector<T> {
             return SpeedVerdict {
                 speed: self.carried,
                 slip: true,
-                jump: T::zero(),
-                restart: Some(if have_accel { from_accel } else { T::zero() }),
             };
         }
         self.carried += (speed - self.carried) * self.follow.gain(dt);
