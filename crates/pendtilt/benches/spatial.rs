@@ -2,7 +2,8 @@
 //! `cargo bench -p pendtilt --bench spatial`. Each iteration feeds the same 1000 samples
 //! (one second at 1 kHz of a body rolling, pitching and yawing with 40 Hz vibration, in
 //! closed form) to an estimator warmed up on the second before; criterion reports the time
-//! per sample (elements). Issue 14's targets: ekf3d under 1 us and inv3d under 150 ns in f64; VQF about 250 ns and
+//! per sample (elements); `ekf3d_speed` is ekf3d on the same samples with a `speed`
+//! column (O's speed a measurement, its speed and rate live states). Issue 14's targets: ekf3d under 1 us and inv3d under 150 ns in f64; VQF about 250 ns and
 //! Madgwick about 50 ns quoted from the same run.
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use pendtilt::peers::spatial::peers;
@@ -45,6 +46,17 @@ fn samples(t0: f64) -> Vec<SpatialSample<f64>> {
 fn bench(c: &mut Criterion) {
     let warm = samples(0.0);
     let data = samples(1.0);
+    // A vehicle at 8 m/s gaining 0.5 m/s^2.
+    let moving = |v: &[SpatialSample<f64>], t0: f64| -> Vec<SpatialSample<f64>> {
+        v.iter()
+            .enumerate()
+            .map(|(k, s)| SpatialSample {
+                speed: 8.0 + 0.5 * (t0 + k as f64 * 1e-3),
+                ..*s
+            })
+            .collect()
+    };
+    let (warm_moving, data_moving) = (moving(&warm, 0.0), moving(&data, 1.0));
     let mut g = c.benchmark_group("spatial_per_sample_f64");
     g.throughput(Throughput::Elements(BATCH as u64));
     let mut all: Vec<(&str, Box<dyn SpatialEstimator<f64>>)> = vec![
@@ -55,17 +67,23 @@ fn bench(c: &mut Criterion) {
             Box::new(Inv3d::<f64>::new(Inv3dSettings::default())),
         ),
         ("ekf3d", Box::new(Ekf::new(Settings::default()))),
+        ("ekf3d_speed", Box::new(Ekf::new(Settings::default()))),
         ("ukf3d", Box::new(Ukf::new(Settings::default()))),
     ];
     all.extend(peers());
     for (name, mut e) in all {
-        for s in &warm {
+        let (warm, data) = if name.ends_with("_speed") {
+            (&warm_moving, &data_moving)
+        } else {
+            (&warm, &data)
+        };
+        for s in warm {
             e.update(s);
         }
         g.bench_function(name, |b| {
             b.iter(|| {
                 let mut acc = 0.0;
-                for s in &data {
+                for s in data {
                     acc += e.update(black_box(s)).roll;
                 }
                 black_box(acc)

@@ -66,6 +66,8 @@ pub struct ModelBased<T: Real, F> {
     model: CardanProcess<T>,
     encoders: Encoders<T>,
     q_step: T,
+    // `q` is for a travelling vehicle (with the jerk's noise).
+    q_travelling: bool,
     q: Cov<T, N>,
     speed_meas: Speed<T>,
     // The `speed` column has been read since the start: O's speed and rate are states.
@@ -109,6 +111,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
                 r: settings.encoder_variance().max(T::lit(1e-14)),
             },
             q_step: T::zero(),
+            q_travelling: false,
             q: Cov::<T, N>::zeros(),
             speed_meas: Speed {
                 r: (settings.speed.noise * settings.speed.noise).max(T::lit(1e-12)),
@@ -391,9 +394,19 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// `false` if the filter could not propagate.
     fn predict(&mut self, dt: T, drive: &Drive<T>, extra: &Vector3<T>) -> bool {
         let (n, h) = substeps(dt, self.settings.max_step);
-        if h != self.q_step {
+        if h != self.q_step || self.q_travelling != self.travelling {
             self.q = self.model.q(h);
+            if !self.travelling {
+                // O's speed and rate held at zero: no jerk.
+                for k in [V, ACC] {
+                    for i in 0..N {
+                        self.q[(k, i)] = T::zero();
+                        self.q[(i, k)] = T::zero();
+                    }
+                }
+            }
             self.q_step = h;
+            self.q_travelling = self.travelling;
         }
         let with_extra;
         // Nothing to add (the usual case: a gyro reading within its range) leaves the cached
@@ -410,11 +423,6 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         let mut ok = true;
         for _ in 0..n {
             ok &= filter.predict(&self.model, drive, h, q);
-        }
-        if self.travelling && dt > T::zero() {
-            for v in self.model.jerk_noise(dt) {
-                filter.inflate(&v);
-            }
         }
         ok
     }
