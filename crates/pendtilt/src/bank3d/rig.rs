@@ -61,6 +61,8 @@ pub struct Ekf3dConfig {
     pub vibration_density: Option<f64>,
     /// [`ekf::Settings::angular_accel_hz`] \[Hz\].
     pub angular_accel_hz: Option<f64>,
+    /// [`ekf::Settings::angular_accel_lead`].
+    pub angular_accel_lead: Option<bool>,
     /// [`ekf::SpeedSettings::noise`] \[m/s\] of [`ekf::Settings::speed`].
     pub speed_noise: Option<f64>,
     /// [`ekf::SpeedSettings::jerk_density`] \[m/s^3/sqrt(Hz)\] of [`ekf::Settings::speed`].
@@ -114,6 +116,9 @@ impl Ekf3dConfig {
         }
         if let Some(v) = self.angular_accel_hz {
             s.angular_accel_hz = v;
+        }
+        if let Some(v) = self.angular_accel_lead {
+            s.angular_accel_lead = v;
         }
         if let Some(v) = self.speed_noise {
             s.speed.noise = v;

@@ -254,7 +254,16 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         if !gyro_ok || !self.gyro_diff.is_started() {
             return Vector3::zeros();
         }
-        Vector3::from_fn(|i, _| self.gyro_diff.signal(i).d1)
+        // The filter's delay ahead by its second derivative (Settings::angular_accel_lead).
+        let lead = if self.settings.angular_accel_lead {
+            Response::Bessel.dc_delay(self.gyro_diff.cutoff_rad_s())
+        } else {
+            T::zero()
+        };
+        Vector3::from_fn(|i, _| {
+            let d = self.gyro_diff.signal(i);
+            d.d1 + lead * d.d2
+        })
     }
 
     /// The gyro axes at or beyond their full scale on sample `s` (a finite reading): the

@@ -22,7 +22,11 @@ use crate::Real;
 /// Default of [`Settings::angular_accel_hz`] \[Hz\]. The body's swings that move the pivot
 /// about O lie below the pendulum's natural frequency (a few Hz), the engine's angular
 /// vibration above 20 Hz; the Bessel filter's delay (`2.11 / w_c`, 34 ms at 10 Hz) costs
-/// the lever arm a phase error of `2 pi f` times it (0.19 rad at 0.9 Hz).
+/// the lever arm a phase error of `2 pi f` times it (0.19 rad at 0.9 Hz), which
+/// [`Settings::angular_accel_lead`] takes out; at 20 Hz with the lead the second
+/// derivative's noise costs more (ride3d seeds 1/2: 0.179/0.207 against 0.148/0.168 deg
+/// RMS at 10 Hz; ship3d 0.265 against 0.235), at 5 or 7 Hz the lead is less exact (ride3d
+/// seed 5 max 1.20 and 1.12 deg against 0.93).
 pub const DEFAULT_ANGULAR_ACCEL_HZ: f64 = 10.0;
 
 /// The defaults of [`Settings::path`] (with their measurements): the travelling
@@ -236,6 +240,16 @@ pub struct Settings<T> {
     /// body's angular acceleration from the gyro, for the lever arm from O to the pivot
     /// and the accelerometer. Default 10 Hz: see [`DEFAULT_ANGULAR_ACCEL_HZ`].
     pub angular_accel_hz: T,
+    /// Take the angular acceleration's filter delay (`2.11 / w_c`, 34 ms at 10 Hz) out by
+    /// its second derivative, `wd + delay wd'`. Default true: the delay's phase error
+    /// (0.32 rad at 1.5 Hz) left a third of a vehicle's yaw wobble and suspension roll on
+    /// a lever arm of a metre in the pendulum's forcing. Measured (ekf3d, 120 s, deg RMS /
+    /// max inclination, without -> with): ride3d seeds 1/2/3/5 0.158/0.684, 0.178/0.767,
+    /// 0.271/0.629, 0.215/1.256 -> 0.148/0.478, 0.168/0.661, 0.239/0.569, 0.197/0.931;
+    /// scooter3d 0.0458 -> 0.0454; ship3d 0.228/0.820 -> 0.235/1.054 (its lever arm, 9.4 m,
+    /// carries the second derivative's noise). Without the lead a higher cutoff took ride3d
+    /// seed 5 to 1.04 (20 Hz), 1.01 (30 Hz) and seed 2 to 7.0 (60 Hz: the engine).
+    pub angular_accel_lead: bool,
     /// How the gyro gives the rate at which the vehicle's path turns and pitches, for O's
     /// centripetal acceleration. Default: [`PathSettings`]'s.
     pub path: PathSettings<T>,
@@ -287,6 +301,7 @@ impl<T: Real> Default for Settings<T> {
             environment: Environment::default(),
             mounting: Mounting::default(),
             angular_accel_hz: T::lit(DEFAULT_ANGULAR_ACCEL_HZ),
+            angular_accel_lead: true,
             path: PathSettings::default(),
             speed: SpeedSettings::default(),
             encoder_jitter: T::lit(DEFAULT_ENCODER_JITTER_DEG.to_radians()),
@@ -315,6 +330,7 @@ impl<T: Real> Settings<T> {
             environment: self.environment.cast(),
             mounting: self.mounting.cast(),
             angular_accel_hz: c(self.angular_accel_hz),
+            angular_accel_lead: self.angular_accel_lead,
             path: self.path.cast(),
             speed: self.speed.cast(),
             encoder_jitter: c(self.encoder_jitter),
