@@ -395,9 +395,6 @@ fn allowed(estimator: &str, fault: &str) -> Allowance {
     };
     let slow = |recovery, after_2s| Allowance { recovery, after_2s };
     match (fault, estimator) {
-        // ekf3d is back in 1.32 s since O's speed and rate became states (was 5.41 s);
-        // ukf3d 8.82 s, 0.053 deg from 2 s on (5.41 s before the angular acceleration's lead).
-        ("gap_10s", "ukf3d") => slow(13.0, 0.08),
         ("gap_10s", "vqf") => never(0.7),
         ("gap_10s", "mahony3d") => slow(11.0, 1.0),
         ("gap_10s", "fusion3d") => never(15.0),

@@ -611,6 +611,10 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             angular_accel,
             path_gyro: self.path.rate().unwrap_or(gyro),
             slow_gyro: self.smooth.value().unwrap_or(gyro),
+            z_bias: self
+                .filter
+                .as_ref()
+                .map_or(T::zero(), |f| f.state().bias[2]),
         };
         let ok = self.predict(dt, &drive, &extra);
         if let Some(f) = self.filter.as_mut() {
@@ -783,6 +787,7 @@ mod tests {
             angular_accel: Vector3::zeros(),
             path_gyro: Vector3::zeros(),
             slow_gyro: Vector3::zeros(),
+            z_bias: 0.0,
         };
         let up = Vector3::z();
         let mut joints = Vector4::<f64>::zeros();
