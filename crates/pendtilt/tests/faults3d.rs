@@ -181,8 +181,8 @@ const FAULTS: [Fault; 9] = [
             T_FAULT + 2.0
         },
         // Found by its runs of identical readings (io::plateau).
-        warns: "(`gyro_y`): -0.1 rad/s on 5 rows in a row, which a sensor with noise never \
-                writes: a clip at an unknown full scale",
+        warns: "(`gyro_y`): -0.1 rad/s on 5 rows in a row up to here, which a sensor with \
+                noise never writes: a clip at an unknown full scale",
         flag: None,
         rig: "",
     },
@@ -220,8 +220,8 @@ const FAULTS: [Fault; 9] = [
             });
             T_FAULT + 2.0
         },
-        warns: "(`az`): 12 m/s^2 on 5 rows in a row, which a sensor with noise never writes: \
-                a clip at an unknown full scale",
+        warns: "(`az`): 12 m/s^2 on 5 rows in a row up to here, which a sensor with noise \
+                never writes: a clip at an unknown full scale",
         flag: None,
         rig: "",
     },
@@ -402,7 +402,6 @@ fn allowed(estimator: &str, fault: &str) -> Allowance {
         ("gap_10s", "vqf") => never(0.7),
         ("gap_10s", "mahony3d") => slow(11.0, 1.0),
         ("gap_10s", "fusion3d") => never(15.0),
-        ("gyro_clipped", "ekf3d" | "ukf3d") => slow(12.5, 0.09),
         ("gyro_clipped", "vqf") => never(3.2),
         ("gyro_clipped", "mahony3d") => slow(15.0, 2.0),
         ("gyro_clipped", "fusion3d") => never(5.0),

@@ -37,7 +37,7 @@ use crate::bank3d::rig::Rig3dConfig;
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Clips, Settings3d};
 use crate::io::output::{self, NamedPath, OutputFile};
-use crate::io::plateau::{NewLevel, PlateauWatch, PLATEAU_ROWS};
+use crate::io::plateau::{NewLevel, PlateauWatch, LOOK_AHEAD_ROWS};
 use crate::io::plausibility::{
     implausible_step, DEFAULT_ACCEL_LIMIT, DEFAULT_GYRO_LIMIT, FULL_SCALE_ROUNDING,
 };
@@ -401,15 +401,21 @@ pub(crate) fn pass(
     let mut quats = vec![None; names.len()];
     let mut t0 = None;
     let mut rows = 0u64;
-    // The rows after the current one: the clip watch looks ahead by PLATEAU_ROWS - 1, the
-    // lone-stamp check by one.
-    let mut ahead: VecDeque<Log3dRecord> = head.into();
+    // The rows after the current one: clips are found LOOK_AHEAD_ROWS ahead, lone time
+    // stamps one row ahead.
+    let mut ahead: VecDeque<Log3dRecord> = VecDeque::with_capacity(LOOK_AHEAD_ROWS + 1);
+    let mut head = head.into_iter();
     loop {
-        while ahead.len() < PLATEAU_ROWS {
-            match log.next_record()? {
-                Some(r) => ahead.push_back(r),
-                None => break,
-            }
+        while ahead.len() <= LOOK_AHEAD_ROWS {
+            let r = match head.next() {
+                Some(r) => r,
+                None => match log.next_record()? {
+                    Some(r) => r,
+                    None => break,
+                },
+            };
+            row.find_clips(&r);
+            ahead.push_back(r);
         }
         let Some(r) = ahead.pop_front() else {
             break;
@@ -623,30 +629,9 @@ impl<'a> RowInput<'a> {
             gyro: refused(&r.gyro, &gyro),
             accel: refused(&r.accel, &accel),
         };
-        // A reading at the rig's full scale is a known clip (kept, flagged by the
-        // estimators); without one, a clip is found in the readings.
-        let gyro_clip = if self.gyro_full_scale.is_none() {
-            let (c, found) = self
-                .gyro_clips
-                .observe(r.gyro, ahead.iter().map(|a| &a.gyro));
-            if let Some(f) = found {
-                let name = ["gyro_x", "gyro_y", "gyro_z"][f.axis];
-                self.clip_warning(line, name, f, f.reading * k, "rad/s", "[gyro] full_scale");
-            }
-            c
-        } else {
-            [false; 3]
-        };
-        let (accel_clip, found) = self
-            .accel_clips
-            .observe(r.accel, ahead.iter().map(|a| &a.accel));
-        if let Some(f) = found {
-            let name = ["ax", "ay", "az"][f.axis];
-            self.clip_warning(line, name, f, f.reading, "m/s^2", "");
-        }
         self.clipped = Clips {
-            gyro: gyro_clip,
-            accel: accel_clip.contains(&true),
+            gyro: self.gyro_clips.clipped(r.gyro),
+            accel: self.accel_clips.clipped(r.accel).contains(&true),
         };
         let dt = if self.lone_stamp(t, next_t.map(|n| n * self.time_scale), gate, line) {
             f64::NAN
@@ -664,6 +649,23 @@ impl<'a> RowInput<'a> {
         (t, s, truth(r.roll), truth(r.pitch))
     }
 
+    /// Looks for clips in record `r`, read [`LOOK_AHEAD_ROWS`] before it reaches the
+    /// estimators. A reading at the rig's gyro full scale is a known clip (kept, flagged by
+    /// the estimators); without one, gyro clips are found in the readings.
+    fn find_clips(&mut self, r: &Log3dRecord) {
+        if self.gyro_full_scale.is_none() {
+            if let Some(f) = self.gyro_clips.observe(r.gyro) {
+                let name = ["gyro_x", "gyro_y", "gyro_z"][f.axis];
+                let x = f.reading * self.angle_scale;
+                self.clip_warning(r.line, name, f, x, "rad/s", "[gyro] full_scale");
+            }
+        }
+        if let Some(f) = self.accel_clips.observe(r.accel) {
+            let name = ["ax", "ay", "az"][f.axis];
+            self.clip_warning(r.line, name, f, f.reading, "m/s^2", "");
+        }
+    }
+
     /// Says that a run of identical readings `x` of column `name` is a clip.
     fn clip_warning(&mut self, line: u64, name: &str, f: NewLevel, x: f64, unit: &str, rig: &str) {
         let col = self.column(name);
@@ -673,9 +675,9 @@ impl<'a> RowInput<'a> {
             format!("; give the rig's {rig} to keep them as clipped but real")
         };
         self.warn(format!(
-            "{}:{line}: column {col} (`{name}`): {x} {unit} on {} rows in a row, which a \
-             sensor with noise never writes: a clip at an unknown full scale; \
-             readings at +-{} {unit} are clipped from here (flagged saturated){hint}",
+            "{}:{line}: column {col} (`{name}`): {x} {unit} on {} rows in a row up to here, \
+             which a sensor with noise never writes: a clip at an unknown full scale; \
+             readings at +-{} {unit} are clipped (flagged saturated){hint}",
             self.file,
             f.rows,
             x.abs()
