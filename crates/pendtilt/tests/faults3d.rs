@@ -103,6 +103,23 @@ impl Csv {
             }
         }
     }
+
+    /// Clips the cells of `columns` beyond +-`level` on the rows with `from <= t < to`
+    /// (the others keep their text: the first edited row is the first clipped one).
+    fn clip(&mut self, columns: &[&str], from: f64, to: f64, level: f64) {
+        let cols: Vec<usize> = columns.iter().map(|c| self.col(c)).collect();
+        for i in 0..self.rows.len() {
+            let t = self.t(i);
+            if t >= from && t < to {
+                for &c in &cols {
+                    let v: f64 = self.rows[i][c].parse().unwrap();
+                    if v.abs() > level {
+                        self.rows[i][c] = v.clamp(-level, level).to_string();
+                    }
+                }
+            }
+        }
+    }
 }
 
 const SENSORS: [&str; 8] = [
@@ -174,16 +191,19 @@ const FAULTS: [Fault; 9] = [
         name: "gyro_clipped",
         what: "every gyro axis clipped at 0.1 rad/s for 2 s, full scale unknown",
         apply: |c| {
-            let cols = ["gyro_x", "gyro_y", "gyro_z"];
-            c.edit(&cols, T_FAULT, T_FAULT + 2.0, |v| {
-                v.clamp(-GYRO_CLIP, GYRO_CLIP).to_string()
-            });
+            c.clip(
+                &["gyro_x", "gyro_y", "gyro_z"],
+                T_FAULT,
+                T_FAULT + 2.0,
+                GYRO_CLIP,
+            );
             T_FAULT + 2.0
         },
         // Found by its runs of identical readings (io::plateau).
         warns: "(`gyro_y`): -0.1 rad/s on 5 rows in a row up to here, which a sensor with \
                 noise never writes: a clip at an unknown full scale",
-        flag: None,
+        // Found 500 rows ahead: flagged from the clip's first row on.
+        flag: Some(("saturated", |r| r.gyro)),
         rig: "",
     },
     Fault {
@@ -215,14 +235,12 @@ const FAULTS: [Fault; 9] = [
         name: "accel_clipped",
         what: "every accelerometer axis clipped at 12 m/s^2 for 2 s",
         apply: |c| {
-            c.edit(&["ax", "ay", "az"], T_FAULT, T_FAULT + 2.0, |v| {
-                v.clamp(-ACCEL_CLIP, ACCEL_CLIP).to_string()
-            });
+            c.clip(&["ax", "ay", "az"], T_FAULT, T_FAULT + 2.0, ACCEL_CLIP);
             T_FAULT + 2.0
         },
         warns: "(`az`): 12 m/s^2 on 5 rows in a row up to here, which a sensor with noise \
                 never writes: a clip at an unknown full scale",
-        flag: None,
+        flag: Some(("saturated", |r| r.accel)),
         rig: "",
     },
     Fault {
