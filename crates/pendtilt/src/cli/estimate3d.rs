@@ -676,7 +676,7 @@ impl<'a> RowInput<'a> {
         let hint = if rig.is_empty() {
             String::new()
         } else {
-            format!("; give the rig's {rig} to keep them as clipped but real")
+            format!("; if it is the range of the sensor, give it as the rig's {rig}")
         };
         self.warn(format!(
             "{}:{line}: column {col} (`{name}`): {x} {unit} on {} rows in a row up to here, \
