@@ -315,7 +315,8 @@ fn state_sizes_in_f32() {
     // the lever arm) adds about 250, the wheel-slip detector's (the speed and the
     // accelerometer's longitudinal acceleration) about 360 more; the one-pole low-passes
     // keep their gain for the last step (the path's pitch and turn rates each their own:
-    // fewer exp per sample).
+    // fewer exp per sample); the gyro bias held through a held gyro (`BIAS_HOLD`: the bias
+    // and a clock) about 20.
     assert!(sizes[3].1 <= 2300, "{sizes:?}");
 }
 

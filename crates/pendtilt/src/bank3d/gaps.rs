@@ -31,17 +31,24 @@ impl GapWatch {
     }
 
     /// Takes sample `s` (its `dt` as the bank receives it: a refused time step is NaN and
-    /// moves nothing); the sensors that come back on it after a gap longer than
-    /// `restart_gap` \[s\], if any.
-    pub fn observe(&mut self, s: &SpatialSample<f64>, restart_gap: f64) -> Option<Restart3d> {
+    /// moves nothing), whose `clipped` sensors were read, at a clip, and are missing only
+    /// because a clip is (a clip is no gap: the sensor is there, its rate beyond the
+    /// clip); the sensors that come back on it after a gap longer than `restart_gap` \[s\],
+    /// if any.
+    pub fn observe(
+        &mut self,
+        s: &SpatialSample<f64>,
+        clipped: Inputs,
+        restart_gap: f64,
+    ) -> Option<Restart3d> {
         if !s.dt.is_finite() {
             return None;
         }
         self.now += s.dt;
         let good = [
             s.phi.iter().all(|v| v.is_finite()),
-            s.gyro.iter().all(|v| v.is_finite()),
-            s.accel.iter().all(|v| v.is_finite()),
+            clipped.gyro || s.gyro.iter().all(|v| v.is_finite()),
+            clipped.accel || s.accel.iter().all(|v| v.is_finite()),
         ];
         let mut back = [false; 3];
         let mut gap = 0.0f64;
@@ -81,26 +88,51 @@ mod tests {
         }
     }
 
+    impl GapWatch {
+        fn observe_all(&mut self, s: &SpatialSample<f64>, gap: f64) -> Option<Restart3d> {
+            self.observe(s, Inputs::default(), gap)
+        }
+    }
+
+    /// A clipped reading (read as missing) is no gap: 0.6 s of it restarts nothing.
+    #[test]
+    fn a_clip_is_not_a_gap() {
+        let mut w = GapWatch::new();
+        w.observe_all(&sample(0.0, true, true, true), 0.5);
+        let clipped = Inputs {
+            gyro: true,
+            accel: true,
+            ..Inputs::default()
+        };
+        for _ in 0..600 {
+            assert_eq!(
+                w.observe(&sample(1e-3, true, false, false), clipped, 0.5),
+                None
+            );
+        }
+        assert_eq!(w.observe_all(&sample(1e-3, true, true, true), 0.5), None);
+    }
+
     #[test]
     fn a_sensor_back_after_more_than_the_gap_is_reported_once() {
         let mut w = GapWatch::new();
-        assert_eq!(w.observe(&sample(0.0, true, true, true), 0.5), None);
+        assert_eq!(w.observe_all(&sample(0.0, true, true, true), 0.5), None);
         // The gyro missing for 0.6 s (600 rows), the others present.
         for _ in 0..600 {
-            assert_eq!(w.observe(&sample(1e-3, true, false, true), 0.5), None);
+            assert_eq!(w.observe_all(&sample(1e-3, true, false, true), 0.5), None);
         }
-        let r = w.observe(&sample(1e-3, true, true, true), 0.5).unwrap();
+        let r = w.observe_all(&sample(1e-3, true, true, true), 0.5).unwrap();
         assert!(r.sensors.gyro && !r.sensors.phi && !r.sensors.accel);
         assert!((r.gap - 0.601).abs() < 1e-9, "{}", r.gap);
-        assert_eq!(w.observe(&sample(1e-3, true, true, true), 0.5), None);
+        assert_eq!(w.observe_all(&sample(1e-3, true, true, true), 0.5), None);
         // 0.4 s missing is bridged; a refused step moves no time.
         for _ in 0..400 {
-            w.observe(&sample(1e-3, false, true, true), 0.5);
+            w.observe_all(&sample(1e-3, false, true, true), 0.5);
         }
-        w.observe(&sample(f64::NAN, true, true, true), 0.5);
-        assert_eq!(w.observe(&sample(1e-3, true, true, true), 0.5), None);
+        w.observe_all(&sample(f64::NAN, true, true, true), 0.5);
+        assert_eq!(w.observe_all(&sample(1e-3, true, true, true), 0.5), None);
         // A time jump of 10 s is a gap of every sensor.
-        let r = w.observe(&sample(10.0, true, true, true), 0.5).unwrap();
+        let r = w.observe_all(&sample(10.0, true, true, true), 0.5).unwrap();
         assert_eq!(r.sensors, Inputs::ALL);
     }
 }

@@ -112,6 +112,32 @@ pub trait Runner3d {
     }
     /// Prepares to go on after a long gap ([`Estimator::resume`]).
     fn resume(&mut self);
+    /// [`Self::step`] with a sample whose gyro `axes` read at a clip found in the log
+    /// ([`Clips`]). Default: the clipped reading as it is (the closest bound to the rate).
+    fn step_clipped(&mut self, s: &SpatialSample<f64>, _axes: [bool; 3]) -> Attitude<f64> {
+        self.step(s)
+    }
+}
+
+/// Clipping found in one row of the log, by the reader ([`crate::io::plateau`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Clips {
+    /// The gyro axes read at a clip ([`Runner3d::step_clipped`]).
+    pub gyro: [bool; 3],
+    /// Whether the accelerometer reads at a clip (kept: its direction is still the one
+    /// the filters have).
+    pub accel: bool,
+}
+
+impl Clips {
+    /// The sensors it concerns.
+    pub fn sensors(&self) -> Inputs {
+        Inputs {
+            phi: false,
+            gyro: self.gyro.contains(&true),
+            accel: self.accel,
+        }
+    }
 }
 
 /// The estimators without a quaternion of their own: roll and pitch only.
@@ -150,6 +176,19 @@ macro_rules! with_quaternion {
             }
             fn resume(&mut self) {
                 Estimator::resume(self)
+            }
+            /// A clipped gyro axis is read as missing: the filter bridges it with its
+            /// low-passed gyro and grows the attitude's variance, so the encoders carry
+            /// the attitude (see `Clips` in docs/reliability.md section 8 for what this
+            /// gave against the clipped rate).
+            fn step_clipped(&mut self, s: &SpatialSample<f64>, axes: [bool; 3]) -> Attitude<f64> {
+                let mut s = *s;
+                for (g, c) in s.gyro.iter_mut().zip(axes) {
+                    if c {
+                        *g = f64::NAN;
+                    }
+                }
+                self.update(&s)
             }
         }
     )*};
@@ -352,8 +391,17 @@ impl Bank3d {
     /// sensor back after a gap longer than [`Self::restart_gap`] first restarts the
     /// estimators that read it ([`Self::restarted`]).
     pub fn update(&mut self, s: &SpatialSample<f64>) -> &[Attitude<f64>] {
+        self.update_clipped(s, Clips::default())
+    }
+
+    /// [`Self::update`] with sample `s`, some of whose readings are at a clip found in the
+    /// log (`clips`): the estimators reading a clipped sensor flag [`Flags::SATURATED`],
+    /// and those reading the gyro take a clipped axis their own way
+    /// ([`Runner3d::step_clipped`]); a clip, however long, is no gap (it restarts nothing).
+    pub fn update_clipped(&mut self, s: &SpatialSample<f64>, clips: Clips) -> &[Attitude<f64>] {
         self.restart = None;
-        if let Some(r) = self.gaps.observe(s, self.restart_gap) {
+        let clipped = clips.sensors();
+        if let Some(r) = self.gaps.observe(s, clipped, self.restart_gap) {
             let mut n = 0;
             for (e, run) in self.entries.iter().zip(&mut self.runners) {
                 if e.reads.intersects(r.sensors) {
@@ -365,8 +413,14 @@ impl Bank3d {
         }
         self.out.clear();
         for r in &mut self.runners {
-            self.out.push(r.step(s));
+            let a = if clipped.gyro {
+                r.step_clipped(s, clips.gyro)
+            } else {
+                r.step(s)
+            };
+            self.out.push(a);
         }
+        self.flag(clipped, Flags::SATURATED);
         &self.out
     }
 
@@ -379,12 +433,17 @@ impl Bank3d {
     /// Flags [`Flags::IMPLAUSIBLE`] on the last outputs of the estimators reading one of
     /// `sensors` (those whose readings of this row were impossible and read as missing).
     pub fn flag_implausible(&mut self, sensors: Inputs) {
+        self.flag(sensors, Flags::IMPLAUSIBLE);
+    }
+
+    /// Adds `flag` to the last outputs of the estimators reading one of `sensors`.
+    pub fn flag(&mut self, sensors: Inputs, flag: Flags) {
         if sensors.is_empty() {
             return;
         }
         for (o, e) in self.out.iter_mut().zip(&self.entries) {
             if e.reads.intersects(sensors) {
-                o.flags |= Flags::IMPLAUSIBLE;
+                o.flags |= flag;
             }
         }
     }

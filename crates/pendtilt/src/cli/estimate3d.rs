@@ -17,9 +17,14 @@
 //! its place, and the estimators reading it flag the row `implausible`. A lone time stamp
 //! ahead of the next row's (one glitched stamp between two good ones) is a bad time step of
 //! that row alone, rather than making every following row up to it go back in time. A
+//! clip of the gyro (when the rig gives no full scale) or of the accelerometer is found in
+//! the readings themselves ([`crate::io::plateau`], [`LOOK_AHEAD_ROWS`] rows ahead of the
+//! estimators), warned once per level, and every reading at it flagged `saturated` by the
+//! estimators reading that sensor ([`Bank3d::update_clipped`]); a clip is no gap. A
 //! sensor missing for longer than the bank's restart gap (0.5 s) restarts the estimators
 //! reading it, with a warning. A cell that is not a number stops the run with its file,
 //! line and column; so does a time column whose steps no sensor rate explains.
+use std::collections::VecDeque;
 use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
@@ -34,8 +39,9 @@ use super::estimate::Args;
 use crate::bank::Inputs;
 use crate::bank3d::rig::Rig3dConfig;
 use crate::bank3d::score::Inclination;
-use crate::bank3d::{Bank3d, Settings3d};
+use crate::bank3d::{Bank3d, Clips, Settings3d};
 use crate::io::output::{self, NamedPath, OutputFile};
+use crate::io::plateau::{NewLevel, PlateauWatch, LOOK_AHEAD_ROWS};
 use crate::io::plausibility::{
     implausible_step, DEFAULT_ACCEL_LIMIT, DEFAULT_GYRO_LIMIT, FULL_SCALE_ROUNDING,
 };
@@ -399,16 +405,27 @@ pub(crate) fn pass(
     let mut quats = vec![None; names.len()];
     let mut t0 = None;
     let mut rows = 0u64;
-    let rest = std::iter::from_fn(|| log.next_record().transpose());
-    let mut records = head.into_iter().map(Ok).chain(rest).peekable();
-    while let Some(r) = records.next() {
-        let r = r?;
-        let next_t = match records.peek() {
-            Some(Ok(n)) => Some(n.t),
-            _ => None,
+    // The rows after the current one: clips are found LOOK_AHEAD_ROWS ahead, lone time
+    // stamps one row ahead.
+    let mut ahead: VecDeque<Log3dRecord> = VecDeque::with_capacity(LOOK_AHEAD_ROWS + 1);
+    let mut head = head.into_iter();
+    loop {
+        while ahead.len() <= LOOK_AHEAD_ROWS {
+            let r = match head.next() {
+                Some(r) => r,
+                None => match log.next_record()? {
+                    Some(r) => r,
+                    None => break,
+                },
+            };
+            row.find_clips(&r);
+            ahead.push_back(r);
+        }
+        let Some(r) = ahead.pop_front() else {
+            break;
         };
-        let (t, s, roll, pitch) = row.sample(&r, next_t, &mut gate);
-        bank.update(&s);
+        let (t, s, roll, pitch) = row.sample(&r, &ahead, &mut gate);
+        bank.update_clipped(&s, row.clipped);
         if let Some((re, n)) = bank.restarted() {
             row.restart_warning(r.line, re, n);
         }
@@ -486,6 +503,12 @@ struct RowInput<'a> {
     /// The rig's gyro full scale \[rad/s\], if given: the gyro's bound instead of
     /// [`MAX_RATE`] (a reading at it, to [`FULL_SCALE_ROUNDING`], is clipped but real).
     gyro_full_scale: Option<f64>,
+    /// The clips found in the current row.
+    clipped: Clips,
+
+    /// Clips of the gyro (when the rig gives no full scale) and of the accelerometer.
+    gyro_clips: PlateauWatch<3>,
+    accel_clips: PlateauWatch<3>,
 }
 
 impl<'a> RowInput<'a> {
@@ -499,6 +522,10 @@ impl<'a> RowInput<'a> {
             more: 0,
             implausible: Inputs::default(),
             gyro_full_scale: setup.settings.ekf.gyro.checked_full_scale(),
+            clipped: Clips::default(),
+
+            gyro_clips: PlateauWatch::new(),
+            accel_clips: PlateauWatch::new(),
         }
     }
 
@@ -575,9 +602,10 @@ impl<'a> RowInput<'a> {
     fn sample(
         &mut self,
         r: &Log3dRecord,
-        next_t: Option<f64>,
+        ahead: &VecDeque<Log3dRecord>,
         gate: &mut StepGate<f64>,
     ) -> (f64, SpatialSample<f64>, f64, f64) {
+        let next_t = ahead.front().map(|n| n.t);
         let t = r.t * self.time_scale;
         let k = self.angle_scale;
         let line = r.line;
@@ -605,6 +633,10 @@ impl<'a> RowInput<'a> {
             gyro: refused(&r.gyro, &gyro),
             accel: refused(&r.accel, &accel),
         };
+        self.clipped = Clips {
+            gyro: self.gyro_clips.clipped(r.gyro),
+            accel: self.accel_clips.clipped(r.accel).contains(&true),
+        };
         let dt = if self.lone_stamp(t, next_t.map(|n| n * self.time_scale), gate, line) {
             f64::NAN
         } else {
@@ -619,6 +651,41 @@ impl<'a> RowInput<'a> {
         };
         let truth = |x: Option<f64>| x.map_or(f64::NAN, |v| v * k);
         (t, s, truth(r.roll), truth(r.pitch))
+    }
+
+    /// Looks for clips in record `r`, read [`LOOK_AHEAD_ROWS`] before it reaches the
+    /// estimators. A reading at the rig's gyro full scale is a known clip (kept, flagged by
+    /// the estimators); without one, gyro clips are found in the readings.
+    fn find_clips(&mut self, r: &Log3dRecord) {
+        if self.gyro_full_scale.is_none() {
+            if let Some(f) = self.gyro_clips.observe(r.gyro) {
+                let name = ["gyro_x", "gyro_y", "gyro_z"][f.axis];
+                let x = f.reading * self.angle_scale;
+                self.clip_warning(r.line, name, f, x, "rad/s", "[gyro] full_scale");
+            }
+        }
+        if let Some(f) = self.accel_clips.observe(r.accel) {
+            let name = ["ax", "ay", "az"][f.axis];
+            self.clip_warning(r.line, name, f, f.reading, "m/s^2", "");
+        }
+    }
+
+    /// Says that a run of identical readings `x` of column `name` is a clip.
+    fn clip_warning(&mut self, line: u64, name: &str, f: NewLevel, x: f64, unit: &str, rig: &str) {
+        let col = self.column(name);
+        let hint = if rig.is_empty() {
+            String::new()
+        } else {
+            format!("; if it is the range of the sensor, give it as the rig's {rig}")
+        };
+        self.warn(format!(
+            "{}:{line}: column {col} (`{name}`): {x} {unit} on {} rows in a row up to here, \
+             which a sensor with noise never writes: a clip at an unknown full scale; \
+             readings at +-{} {unit} are clipped (flagged saturated){hint}",
+            self.file,
+            f.rows,
+            x.abs()
+        ));
     }
 
     /// Whether `t` is a lone glitched stamp: after the next row's, which itself follows the

@@ -28,6 +28,7 @@ mod estimates_writer;
 mod log3d;
 mod log_reader;
 pub mod output;
+pub mod plateau;
 pub mod plausibility;
 mod split;
 

@@ -9,7 +9,7 @@
 //! at its roll and pitch (Madgwick and Mahony; VQF starts itself); after a restart
 //! ([`Estimator::resume`], a long gap) at the mean accelerometer direction over
 //! [`RESTART_AVERAGE`], keeping what the filter says a gap cannot change (VQF's bias); a missing gyro reading
-//! is bridged by the gyro's recent mean (as the planar peers do, see
+//! is bridged, axis by axis, by the gyro's recent mean (as the planar peers do, see
 //! [`super::ahrs_planar::MISSING_RATE_TAU`]); a missing accelerometer reading skips the
 //! correction (flagged); a gyro reading at or beyond the rig's full scale
 //! ([`Imu6::with_gyro_full_scale`]) is flagged `saturated` (and still used: the filters
@@ -245,15 +245,22 @@ impl<F: ImuFilter> Estimator for Imu6<F> {
                 flags |= Flags::SATURATED;
             }
         }
-        let gyro = if gyro_ok {
-            let k = (dt / MISSING_RATE_TAU).min(1.0);
-            let m = self.mean_rate.unwrap_or(s.gyro);
-            self.mean_rate = Some(core::array::from_fn(|i| m[i] + k * (s.gyro[i] - m[i])));
-            s.gyro
-        } else {
+        // Axis by axis: a missing (or clipped, read as missing) axis takes its recent mean,
+        // the others stay as read.
+        let k = (dt / MISSING_RATE_TAU).min(1.0);
+        let m = self.mean_rate.unwrap_or(s.gyro);
+        let m: [f64; 3] = core::array::from_fn(|i| if m[i].is_finite() { m[i] } else { 0.0 });
+        let gyro = core::array::from_fn(|i| {
+            if s.gyro[i].is_finite() {
+                s.gyro[i]
+            } else {
+                m[i]
+            }
+        });
+        self.mean_rate = Some(core::array::from_fn(|i| m[i] + k * (gyro[i] - m[i])));
+        if !gyro_ok {
             flags |= Flags::SAMPLE_MISSING;
-            self.mean_rate.unwrap_or([0.0; 3])
-        };
+        }
         if accel.is_none() {
             flags |= Flags::SAMPLE_MISSING;
         }
