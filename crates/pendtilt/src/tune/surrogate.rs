@@ -12,7 +12,7 @@
 //!
 //! Running the filter on that surrogate (true angle 0) gives its error as a function of
 //! its settings; the fit minimises its RMS with the same coordinate search as the
-//! likelihood ([`super::search`]). What it cannot see is the measurement's error below the
+//! likelihood ([`super::search`]) after a coarse grid ([`fit`]). What it cannot see is the measurement's error below the
 //! corner (taken as none).
 //!
 //! Why not the likelihood alone: Algorithm 2's errors are coloured (the differentiator's
@@ -55,8 +55,13 @@ impl Surrogate {
     /// Builds it from the rows `samples`, the measurement `z` per row (NaN: none) and the
     /// gyro's figures.
     pub fn new(samples: &[Sample<f64>], z: &[f64], g: &GyroErrors) -> Self {
+        Self::with_corner(samples, z, g, CORNER_HZ)
+    }
+
+    /// [`Self::new`] with the high-pass corner `corner` \[Hz\].
+    pub fn with_corner(samples: &[Sample<f64>], z: &[f64], g: &GyroErrors, corner: f64) -> Self {
         let reference = integral(samples, g.bias);
-        let mut lp = LowPass2::new(CORNER_HZ);
+        let mut lp = LowPass2::new(corner);
         let mut started = false;
         let mut rng = ChaCha8Rng::seed_from_u64(0x5eed);
         let mut walk = 0.0;
@@ -132,8 +137,31 @@ pub struct Fitted {
     pub nll_at: f64,
 }
 
-/// Fits q_angle, q_bias and R (from `s` and `r0`, each within 6 decades) on the
-/// surrogate, [`ROUNDS`] passes; the start if no move lowered the RMS.
+/// Decades either side of the start each fitted value may take.
+pub const DECADES: f64 = 6.0;
+
+/// R of the global grid: the start's times ten to these powers.
+const GRID_R: [f64; 9] = [-6.0, -4.5, -3.0, -1.5, 0.0, 1.5, 3.0, 4.5, 6.0];
+/// q_angle / R and q_bias / R of the global grid: these powers of ten.
+const GRID_RATIO: [i32; 8] = [-12, -10, -8, -6, -4, -2, 0, 2];
+
+/// Cost evaluations of [`fit`]: the start, the grid and the refinement.
+pub const EVALUATIONS: u64 = 1
+    + (GRID_R.len() * GRID_RATIO.len() * GRID_RATIO.len()) as u64
+    + 1
+    + ROUNDS as u64 * 3 * super::search::EVALS_PER_PARAMETER;
+
+/// Fits q_angle, q_bias and R (from `s` and `r0`, each within [`DECADES`]) on the
+/// surrogate: a grid over R and the ratios q_angle / R, q_bias / R, then [`ROUNDS`]
+/// passes of the coordinate search within a decade of the grid's best; the start if
+/// nothing lowered the RMS.
+///
+/// Why a grid first: the filter's steady gains depend on the ratios alone (R against
+/// the initial covariance only sets how it starts), so the cost has a long valley along
+/// (q_angle, q_bias, R) scaled together, and two basins, trusting the measurement or the
+/// gyro. The coordinate search alone, from the defaults, crawled up that valley to
+/// R = 1e3 and stopped in the wrong basin: zoo ride 12 (a 0.5 Hz pendulum, a tactical
+/// gyro) 0.40 deg, where q_angle = q_bias = 1e-9 with R = 1 gives 0.11.
 pub fn fit(
     s: &KalmanSettings<f64>,
     r0: f64,
@@ -142,13 +170,38 @@ pub fn fit(
     budget: &mut Budget,
 ) -> Fitted {
     let x0 = [s.q_angle, s.q_bias, r0];
-    let before = sur.rms(s, &x0, skip);
-    let (x, after) = coordinate_log(|x| sur.rms(s, x, skip), &x0, 6.0, ROUNDS, budget);
-    let x = if after < before {
-        [x[0], x[1], x[2]]
+    let span = 10f64.powf(DECADES);
+    let clamp =
+        |x: &[f64]| -> [f64; 3] { std::array::from_fn(|i| x[i].clamp(x0[i] / span, x0[i] * span)) };
+    let mut cost = |x: &[f64]| sur.rms(s, &clamp(x), skip);
+    let before = if budget.tick() {
+        cost(&x0)
     } else {
-        x0
+        f64::INFINITY
     };
+    let mut best = (before, x0);
+    'grid: for lr in GRID_R {
+        let r = r0 * 10f64.powf(lr);
+        for la in GRID_RATIO {
+            for lb in GRID_RATIO {
+                if !budget.tick() {
+                    break 'grid;
+                }
+                let x = clamp(&[r * 10f64.powi(la), r * 10f64.powi(lb), r]);
+                let c = cost(&x);
+                if c < best.0 {
+                    best = (c, x);
+                }
+            }
+        }
+    }
+    let (x, after) = coordinate_log(&mut cost, &best.1, 1.0, ROUNDS, budget);
+    let (x, after) = if after < best.0 {
+        (clamp(&x), after)
+    } else {
+        (best.1, best.0)
+    };
+    let x = if after < before { x } else { x0 };
     Fitted {
         x,
         rms_before: before,
