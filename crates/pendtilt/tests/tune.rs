@@ -401,3 +401,60 @@ fn the_surrogate_fit_finds_the_basin_that_trusts_a_fine_gyro() {
     assert!(f.rms_after <= 1.1 * grid, "{} vs {grid}", f.rms_after);
     assert!(f.rms_after < 0.8 * alone, "{} vs {alone}", f.rms_after);
 }
+
+/// The jitter's scale (tune::forcing::jitter_scale), chosen without the true angle by the
+/// EKF's error against the gyro's integral: on zoo ride 13 (broadband vibration piling the
+/// jitter up just above a 1.1 Hz pendulum's band) it is raised at least 4 times and the
+/// EKF's true error falls by a third; on ride 14 (a 10-bit encoder, whose rounding
+/// dominates) the band error stays flat and the jitter is taken as measured.
+#[test]
+fn the_jitter_is_scaled_where_the_gyro_says_the_ekf_gains() {
+    use pendtilt::core::ekf::{Ekf, ModelSettings};
+    use pendtilt::core::Estimator;
+    use pendtilt::tune::zoo::{ride, score::RideLog};
+    let true_rms = |log: &RideLog, s: ModelSettings<f64>| {
+        let mut e = Ekf::new(s);
+        let (mut sum, mut n) = (0.0, 0usize);
+        for (k, x) in log.samples.iter().enumerate() {
+            let th = e.update(x).theta;
+            if k >= log.skip {
+                sum += (th - log.truth[k]).powi(2);
+                n += 1;
+            }
+        }
+        (sum / n as f64).sqrt()
+    };
+    for (k, raised) in [(13, true), (14, false)] {
+        let r = ride(k, 30.0);
+        let log = RideLog::simulate(&r.scenario, k);
+        let start = Start::from_rig(&r.scenario.rig().unwrap());
+        let t = tune(&log.samples, &start, &Options::default());
+        let js = t.jitter_scale.clone().unwrap();
+        let mut measured = t.ekf;
+        measured.encoder_jitter /= js.scale;
+        let (a, b) = (true_rms(&log, measured), true_rms(&log, t.ekf));
+        eprintln!(
+            "ride {k}: scale {:.2} (cap {:.2}, tried {:?}); EKF {:.4} -> {:.4} deg",
+            js.scale,
+            js.cap,
+            js.tried,
+            a.to_degrees(),
+            b.to_degrees()
+        );
+        assert!(
+            (measured.encoder_jitter - *t.jitter.as_ref().unwrap()).abs() < 1e-15,
+            "ride {k}"
+        );
+        if raised {
+            assert!(js.scale >= 4.0 && b < 0.67 * a, "ride {k}");
+        } else {
+            assert_eq!(js.scale, 1.0, "ride {k}");
+        }
+        let n = t
+            .notes
+            .iter()
+            .find(|n| n.key == "ekf.encoder_jitter")
+            .unwrap();
+        assert!(n.how.contains("taken at"), "{n:?}");
+    }
+}

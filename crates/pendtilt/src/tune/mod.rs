@@ -15,8 +15,9 @@
 //! - [`kalman`]: q_angle, q_bias and R of the `kf_*` filters by maximum likelihood of
 //!   their innovations (reported);
 //! - [`surrogate`]: the same three against a surrogate of `kf_alg2`'s error built from
-//!   the gyro (adopted when the log has a gyro: the likelihood takes Algorithm 2's
-//!   coloured errors as white and trusts it too much).
+//!   the gyro, a grid over R and q/R before the coordinate search (adopted when the log
+//!   has a gyro: the likelihood takes Algorithm 2's coloured errors as white and trusts
+//!   it too much).
 //! - [`ekf`]: the EKF's process noise, the same way, from the measured forcing; with no
 //!   true angle the fit is adopted only if it lowers the process noise
 //!   ([`ekf::only_lowers`]: raising it made the EKF worse on 20 of 25 zoo rides); the
