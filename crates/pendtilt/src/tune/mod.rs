@@ -473,6 +473,12 @@ fn fit_kalman(
     kalman_s.r_pendulum = f.r;
     let sur = match (opts.target, d.gyro_errors) {
         (Target::Likelihood, Some(g)) => {
+            // The bias walk: the start's, or the log's upper bound if larger.
+            let bound = surrogate::walk_bound(d.samples, &z_all, g.bias, d.skip);
+            let g = surrogate::GyroErrors {
+                bias_walk: bound.map_or(g.bias_walk, |w| w.max(g.bias_walk)),
+                ..g
+            };
             let s = surrogate::Surrogate::new(d.samples, &z_all, &g);
             let r0 = start.kalman.r_pendulum;
             let mut fit = surrogate::fit(&start.kalman, r0, &s, d.skip, budget);
@@ -481,6 +487,7 @@ fn fit_kalman(
             kalman_s.q_bias = q_bias;
             kalman_s.r_pendulum = r;
             fit.nll_at = kalman::nll(&kalman_s, r / m as f64, &data, d.skip);
+            fit.bias_walk = g.bias_walk;
             Some(fit)
         }
         _ => None,

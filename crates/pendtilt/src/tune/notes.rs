@@ -332,10 +332,12 @@ fn kalman_notes(
             false,
             format!(
                 "fitted on a surrogate of kf_alg2's error (alg2 minus the gyro's integral above \
-                 0.2 Hz, and the gyro's estimated noise and bias): predicted RMS {:.4} -> {:.4} \
+                 0.2 Hz, and the gyro's estimated noise and bias, its bias walk {:.2e} rad/s/sqrt(s): \
+                 the start's or the log's upper bound, the larger): predicted RMS {:.4} -> {:.4} \
                  deg; innovation likelihood (mean -log L) {:.4} at the start, {:.4} here; its \
                  own optimum ({:.4}: q_angle {:.2e}, q_bias {:.2e}, R {:.2e}) not adopted, as it \
                  takes alg2's coloured errors for white noise",
+                s.bias_walk,
                 s.rms_before.to_degrees(),
                 s.rms_after.to_degrees(),
                 f.nll_before,
