@@ -331,3 +331,130 @@ fn the_surrogate_fit_sees_coloured_measurement_errors_the_likelihood_does_not() 
     );
     assert!(real < 0.5 * lik, "{real} vs {lik}");
 }
+
+/// The surrogate fit's grid (tune::surrogate::fit) on a log where the gyro should be
+/// trusted far more than the defaults do: a fine gyro (1e-5 rad/s/sqrt(Hz)) and a
+/// measurement whose error is slow and large (0.02 rad at 0.3 Hz, 0.01 rad at 0.9 Hz, as
+/// Algorithm 2's delay gives on a slow pendulum). The fit reaches within 10 % of a
+/// brute-force grid over q_angle, q_bias and R (the zoo oracle's, 935 points), where the
+/// coordinate search alone from the defaults stops in the other basin.
+#[test]
+fn the_surrogate_fit_finds_the_basin_that_trusts_a_fine_gyro() {
+    use pendtilt::tune::search::coordinate_log;
+    use pendtilt::tune::surrogate::{self, GyroErrors, Surrogate};
+    use std::f64::consts::TAU;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(12);
+    let std = Normal::new(0.0, 1.0).unwrap();
+    let (n, dt, bias, density) = (30_000, 1e-3, -0.0135, 1e-5);
+    let (mut samples, mut z) = (Vec::new(), Vec::new());
+    for k in 0..n {
+        let t = k as f64 * dt;
+        let th = 0.1 * (0.4 * t).sin();
+        samples.push(Sample {
+            dt: if k == 0 { 0.0 } else { dt },
+            phi: f64::NAN,
+            gyro: 0.04 * (0.4 * t).cos() + bias + density / dt.sqrt() * std.sample(&mut rng),
+            ax: f64::NAN,
+            ay: f64::NAN,
+        });
+        z.push(
+            th + 0.02 * (TAU * 0.3 * t).sin()
+                + 0.01 * (TAU * 0.9 * t).cos()
+                + 1e-3 * std.sample(&mut rng),
+        );
+    }
+    let g = GyroErrors {
+        bias,
+        density,
+        bias_walk: 1e-5,
+    };
+    let sur = Surrogate::new(&samples, &z, &g);
+    let start = KalmanSettings::default();
+    let skip = 2000;
+    let f = surrogate::fit(
+        &start,
+        start.r_pendulum,
+        &sur,
+        skip,
+        &mut Budget::unlimited(),
+    );
+    let mut grid = f64::INFINITY;
+    for qa in (0..=10).map(|k| 10f64.powi(k - 9)) {
+        for qb in [1e-9, 1e-7, 1e-5, 1e-3, 3e-3] {
+            for r in (0..=16).map(|k| 10f64.powf(-8.0 + 0.5 * k as f64)) {
+                grid = grid.min(sur.rms(&start, &[qa, qb, r], skip));
+            }
+        }
+    }
+    let x0 = [start.q_angle, start.q_bias, start.r_pendulum];
+    let (_, alone) = coordinate_log(
+        |x| sur.rms(&start, x, skip),
+        &x0,
+        6.0,
+        4,
+        &mut Budget::unlimited(),
+    );
+    eprintln!(
+        "surrogate RMS [rad]: start {:.5}, fit {:.5} at {:?}, grid {grid:.5}, coordinate search alone {alone:.5}",
+        f.rms_before, f.rms_after, f.x
+    );
+    assert!(f.rms_after <= 1.1 * grid, "{} vs {grid}", f.rms_after);
+    assert!(f.rms_after < 0.8 * alone, "{} vs {alone}", f.rms_after);
+}
+
+/// The jitter's scale (tune::forcing::jitter_scale), chosen without the true angle by the
+/// EKF's error against the gyro's integral: on zoo ride 13 (broadband vibration piling the
+/// jitter up just above a 1.1 Hz pendulum's band) it is raised at least 4 times and the
+/// EKF's true error falls by a third; on ride 14 (a 10-bit encoder, whose rounding
+/// dominates) the band error stays flat and the jitter is taken as measured.
+#[test]
+fn the_jitter_is_scaled_where_the_gyro_says_the_ekf_gains() {
+    use pendtilt::core::ekf::{Ekf, ModelSettings};
+    use pendtilt::core::Estimator;
+    use pendtilt::tune::zoo::{ride, score::RideLog};
+    let true_rms = |log: &RideLog, s: ModelSettings<f64>| {
+        let mut e = Ekf::new(s);
+        let (mut sum, mut n) = (0.0, 0usize);
+        for (k, x) in log.samples.iter().enumerate() {
+            let th = e.update(x).theta;
+            if k >= log.skip {
+                sum += (th - log.truth[k]).powi(2);
+                n += 1;
+            }
+        }
+        (sum / n as f64).sqrt()
+    };
+    for (k, raised) in [(13, true), (14, false)] {
+        let r = ride(k, 30.0);
+        let log = RideLog::simulate(&r.scenario, k);
+        let start = Start::from_rig(&r.scenario.rig().unwrap());
+        let t = tune(&log.samples, &start, &Options::default());
+        let js = t.jitter_scale.clone().unwrap();
+        let mut measured = t.ekf;
+        measured.encoder_jitter /= js.scale;
+        let (a, b) = (true_rms(&log, measured), true_rms(&log, t.ekf));
+        eprintln!(
+            "ride {k}: scale {:.2} (cap {:.2}, tried {:?}); EKF {:.4} -> {:.4} deg",
+            js.scale,
+            js.cap,
+            js.tried,
+            a.to_degrees(),
+            b.to_degrees()
+        );
+        assert!(
+            (measured.encoder_jitter - *t.jitter.as_ref().unwrap()).abs() < 1e-15,
+            "ride {k}"
+        );
+        if raised {
+            assert!(js.scale >= 4.0 && b < 0.67 * a, "ride {k}");
+        } else {
+            assert_eq!(js.scale, 1.0, "ride {k}");
+        }
+        let n = t
+            .notes
+            .iter()
+            .find(|n| n.key == "ekf.encoder_jitter")
+            .unwrap();
+        assert!(n.how.contains("taken at"), "{n:?}");
+    }
+}

@@ -6,7 +6,8 @@
 //!   level (engine harmonics raise a few bins, not the median). The one-sided density
 //!   `P` of white noise is `2 d^2` for the density `d` of MODEL.md section 6.
 //! - Still stretches: half-second windows whose spread is within 1.5x the high band's
-//!   per-sample noise are the body at rest; if they add up to 2 s or more, the density
+//!   per-sample noise and whose phi shows no tilt change (its fitted slope within 3
+//!   standard errors of zero) are the body at rest; if they add up to 2 s or more, the density
 //!   comes from their pooled variance (`d = s / sqrt(rate)`) and the bias from their mean.
 //! - Bias otherwise: the gyro's running integral minus phi (the pendulum reads the tilt,
 //!   its swing averaged out) drifts at the bias: the slope of a straight line fitted to
@@ -37,8 +38,8 @@ pub fn estimate(gyro: &[f64], phi: &[f64], rate: f64) -> Result<GyroNoise, Strin
     let sigma_hb = hb_density * rate.sqrt();
     let win = ((rate / 2.0).round() as usize).max(8);
     let (mut var_sum, mut mean_sum, mut windows) = (0.0, 0.0, 0usize);
-    for w in gyro.chunks_exact(win) {
-        if !w.iter().all(|v| v.is_finite()) {
+    for (w, p) in gyro.chunks_exact(win).zip(phi.chunks(win)) {
+        if !w.iter().all(|v| v.is_finite()) || !tilt_steady(p) {
             continue;
         }
         let m = w.iter().sum::<f64>() / win as f64;
@@ -73,6 +74,37 @@ pub fn estimate(gyro: &[f64], phi: &[f64], rate: f64) -> Result<GyroNoise, Strin
             0.45 * rate
         ),
     })
+}
+
+/// True unless `phi` (one window) shows the tilt changing: the slope of a straight line
+/// fitted to its finite readings is more than 3 standard errors (from the fit's own
+/// residuals) from zero. A steady gyro alone is not rest: a body turning at a near-constant
+/// rate keeps it steady too (the slow start of a chirp, zoo ride 17: 2.5 s taken for
+/// still put the bias at 0.0104 rad/s against 0.0015), but the pendulum follows the tilt.
+/// Too few readings (no encoder) tell nothing: true.
+fn tilt_steady(phi: &[f64]) -> bool {
+    let pts: Vec<(f64, f64)> = phi
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.is_finite())
+        .map(|(i, v)| (i as f64, *v))
+        .collect();
+    let n = pts.len() as f64;
+    if pts.len() < 8 {
+        return true;
+    }
+    let (mt, mp) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let stt: f64 = pts.iter().map(|p| (p.0 - mt).powi(2)).sum();
+    let slope = pts.iter().map(|p| (p.0 - mt) * (p.1 - mp)).sum::<f64>() / stt;
+    let res: f64 = pts
+        .iter()
+        .map(|p| (p.1 - mp - slope * (p.0 - mt)).powi(2))
+        .sum();
+    let se = (res / (n - 2.0) / stt).sqrt();
+    slope.abs() <= 3.0 * se
 }
 
 /// The bias from the gyro's integral and the pendulum's tilt (module documentation).
@@ -110,4 +142,40 @@ fn bias_from_pendulum(gyro: &[f64], phi: &[f64], rate: f64) -> Option<f64> {
     }
     let den = m * stt - st * st;
     (m >= 4.0 && den > 0.0).then(|| (m * stc - st * sc) / den)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+    use rand_distr::{Distribution, Normal};
+
+    /// A body turning at a steady 0.01 rad/s (as at the slow start of a chirp) with a
+    /// noisy gyro: every half-second window's gyro spread is the noise's, but the
+    /// pendulum (phi, 12-bit, here the tilt itself) shows the turn, so no window is
+    /// taken for rest and the bias (0.002 rad/s) is not the turn rate plus the bias.
+    #[test]
+    fn a_steady_turn_is_not_rest() {
+        let mut rng = ChaCha8Rng::seed_from_u64(17);
+        let noise = Normal::new(0.0, 3.6e-3).unwrap();
+        let (rate, bias, turn) = (1000.0, 0.002, 0.01);
+        let q = std::f64::consts::TAU / 4096.0;
+        let n = 20_000;
+        let gyro: Vec<f64> = (0..n)
+            .map(|_| turn + bias + noise.sample(&mut rng))
+            .collect();
+        let phi: Vec<f64> = (0..n)
+            .map(|k| (turn * k as f64 / rate / q).round() * q)
+            .collect();
+        let e = estimate(&gyro, &phi, rate).unwrap();
+        assert!(e.still_seconds < 2.0, "{e:?}");
+        let b = e.bias.unwrap();
+        assert!((b - bias).abs() < 2e-4, "{b}");
+        // The same gyro with the pendulum still is rest: the windows' mean is the reading.
+        let still = vec![0.1; n];
+        let e = estimate(&gyro, &still, rate).unwrap();
+        assert!(e.still_seconds >= 19.0, "{e:?}");
+        assert!((e.bias.unwrap() - turn - bias).abs() < 2e-4);
+    }
 }

@@ -7,15 +7,17 @@
 //! - [`accel`]: accelerometer noise floor and the vibration level per band.
 //! - [`forcing`]: the EKF's pendulum forcing density (the accelerometer's residual near
 //!   the natural frequency) and the encoder's jitter (the encoder's power above the
-//!   pendulum's band).
+//!   pendulum's band, scaled toward its density in the filter's band by the EKF's error
+//!   against the gyro's integral above 0.2 Hz).
 //! - [`cutoff`]: the differentiator cutoff of Algorithms 1-3: measured against the
 //!   gyro's integral in the band above 0.2 Hz ([`mod@reference`]) when the log has a gyro,
 //!   else from the encoder's spectrum (a noise/delay trade-off rule).
 //! - [`kalman`]: q_angle, q_bias and R of the `kf_*` filters by maximum likelihood of
 //!   their innovations (reported);
 //! - [`surrogate`]: the same three against a surrogate of `kf_alg2`'s error built from
-//!   the gyro (adopted when the log has a gyro: the likelihood takes Algorithm 2's
-//!   coloured errors as white and trusts it too much).
+//!   the gyro, a grid over R and q/R before the coordinate search (adopted when the log
+//!   has a gyro: the likelihood takes Algorithm 2's coloured errors as white and trusts
+//!   it too much).
 //! - [`ekf`]: the EKF's process noise, the same way, from the measured forcing; with no
 //!   true angle the fit is adopted only if it lowers the process noise
 //!   ([`ekf::only_lowers`]: raising it made the EKF worse on 20 of 25 zoo rides); the
@@ -191,6 +193,9 @@ pub struct Tuned {
     pub accel: Result<accel::AccelNoise, String>,
     /// The encoder's jitter from vibration above the pendulum's band \[rad\].
     pub jitter: Result<f64, String>,
+    /// The scale the EKF takes the jitter at (and how it was chosen), when the log has a
+    /// gyro to choose it with.
+    pub jitter_scale: Option<forcing::JitterScale>,
     /// The pendulum's forcing density near its natural frequency.
     pub forcing: Result<forcing::Forcing, String>,
     /// The spectral rule's choice.
@@ -229,12 +234,18 @@ pub struct Tuned {
 }
 
 /// Cost evaluations [`tune`] plans (for a progress bar): the cutoff against the gyro, the
-/// Kalman filters' three parameters (likelihood and surrogate), `kf_accel`'s R and the
+/// jitter's scale (at most), the Kalman filters' three parameters (likelihood, and surrogate with its grid), `kf_accel`'s R and the
 /// EKF's two, each fit's passes.
 pub fn planned_evaluations() -> u64 {
     let per = search::EVALS_PER_PARAMETER;
     let (k, e) = (kalman::ROUNDS as u64, ekf::ROUNDS as u64);
-    cutoff::EVALUATIONS + 2 * (1 + k * 3 * per) + (1 + per) + (1 + e * 2 * per)
+    let jitter = 1 + (forcing::JITTER_MAX_DOUBLINGS as u64);
+    cutoff::EVALUATIONS
+        + jitter
+        + (1 + k * 3 * per)
+        + surrogate::EVALUATIONS
+        + (1 + per)
+        + (1 + e * 2 * per)
 }
 
 /// Sample rate \[Hz\] from the median positive step; `None` without one.
@@ -462,6 +473,12 @@ fn fit_kalman(
     kalman_s.r_pendulum = f.r;
     let sur = match (opts.target, d.gyro_errors) {
         (Target::Likelihood, Some(g)) => {
+            // The bias walk: the start's, or the log's upper bound if larger.
+            let bound = surrogate::walk_bound(d.samples, &z_all, g.bias, d.skip);
+            let g = surrogate::GyroErrors {
+                bias_walk: bound.map_or(g.bias_walk, |w| w.max(g.bias_walk)),
+                ..g
+            };
             let s = surrogate::Surrogate::new(d.samples, &z_all, &g);
             let r0 = start.kalman.r_pendulum;
             let mut fit = surrogate::fit(&start.kalman, r0, &s, d.skip, budget);
@@ -470,6 +487,7 @@ fn fit_kalman(
             kalman_s.q_bias = q_bias;
             kalman_s.r_pendulum = r;
             fit.nll_at = kalman::nll(&kalman_s, r / m as f64, &data, d.skip);
+            fit.bias_walk = g.bias_walk;
             Some(fit)
         }
         _ => None,
@@ -524,6 +542,18 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
     let force = forcing::forcing(&ekf_start, fit_samples, rate, skip);
     notes::forcing(&mut ekf_start, &force, &mut notes);
     let bias = gyr.as_ref().ok().and_then(|g| g.bias);
+    // The measured jitter scaled toward the density it has in the filter's band, by the
+    // EKF's error against the gyro's integral (`forcing::jitter_scale`).
+    let jitter_scale = match (bias, &jit) {
+        (Some(b), Ok(j)) if *j > 0.0 && duration >= MIN_FIT_SECONDS => {
+            forcing::jitter_scale(&ekf_start, fit_samples, b, rate, skip, &mut budget)
+        }
+        _ => None,
+    };
+    if let Some(js) = &jitter_scale {
+        ekf_start.encoder_jitter *= js.scale;
+        notes::jitter_scale(ekf_start.encoder_jitter, js, &mut notes);
+    }
     let by_gyro = bias.filter(|_| duration >= MIN_FIT_SECONDS).map(|b| {
         cutoff::by_gyro_reference(fit_samples, &start.alg1, &start.alg2, b, skip, &mut budget)
     });
@@ -589,6 +619,7 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         gyro: gyr,
         accel: acc,
         jitter: jit,
+        jitter_scale,
         forcing: force,
         cutoff: cut,
         cutoff_by_gyro,

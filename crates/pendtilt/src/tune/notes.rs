@@ -178,6 +178,27 @@ pub(super) fn jitter(s: &mut ModelSettings<f64>, j: &Result<f64, String>, notes:
     }
 }
 
+/// The jitter's scale into the `ekf.encoder_jitter` note (`jitter`: the value taken).
+pub(super) fn jitter_scale(jitter: f64, js: &super::forcing::JitterScale, notes: &mut [Note]) {
+    let Some(n) = notes.iter_mut().find(|n| n.key == "ekf.encoder_jitter") else {
+        return;
+    };
+    let tried: Vec<String> = js
+        .tried
+        .iter()
+        .map(|(m, e)| format!("x{m:.2}: {:.4} deg", e.to_degrees()))
+        .collect();
+    n.value = format!("{jitter:.3e} rad");
+    n.how += &format!(
+        "; taken at {:.2} times that (doubled while each doubling lowered the EKF's error against the gyro's integral above {} Hz by more than {:.0} %, at most {:.2} times: the jitter's density just above its band over the whole band's; {})",
+        js.scale,
+        super::reference::CORNER_HZ,
+        100.0 * super::forcing::JITTER_STEP_GAIN,
+        js.cap,
+        tried.join(", ")
+    );
+}
+
 /// The EKF's pendulum forcing density into `s`, from its estimate.
 pub(super) fn forcing(
     s: &mut ModelSettings<f64>,
@@ -311,10 +332,12 @@ fn kalman_notes(
             false,
             format!(
                 "fitted on a surrogate of kf_alg2's error (alg2 minus the gyro's integral above \
-                 0.2 Hz, and the gyro's estimated noise and bias): predicted RMS {:.4} -> {:.4} \
+                 0.2 Hz, and the gyro's estimated noise and bias, its bias walk {:.2e} rad/s/sqrt(s): \
+                 the start's or the log's upper bound, the larger): predicted RMS {:.4} -> {:.4} \
                  deg; innovation likelihood (mean -log L) {:.4} at the start, {:.4} here; its \
                  own optimum ({:.4}: q_angle {:.2e}, q_bias {:.2e}, R {:.2e}) not adopted, as it \
                  takes alg2's coloured errors for white noise",
+                s.bias_walk,
                 s.rms_before.to_degrees(),
                 s.rms_after.to_degrees(),
                 f.nll_before,
