@@ -52,6 +52,11 @@ pub const DEFAULT_JERK_DENSITY: f64 = 0.5;
 /// read while it brakes or pulls away (0.2 g).
 pub const DEFAULT_INITIAL_SPEED_RATE: f64 = 2.0;
 
+/// Default of [`SpeedSettings::timeout`] \[s\]: as long as the CLI lets any sensor be
+/// missing before it restarts the estimators that read it; a wheel-speed signal on a bus
+/// comes at 10-100 Hz, so a log at the IMU's rate has it on one row in 10-100.
+pub const DEFAULT_SPEED_TIMEOUT: f64 = 0.5;
+
 /// O's forward speed and its rate as states (issue 15): the `speed` column measures the
 /// speed, the rate is a random walk.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,6 +70,11 @@ pub struct SpeedSettings<T> {
     /// Standard deviation of O's forward acceleration when the speed is first read
     /// \[m/s^2\]. Default 2: see [`DEFAULT_INITIAL_SPEED_RATE`].
     pub initial_rate: T,
+    /// Longest stretch \[s\] without a `speed` reading over which O's speed and rate are
+    /// carried by the filter (rows between the readings of a slower speed signal, or a
+    /// short loss); after it both are held at zero (the vehicle taken as not
+    /// accelerating) until the next reading. Default 0.5 s: see [`DEFAULT_SPEED_TIMEOUT`].
+    pub timeout: T,
 }
 
 impl<T: Real> Default for SpeedSettings<T> {
@@ -73,6 +83,7 @@ impl<T: Real> Default for SpeedSettings<T> {
             noise: T::lit(DEFAULT_SPEED_NOISE),
             jerk_density: T::lit(DEFAULT_JERK_DENSITY),
             initial_rate: T::lit(DEFAULT_INITIAL_SPEED_RATE),
+            timeout: T::lit(DEFAULT_SPEED_TIMEOUT),
         }
     }
 }
@@ -85,6 +96,7 @@ impl<T: Real> SpeedSettings<T> {
             noise: c(self.noise),
             jerk_density: c(self.jerk_density),
             initial_rate: c(self.initial_rate),
+            timeout: c(self.timeout),
         }
     }
 }
