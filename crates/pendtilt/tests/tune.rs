@@ -252,6 +252,39 @@ fn a_still_or_short_log_keeps_the_filter_defaults_and_says_so() {
     }
 }
 
+/// The surrogate (tune::surrogate) of a Kalman filter fed `z` on `samples`, with the gyro's
+/// bias and density known and a small bias walk, and its fit from the defaults, skipping
+/// the first 2000 samples: `(surrogate, defaults, skip, fitted)`.
+fn surrogate_fit(
+    samples: &[Sample<f64>],
+    z: &[f64],
+    bias: f64,
+    density: f64,
+) -> (
+    pendtilt::tune::surrogate::Surrogate,
+    KalmanSettings<f64>,
+    usize,
+    pendtilt::tune::surrogate::Fitted,
+) {
+    use pendtilt::tune::surrogate::{self, GyroErrors, Surrogate};
+    let g = GyroErrors {
+        bias,
+        density,
+        bias_walk: 1e-5,
+    };
+    let sur = Surrogate::new(samples, z, &g);
+    let start = KalmanSettings::default();
+    let skip = 2000;
+    let fitted = surrogate::fit(
+        &start,
+        start.r_pendulum,
+        &sur,
+        skip,
+        &mut Budget::unlimited(),
+    );
+    (sur, start, skip, fitted)
+}
+
 /// The surrogate fit (tune::surrogate) against the likelihood fit on a log whose
 /// measurement error is coloured (a 0.05 rad sinusoid at 1 Hz, as the pivot offset's
 /// term gives Algorithm 2, plus white noise): the surrogate, built from the gyro without
@@ -260,7 +293,6 @@ fn a_still_or_short_log_keeps_the_filter_defaults_and_says_so() {
 #[test]
 fn the_surrogate_fit_sees_coloured_measurement_errors_the_likelihood_does_not() {
     use pendtilt::tune::kalman::innovation_pass;
-    use pendtilt::tune::surrogate::{self, GyroErrors, Surrogate};
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(21);
     let std = Normal::new(0.0, 1.0).unwrap();
     let (n, dt, bias, density) = (60_000, 1e-3, 0.01, 1e-4);
@@ -279,21 +311,7 @@ fn the_surrogate_fit_sees_coloured_measurement_errors_the_likelihood_does_not() 
         truth.push(th);
         z.push(th + 0.05 * (std::f64::consts::TAU * t).sin() + 0.002 * std.sample(&mut rng));
     }
-    let g = GyroErrors {
-        bias,
-        density,
-        bias_walk: 1e-5,
-    };
-    let sur = Surrogate::new(&samples, &z, &g);
-    let start = KalmanSettings::default();
-    let skip = 2000;
-    let s = surrogate::fit(
-        &start,
-        start.r_pendulum,
-        &sur,
-        skip,
-        &mut Budget::unlimited(),
-    );
+    let (_, start, skip, s) = surrogate_fit(&samples, &z, bias, density);
     let dts: Vec<f64> = samples.iter().map(|s| s.dt).collect();
     let gyro: Vec<f64> = samples.iter().map(|s| s.gyro).collect();
     let d = KalmanData {
@@ -341,7 +359,6 @@ fn the_surrogate_fit_sees_coloured_measurement_errors_the_likelihood_does_not() 
 #[test]
 fn the_surrogate_fit_finds_the_basin_that_trusts_a_fine_gyro() {
     use pendtilt::tune::search::coordinate_log;
-    use pendtilt::tune::surrogate::{self, GyroErrors, Surrogate};
     use std::f64::consts::TAU;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(12);
     let std = Normal::new(0.0, 1.0).unwrap();
@@ -363,21 +380,7 @@ fn the_surrogate_fit_finds_the_basin_that_trusts_a_fine_gyro() {
                 + 1e-3 * std.sample(&mut rng),
         );
     }
-    let g = GyroErrors {
-        bias,
-        density,
-        bias_walk: 1e-5,
-    };
-    let sur = Surrogate::new(&samples, &z, &g);
-    let start = KalmanSettings::default();
-    let skip = 2000;
-    let f = surrogate::fit(
-        &start,
-        start.r_pendulum,
-        &sur,
-        skip,
-        &mut Budget::unlimited(),
-    );
+    let (sur, start, skip, f) = surrogate_fit(&samples, &z, bias, density);
     let mut grid = f64::INFINITY;
     for qa in (0..=10).map(|k| 10f64.powi(k - 9)) {
         for qb in [1e-9, 1e-7, 1e-5, 1e-3, 3e-3] {
