@@ -27,7 +27,7 @@ pub enum ThetaDdSource<T> {
     Matched,
 }
 
-/// The window's clock is rebased (every stored time shifted) once it passes this [s].
+/// The window's clock is rebased (every stored time shifted) once it passes this \[s\].
 const REBASE_S: f64 = 1.0;
 
 /// Capacity of the Eq (22) history: 256 samples, a 0.256 s window at 1 kHz.

@@ -275,7 +275,7 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
         self.rls.update(&z, y);
     }
 
-    /// [`SupervisorSettings::newton_iterations`] iterations of Newton's method from `old`:
+    /// [`SupervisorSettings::newton_iterations`](super::SupervisorSettings::newton_iterations) iterations of Newton's method from `old`:
     /// per iteration one pass for the finite differences ([`Ring::differences`]) and one
     /// per step tried ([`Ring::change`]). Returns the scaled gains, the objective there
     /// and whether they moved.

@@ -181,7 +181,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         }
     }
 
-    /// Holds O's speed and rate at zero (no `speed` reading): the state at zero, its
+    /// Holds O's speed and rate at zero (no `speed` reading for longer than
+    /// [`super::SpeedSettings::timeout`]): the state at zero, its
     /// variance at [`HELD_TRAVEL_SD`] and uncorrelated.
     fn hold_travel(&mut self) {
         let Some(f) = self.filter.as_mut() else {
