@@ -83,7 +83,6 @@ impl Ekf3dConfig {
         for (key, v) in [
             ("vibration_density", self.vibration_density),
             ("angular_accel_hz", self.angular_accel_hz),
-            ("speed_noise", self.speed_noise),
             ("jerk_density", self.jerk_density),
         ] {
             if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
@@ -100,11 +99,14 @@ impl Ekf3dConfig {
                 ));
             }
         }
-        if let Some(v) = self
-            .encoder_jitter
-            .filter(|v| !(v.is_finite() && *v >= 0.0))
-        {
-            return Err(format!("ekf3d.encoder_jitter: {v} must be finite and >= 0"));
+        // An exact sensor may say 0 (a speed from a simulation, a jitter-free encoder).
+        for (key, v) in [
+            ("encoder_jitter", self.encoder_jitter),
+            ("speed_noise", self.speed_noise),
+        ] {
+            if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+                return Err(format!("ekf3d.{key}: {v} must be finite and >= 0"));
+            }
         }
         Ok(())
     }
@@ -313,6 +315,18 @@ mod tests {
             e,
             "r.toml: ekf3d.vibration_density: -1 must be finite and > 0"
         );
+        // A speed without noise is allowed, a negative one is not.
+        let exact = format!("{text}speed_noise = 0.0\n");
+        let c = Rig3dConfig::from_toml_str(&exact, "r.toml").unwrap();
+        let mut z = ekf::Settings::<f64>::default();
+        c.ekf3d.apply(&mut z);
+        assert_eq!(z.speed.noise, 0.0);
+        let e = Rig3dConfig::from_toml_str(
+            &exact.replace("speed_noise = 0.0", "speed_noise = -0.1"),
+            "r.toml",
+        )
+        .unwrap_err();
+        assert_eq!(e, "r.toml: ekf3d.speed_noise: -0.1 must be finite and >= 0");
         // The path's rates may be taken as read (inf), not cut off entirely.
         let inf = format!("{text}path_pitch_hz = inf\npath_turn_hz = 3.0\n");
         let c = Rig3dConfig::from_toml_str(&inf, "r.toml").unwrap();
