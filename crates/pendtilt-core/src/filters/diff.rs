@@ -251,33 +251,6 @@ impl<T: Real, const C: usize> SmoothingDifferentiator<T, C> {
         }
     }
 
-    /// Shifts signal `i`'s level by `delta` as if its input had always been `delta`
-    /// higher: the value moves, the derivatives do not (the filter is linear and at rest
-    /// on a constant). For a known step in the input that is no motion (a speed source
-    /// switched from one sensor to another). An index out of range is ignored.
-    pub fn shift_signal(&mut self, i: usize, delta: T) {
-        if i < C {
-            self.z[(0, i)] += delta;
-            self.u_prev[i] += delta;
-        }
-    }
-
-    /// Restarts signal `i` as if its input had long been a ramp of slope `slope` now at `u`:
-    /// the value lags by the DC delay (`u - slope c1 / (c0 w_c)`), the first derivative is
-    /// `slope`, the others zero. For a signal whose recent past is known to be wrong (a
-    /// wheel that began to slip) and whose rate is known from elsewhere. An index out of
-    /// range is ignored.
-    pub fn restart_signal_on_ramp(&mut self, i: usize, u: T, slope: T) {
-        if i < C {
-            // The last row of `a` is -(c0, c1, c2, c3) w: the delay is c1 / (c0 w).
-            let delay = self.a[(3, 1)] / (self.a[(3, 0)] * self.w);
-            let z = Vector4::new(u - slope * delay, slope / self.w, T::zero(), T::zero());
-            self.z.set_column(i, &z);
-            self.u_prev[i] = u;
-            self.started = true;
-        }
-    }
-
     /// Advances every signal by `dt` seconds to the new inputs `u` (step changes within the
     /// rounding of `dt` reuse the cached discretisation). The first call starts at rest on
     /// `u`. Inputs must be finite
@@ -365,44 +338,6 @@ impl<T: Real> SmoothingDifferentiator<T, 1> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A step in the input pre-compensated by `shift_signal` leaves the derivatives as
-    /// they were without the step.
-    #[test]
-    fn a_shift_moves_the_level_not_the_derivatives() {
-        let mut a = SmoothingDifferentiator::<f64, 1>::new(Response::Bessel, 2.0);
-        let mut b = a.clone();
-        for k in 0..2000 {
-            let t = k as f64 * 1e-3;
-            let u = (3.0 * t).sin();
-            if k == 700 {
-                b.shift_signal(0, 5.0);
-            }
-            let step = if k >= 700 { 5.0 } else { 0.0 };
-            let (x, y) = (a.update(u, 1e-3), b.update(u + step, 1e-3));
-            assert!(
-                (x.d1 - y.d1).abs() < 1e-9 && (x.d2 - y.d2).abs() < 1e-7,
-                "{k}"
-            );
-            assert!((y.value - x.value - step).abs() < 1e-9, "{k}");
-        }
-    }
-
-    /// Restarted on a ramp, the filter is already in its steady state on that ramp: the
-    /// derivative stays at the slope, the value lags by the DC delay.
-    #[test]
-    fn a_restart_on_a_ramp_is_the_steady_state() {
-        let mut d = SmoothingDifferentiator::<f64, 1>::new(Response::Bessel, 2.0);
-        d.start(0.0);
-        d.restart_signal_on_ramp(0, 4.0, -3.0);
-        let delay = Response::Bessel.dc_delay(d.cutoff_rad_s());
-        for k in 1..=500 {
-            let t = k as f64 * 1e-3;
-            let y = d.update(4.0 - 3.0 * t, 1e-3);
-            assert!((y.d1 + 3.0).abs() < 1e-9, "{k}: {y:?}");
-            assert!((y.value - (4.0 - 3.0 * (t - delay))).abs() < 1e-9, "{k}");
-        }
-    }
 
     /// |H(j w_c)| for the normalised polynomial.
     fn gain_at(resp: Response, w: f64) -> f64 {

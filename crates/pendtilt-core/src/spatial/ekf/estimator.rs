@@ -103,6 +103,9 @@ pub struct ModelBased<T: Real, F> {
     clip_slope: Vector3<T>,
     // The gyro's smoothed derivative: the body's angular acceleration.
     gyro_diff: SmoothingDifferentiator<T, 3>,
+    // Its delay, by which its second derivative leads the first (Settings::angular_accel_lead;
+    // 0 without the lead), once for the settings.
+    accel_lead: T,
     // The path's turn and pitch rate from the gyro.
     path: PathRate<T>,
     // The accelerometer from O, `accel_at - speed_at` \[m\].
@@ -122,6 +125,12 @@ pub struct ModelBased<T: Real, F> {
 impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// A new estimator.
     pub fn new(settings: Settings<T>) -> Self {
+        let gyro_diff = SmoothingDifferentiator::new(Response::Bessel, settings.angular_accel_hz);
+        let accel_lead = if settings.angular_accel_lead {
+            Response::Bessel.dc_delay(gyro_diff.cutoff_rad_s())
+        } else {
+            T::zero()
+        };
         Self {
             model: settings.process_model(),
             encoders: Encoders {
@@ -147,7 +156,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             held_for: T::zero(),
             clipped_for: Vector3::zeros(),
             clip_slope: Vector3::zeros(),
-            gyro_diff: SmoothingDifferentiator::new(Response::Bessel, settings.angular_accel_hz),
+            gyro_diff,
+            accel_lead,
             path: PathRate::new(&settings.path),
             accel_from_centre: settings.mounting.from_centre(settings.mounting.accel_at),
             slip: SlipDetector::new(settings.slip),
@@ -300,14 +310,9 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             return Vector3::zeros();
         }
         // The filter's delay ahead by its second derivative (Settings::angular_accel_lead).
-        let lead = if self.settings.angular_accel_lead {
-            Response::Bessel.dc_delay(self.gyro_diff.cutoff_rad_s())
-        } else {
-            T::zero()
-        };
         Vector3::from_fn(|i, _| {
             let d = self.gyro_diff.signal(i);
-            d.d1 + lead * d.d2
+            d.d1 + self.accel_lead * d.d2
         })
     }
 
