@@ -408,6 +408,43 @@ fn a_log_without_speed_says_turns_and_braking_will_bias_it() {
     assert!(!stderr(&o).contains("`speed` column"), "{}", stderr(&o));
 }
 
+/// A speed in km/h (3.6x) disagrees with the accelerometer on every change of speed: the
+/// rows flagged as wheel slip are most of the log, and `estimate` says the unit may be
+/// wrong; the same ride in m/s says nothing of the kind.
+#[test]
+fn a_speed_in_km_per_h_is_named_by_the_slip_it_causes() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = simulate(dir.path(), "ride3d", &["--duration", "40"]);
+    let scenario = dir.path().join("ride3d.scenario.toml");
+    let text = std::fs::read_to_string(&log).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    let i = header.split(',').position(|c| c == "speed").unwrap();
+    let mut kmh = format!("{header}\n");
+    for l in lines {
+        let mut cells: Vec<String> = l.split(',').map(str::to_string).collect();
+        cells[i] = (cells[i].parse::<f64>().unwrap() * 3.6).to_string();
+        kmh += &(cells.join(",") + "\n");
+    }
+    let kmh_log = write(dir.path(), "kmh.csv", &kmh);
+    let warned = |log: &Path| {
+        let out = dir.path().join("est.csv");
+        let args = [
+            "estimate",
+            s(log),
+            "--scenario",
+            s(&scenario),
+            "--only",
+            "ekf3d",
+        ];
+        let o = pendtilt(&[&args[..], &["-o", s(&out)]].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        stderr(&o).contains("is it in m/s?")
+    };
+    assert!(warned(&kmh_log));
+    assert!(!warned(&log));
+}
+
 /// A log with the truth but shorter than the scoring start says why nothing was scored
 /// and how to score it; with `--score-from 0` it is scored (a level, still body: exact).
 #[test]
