@@ -43,7 +43,8 @@ pub struct FusionSettings {
     /// How long the ramp lasts \[s\]. Default 3.
     pub startup_period: f64,
     /// A reading further than this from the estimated up direction is ignored \[rad\];
-    /// `f64::INFINITY` never ignores one. Default 10 deg.
+    /// `f64::INFINITY` never ignores one (Fusion's 0); from 90 deg on, only a reading more
+    /// than 90 deg away is ignored. Default 10 deg.
     pub accel_rejection: f64,
     /// Acceleration recovery trigger period \[s\] (see the module documentation). Default 5.
     pub recovery_period: f64,
@@ -171,8 +172,12 @@ impl Fusion {
         }
     }
 
-    /// The feedback `a_hat x up_est` for reading `a` (unit length beyond 90 deg, so that an
-    /// upside-down estimate still turns the right way), and whether it is used.
+    /// The feedback `a_hat x up_est` for reading `a`, and whether it is used. Beyond 90 deg
+    /// it is `2 (a_hat x up_est) / |a_hat x up_est|`, as Fusion's: its feedback is computed
+    /// against half the gravity direction and normalised to unit length beyond 90 deg, so
+    /// there it is twice the largest feedback below (and an upside-down estimate still turns
+    /// the right way); such a reading is never within a rejection threshold (Fusion compares
+    /// the half feedback's squared length, then 1, with `(sin(threshold) / 2)^2 <= 1/4`).
     fn feedback(&mut self, a: [f64; 3], dt: f64) -> Option<[f64; 3]> {
         let n = norm(a);
         if !(n > 0.0 && n.is_finite()) {
@@ -184,7 +189,7 @@ impl Fusion {
         let opposed = dot(a, up) < 0.0;
         if opposed {
             let m = norm(e);
-            e = if m > 0.0 {
+            let unit = if m > 0.0 {
                 e.map(|x| x / m)
             } else {
                 // Exactly upside down: any horizontal axis turns it back.
@@ -197,11 +202,17 @@ impl Fusion {
                 let m = norm(c);
                 c.map(|x| x / m)
             };
+            e = unit.map(|x| 2.0 * x);
         }
         let s = &self.settings;
-        // |a x up| = sin(angle): compare with sin(threshold) below 90 deg.
-        let within = s.accel_rejection >= core::f64::consts::FRAC_PI_2
-            || (!opposed && norm(e) <= s.accel_rejection.sin());
+        // |a x up| = sin(angle): compare with sin(threshold). Rejection off (infinite,
+        // Fusion's 0) takes every reading; a threshold of 90 deg or more every reading
+        // that is not opposed.
+        let off = s.accel_rejection.is_infinite();
+        let within = off
+            || (!opposed
+                && (s.accel_rejection >= core::f64::consts::FRAC_PI_2
+                    || norm(e) <= s.accel_rejection.sin()));
         let accepted = self.startup || within;
         if accepted {
             self.trigger -= 9.0 * dt;
@@ -331,6 +342,49 @@ mod tests {
         }
         let e = inclination_between(f.up(), up_from_roll_pitch(r + 0.52, p));
         assert!(e < 0.01, "{e}");
+    }
+
+    /// Beyond 90 deg Fusion's feedback is a unit vector against half the gravity direction,
+    /// twice the largest feedback below 90 deg: from a reading 150 deg away the first step
+    /// (1 ms, gain 10 at the start of the ramp, no gyro) turns the estimate by 2 x 10 x 1 ms
+    /// = 0.02 rad, from one 60 deg away by 10 x sin(60 deg) x 1 ms = 0.0087 rad. After the
+    /// start-up, an opposed reading is rejected even at a 90 deg threshold, and taken
+    /// with rejection off.
+    #[test]
+    fn beyond_90_deg_the_feedback_is_fusions_unit_vector_at_twice_the_gain() {
+        let turned = |deg: f64| {
+            let mut f = Fusion::new(FusionSettings::default(), 0.0, 0.0);
+            let before = f.up();
+            f.step(
+                [0.0; 3],
+                Some(up_from_roll_pitch(deg.to_radians(), 0.0)),
+                1e-3,
+            );
+            inclination_between(before, f.up())
+        };
+        // The ramp has moved on by one step before the feedback (Fusion's order).
+        let gain = 10.0 - 9.5 / 3.0 * 1e-3;
+        assert!(
+            (turned(150.0) - 2.0 * gain * 1e-3).abs() < 1e-6,
+            "{}",
+            turned(150.0)
+        );
+        let sixty = gain * 60f64.to_radians().sin() * 1e-3;
+        assert!((turned(60.0) - sixty).abs() < 1e-6, "{}", turned(60.0));
+        let after_startup = |rejection: f64| {
+            let s = FusionSettings {
+                accel_rejection: rejection,
+                ..FusionSettings::default()
+            };
+            let mut f = Fusion::new(s, 0.0, 0.0);
+            for _ in 0..3100 {
+                f.step([0.0; 3], Some([0.0, 0.0, 1.0]), 1e-3);
+            }
+            assert!(!f.starting());
+            f.step([0.0; 3], Some(up_from_roll_pitch(2.6, 0.0)), 1e-3)
+        };
+        assert!(!after_startup(90f64.to_radians()));
+        assert!(after_startup(f64::INFINITY));
     }
 
     #[test]
