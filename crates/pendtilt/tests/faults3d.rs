@@ -492,7 +492,6 @@ fn allowed(estimator: &str, fault: &str) -> Allowance {
         ("gap_10s", "vqf") => never(0.7),
         ("gap_10s", "mahony3d") => slow(10.5, 0.6),
         ("gap_10s", "fusion3d") => never(15.0),
-        ("burst_gyro", "ekf3d" | "ukf3d") => slow(15.0, 0.1),
         ("gyro_clipped", "vqf") => never(3.2),
         ("gyro_clipped", "mahony3d") => slow(15.0, 2.0),
         ("gyro_clipped", "fusion3d") => never(5.0),
