@@ -598,7 +598,9 @@ impl<'a> RowInput<'a> {
             return x;
         }
         let col = self.column(name);
-        let hint = if unit == "m/s^2" {
+        // Degrees only where the reading in degrees would be possible (1e6 is impossible
+        // either way: the hint would point the user the wrong way).
+        let hint = if unit == "m/s^2" || x.to_radians().abs() > bound {
             ""
         } else {
             " (in degrees? give --deg)"
@@ -687,14 +689,22 @@ impl<'a> RowInput<'a> {
     /// estimators. A reading at the rig's gyro full scale is a known clip (kept, flagged by
     /// the estimators); without one, gyro clips are found in the readings.
     fn find_clips(&mut self, r: &Log3dRecord) {
+        // An impossible reading (read as missing) is no clip level: a burst of them is a
+        // run of identical readings that the finder would otherwise take for one.
+        let possible = |x: f64, bound: f64| if x.abs() <= bound { x } else { f64::NAN };
         if self.gyro_full_scale.is_none() {
-            if let Some(f) = self.gyro_clips.observe(r.gyro) {
+            let k = self.angle_scale;
+            let gyro = r.gyro.map(|x| possible(x, MAX_RATE / k));
+            if let Some(f) = self.gyro_clips.observe(gyro) {
                 let name = ["gyro_x", "gyro_y", "gyro_z"][f.axis];
                 let x = f.reading * self.angle_scale;
                 self.clip_warning(r.line, name, f, x, "rad/s", "[gyro] full_scale");
             }
         }
-        if let Some(f) = self.accel_clips.observe(r.accel) {
+        if let Some(f) = self
+            .accel_clips
+            .observe(r.accel.map(|x| possible(x, MAX_ACCEL)))
+        {
             let name = ["ax", "ay", "az"][f.axis];
             self.clip_warning(r.line, name, f, f.reading, "m/s^2", "");
         }

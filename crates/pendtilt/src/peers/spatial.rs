@@ -8,10 +8,12 @@
 //! and flagged; the filter starts on the first sample with a usable accelerometer reading,
 //! at its roll and pitch (Madgwick and Mahony; VQF starts itself); after a restart
 //! ([`Estimator::resume`], a long gap) at the mean accelerometer direction over
-//! [`RESTART_AVERAGE`], keeping what the filter says a gap cannot change (VQF's bias); a missing gyro reading
-//! is bridged, axis by axis, by the gyro's recent mean (as the planar peers do, see
-//! [`super::ahrs_planar::MISSING_RATE_TAU`]); a missing accelerometer reading skips the
-//! correction (flagged); a gyro reading at or beyond the rig's full scale
+//! [`RESTART_AVERAGE`], keeping what the filter says a gap cannot change (VQF's bias;
+//! Mahony's steady offset from the accelerometer, [`Imu6::with_restart_offset`]); a
+//! missing gyro reading is bridged, axis by axis, by the gyro's recent mean (as the planar
+//! peers do, see [`super::ahrs_planar::MISSING_RATE_TAU`]); a missing accelerometer
+//! reading skips the correction (flagged; VQF takes a reading with only some axes missing
+//! with those from their recent mean, [`ImuFilter::bridges_accel`]); a gyro reading at or beyond the rig's full scale
 //! ([`Imu6::with_gyro_full_scale`]) is flagged `saturated` (and still used: the filters
 //! have no other rate). Roll and pitch are those of the filter's up direction in body
 //! axes.
