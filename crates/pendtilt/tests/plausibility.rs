@@ -138,6 +138,45 @@ fn recovery(clean: &Run, bad: &Run, t_end: f64) -> Vec<(&'static str, f64, f64)>
     out
 }
 
+/// The second criterion, for every estimator: from `t_from` on, what the fault left in its
+/// output (RMS of the faulty run less the clean one) is no larger than its own error (RMS
+/// of the clean run less the truth) over the same rows, i.e. the fault poisoned nothing
+/// even where 0.05 deg of the clean run is out of reach. Returns (name, left, own) [deg].
+fn left_against_own_error(
+    clean: &Run,
+    bad: &Run,
+    rows: &[SimRow],
+    t_from: f64,
+) -> Vec<(&'static str, f64, f64)> {
+    let mut out = Vec::new();
+    for (j, name) in clean.names.iter().enumerate() {
+        let (mut left, mut own, mut n) = (0.0, 0.0, 0usize);
+        for (k, &t) in clean.t.iter().enumerate() {
+            let (a, b) = (clean.est[k][j].theta, bad.est[k][j].theta);
+            if t < t_from || !a.is_finite() {
+                continue;
+            }
+            left += (b - a).powi(2);
+            own += (a - rows[k].truth.theta).powi(2);
+            n += 1;
+        }
+        let rms = |x: f64| (x / n.max(1) as f64).sqrt().to_degrees();
+        out.push((*name, rms(left), rms(own)));
+    }
+    out
+}
+
+/// Asserts [`left_against_own_error`] and prints it.
+fn assert_nothing_poisoned(case: &str, clean: &Run, bad: &Run, rows: &[SimRow], t_from: f64) {
+    for (name, left, own) in left_against_own_error(clean, bad, rows, t_from) {
+        println!("  {case}: {name:<14} left {left:.4} deg RMS, own error {own:.4}");
+        assert!(
+            left.is_finite() && left <= own,
+            "{case}: {name} left {left} deg RMS, more than its own error {own}"
+        );
+    }
+}
+
 /// `tail` (a run started at row `k1`) placed at row `k1` of a run like `like`, whose rows
 /// before it fill the rest.
 fn shifted(tail: &Run, like: &Run, k1: usize) -> Run {
@@ -245,6 +284,13 @@ fn one_impossible_cell_per_sensor_is_missing_for_every_estimator_flagged_and_tol
         }
         let rec = recovery(&clean, &bad, k as f64 * 1e-3);
         print(&format!("one cell {value} in column {col}"), &rec);
+        assert_nothing_poisoned(
+            &format!("one cell {value}"),
+            &clean,
+            &bad,
+            &rows,
+            k as f64 * 1e-3 + 2.0,
+        );
         for (n, back, worst) in &rec {
             if *n == "madgwick" {
                 // 0.05 deg is below Madgwick's resolution at this gain and rate (measured
@@ -311,6 +357,48 @@ fn without_a_full_scale_the_physical_bound_applies_and_no_degree_hint_fires() {
     assert!(!r.est[1000][alg2].flags.contains(Flags::IMPLAUSIBLE));
 }
 
+/// Why Madgwick is held to its resolution, not to 0.05 deg: one gyro reading off by ten
+/// times the gyro's noise (0.028 rad/s for 1 ms, a tilt step of 0.0016 deg, a fault far
+/// smaller than any above) leaves every other estimator within 0.001 deg of the unchanged
+/// run, and Madgwick 0.27 deg (4 beta dt) apart from it 6.7 s later: its normalised step
+/// never shrinks a difference, it swaps two runs' sides by 4 beta dt whenever the
+/// accelerometer angle falls between them (measured: differences of 1e-5 to 5e-4 deg
+/// were still there 10 s later). Against the truth it is as accurate as before.
+#[test]
+fn madgwick_cannot_come_within_0_05_deg_of_itself() {
+    let (rows, rig) = ride("scooter", 14.0, 6);
+    let base = cells(&rows);
+    let clean = run(&text(&base), &rig);
+    let sd = {
+        let mut s = pendtilt::sim::Scenario::named("scooter").unwrap();
+        s.duration = 1.0;
+        s.sensors.gyro.noise_density * 1000f64.sqrt()
+    };
+    let k = 3000;
+    let mut c = base.clone();
+    c[k][2] = format!("{}", rows[k].sample().gyro + 10.0 * sd);
+    let bad = run(&text(&c), &rig);
+    let rec = recovery(&clean, &bad, k as f64 * 1e-3);
+    print("one gyro reading + 10 sd", &rec);
+    for (n, _, worst) in &rec {
+        if *n == "madgwick" {
+            assert!(
+                *worst > 0.05 && *worst <= madgwick_resolution_deg(),
+                "{worst}"
+            );
+        } else {
+            assert!(*worst <= 0.001, "{n}: {worst}");
+        }
+    }
+    assert_nothing_poisoned(
+        "one gyro reading + 10 sd",
+        &clean,
+        &bad,
+        &rows,
+        k as f64 * 1e-3 + 2.0,
+    );
+}
+
 #[test]
 fn a_burst_of_100_impossible_cells() {
     let (rows, rig) = ride("scooter", 14.0, 6);
@@ -331,6 +419,8 @@ fn a_burst_of_100_impossible_cells() {
         assert_eq!(implausible_warnings(&bad).len(), 10, "{name}: ten listed");
         let rec = recovery(&clean, &bad, (k0 + n) as f64 * 1e-3);
         print(&format!("burst of {n} {name} = {value}"), &rec);
+        let from = (k0 + n) as f64 * 1e-3 + 2.0;
+        assert_nothing_poisoned(&format!("burst of {n} {name}"), &clean, &bad, &rows, from);
         for (est, back, worst) in &rec {
             // Every estimator is back within 2 s but two peers, bounds measured (see
             // docs/reliability.md 7b): Madgwick cannot come closer than its resolution;
@@ -384,7 +474,7 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
     // After the gap every estimator gives exactly what it gives when started there, but
     // the EKF and the UKF, which resume: they keep their gyro bias (a gap cannot change it
     // beyond its random walk) and start the rest afresh.
-    let resumes = |name: &str| name == "ekf" || name == "ukf";
+    let resumes = |name: &str| matches!(name, "ekf" | "ukf" | "complementary" | "mahony");
     let tail = run(&text(&base[k1..]), &rig);
     for (k, row) in tail.est.iter().enumerate() {
         for (j, e) in row.iter().enumerate() {
@@ -408,25 +498,36 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
     print("10 s gap of every sensor", &rec);
     let fresh = recovery(&clean, &shifted(&tail, &bad, k1), k1 as f64 * 1e-3);
     print("the same rows started afresh", &fresh);
+    assert_nothing_poisoned("10 s gap", &clean, &bad, &rows, k1 as f64 * 1e-3 + 2.0);
     for ((est, back, worst), (_, back_fresh, _)) in rec.iter().zip(&fresh) {
-        // Bounds measured (docs/reliability.md 7b). The complementary filter restarts
-        // with its time constant growing from zero (the mean of the accelerometer so
-        // far); what the clean run remembers of the gap's readings fades at its gain
-        // (tau 0.75 s). Mahony restarts from one accelerometer reading and converges at
-        // kp = 0.45 /s (back after 11.0 s). Madgwick: its resolution.
+        // Bounds measured (docs/reliability.md 7b). The complementary filter and Mahony
+        // restart as a running mean of the accelerometer angle (after the prefilter has
+        // settled) and keep their steady offset, the gyro bias times their time constant:
+        // the complementary filter is back after 1.98 s (2.36 s started afresh); Mahony
+        // (kp = 0.45 /s) after 8.15 s (10.95 s afresh, from one reading): what its clean
+        // run remembers of the accelerometer over the last seconds fades at kp, 0.41 of
+        // it in 2 s. Madgwick: its resolution.
         match *est {
             "madgwick" => assert!(*worst <= madgwick_resolution_deg(), "{est}: {worst} deg"),
-            "mahony" => assert!(*worst <= 2.5, "{est}: {worst} deg off 2 s after the gap"),
-            "complementary" => assert!(*back <= 2.25, "{est} back after {back} s"),
+            "mahony" => assert!(
+                *back <= 9.0 && *worst <= 0.8,
+                "{est}: back after {back} s, {worst} deg off 2 s after the gap"
+            ),
             _ => assert!(*back <= 2.0, "{est} back after {back} s"),
         }
-        if resumes(est) {
+        match *est {
             // Keeping the bias: back within 1.01 s; started afresh the bias re-converges
             // over 5.6 s.
-            assert!(
+            "ekf" | "ukf" => assert!(
                 *back <= 1.1 && *back_fresh > 5.0,
                 "{est}: {back} s, afresh {back_fresh} s"
-            );
+            ),
+            // Keeping the steady offset.
+            "complementary" | "mahony" => assert!(
+                *back < 0.9 * back_fresh,
+                "{est}: {back} s, afresh {back_fresh} s"
+            ),
+            _ => assert!(!resumes(est)),
         }
     }
 
