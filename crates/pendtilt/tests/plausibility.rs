@@ -887,11 +887,14 @@ fn estimate_end_to_end_one_absurd_gyro_cell() {
 /// before it kept its offset); Mahony within 9 s in all (1.4-8.4 s; 7.1-12.9 s from one
 /// reading) and, against the truth from 2 s after the gap, within 0.25 deg of its
 /// fault-free run's error in all (measured: at most 0.20 deg worse; up to 1.67 deg worse
-/// when it restarted from one reading). Figures:
+/// when it restarted from one reading); and a restart knowing the truth (an oracle) would
+/// still be beyond 2 s in at least half of them (measured 11 of 18, up to 4.9 s): the
+/// fault-free run's own error at the gap's end, 0.04-0.45 deg, fades only at kp. Figures:
 /// `cargo test --release -p pendtilt --test plausibility -- --nocapture over_six`.
 #[test]
 fn restarts_over_six_rides_and_three_gap_positions() {
     let (mut comp, mut mahony_back, mut mahony_truth) = (Vec::new(), Vec::new(), Vec::new());
+    let mut mahony_oracle = Vec::new();
     for seed in 1..=6u64 {
         let (rows, rig) = ride("scooter", 30.0, seed);
         let base = cells(&rows);
@@ -922,6 +925,17 @@ fn restarts_over_six_rides_and_three_gap_positions() {
                 (e.iter().sum::<f64>() / e.len() as f64).sqrt().to_degrees()
             };
             let (b, c) = (truth_rms(&bad), truth_rms(&clean));
+            // The best a restart could do: start at the truth plus the fault-free run's
+            // mean offset over the next 10 s (an oracle). Two Mahony runs on the same
+            // readings differ by their difference at the start times exp(-kp t), so the
+            // oracle is back within 0.05 deg after ln(|d| / 0.05) / kp.
+            let err = |k: usize| clean.est[k][j].theta - rows[k].truth.theta;
+            let offset = (k1..k1 + 10_000).map(err).sum::<f64>() / 10_000.0;
+            let d = (err(k1) - offset).abs().to_degrees();
+            let kp = pendtilt::peers::ahrs_planar::MAHONY_GAINS[0];
+            let oracle = ((d / TOLERANCE_DEG).ln() / kp).max(0.0);
+            println!("  mahony: an oracle restart {d:.3} deg from the fault-free run, back after {oracle:.2} s");
+            mahony_oracle.push(oracle);
             println!(
                 "{case}: complementary back after {:.3} s, mahony {:.3} s, mahony against \
                  the truth {b:.3} deg RMS (fault-free {c:.3})",
@@ -939,4 +953,9 @@ fn restarts_over_six_rides_and_three_gap_positions() {
     assert!(comp.iter().all(|b| *b <= 3.0), "{comp:?}");
     assert!(mahony_back.iter().all(|b| *b <= 9.0), "{mahony_back:?}");
     assert!(mahony_truth.iter().all(|d| *d <= 0.25), "{mahony_truth:?}");
+    let beyond = mahony_oracle.iter().filter(|t| **t > 2.0).count();
+    println!("mahony: an oracle restart is beyond 2 s in {beyond} of 18: {mahony_oracle:.2?}");
+    // Why 2 s is out of reach for Mahony at kp = 0.45 /s: even a restart knowing the truth
+    // misses it in most cases (measured 11 of 18, up to 4.9 s).
+    assert!(beyond >= 9, "{mahony_oracle:?}");
 }
