@@ -64,10 +64,8 @@ pub struct Complementary<T: Real> {
     theta: T,
     /// Time since the start \[s\] (the start-up time constant, up to tau).
     elapsed: T,
-    /// Mean of the gyro-carried angle less the accelerometer angle in steady state \[rad\]
-    /// and how long it has been averaged \[s\] (up to [`OFFSET_WINDOW`]).
-    offset: T,
-    offset_time: T,
+    /// Mean of the gyro-carried angle less the accelerometer angle in steady state.
+    offset: SteadyOffset<T>,
     /// The offset kept through a restart \[rad\] (0 on a first start).
     kept: T,
     /// The prefilter's settling time \[s\] and how much of it is left since the start.
@@ -75,9 +73,50 @@ pub struct Complementary<T: Real> {
     settling: T,
 }
 
+/// The running mean of a filter's tilt less the accelerometer angle in steady state, over
+/// the last [`OFFSET_WINDOW`]: the offset a gyro bias holds the filter at, which a restart
+/// keeps (the complementary filter's, and Mahony's in the std crate's planar peers).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SteadyOffset<T> {
+    mean: T,
+    /// How long it has been averaged \[s\], up to [`OFFSET_WINDOW`].
+    time: T,
+}
+
+impl<T: Real> SteadyOffset<T> {
+    /// Nothing averaged yet.
+    pub fn new() -> Self {
+        Self {
+            mean: T::zero(),
+            time: T::zero(),
+        }
+    }
+
+    /// Averages in `d` \[rad\] (the tilt less the accelerometer angle, taken within half a
+    /// turn) over a step of `dt` \[s\].
+    pub fn update(&mut self, d: T, dt: T) {
+        let d = if d.abs() > T::pi() {
+            d.sin().atan2(d.cos())
+        } else {
+            d
+        };
+        self.time = (self.time + dt).min(T::lit(OFFSET_WINDOW));
+        if self.time > T::zero() {
+            self.mean += (d - self.mean) * dt / self.time;
+        }
+    }
+
+    /// The mean \[rad\], once anything was averaged.
+    pub fn value(&self) -> Option<T> {
+        (self.time > T::zero()).then_some(self.mean)
+    }
+}
+
 /// How long \[s\] the steady offset kept through a restart is averaged over: long enough
-/// that the accelerometer's errors from vibration and manoeuvres average out (10 s: XXX),
-/// short against the gyro bias's drift.
+/// that the accelerometer's errors from vibration and manoeuvres average out, short against
+/// the gyro bias's drift. 5, 10 and 20 s gave the same recoveries on the restarts of
+/// `tests/plausibility.rs` (their gaps start 5-8 s into the ride, so the mean covers at
+/// most 7 s there).
 pub const OFFSET_WINDOW: f64 = 10.0;
 
 impl<T: Real> Complementary<T> {
@@ -100,8 +139,7 @@ impl<T: Real> Complementary<T> {
             input: InputHold::new(),
             theta: T::nan(),
             elapsed: T::zero(),
-            offset: T::zero(),
-            offset_time: T::zero(),
+            offset: SteadyOffset::new(),
             kept: T::zero(),
             settle,
             settling: settle,
@@ -190,8 +228,7 @@ impl<T: Real> Estimator for Complementary<T> {
                     let tau = self.tau.min(self.elapsed);
                     let alpha = tau / (tau + dt);
                     if steady {
-                        self.offset_time = (self.offset_time + dt).min(T::lit(OFFSET_WINDOW));
-                        self.offset -= (d + self.offset) * dt / self.offset_time;
+                        self.offset.update(-d, dt);
                     } else if self.kept != T::zero() && self.tau > T::zero() {
                         // Restarting: the part of the kept offset the mean has not built up.
                         d += self.kept * (T::one() - self.elapsed / self.tau).max(T::zero());
@@ -219,8 +256,7 @@ impl<T: Real> Estimator for Complementary<T> {
         self.input = InputHold::new();
         self.theta = T::nan();
         self.elapsed = T::zero();
-        self.offset = T::zero();
-        self.offset_time = T::zero();
+        self.offset = SteadyOffset::new();
         self.kept = T::zero();
         self.settling = self.settle;
     }
@@ -228,11 +264,7 @@ impl<T: Real> Estimator for Complementary<T> {
     /// Starts again on the next reading, keeping the steady offset (see the type's
     /// documentation).
     fn resume(&mut self) {
-        let kept = if self.offset_time > T::zero() {
-            self.offset
-        } else {
-            self.kept
-        };
+        let kept = self.offset.value().unwrap_or(self.kept);
         self.reset();
         self.kept = kept;
     }

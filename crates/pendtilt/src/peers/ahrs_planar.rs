@@ -19,7 +19,7 @@
 
 use ahrs::Ahrs;
 use nalgebra_ahrs::{UnitQuaternion, Vector3};
-use pendtilt_core::estimators::complementary::OFFSET_WINDOW;
+use pendtilt_core::estimators::complementary::SteadyOffset;
 use pendtilt_core::estimators::equations::accel_angle;
 pub use pendtilt_core::estimators::input_hold::MISSING_RATE_TAU;
 use pendtilt_core::estimators::input_hold::{InputHold, Step};
@@ -90,10 +90,8 @@ pub struct Planar<F> {
     last: f64,
     /// Time since the filter started \[s\].
     elapsed: f64,
-    /// Mean of the tilt less the accelerometer angle in steady state \[rad\], and how long
-    /// it has been averaged \[s\].
-    offset: f64,
-    offset_time: f64,
+    /// Mean of the tilt less the accelerometer angle in steady state.
+    offset: SteadyOffset<f64>,
     /// After a restart: the offset kept \[rad\].
     kept: Option<f64>,
 }
@@ -108,8 +106,7 @@ impl<F: PlanarAhrs> Planar<F> {
             input: InputHold::new(),
             last: f64::NAN,
             elapsed: 0.0,
-            offset: 0.0,
-            offset_time: 0.0,
+            offset: SteadyOffset::new(),
             kept: None,
         }
     }
@@ -192,12 +189,8 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
                 flags |= Flags::MEASUREMENT_SKIPPED;
             }
             if steady && f.gain_mut().is_some() {
-                let mut d = tilt_of(&f.attitude()) - accel_angle(s.ax, s.ay);
-                if d.abs() > core::f64::consts::PI {
-                    d = d.sin().atan2(d.cos());
-                }
-                self.offset_time = (self.offset_time + dt).min(OFFSET_WINDOW);
-                self.offset += (d - self.offset) * dt / self.offset_time;
+                let d = tilt_of(&f.attitude()) - accel_angle(s.ax, s.ay);
+                self.offset.update(d, dt);
             }
         } else {
             f.update_gyro(&g);
@@ -222,11 +215,7 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
 
     /// Starts again on the next usable sample, keeping the steady offset (see [`Planar`]).
     fn resume(&mut self) {
-        let kept = if self.offset_time > 0.0 {
-            Some(self.offset)
-        } else {
-            Some(self.kept.unwrap_or(0.0))
-        };
+        let kept = Some(self.offset.value().or(self.kept).unwrap_or(0.0));
         self.reset();
         self.kept = kept;
     }
