@@ -138,6 +138,61 @@ fn recovery(clean: &Run, bad: &Run, t_end: f64) -> Vec<(&'static str, f64, f64)>
     out
 }
 
+/// The second criterion, for every estimator: from `t_from` on, what the fault left in its
+/// output (RMS of the faulty run less the clean one) is no larger than its own error (RMS
+/// of the clean run less the truth) over the same rows, or than the 0.05 deg tolerance for
+/// an estimator more accurate than that: the fault poisoned nothing even where 0.05 deg of
+/// the clean run is out of reach. Returns (name, left, own) [deg].
+fn left_against_own_error(
+    clean: &Run,
+    bad: &Run,
+    rows: &[SimRow],
+    t_from: f64,
+) -> Vec<(&'static str, f64, f64)> {
+    let mut out = Vec::new();
+    for (j, name) in clean.names.iter().enumerate() {
+        let (mut left, mut own, mut n) = (0.0, 0.0, 0usize);
+        for (k, &t) in clean.t.iter().enumerate() {
+            let (a, b) = (clean.est[k][j].theta, bad.est[k][j].theta);
+            if t < t_from || !a.is_finite() {
+                continue;
+            }
+            left += (b - a).powi(2);
+            own += (a - rows[k].truth.theta).powi(2);
+            n += 1;
+        }
+        let rms = |x: f64| (x / n.max(1) as f64).sqrt().to_degrees();
+        out.push((*name, rms(left), rms(own)));
+    }
+    out
+}
+
+/// Asserts [`left_against_own_error`] and prints it.
+fn assert_nothing_poisoned(case: &str, clean: &Run, bad: &Run, rows: &[SimRow], t_from: f64) {
+    assert_nothing_poisoned_but(case, clean, bad, rows, t_from, &[]);
+}
+
+/// [`assert_nothing_poisoned`] but for the estimators `except` (printed only).
+fn assert_nothing_poisoned_but(
+    case: &str,
+    clean: &Run,
+    bad: &Run,
+    rows: &[SimRow],
+    t_from: f64,
+    except: &[&str],
+) {
+    for (name, left, own) in left_against_own_error(clean, bad, rows, t_from) {
+        println!("  {case}: {name:<14} left {left:.4} deg RMS, own error {own:.4}");
+        if except.contains(&name) {
+            continue;
+        }
+        assert!(
+            left.is_finite() && left <= own.max(TOLERANCE_DEG),
+            "{case}: {name} left {left} deg RMS, more than its own error {own} and 0.05 deg"
+        );
+    }
+}
+
 /// `tail` (a run started at row `k1`) placed at row `k1` of a run like `like`, whose rows
 /// before it fill the rest.
 fn shifted(tail: &Run, like: &Run, k1: usize) -> Run {
@@ -245,6 +300,13 @@ fn one_impossible_cell_per_sensor_is_missing_for_every_estimator_flagged_and_tol
         }
         let rec = recovery(&clean, &bad, k as f64 * 1e-3);
         print(&format!("one cell {value} in column {col}"), &rec);
+        assert_nothing_poisoned(
+            &format!("one cell {value}"),
+            &clean,
+            &bad,
+            &rows,
+            k as f64 * 1e-3 + 2.0,
+        );
         for (n, back, worst) in &rec {
             if *n == "madgwick" {
                 // 0.05 deg is below Madgwick's resolution at this gain and rate (measured
@@ -311,6 +373,48 @@ fn without_a_full_scale_the_physical_bound_applies_and_no_degree_hint_fires() {
     assert!(!r.est[1000][alg2].flags.contains(Flags::IMPLAUSIBLE));
 }
 
+/// Why Madgwick is held to its resolution, not to 0.05 deg: one gyro reading off by ten
+/// times the gyro's noise (0.028 rad/s for 1 ms, a tilt step of 0.0016 deg, a fault far
+/// smaller than any above) leaves every other estimator within 0.001 deg of the unchanged
+/// run, and Madgwick 0.27 deg (4 beta dt) apart from it 6.7 s later: its normalised step
+/// never shrinks a difference, it swaps two runs' sides by 4 beta dt whenever the
+/// accelerometer angle falls between them (measured: differences of 1e-5 to 5e-4 deg
+/// were still there 10 s later). Against the truth it is as accurate as before.
+#[test]
+fn madgwick_cannot_come_within_0_05_deg_of_itself() {
+    let (rows, rig) = ride("scooter", 14.0, 6);
+    let base = cells(&rows);
+    let clean = run(&text(&base), &rig);
+    let sd = {
+        let mut s = pendtilt::sim::Scenario::named("scooter").unwrap();
+        s.duration = 1.0;
+        s.sensors.gyro.noise_density * 1000f64.sqrt()
+    };
+    let k = 3000;
+    let mut c = base.clone();
+    c[k][2] = format!("{}", rows[k].sample().gyro + 10.0 * sd);
+    let bad = run(&text(&c), &rig);
+    let rec = recovery(&clean, &bad, k as f64 * 1e-3);
+    print("one gyro reading + 10 sd", &rec);
+    for (n, _, worst) in &rec {
+        if *n == "madgwick" {
+            assert!(
+                *worst > 0.05 && *worst <= madgwick_resolution_deg(),
+                "{worst}"
+            );
+        } else {
+            assert!(*worst <= 0.001, "{n}: {worst}");
+        }
+    }
+    assert_nothing_poisoned(
+        "one gyro reading + 10 sd",
+        &clean,
+        &bad,
+        &rows,
+        k as f64 * 1e-3 + 2.0,
+    );
+}
+
 #[test]
 fn a_burst_of_100_impossible_cells() {
     let (rows, rig) = ride("scooter", 14.0, 6);
@@ -331,6 +435,8 @@ fn a_burst_of_100_impossible_cells() {
         assert_eq!(implausible_warnings(&bad).len(), 10, "{name}: ten listed");
         let rec = recovery(&clean, &bad, (k0 + n) as f64 * 1e-3);
         print(&format!("burst of {n} {name} = {value}"), &rec);
+        let from = (k0 + n) as f64 * 1e-3 + 2.0;
+        assert_nothing_poisoned(&format!("burst of {n} {name}"), &clean, &bad, &rows, from);
         for (est, back, worst) in &rec {
             // Every estimator is back within 2 s but two peers, bounds measured (see
             // docs/reliability.md 7b): Madgwick cannot come closer than its resolution;
@@ -384,7 +490,7 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
     // After the gap every estimator gives exactly what it gives when started there, but
     // the EKF and the UKF, which resume: they keep their gyro bias (a gap cannot change it
     // beyond its random walk) and start the rest afresh.
-    let resumes = |name: &str| name == "ekf" || name == "ukf";
+    let resumes = |name: &str| matches!(name, "ekf" | "ukf" | "complementary" | "mahony");
     let tail = run(&text(&base[k1..]), &rig);
     for (k, row) in tail.est.iter().enumerate() {
         for (j, e) in row.iter().enumerate() {
@@ -408,25 +514,36 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
     print("10 s gap of every sensor", &rec);
     let fresh = recovery(&clean, &shifted(&tail, &bad, k1), k1 as f64 * 1e-3);
     print("the same rows started afresh", &fresh);
+    assert_nothing_poisoned("10 s gap", &clean, &bad, &rows, k1 as f64 * 1e-3 + 2.0);
     for ((est, back, worst), (_, back_fresh, _)) in rec.iter().zip(&fresh) {
-        // Bounds measured (docs/reliability.md 7b). The complementary filter restarts
-        // with its time constant growing from zero (the mean of the accelerometer so
-        // far); what the clean run remembers of the gap's readings fades at its gain
-        // (tau 0.75 s). Mahony restarts from one accelerometer reading and converges at
-        // kp = 0.45 /s (back after 11.0 s). Madgwick: its resolution.
+        // Bounds measured (docs/reliability.md 7b). The complementary filter and Mahony
+        // restart as a running mean of the accelerometer angle (after the prefilter has
+        // settled) and keep their steady offset, the gyro bias times their time constant:
+        // the complementary filter is back after 1.98 s (2.36 s started afresh); Mahony
+        // (kp = 0.45 /s) after 8.15 s (10.95 s afresh, from one reading): what its clean
+        // run remembers of the accelerometer over the last seconds fades at kp, 0.41 of
+        // it in 2 s. Madgwick: its resolution.
         match *est {
             "madgwick" => assert!(*worst <= madgwick_resolution_deg(), "{est}: {worst} deg"),
-            "mahony" => assert!(*worst <= 2.5, "{est}: {worst} deg off 2 s after the gap"),
-            "complementary" => assert!(*back <= 2.25, "{est} back after {back} s"),
+            "mahony" => assert!(
+                *back <= 9.0 && *worst <= 0.8,
+                "{est}: back after {back} s, {worst} deg off 2 s after the gap"
+            ),
             _ => assert!(*back <= 2.0, "{est} back after {back} s"),
         }
-        if resumes(est) {
+        match *est {
             // Keeping the bias: back within 1.01 s; started afresh the bias re-converges
             // over 5.6 s.
-            assert!(
+            "ekf" | "ukf" => assert!(
                 *back <= 1.1 && *back_fresh > 5.0,
                 "{est}: {back} s, afresh {back_fresh} s"
-            );
+            ),
+            // Keeping the steady offset.
+            "complementary" | "mahony" => assert!(
+                *back < 0.9 * back_fresh,
+                "{est}: {back} s, afresh {back_fresh} s"
+            ),
+            _ => assert!(!resumes(est)),
         }
     }
 
@@ -760,4 +877,85 @@ fn estimate_end_to_end_one_absurd_gyro_cell() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// The restarts of the 10 s gap over six rides (seeds 1-6, 30 s) and three gap positions
+/// each (5-15 s, 8-18 s, 6-16.5 s): nothing poisoned for every estimator but Mahony in
+/// all 18; the
+/// complementary filter back within 0.05 deg of the fault-free run within 2 s in at least
+/// 14 of them and within 3 s in all (measured: 14, worst 2.82 s; 3 of 18 and 3.05 s
+/// before it kept its offset); Mahony within 9 s in all (1.4-8.4 s; 7.1-12.9 s from one
+/// reading) and, against the truth from 2 s after the gap, within 0.25 deg of its
+/// fault-free run's error in all (measured: at most 0.20 deg worse; up to 1.67 deg worse
+/// when it restarted from one reading); and a restart knowing the truth (an oracle) would
+/// still be beyond 2 s in at least half of them (measured 11 of 18, up to 4.9 s): the
+/// fault-free run's own error at the gap's end, 0.04-0.45 deg, fades only at kp. Figures:
+/// `cargo test --release -p pendtilt --test plausibility -- --nocapture over_six`.
+#[test]
+fn restarts_over_six_rides_and_three_gap_positions() {
+    let (mut comp, mut mahony_back, mut mahony_truth) = (Vec::new(), Vec::new(), Vec::new());
+    let mut mahony_oracle = Vec::new();
+    for seed in 1..=6u64 {
+        let (rows, rig) = ride("scooter", 30.0, seed);
+        let base = cells(&rows);
+        let clean = run(&text(&base), &rig);
+        for (k0, k1) in [(5000usize, 15000usize), (8000, 18000), (6000, 16500)] {
+            let mut c = base.clone();
+            for row in c.iter_mut().take(k1).skip(k0) {
+                for cell in row.iter_mut().take(5).skip(1) {
+                    cell.clear();
+                }
+            }
+            let bad = run(&text(&c), &rig);
+            let from = k1 as f64 * 1e-3 + 2.0;
+            let case = format!("seed {seed}, gap rows {k0}-{k1}");
+            // Mahony is held to its own bound below: on the rides where its own error is
+            // smallest (0.115 deg RMS, seed 1) what its slow memory of the accelerometer
+            // leaves over the following 10 s is larger (0.19 deg RMS).
+            assert_nothing_poisoned_but(&case, &clean, &bad, &rows, from, &["mahony"]);
+            let rec = recovery(&clean, &bad, k1 as f64 * 1e-3);
+            let back = |name: &str| rec.iter().find(|r| r.0 == name).unwrap().1;
+            comp.push(back("complementary"));
+            mahony_back.push(back("mahony"));
+            let j = clean.names.iter().position(|n| *n == "mahony").unwrap();
+            let truth_rms = |r: &Run| {
+                let e: Vec<f64> = ((from * 1000.0).round() as usize..rows.len())
+                    .map(|k| (r.est[k][j].theta - rows[k].truth.theta).powi(2))
+                    .collect();
+                (e.iter().sum::<f64>() / e.len() as f64).sqrt().to_degrees()
+            };
+            let (b, c) = (truth_rms(&bad), truth_rms(&clean));
+            // The best a restart could do: start at the truth plus the fault-free run's
+            // mean offset over the next 10 s (an oracle). Two Mahony runs on the same
+            // readings differ by their difference at the start times exp(-kp t), so the
+            // oracle is back within 0.05 deg after ln(|d| / 0.05) / kp.
+            let err = |k: usize| clean.est[k][j].theta - rows[k].truth.theta;
+            let offset = (k1..k1 + 10_000).map(err).sum::<f64>() / 10_000.0;
+            let d = (err(k1) - offset).abs().to_degrees();
+            let kp = pendtilt::peers::ahrs_planar::MAHONY_GAINS[0];
+            let oracle = ((d / TOLERANCE_DEG).ln() / kp).max(0.0);
+            println!("  mahony: an oracle restart {d:.3} deg from the fault-free run, back after {oracle:.2} s");
+            mahony_oracle.push(oracle);
+            println!(
+                "{case}: complementary back after {:.3} s, mahony {:.3} s, mahony against \
+                 the truth {b:.3} deg RMS (fault-free {c:.3})",
+                back("complementary"),
+                back("mahony")
+            );
+            mahony_truth.push(b - c);
+        }
+    }
+    let within_2 = comp.iter().filter(|b| **b <= 2.0).count();
+    assert!(
+        within_2 >= 14,
+        "complementary within 2 s in {within_2} of 18: {comp:?}"
+    );
+    assert!(comp.iter().all(|b| *b <= 3.0), "{comp:?}");
+    assert!(mahony_back.iter().all(|b| *b <= 9.0), "{mahony_back:?}");
+    assert!(mahony_truth.iter().all(|d| *d <= 0.25), "{mahony_truth:?}");
+    let beyond = mahony_oracle.iter().filter(|t| **t > 2.0).count();
+    println!("mahony: an oracle restart is beyond 2 s in {beyond} of 18: {mahony_oracle:.2?}");
+    // Why 2 s is out of reach for Mahony at kp = 0.45 /s: even a restart knowing the truth
+    // misses it in most cases (measured 11 of 18, up to 4.9 s).
+    assert!(beyond >= 9, "{mahony_oracle:?}");
 }

@@ -8,14 +8,18 @@
 //! sample period follows each sample's actual step. A missing gyro reading is replaced by
 //! the gyro's recent mean ([`MISSING_RATE_TAU`], the core's input hold).
 //!
-//! Start-up is left as the published filters have it (they start at the first
-//! accelerometer angle). A start-up gain ramp for Mahony (`kp = max(kp, 1 / t)` for the
-//! first 1 / kp seconds) brought it back after a 10 s gap in 8.2 s instead of 11 s, but it
-//! also changed what gain suits a short log (the gain search found kp = 0.08 instead of
-//! 0.45 on a 15 s ride), so it is not used.
+//! A first start is left as the published filters have it (they start at the first
+//! accelerometer angle). A start-up gain ramp for Mahony on a first start (`kp = max(kp,
+//! 1 / t)` for the first 1 / kp seconds) changed what gain suits a short log (the gain
+//! search found kp = 0.08 instead of 0.45 on a 15 s ride), so it is not used there.
+//!
+//! After a long gap ([`Estimator::resume`]) Mahony starts again as a running mean and
+//! keeps its steady offset (see [`Planar`]); Madgwick, whose normalised step moves the
+//! tilt at 2 beta (135 deg/s at its gain) whatever the error, starts afresh.
 
 use ahrs::Ahrs;
 use nalgebra_ahrs::{UnitQuaternion, Vector3};
+use pendtilt_core::estimators::complementary::SteadyOffset;
 use pendtilt_core::estimators::equations::accel_angle;
 pub use pendtilt_core::estimators::input_hold::MISSING_RATE_TAU;
 use pendtilt_core::estimators::input_hold::{InputHold, Step};
@@ -27,6 +31,11 @@ pub trait PlanarAhrs: Ahrs<f64> {
     fn set_period(&mut self, dt: f64);
     /// The orientation.
     fn attitude(&self) -> UnitQuaternion<f64>;
+    /// The gain by which a tilt error decays \[1/s\], where the filter has one (Mahony's
+    /// kp); `None` for a filter whose correction is not proportional (Madgwick's).
+    fn gain_mut(&mut self) -> Option<&mut f64> {
+        None
+    }
 }
 
 impl PlanarAhrs for ahrs::Madgwick<f64> {
@@ -45,6 +54,9 @@ impl PlanarAhrs for ahrs::Mahony<f64> {
     fn attitude(&self) -> UnitQuaternion<f64> {
         self.quat()
     }
+    fn gain_mut(&mut self) -> Option<&mut f64> {
+        Some(self.kp_mut())
+    }
 }
 
 /// The quaternion of a rotation `theta` about the sensor's x axis.
@@ -59,6 +71,16 @@ pub fn tilt_of(q: &UnitQuaternion<f64>) -> f64 {
 
 /// An `ahrs` filter run in the tilt plane as an [`Estimator`]. `make(theta0)` builds the
 /// filter started at `theta0`.
+///
+/// A filter with a proportional gain `k` ([`PlanarAhrs::gain_mut`], Mahony) is restarted
+/// after a long gap ([`Estimator::resume`]) as the complementary filter is: for its first
+/// `1 / k` seconds the gain is `1 / t`, so the tilt is the mean of the accelerometer angle
+/// so far (carried by the gyro) rather than one vibrating reading forgotten at `k`; and it
+/// keeps its steady offset, the gyro bias over `k`, which a gap cannot change: the mean of
+/// its tilt less the accelerometer angle over the last
+/// [`OFFSET_WINDOW`](pendtilt_core::estimators::complementary::OFFSET_WINDOW) in steady
+/// state, by which the accelerometer angle is read shifted while the mean has not built
+/// it up (`offset (1 - k t)`).
 #[derive(Debug, Clone)]
 pub struct Planar<F> {
     make: fn(f64, &[f64; 2]) -> F,
@@ -66,6 +88,12 @@ pub struct Planar<F> {
     filter: Option<F>,
     input: InputHold<f64>,
     last: f64,
+    /// Time since the filter started \[s\].
+    elapsed: f64,
+    /// Mean of the tilt less the accelerometer angle in steady state.
+    offset: SteadyOffset<f64>,
+    /// After a restart: the offset kept \[rad\].
+    kept: Option<f64>,
 }
 
 impl<F: PlanarAhrs> Planar<F> {
@@ -77,6 +105,9 @@ impl<F: PlanarAhrs> Planar<F> {
             filter: None,
             input: InputHold::new(),
             last: f64::NAN,
+            elapsed: 0.0,
+            offset: SteadyOffset::new(),
+            kept: None,
         }
     }
 
@@ -106,8 +137,18 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
                         flags: flags | Flags::INITIALISING | Flags::SAMPLE_MISSING,
                     };
                 }
-                let th = accel_angle(s.ax, s.ay);
-                self.filter = Some((self.make)(th, &self.gains));
+                let mut th = accel_angle(s.ax, s.ay);
+                let mut f = (self.make)(th, &self.gains);
+                match self.kept {
+                    // A restart, in its steady offset from the start.
+                    Some(kept) if f.gain_mut().is_some() => {
+                        th += kept;
+                        f = (self.make)(th, &self.gains);
+                    }
+                    _ => self.kept = None,
+                }
+                self.filter = Some(f);
+                self.elapsed = 0.0;
                 self.input.started();
                 self.last = th;
                 return Estimate {
@@ -125,10 +166,31 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
         };
         f.set_period(dt);
         let g = Vector3::new(gyro, 0.0, 0.0);
+        let gain = self.gains[0];
+        // Steady once a first start's error from one reading (up to 24 deg on a vibrating
+        // body) has decayed to 5 %; a restart's running mean ends in it.
+        let steady = self.elapsed * gain >= if self.kept.is_some() { 1.0 } else { 3.0 };
+        self.elapsed += dt;
         if accel_ok {
-            let a = Vector3::new(0.0, s.ax, s.ay);
+            let (mut ax, mut ay) = (s.ax, s.ay);
+            if let (Some(kept), Some(k)) = (self.kept, f.gain_mut()) {
+                if !steady {
+                    // Restarting: the running mean, the accelerometer angle shifted by the
+                    // part of the kept offset it has not built up.
+                    *k = gain.max(1.0 / (self.elapsed + dt));
+                    let (sn, cs) = (kept * (1.0 - self.elapsed * gain).max(0.0)).sin_cos();
+                    (ax, ay) = (ax * cs + ay * sn, ay * cs - ax * sn);
+                } else {
+                    *k = gain;
+                }
+            }
+            let a = Vector3::new(0.0, ax, ay);
             if f.update_imu(&g, &a).is_err() {
                 flags |= Flags::MEASUREMENT_SKIPPED;
+            }
+            if steady && f.gain_mut().is_some() {
+                let d = tilt_of(&f.attitude()) - accel_angle(s.ax, s.ay);
+                self.offset.update(d, dt);
             }
         } else {
             f.update_gyro(&g);
@@ -148,9 +210,14 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
     }
 
     fn reset(&mut self) {
-        self.filter = None;
-        self.input = InputHold::new();
-        self.last = f64::NAN;
+        *self = Self::new(self.make, self.gains);
+    }
+
+    /// Starts again on the next usable sample, keeping the steady offset (see [`Planar`]).
+    fn resume(&mut self) {
+        let kept = Some(self.offset.value().or(self.kept).unwrap_or(0.0));
+        self.reset();
+        self.kept = kept;
     }
 }
 
@@ -202,6 +269,43 @@ mod tests {
         for th in [-1.0, -0.2, 0.0, 0.3, 1.2] {
             assert!((tilt_of(&tilt_quaternion(th)) - th).abs() < 1e-12);
         }
+    }
+
+    /// A gyro bias b holds Mahony asin(b / kp) above a still tilt (kp sin(error) = b).
+    /// After a restart it starts there and stays there through its running mean (the
+    /// offset kept); started afresh it starts on the accelerometer. Madgwick, with no
+    /// proportional gain, starts afresh either way.
+    #[test]
+    fn a_restarted_mahony_keeps_its_steady_offset() {
+        let (b, th, kp): (f64, f64, f64) = (0.005, 0.2, 0.45);
+        let steady = (b / kp).asin();
+        let mut m = mahony(kp, 0.0);
+        let mut e = m.update(&s(0.0, b, th));
+        for _ in 0..60_000 {
+            e = m.update(&s(1e-3, b, th));
+        }
+        assert!((e.theta - th - steady).abs() < 1e-6, "{}", e.theta - th);
+        let mut fresh = m.clone();
+        Estimator::resume(&mut m);
+        Estimator::reset(&mut fresh);
+        let mut worst: f64 = 0.0;
+        for k in 0..5000 {
+            let dt = if k == 0 { 0.0 } else { 1e-3 };
+            worst = worst.max((m.update(&s(dt, b, th)).theta - th - steady).abs());
+            let f = fresh.update(&s(dt, b, th));
+            if k == 0 {
+                assert!((f.theta - th).abs() < 1e-12);
+            }
+        }
+        assert!(worst < 0.02 * steady, "{worst} against {steady}");
+
+        let mut g = madgwick(MADGWICK_BETA);
+        for k in 0..5000 {
+            g.update(&s(if k == 0 { 0.0 } else { 1e-3 }, b, th));
+        }
+        Estimator::resume(&mut g);
+        let first = g.update(&s(0.0, b, th + 0.1));
+        assert!((first.theta - th - 0.1).abs() < 1e-12, "{first:?}");
     }
 
     #[test]

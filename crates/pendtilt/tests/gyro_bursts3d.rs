@@ -1,0 +1,128 @@
+//! Issue 11 item 2 on the 3-D model-based filters: 100 missing readings of one gyro axis
+//! (an impossible 1e6 rad/s, read as missing) on the scooter3d ride, seeds 1, 3 and 5, each
+//! axis, from 8, 12 and 16 s: 27 bursts. ekf3d and ukf3d bridge the missing axis by its
+//! low-passed rate (the axes read stay as read), keep their gyro bias for `BIAS_HOLD` (2 s)
+//! after, and at the first reading after a hold of 50 ms or more loosen roll and pitch to
+//! their start variance, uncorrelated with the rest, so the encoders carry them back
+//! (`ModelBased::reacquire`). Measured (54 runs: 27 bursts, ekf3d and ukf3d): back within
+//! 0.05 deg (inclination) of the fault-free run after 1.18-2.08 s, 43 of 54 within 2 s,
+//! where they took 0.43-10.23 s, 12 of 54 within 2 s (all three axes bridged for one
+//! missing, the bias held 0.5 s, no re-acquisition).
+//!
+//! `cargo test --release -p pendtilt --test gyro_bursts3d -- --nocapture` prints each.
+use std::path::Path;
+
+use pendtilt::core::spatial::attitude::inclination_error;
+
+mod common;
+use common::{pendtilt, s};
+
+/// Per row: roll and pitch of `name` from an estimates CSV.
+fn attitude(path: &Path, name: &str) -> Vec<(f64, f64, f64)> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |c: &str| head.iter().position(|h| *h == c).unwrap();
+    let (t, r, p) = (
+        col("t"),
+        col(&format!("{name}_roll")),
+        col(&format!("{name}_pitch")),
+    );
+    lines
+        .map(|l| {
+            let c: Vec<f64> = l
+                .split(',')
+                .map(|x| x.parse().unwrap_or(f64::NAN))
+                .collect();
+            (c[t], c[r], c[p])
+        })
+        .collect()
+}
+
+#[test]
+fn ekf3d_and_ukf3d_are_back_within_about_2_s_after_100_missing_readings_of_one_gyro_axis() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut backs = Vec::new();
+    for seed in [1u64, 3, 5] {
+        let log = dir.path().join(format!("ride{seed}.csv"));
+        let o = pendtilt(&[
+            "simulate",
+            "--scenario",
+            "scooter3d",
+            "--duration",
+            "30",
+            "--seed",
+            &seed.to_string(),
+            "-o",
+            s(&log),
+        ]);
+        assert!(o.status.success());
+        let rig = dir.path().join(format!("ride{seed}.rig.toml"));
+        let scen = dir.path().join(format!("ride{seed}.scenario.toml"));
+        let estimate = |input: &Path, out: &Path| {
+            let o = pendtilt(&[
+                "estimate",
+                s(input),
+                "-p",
+                s(&rig),
+                "--scenario",
+                s(&scen),
+                "--only",
+                "ekf3d,ukf3d",
+                "-o",
+                s(out),
+            ]);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        };
+        let clean_out = dir.path().join("clean.csv");
+        estimate(&log, &clean_out);
+        let text = std::fs::read_to_string(&log).unwrap();
+        let mut lines: Vec<Vec<String>> = text
+            .lines()
+            .map(|l| l.split(',').map(String::from).collect())
+            .collect();
+        for axis in ["gyro_x", "gyro_y", "gyro_z"] {
+            let j = lines[0].iter().position(|h| h == axis).unwrap();
+            for k0 in [8000usize, 12000, 16000] {
+                let kept: Vec<String> = (k0..k0 + 100).map(|k| lines[k + 1][j].clone()).collect();
+                for k in k0..k0 + 100 {
+                    lines[k + 1][j] = "1e6".into();
+                }
+                let bad = dir.path().join("bad.csv");
+                let body: Vec<String> = lines.iter().map(|l| l.join(",")).collect();
+                std::fs::write(&bad, body.join("\n") + "\n").unwrap();
+                for (k, v) in (k0..k0 + 100).zip(kept) {
+                    lines[k + 1][j] = v;
+                }
+                let bad_out = dir.path().join("bad_est.csv");
+                estimate(&bad, &bad_out);
+                let t_end = (k0 + 100) as f64 * 1e-3;
+                for name in ["ekf3d", "ukf3d"] {
+                    let (c, b) = (attitude(&clean_out, name), attitude(&bad_out, name));
+                    assert_eq!(c.len(), b.len(), "a row was lost");
+                    let mut last_out = None;
+                    for (x, y) in c.iter().zip(&b) {
+                        if x.0 < t_end {
+                            continue;
+                        }
+                        let d = inclination_error(x.1, x.2, y.1, y.2).to_degrees();
+                        if d.is_nan() || d > 0.05 {
+                            last_out = Some(x.0);
+                        }
+                    }
+                    let back = last_out.map_or(0.0, |t| t - t_end + 1e-3);
+                    println!("seed {seed} {axis} from {k0} ms: {name} back after {back:.2} s");
+                    backs.push(back);
+                }
+            }
+        }
+    }
+    let within = backs.iter().filter(|b| **b <= 2.0).count();
+    let worst = backs.iter().cloned().fold(0.0, f64::max);
+    println!(
+        "within 2 s: {within} of {}; worst {worst:.2} s",
+        backs.len()
+    );
+    assert!(worst <= 2.3, "{backs:?}");
+    assert!(within * 4 >= backs.len() * 3, "{backs:?}");
+}
