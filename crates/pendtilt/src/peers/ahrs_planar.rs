@@ -19,11 +19,12 @@
 
 use ahrs::Ahrs;
 use nalgebra_ahrs::{UnitQuaternion, Vector3};
-use pendtilt_core::estimators::complementary::SteadyOffset;
 use pendtilt_core::estimators::equations::accel_angle;
 pub use pendtilt_core::estimators::input_hold::MISSING_RATE_TAU;
 use pendtilt_core::estimators::input_hold::{InputHold, Step};
 use pendtilt_core::{Estimate, Estimator, Flags, Sample};
+
+use super::steady::SteadyFit;
 
 /// The part of an `ahrs` filter the planar wrapper needs.
 pub trait PlanarAhrs: Ahrs<f64> {
@@ -76,11 +77,10 @@ pub fn tilt_of(q: &UnitQuaternion<f64>) -> f64 {
 /// after a long gap ([`Estimator::resume`]) as the complementary filter is: for its first
 /// `1 / k` seconds the gain is `1 / t`, so the tilt is the mean of the accelerometer angle
 /// so far (carried by the gyro) rather than one vibrating reading forgotten at `k`; and it
-/// keeps its steady offset, the gyro bias over `k`, which a gap cannot change: the mean of
-/// its tilt less the accelerometer angle over the last
-/// [`OFFSET_WINDOW`](pendtilt_core::estimators::complementary::OFFSET_WINDOW) in steady
-/// state, by which the accelerometer angle is read shifted while the mean has not built
-/// it up (`offset (1 - k t)`).
+/// keeps its steady offset, the gyro bias over `k`, which a gap cannot change: its tilt
+/// less the accelerometer angle, fitted through the start's transient
+/// ([`SteadyFit`]), by which the accelerometer angle is read shifted while the mean has
+/// not built it up (`offset (1 - k t)`).
 #[derive(Debug, Clone)]
 pub struct Planar<F> {
     make: fn(f64, &[f64; 2]) -> F,
@@ -90,8 +90,8 @@ pub struct Planar<F> {
     last: f64,
     /// Time since the filter started \[s\].
     elapsed: f64,
-    /// Mean of the tilt less the accelerometer angle in steady state.
-    offset: SteadyOffset<f64>,
+    /// The tilt less the accelerometer angle, fitted for its steady value.
+    fit: SteadyFit<1>,
     /// After a restart: the offset kept \[rad\].
     kept: Option<f64>,
 }
@@ -106,7 +106,7 @@ impl<F: PlanarAhrs> Planar<F> {
             input: InputHold::new(),
             last: f64::NAN,
             elapsed: 0.0,
-            offset: SteadyOffset::new(),
+            fit: SteadyFit::default(),
             kept: None,
         }
     }
@@ -167,15 +167,13 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
         f.set_period(dt);
         let g = Vector3::new(gyro, 0.0, 0.0);
         let gain = self.gains[0];
-        // Steady once a first start's error from one reading (up to 24 deg on a vibrating
-        // body) has decayed to 5 %; a restart's running mean ends in it.
-        let steady = self.elapsed * gain >= if self.kept.is_some() { 1.0 } else { 3.0 };
+        let restarting = self.kept.is_some() && self.elapsed * gain < 1.0;
         self.elapsed += dt;
         if accel_ok {
             let (mut ax, mut ay) = (s.ax, s.ay);
             if let (Some(kept), Some(k)) = (self.kept, f.gain_mut()) {
-                if !steady {
-                    // Restarting: the running mean, the accelerometer angle shifted by the
+                if restarting {
+                    // The running mean, the accelerometer angle shifted by the
                     // part of the kept offset it has not built up.
                     *k = gain.max(1.0 / (self.elapsed + dt));
                     let (sn, cs) = (kept * (1.0 - self.elapsed * gain).max(0.0)).sin_cos();
@@ -188,9 +186,9 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
             if f.update_imu(&g, &a).is_err() {
                 flags |= Flags::MEASUREMENT_SKIPPED;
             }
-            if steady && f.gain_mut().is_some() {
+            if !restarting && f.gain_mut().is_some() {
                 let d = tilt_of(&f.attitude()) - accel_angle(s.ax, s.ay);
-                self.offset.update(d, dt);
+                self.fit.add([d.sin().atan2(d.cos())], dt, gain);
             }
         } else {
             f.update_gyro(&g);
@@ -215,7 +213,8 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
 
     /// Starts again on the next usable sample, keeping the steady offset (see [`Planar`]).
     fn resume(&mut self) {
-        let kept = Some(self.offset.value().or(self.kept).unwrap_or(0.0));
+        let steady = self.fit.steady(self.gains[0]).map(|c| c[0]);
+        let kept = Some(steady.or(self.kept).unwrap_or(0.0));
         self.reset();
         self.kept = kept;
     }

@@ -19,6 +19,7 @@
 pub mod ahrs_planar;
 pub mod fusion;
 pub mod spatial;
+pub mod steady;
 pub mod tune;
 
 use crate::bank::{self, BankSettings};

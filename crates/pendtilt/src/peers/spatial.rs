@@ -24,6 +24,8 @@ use pendtilt_core::{Estimator, Flags, StepClock};
 
 use super::ahrs_planar::{PlanarAhrs, MISSING_RATE_TAU};
 use super::fusion::{Fusion, FusionSettings};
+use super::steady::SteadyFit;
+pub use super::steady::RESTART_OFFSET_WINDOW;
 
 /// An IMU filter the wrapper [`Imu6`] drives.
 pub trait ImuFilter {
@@ -143,7 +145,7 @@ pub struct Imu6<F: ImuFilter> {
     offset_gain: Option<f64>,
     // Its steady `a_hat x up_est` (body axes) as last fitted, kept over a restart.
     offset: Option<[f64; 3]>,
-    fit: SteadyFit,
+    fit: SteadyFit<3>,
 }
 
 impl<F: ImuFilter> Imu6<F> {
@@ -249,50 +251,6 @@ impl<F: ImuFilter> Imu6<F> {
         u = core::array::from_fn(|i| u[i] + k * (a[i] - u[i]));
         self.average = Some((u, t));
         t >= window
-    }
-}
-
-/// A least-squares fit of `e(t) = c + A exp(-k t)` per axis to a filter's disagreement with
-/// the accelerometer since its start (`t`, `k` its gain), weighted by the time step and
-/// forgetting over [`RESTART_OFFSET_WINDOW`]: `c` is the steady state, which the start
-/// transient hides for several time constants (8 s after a start from one reading on the
-/// scooter3d ride, a plain 3 s mean of `e` was still 2 deg from it).
-#[derive(Debug, Clone, Copy, Default)]
-struct SteadyFit {
-    /// Time since the filter's start \[s\].
-    t: f64,
-    /// Weighted sums of 1, x, x^2 (x = exp(-k t)).
-    s: [f64; 3],
-    /// Weighted sums of e and e x.
-    b0: [f64; 3],
-    b1: [f64; 3],
-}
-
-impl SteadyFit {
-    fn add(&mut self, e: [f64; 3], dt: f64, k: f64) {
-        self.t += dt;
-        let x = (-k * self.t).exp();
-        let keep = 1.0 - (dt / RESTART_OFFSET_WINDOW).min(1.0);
-        for (v, add) in self.s.iter_mut().zip([dt, dt * x, dt * x * x]) {
-            *v = *v * keep + add;
-        }
-        for ((b0, b1), e) in self.b0.iter_mut().zip(&mut self.b1).zip(e) {
-            *b0 = *b0 * keep + dt * e;
-            *b1 = *b1 * keep + dt * e * x;
-        }
-    }
-
-    /// `c`, once the filter has run for two time constants (before, `c` and `A` cannot be
-    /// told apart).
-    fn steady(&self, k: f64) -> Option<[f64; 3]> {
-        let [s0, s1, s2] = self.s;
-        let det = s0 * s2 - s1 * s1;
-        if self.t * k < 2.0 || det <= 0.0 || det.is_nan() {
-            return None;
-        }
-        Some(core::array::from_fn(|i| {
-            (self.b0[i] * s2 - self.b1[i] * s1) / det
-        }))
     }
 }
 
@@ -445,13 +403,6 @@ impl<F: ImuFilter> Estimator for Imu6<F> {
         self.offset = offset;
     }
 }
-
-/// How long \[s\] a filter's steady disagreement with the accelerometer is averaged over
-/// for its restart ([`Imu6::with_restart_offset`]): the fit forgets at this time
-/// constant, so that it follows a bias that drifts with temperature. 5 s, 10 s and no
-/// forgetting measured alike (Mahony after the 10 s gap of tests/faults3d.rs: 0.36, 0.38,
-/// 0.40 deg from the fault-free run 2 s on).
-pub const RESTART_OFFSET_WINDOW: f64 = 30.0;
 
 /// Madgwick's gain (`beta` [rad/s]) in 3-D: the planar search's value until the 3-D search
 /// (issue 14's fair tuning) replaces it.
