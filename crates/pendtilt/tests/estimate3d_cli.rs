@@ -526,3 +526,76 @@ fn the_rig_files_ekf3d_table_reaches_the_filter() {
     assert!(default.0 < 0.3 && default.1 < 1.0, "{default:?}");
     assert!(lagging.0 > 1.2 * default.0, "{lagging:?} vs {default:?}");
 }
+
+/// A 2 s gap of every sensor: from the restart gap (0.5 s) into it to its end every
+/// estimator's roll and pitch are NaN (not a held or integrated attitude: ukf3d drifted to
+/// 173 deg in a 10 s gap), one row per input row, and the summary counts the rows as
+/// missing instead of scoring them (it read inf, or the drift).
+#[test]
+fn beyond_the_restart_gap_there_is_no_estimate_and_the_summary_says_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = simulate(
+        dir.path(),
+        "scooter3d",
+        &["--duration", "12", "--seed", "2"],
+    );
+    let text = std::fs::read_to_string(&log).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let n_cols = lines[0].split(',').count();
+    let sensors = 1..9; // phi_x .. az
+    for line in lines.iter_mut().skip(1 + 6000).take(2000) {
+        let mut c: Vec<String> = line.split(',').map(String::from).collect();
+        for i in sensors.clone() {
+            c[i].clear();
+        }
+        assert_eq!(c.len(), n_cols);
+        *line = c.join(",");
+    }
+    let gap = dir.path().join("gap.csv");
+    std::fs::write(&gap, lines.join("\n") + "\n").unwrap();
+    let out = dir.path().join("est.csv");
+    let rig = dir.path().join("scooter3d.rig.toml");
+    let scen = dir.path().join("scooter3d.scenario.toml");
+    let o = pendtilt(&[
+        "estimate",
+        s(&gap),
+        "-p",
+        s(&rig),
+        "--scenario",
+        s(&scen),
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (header, rows) = read_csv(&out);
+    assert_eq!(rows.len(), 12_000);
+    let t = col(&header, "t");
+    let ests: Vec<usize> = (0..header.len())
+        .filter(|&i| header[i].ends_with("_roll") && header[i] != "roll")
+        .collect();
+    assert_eq!(ests.len(), 9);
+    for r in &rows {
+        if r[t] > 6.502 && r[t] < 8.0 {
+            for &i in &ests {
+                assert!(
+                    r[i].is_nan() && r[i + 1].is_nan(),
+                    "{} at {}",
+                    header[i],
+                    r[t]
+                );
+            }
+        }
+    }
+    let table = String::from_utf8_lossy(&o.stdout).into_owned();
+    let line = table
+        .lines()
+        .find(|l| l.starts_with("ekf3d "))
+        .unwrap_or_else(|| panic!("{table}"));
+    let missing: u64 = line.split_whitespace().last().unwrap().parse().unwrap();
+    // 6.5 s to 8 s: 1,499 rows (the truth runs on through the gap).
+    assert!((1495..=1502).contains(&missing), "{line}");
+    assert!(
+        table.contains("missing: rows with the truth but no estimate"),
+        "{table}"
+    );
+}

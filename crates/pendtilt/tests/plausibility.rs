@@ -486,6 +486,18 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
         restarts[0]
     );
     assert_eq!(bad.result.as_ref().unwrap().restarts, 1);
+    // Beyond the restart gap (0.5 s) no estimator gives an estimate: each reads a sensor
+    // that is gone (they gave the gyro's last mean integrated, the EKF 170 deg off by the
+    // gap's end, and the summary counted it: 58 deg RMS).
+    for (k, row) in bad.est.iter().enumerate().take(k1).skip(k0 + 502) {
+        for (j, e) in row.iter().enumerate() {
+            assert!(
+                e.theta.is_nan() && e.flags.contains(Flags::SAMPLE_MISSING),
+                "{} at row {k}: {e:?}",
+                bad.names[j]
+            );
+        }
+    }
 
     // After the gap every estimator gives exactly what it gives when started there, but
     // the EKF and the UKF, which resume: they keep their gyro bias (a gap cannot change it

@@ -52,6 +52,8 @@ pub struct Bank {
     now: f64,
     /// Time (on `now`'s clock) of the last finite reading of phi, gyro, ax/ay.
     last_good: [Option<f64>; 3],
+    /// The sensors missing on this row for longer than the restart gap.
+    stale: Inputs,
     restart: Option<Restart>,
     skipped: Vec<Skipped>,
     measurements: Vec<(f64, f64)>,
@@ -98,6 +100,7 @@ impl Bank {
             settings: settings.clone(),
             now: 0.0,
             last_good: [None; 3],
+            stale: Inputs::default(),
             restart: None,
             skipped: Vec::new(),
             measurements: Vec::with_capacity(4),
@@ -216,6 +219,16 @@ impl Bank {
             sample.gyro.is_finite(),
             sample.ax.is_finite() && sample.ay.is_finite(),
         ];
+        let stale = |i: usize| {
+            used[i]
+                && !good[i]
+                && self.last_good[i].is_some_and(|l| t - l > self.settings.restart_gap)
+        };
+        self.stale = Inputs {
+            phi: stale(0),
+            gyro: stale(1),
+            accel: stale(2),
+        };
         let mut back = [false; 3];
         let mut gap = 0.0f64;
         for i in 0..3 {
@@ -296,6 +309,17 @@ impl Bank {
                 }
             };
             out.push(e);
+        }
+        // Beyond the restart gap a sensor's estimators have nothing to go on: what they
+        // would give (the gyro's last mean integrated for seconds, 170 deg off after a 10 s
+        // gap) is no estimate. They restart when it is back.
+        if !self.stale.is_empty() {
+            for (e, need) in out.iter_mut().zip(&self.needs) {
+                if need.intersects(self.stale) {
+                    e.theta = f64::NAN;
+                    e.flags |= Flags::SAMPLE_MISSING;
+                }
+            }
         }
     }
 

@@ -13,6 +13,8 @@ pub struct GapWatch {
     now: f64,
     /// When phi, gyro and the accelerometer last gave a complete, finite reading \[s\].
     last_good: [Option<f64>; 3],
+    /// The sensors missing on the last sample for longer than the restart gap.
+    stale: Inputs,
 }
 
 /// A restart: the sensors back after a long gap, and the longest of their gaps \[s\].
@@ -28,6 +30,12 @@ impl GapWatch {
     /// Nothing seen yet.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// The sensors missing on the last sample observed for longer than the restart gap:
+    /// the estimators reading them have nothing to go on until they restart.
+    pub fn stale(&self) -> Inputs {
+        self.stale
     }
 
     /// Takes sample `s` (its `dt` as the bank receives it: a refused time step is NaN and
@@ -50,6 +58,13 @@ impl GapWatch {
             clipped.gyro || s.gyro.iter().all(|v| v.is_finite()),
             clipped.accel || s.accel.iter().all(|v| v.is_finite()),
         ];
+        let stale =
+            |i: usize| !good[i] && self.last_good[i].is_some_and(|l| self.now - l > restart_gap);
+        self.stale = Inputs {
+            phi: stale(0),
+            gyro: stale(1),
+            accel: stale(2),
+        };
         let mut back = [false; 3];
         let mut gap = 0.0f64;
         for i in 0..3 {

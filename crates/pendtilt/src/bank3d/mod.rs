@@ -421,6 +421,19 @@ impl Bank3d {
             self.out.push(a);
         }
         self.flag(clipped, Flags::SATURATED);
+        // Beyond the restart gap a sensor's estimators have nothing to go on: what they
+        // would give (a held or an integrated attitude, ukf3d 173 deg off during a 10 s
+        // gap) is no estimate. They restart when it is back.
+        let stale = self.gaps.stale();
+        if !stale.is_empty() {
+            for (o, e) in self.out.iter_mut().zip(&self.entries) {
+                if e.reads.intersects(stale) {
+                    o.roll = f64::NAN;
+                    o.pitch = f64::NAN;
+                    o.flags |= Flags::SAMPLE_MISSING;
+                }
+            }
+        }
         &self.out
     }
 

@@ -1,5 +1,6 @@
 //! The inclination error of MODEL.md 7.9 accumulated over a log: RMS, max and mean over
-//! `t >= t0 + score_from`; a non-finite estimate makes RMS and max infinite.
+//! `t >= t0 + score_from`; a row without an estimate (not finite: flagged, e.g. a sensor
+//! missing for longer than the restart gap) is counted as missing, not scored.
 use pendtilt_core::spatial::attitude::inclination_error;
 
 /// Running inclination-error statistics of one estimator \[rad\].
@@ -9,17 +10,21 @@ pub struct Inclination {
     sum: f64,
     max: f64,
     n: u64,
+    missing: u64,
 }
 
 impl Inclination {
     /// Adds one sample: the estimate against the truth (both roll, pitch \[rad\]). A row
-    /// without truth is not scored.
+    /// without truth is not scored; one without an estimate is counted as missing.
     pub fn add(&mut self, est: (f64, f64), truth: (f64, f64)) {
         if !(truth.0.is_finite() && truth.1.is_finite()) {
             return;
         }
         let e = inclination_error(est.0, est.1, truth.0, truth.1);
-        let e = if e.is_finite() { e } else { f64::INFINITY };
+        if !e.is_finite() {
+            self.missing += 1;
+            return;
+        }
         self.sum_sq += e * e;
         self.sum += e;
         self.max = self.max.max(e);
@@ -29,6 +34,11 @@ impl Inclination {
     /// Number of scored samples.
     pub fn count(&self) -> u64 {
         self.n
+    }
+
+    /// Number of rows with the truth but no estimate.
+    pub fn missing(&self) -> u64 {
+        self.missing
     }
 
     /// RMS \[rad\] (NaN when nothing was scored).
@@ -65,6 +75,7 @@ mod tests {
         assert!((s.rms() - (0.0005f64).sqrt()).abs() < 1e-12);
         assert!((s.max() - 0.03).abs() < 1e-12 && (s.mean() - 0.02).abs() < 1e-12);
         s.add((f64::NAN, 0.0), (0.0, 0.0));
-        assert!(s.rms().is_infinite() && s.max().is_infinite());
+        assert_eq!((s.count(), s.missing()), (2, 1));
+        assert!((s.rms() - (0.0005f64).sqrt()).abs() < 1e-12);
     }
 }

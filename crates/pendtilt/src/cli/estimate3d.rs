@@ -773,19 +773,26 @@ fn sensor_names(sensors: Inputs) -> String {
 
 /// The inclination error table (MODEL.md 7.9) in degrees.
 fn score_table(p: &Pass, score_from: f64) -> String {
-    let n = p.scores.first().map_or(0, |s| s.count());
+    let n = p.scores.first().map_or(0, |s| s.count() + s.missing());
     let mut t = format!(
         "inclination error [deg], t >= t0 + {score_from} s ({n} rows scored):\n\
-         {:<12} {:>10} {:>10} {:>10}\n",
-        "estimator", "RMS", "max", "mean"
+         {:<12} {:>10} {:>10} {:>10} {:>8}\n",
+        "estimator", "RMS", "max", "mean", "missing"
     );
     for (name, s) in p.names.iter().zip(&p.scores) {
         t.push_str(&format!(
-            "{name:<12} {:>10.5} {:>10.5} {:>10.5}\n",
+            "{name:<12} {:>10.5} {:>10.5} {:>10.5} {:>8}\n",
             s.rms().to_degrees(),
             s.max().to_degrees(),
-            s.mean().to_degrees()
+            s.mean().to_degrees(),
+            s.missing()
         ));
+    }
+    if p.scores.iter().any(|s| s.missing() > 0) {
+        t.push_str(
+            "missing: rows with the truth but no estimate (flagged; e.g. a sensor missing for \
+             longer than the restart gap), left out of RMS, max and mean\n",
+        );
     }
     if n == 0 {
         t.push_str(&format!(

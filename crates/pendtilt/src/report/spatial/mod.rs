@@ -44,12 +44,14 @@ pub struct RollPitch {
 pub struct InclinationRow {
     /// The estimator.
     pub name: String,
-    /// RMS over the scored rows \[deg\] (infinite when an estimate was not finite there).
+    /// RMS over the scored rows \[deg\].
     pub rms_deg: f64,
     /// Largest \[deg\].
     pub max_deg: f64,
     /// Mean \[deg\].
     pub mean_deg: f64,
+    /// Rows with the truth but no estimate (not scored).
+    pub missing: u64,
 }
 
 /// A figure as `report.json` lists it: file names relative to the report's directory.
@@ -244,12 +246,13 @@ impl SpatialReport {
                     (self.truth.roll[k], self.truth.pitch[k]),
                 );
             }
-            count = s.count();
+            count = s.count() + s.missing();
             rows.push(InclinationRow {
                 name: e.name.clone(),
                 rms_deg: s.rms().to_degrees(),
                 max_deg: s.max().to_degrees(),
                 mean_deg: s.mean().to_degrees(),
+                missing: s.missing(),
             });
         }
         if count == 0 {

@@ -18,9 +18,15 @@ pub fn inclination_table(rows: &[InclinationRow], score_from: f64, scored: u64) 
             "Inclination error, t >= t0 + {} s ({scored} rows)",
             super::secs(score_from)
         ),
-        columns: ["estimator", "RMS [deg]", "max [deg]", "mean [deg]"]
-            .map(String::from)
-            .to_vec(),
+        columns: [
+            "estimator",
+            "RMS [deg]",
+            "max [deg]",
+            "mean [deg]",
+            "missing",
+        ]
+        .map(String::from)
+        .to_vec(),
         rows: rows
             .iter()
             .map(|r| {
@@ -29,17 +35,26 @@ pub fn inclination_table(rows: &[InclinationRow], score_from: f64, scored: u64) 
                     fmt_sig(r.rms_deg),
                     fmt_sig(r.max_deg),
                     fmt_sig(r.mean_deg),
+                    r.missing.to_string(),
                 ]
             })
             .collect(),
-        definitions: vec![(
-            "inclination error".into(),
-            "the angle between the estimated and the true up direction (MODEL.md 7.9), \
-             whatever the heading; RMS, max and mean over the rows with the truth from t0 + \
-             score_from on, t0 the first row's time (as `pendtilt estimate` prints them); \
-             inf: an estimate was missing there"
-                .into(),
-        )],
+        definitions: vec![
+            (
+                "inclination error".into(),
+                "the angle between the estimated and the true up direction (MODEL.md 7.9), \
+                 whatever the heading; RMS, max and mean over the rows with the truth from \
+                 t0 + score_from on, t0 the first row's time (as `pendtilt estimate` prints \
+                 them)"
+                    .into(),
+            ),
+            (
+                "missing".into(),
+                "rows with the truth but no estimate (flagged; e.g. a sensor missing for \
+                 longer than the restart gap), left out of RMS, max and mean"
+                    .into(),
+            ),
+        ],
     }
 }
 
