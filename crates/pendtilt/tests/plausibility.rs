@@ -946,7 +946,10 @@ fn restarts_over_six_rides_and_three_gap_positions() {
             let d = (err(k1) - offset).abs().to_degrees();
             let kp = pendtilt::peers::ahrs_planar::MAHONY_GAINS[0];
             let oracle = ((d / TOLERANCE_DEG).ln() / kp).max(0.0);
-            println!("  mahony: an oracle restart {d:.3} deg from the fault-free run, back after {oracle:.2} s");
+            println!(
+                "  mahony: an oracle restart {d:.3} deg from the fault-free run, back after \
+                 {oracle:.2} s"
+            );
             mahony_oracle.push(oracle);
             println!(
                 "{case}: complementary back after {:.3} s, mahony {:.3} s, mahony against \
