@@ -2,12 +2,13 @@
 //! (an impossible 1e6 rad/s, read as missing) on the scooter3d ride, seeds 1, 3 and 5, each
 //! axis, from 8, 12 and 16 s: 27 bursts. ekf3d and ukf3d bridge the missing axis by its
 //! low-passed rate (the axes read stay as read), keep their gyro bias for `BIAS_HOLD` (2 s)
-//! after, and at the first reading after a hold of 50 ms or more loosen roll and pitch to
-//! their start variance, uncorrelated with the rest, so the encoders carry them back
-//! (`ModelBased::reacquire`). Measured (54 runs: 27 bursts, ekf3d and ukf3d): back within
-//! 0.05 deg (inclination) of the fault-free run after 1.18-2.08 s, 43 of 54 within 2 s,
-//! where they took 0.43-10.23 s, 12 of 54 within 2 s (all three axes bridged for one
-//! missing, the bias held 0.5 s, no re-acquisition).
+//! after, and at the first reading after a hold of 50 ms or more loosen roll and pitch
+//! (to 0.5 deg after missing readings), uncorrelated with the rest, so the encoders carry
+//! them back (`ModelBased::reacquire`). Measured (54 runs: 27 bursts, ekf3d and ukf3d):
+//! back within 0.05 deg (inclination) of the fault-free run after 0.90-1.96 s, all 54
+//! within 2 s, where they took 0.43-10.23 s, 12 of 54 within 2 s (all three axes bridged
+//! for one missing, the bias held 0.5 s, no re-acquisition); loosened to the start's 2 deg,
+//! 1.18-2.08 s, 43 of 54.
 //!
 //! `cargo test --release -p pendtilt --test gyro_bursts3d -- --nocapture` prints each.
 use std::path::Path;
@@ -40,7 +41,7 @@ fn attitude(path: &Path, name: &str) -> Vec<(f64, f64, f64)> {
 }
 
 #[test]
-fn ekf3d_and_ukf3d_are_back_within_about_2_s_after_100_missing_readings_of_one_gyro_axis() {
+fn ekf3d_and_ukf3d_are_back_within_2_s_after_100_missing_readings_of_one_gyro_axis() {
     let dir = tempfile::tempdir().unwrap();
     let mut backs = Vec::new();
     for seed in [1u64, 3, 5] {
@@ -123,6 +124,6 @@ fn ekf3d_and_ukf3d_are_back_within_about_2_s_after_100_missing_readings_of_one_g
         "within 2 s: {within} of {}; worst {worst:.2} s",
         backs.len()
     );
-    assert!(worst <= 2.3, "{backs:?}");
-    assert!(within * 4 >= backs.len() * 3, "{backs:?}");
+    assert!(worst <= 2.0, "{backs:?}");
+    assert_eq!(within, backs.len());
 }

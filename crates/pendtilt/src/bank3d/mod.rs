@@ -182,13 +182,7 @@ macro_rules! with_quaternion {
             /// the attitude (see `Clips` in docs/reliability.md section 8 for what this
             /// gave against the clipped rate).
             fn step_clipped(&mut self, s: &SpatialSample<f64>, axes: [bool; 3]) -> Attitude<f64> {
-                let mut s = *s;
-                for (g, c) in s.gyro.iter_mut().zip(axes) {
-                    if c {
-                        *g = f64::NAN;
-                    }
-                }
-                self.update(&s)
+                self.update_clipped(s, axes)
             }
         }
     )*};

@@ -60,6 +60,11 @@ const BIAS_HOLD: f64 = 2.0;
 /// gyro_x reading, tests/faults3d.rs).
 const REACQUIRE_AFTER: f64 = 0.05;
 
+/// The standard deviation \[rad\] roll and pitch are loosened to after a hold of missing
+/// gyro readings ([`ModelBased::reacquire`]): 0.5 deg, about the error 100 missing readings
+/// of one axis left on scooter3d (0.4-0.5 deg).
+const REACQUIRE_SD: f64 = 0.5 * core::f64::consts::PI / 180.0;
+
 /// The model-based spatial estimator (`ekf3d` over the EKF, `ukf3d` over the UKF).
 ///
 /// Per sample: predict over `dt` with the gyro (split into steps of at most
@@ -128,6 +133,8 @@ pub struct ModelBased<T: Real, F> {
     // The gyro bias before a run of held (missing or clipped) gyro readings, kept until
     // BIAS_HOLD after the last, and how long since the last \[s\].
     held_bias: Option<Vector3<T>>,
+    // Whether the current hold read a clip found in the log ([`ModelBased::update_clipped`]).
+    clip_hold: bool,
     since_hold: T,
 }
 
@@ -174,6 +181,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             last: Attitude::unknown(),
             kept_bias: None,
             held_bias: None,
+            clip_hold: false,
             since_hold: T::zero(),
         }
     }
@@ -189,16 +197,19 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     }
 
     /// On the first gyro reading after a hold of [`REACQUIRE_AFTER`] or more: roll and
-    /// pitch are loosened to their variance at a start ([`Settings::initial_angle`]) and
-    /// made uncorrelated with the rest, so the encoders carry them back as after a start.
+    /// pitch are loosened to [`REACQUIRE_SD`] (a hold of missing readings) or to their
+    /// variance at a start ([`Settings::initial_angle`], a hold of a clip) and made
+    /// uncorrelated with the rest, so the encoders carry them back as after a start.
     /// Through the correlations the hold left, the pendulum's states had taken up part of
     /// the attitude's error (0.4-0.5 deg after 100 missing readings of one axis on
     /// scooter3d), which the filter then forgot at about 1.5 s: back within 0.05 deg after
-    /// up to 10 s (with the bias it moved), 1.2-2.1 s with this (tests/gyro_bursts3d.rs).
-    /// Loosening the pendulum's rates too, or to a quarter or four times the variance,
-    /// changed little (within 0.1 s), except on the 2 s gyro clip of tests/faults3d.rs
-    /// (1.94 s with the rates, 1.71 s without); making them uncorrelated without loosening
-    /// left some bursts beyond 3 s.
+    /// up to 10 s (with the bias it moved), 0.9-1.96 s with this (tests/gyro_bursts3d.rs).
+    /// A missing reading hides the rate's departure from its low-pass, the vibration's
+    /// scale; a clip hides the rate beyond the clip, without bound. Loosened to the start's
+    /// 2 deg, the bursts took up to 2.08 s; to 0.5 deg after the clip of tests/faults3d.rs
+    /// (2 s at 0.1 rad/s), 6.06 s instead of 1.71. Loosening the pendulum's rates too
+    /// moved the clip to 1.94 s; making them uncorrelated without loosening left some
+    /// bursts beyond 3 s.
     fn reacquire(&mut self) {
         let Some(f) = self.filter.as_ref() else {
             return;
@@ -213,11 +224,29 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
                 }
             }
         }
-        let ang = self.settings.initial_angle * self.settings.initial_angle;
+        let sd = if self.clip_hold {
+            self.settings.initial_angle
+        } else {
+            T::lit(REACQUIRE_SD)
+        };
         for i in [ROT, ROT + 1] {
-            p[(i, i)] = p[(i, i)].max(ang);
+            p[(i, i)] = p[(i, i)].max(sd * sd);
         }
         self.filter = Some(F::start(x, p));
+    }
+
+    /// [`Estimator::update`] with the gyro `axes` reading at a clip found in the log (the
+    /// std crate's reader finds them): they are read as missing, and a hold that read a
+    /// clip ends with the attitude loosened as at a start ([`Self::reacquire`]).
+    pub fn update_clipped(&mut self, s: &SpatialSample<T>, axes: [bool; 3]) -> Attitude<T> {
+        let mut s = *s;
+        for (g, c) in s.gyro.iter_mut().zip(axes) {
+            if c {
+                *g = T::nan();
+                self.clip_hold = true;
+            }
+        }
+        self.update(&s)
     }
 
     /// Keeps the running filter's gyro bias for the next start, its variances grown by the
@@ -705,6 +734,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
                 self.reacquire();
             }
             self.held_for = T::zero();
+            self.clip_hold = false;
             Vector3::zeros()
         } else {
             flags |= Flags::SAMPLE_MISSING;
@@ -794,6 +824,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         self.kept_bias = None;
         self.held_bias = None;
         self.since_hold = T::zero();
+        self.clip_hold = false;
     }
 
     /// Forgets everything but the gyro bias (see the type's documentation).
