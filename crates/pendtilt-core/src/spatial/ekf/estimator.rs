@@ -237,7 +237,9 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
 
     /// [`Estimator::update`] with the gyro `axes` reading at a clip found in the log (the
     /// std crate's reader finds them): they are read as missing, and a hold that read a
-    /// clip ends with the attitude loosened as at a start ([`Self::reacquire`]).
+    /// clip ends with roll and pitch loosened to their variance at a start, where one of
+    /// missing readings loosens them to 0.5 deg: a clip hides the rate beyond it, without
+    /// bound.
     pub fn update_clipped(&mut self, s: &SpatialSample<T>, axes: [bool; 3]) -> Attitude<T> {
         let mut s = *s;
         for (g, c) in s.gyro.iter_mut().zip(axes) {
