@@ -187,8 +187,11 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
                 flags |= Flags::MEASUREMENT_SKIPPED;
             }
             if !restarting && f.gain_mut().is_some() {
-                let d = tilt_of(&f.attitude()) - accel_angle(s.ax, s.ay);
-                self.fit.add([d.sin().atan2(d.cos())], dt, gain);
+                let mut d = tilt_of(&f.attitude()) - accel_angle(s.ax, s.ay);
+                if d.abs() > core::f64::consts::PI {
+                    d = d.sin().atan2(d.cos());
+                }
+                self.fit.add([d], dt, gain);
             }
         } else {
             f.update_gyro(&g);

@@ -44,7 +44,13 @@ impl<const D: usize> SteadyFit<D> {
     /// Adds the disagreement `e` over a step of `dt` \[s\], the filter's gain being `k` \[1/s\].
     pub fn add(&mut self, e: [f64; D], dt: f64, k: f64) {
         self.t += dt;
-        let x = (-k * self.t).exp();
+        // The transient's term is gone to rounding after 40 time constants: no exp per
+        // sample for the rest of a log.
+        let x = if k * self.t < 40.0 {
+            (-k * self.t).exp()
+        } else {
+            0.0
+        };
         let keep = 1.0 - (dt / RESTART_OFFSET_WINDOW).min(1.0);
         for (v, add) in self.s.iter_mut().zip([dt, dt * x, dt * x * x]) {
             *v = *v * keep + add;
