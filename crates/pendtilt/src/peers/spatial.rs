@@ -25,7 +25,6 @@ use pendtilt_core::{Estimator, Flags, StepClock};
 use super::ahrs_planar::{PlanarAhrs, MISSING_RATE_TAU};
 use super::fusion::{Fusion, FusionSettings};
 use super::steady::SteadyFit;
-pub use super::steady::RESTART_OFFSET_WINDOW;
 
 /// An IMU filter the wrapper [`Imu6`] drives.
 pub trait ImuFilter {
@@ -175,7 +174,7 @@ impl<F: ImuFilter> Imu6<F> {
     /// change and which it takes several time constants to build again from the
     /// accelerometer's mean direction `u`. The wrapper fits the steady state of the
     /// filter's disagreement with the accelerometer, `e = a_hat x up_est`, under its start
-    /// transient (`e(t) = c + A exp(-gain t)`, least squares, [`RESTART_OFFSET_WINDOW`])
+    /// transient (`e(t) = c + A exp(-gain t)`, least squares, [`SteadyFit`])
     /// and restarts at `normalize(u + c x u)`. A first start is unchanged. A `gain` that
     /// is not positive turns it off.
     pub fn with_restart_offset(mut self, gain: f64) -> Self {
