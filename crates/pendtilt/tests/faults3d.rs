@@ -507,9 +507,9 @@ fn allowed(estimator: &str, fault: &str) -> Allowance {
         ("gap_10s", "vqf") => never(0.7),
         ("gap_10s", "mahony3d") => slow(10.5, 0.6),
         ("gap_10s", "fusion3d") => never(15.0),
-        ("gyro_clipped", "vqf") => never(3.2),
-        ("gyro_clipped", "mahony3d") => slow(15.0, 2.0),
-        ("gyro_clipped", "fusion3d") => never(5.0),
+        ("gyro_clipped", "vqf") => never(1.3),
+        ("gyro_clipped", "mahony3d") => slow(5.7, 0.16),
+        ("gyro_clipped", "fusion3d") => never(9.7),
         ("gyro_range", "vqf") => slow(4.0, 0.1),
         ("gyro_range", "fusion3d") => never(0.13),
         ("accel_clipped", "vqf") => slow(8.0, 0.16),
@@ -527,7 +527,6 @@ fn allowed(estimator: &str, fault: &str) -> Allowance {
 fn truth_allowed(estimator: &str, fault: &str) -> Option<f64> {
     match (fault, estimator) {
         ("gap_10s", "vqf") => Some(0.95),
-        ("gyro_clipped", "vqf") => Some(1.1),
         _ => None,
     }
 }

@@ -159,6 +159,11 @@ impl<F: ImuFilter> Runner3d for Imu6<F> {
     fn step(&mut self, s: &SpatialSample<f64>) -> Attitude<f64> {
         self.update(s)
     }
+    /// The clipped reading as it is; a long clip restarts the filter when it ends
+    /// ([`Imu6::update_clipped`]).
+    fn step_clipped(&mut self, s: &SpatialSample<f64>, _axes: [bool; 3]) -> Attitude<f64> {
+        self.update_clipped(s, true)
+    }
     fn resume(&mut self) {
         Estimator::resume(self)
     }
