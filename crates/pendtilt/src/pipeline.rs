@@ -1,10 +1,16 @@
 //! Log in, estimates out: the streaming loop shared by `estimate`, `stream` and `report`.
+//!
+//! A clip of the gyro or the accelerometer at a full scale the rig does not give is found
+//! in the readings themselves ([`crate::io::plateau`], as on 3-D logs), warned once per
+//! level with its line and column, and every reading at it taken as at a known full scale
+//! ([`Bank::update_clipped`]): flagged `saturated` by the estimators reading it.
 use std::io::{BufRead, Write};
 use std::sync::mpsc;
 
 use pendtilt_core::Estimate;
 
 use crate::bank::{Bank, Inputs, Restart};
+use crate::io::plateau::LOOK_AHEAD_ROWS;
 use crate::io::{Column, EstimatesWriter, LogError, LogReader, LogRecord, LogWarning, WarningKind};
 use crate::units::{check_settings_against_rate, Finding, UnitCheck};
 
@@ -70,9 +76,14 @@ pub struct PassSummary {
     pub unit_findings: Vec<Finding>,
 }
 
+mod clips;
+use clips::ClipFinder;
+
 /// Reads every row of `log`, runs `bank` on it, writes one row per input row to `out`
 /// (when given, flushing after each row if `flush_each`), hands each reader warning to
-/// `warn`, and accumulates errors against `theta` when the log has it.
+/// `warn`, and accumulates errors against `theta` when the log has it. Clips are found
+/// [`LOOK_AHEAD_ROWS`] rows ahead of the estimators, or, when `flush_each` (live input:
+/// nothing is read ahead), from the row that completes their run on.
 pub fn run<R: BufRead, W: Write>(
     log: &mut LogReader<R>,
     bank: &mut Bank,
@@ -82,12 +93,35 @@ pub fn run<R: BufRead, W: Write>(
     mut each: impl FnMut(u64, &[Estimate<f64>]),
 ) -> Result<PassSummary, PassError> {
     let mut pass = Pass::new(bank, log);
-    while let Some(rec) = log.next_record()? {
+    let look_ahead = if flush_each { 0 } else { LOOK_AHEAD_ROWS };
+    let mut clips = ClipFinder::new(log, bank.settings(), look_ahead);
+    // A read error ends the log: the rows held before it are still run and written.
+    let mut error = None;
+    loop {
+        let read = log.next_record().unwrap_or_else(|e| {
+            error = Some(e);
+            None
+        });
         for w in log.drain_warnings() {
             warn(&w);
         }
+        let end = read.is_none();
+        let next = match read {
+            Some(rec) => clips.push(rec),
+            None => clips.pop(),
+        };
+        for w in clips.drain_warnings() {
+            warn(&w);
+        }
+        let Some((rec, clipped)) = next else {
+            if end {
+                break;
+            }
+            continue;
+        };
         pass.row(
             &rec,
+            clipped,
             bank,
             out.as_deref_mut(),
             flush_each,
@@ -95,8 +129,8 @@ pub fn run<R: BufRead, W: Write>(
             &mut warn,
         )?;
     }
-    for w in log.drain_warnings() {
-        warn(&w);
+    if let Some(e) = error {
+        return Err(e.into());
     }
     pass.finish(bank, out, &mut warn)
 }
@@ -110,6 +144,8 @@ struct Batch {
     records: Vec<LogRecord>,
     warnings: Vec<LogWarning>,
     error: Option<LogError>,
+    /// No batch follows (the end of the log, or an error).
+    last: bool,
 }
 
 /// Estimates of a batch of rows on their way to the writer thread of [`run_parallel`].
@@ -126,6 +162,12 @@ impl Rows {
         self.t.clear();
         self.theta.clear();
         self.estimates.clear();
+    }
+
+    fn push(&mut self, rec: &LogRecord, est: &[Estimate<f64>]) {
+        self.t.push(rec.t);
+        self.theta.push(rec.theta);
+        self.estimates.extend_from_slice(est);
     }
 }
 
@@ -144,6 +186,7 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
     mut each: impl FnMut(u64, &[Estimate<f64>]),
 ) -> Result<PassSummary, PassError> {
     let mut pass = Pass::new(bank, log);
+    let mut clips = ClipFinder::new(log, bank.settings(), LOOK_AHEAD_ROWS);
     let width = bank.names().len();
     std::thread::scope(|scope| {
         let (tx, rx) = mpsc::sync_channel::<Batch>(2);
@@ -159,18 +202,34 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
             }
             let mut rows = spare_rows.try_recv().unwrap_or_default();
             rows.clear();
-            for rec in &batch.records {
+            // The last batch (the end of the log, or a read error) hands on every row held.
+            let last = batch.last;
+            let held = std::iter::from_fn(|| if last { Some(None) } else { None });
+            let records = batch.records.iter().map(|r| Some(*r)).chain(held);
+            for rec in records {
+                let next = match rec {
+                    Some(rec) => clips.push(rec),
+                    None => match clips.pop() {
+                        Some(r) => Some(r),
+                        None => break,
+                    },
+                };
+                for w in clips.drain_warnings() {
+                    warn(&w);
+                }
+                let Some((rec, clipped)) = next else {
+                    continue;
+                };
                 pass.row(
-                    rec,
+                    &rec,
+                    clipped,
                     bank,
                     None::<&mut EstimatesWriter<W>>,
                     false,
                     &mut each,
                     &mut warn,
                 )?;
-                rows.t.push(rec.t);
-                rows.theta.push(rec.theta);
-                rows.estimates.extend_from_slice(&pass.est);
+                rows.push(&rec, &pass.est);
             }
             // A send fails when the writer stopped on an error: it is reported below.
             if writer.is_some() && to_writer.send(rows).is_err() {
@@ -232,6 +291,7 @@ fn read_batches<R: BufRead>(
                 records,
                 warnings,
                 error,
+                last,
             })
             .is_err()
             || last
@@ -351,9 +411,11 @@ impl Pass {
     }
 
     #[inline]
+    #[allow(clippy::too_many_arguments)] // the row, what is known of it, where it goes
     fn row<W: Write>(
         &mut self,
         rec: &LogRecord,
+        clipped: Inputs,
         bank: &mut Bank,
         out: Option<&mut EstimatesWriter<W>>,
         flush_each: bool,
@@ -361,7 +423,7 @@ impl Pass {
         warn: &mut impl FnMut(&LogWarning),
     ) -> Result<(), PassError> {
         self.check_rate(rec.t, bank, false)?;
-        bank.update(&rec.sample, &mut self.est);
+        bank.update_clipped(&rec.sample, clipped, &mut self.est);
         let i = &rec.issues;
         let bad = Inputs {
             phi: i.is_implausible(Column::Phi),

@@ -121,6 +121,11 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
         }
     }
 
+    /// Replaces the gyro's full scale (`None`: unknown), from the next sample on.
+    pub fn set_gyro_full_scale(&mut self, full_scale: Option<T>) {
+        self.gyro_full_scale = full_scale.filter(|f| crate::real::is_positive(*f));
+    }
+
     pub fn reset(&mut self) {
         self.diff.reset();
         if let Some(g) = self.gyro.as_mut() {
@@ -355,6 +360,13 @@ impl<T: Real, const W: usize> SharedFrontEnd<T, W> {
                 }
             }
         }
+    }
+
+    /// Replaces the gyro's full scale (`None`: unknown), from the next sample on: a reading
+    /// at or beyond it is saturated (theta'' held, [`Flags::SATURATED`]). For a clip found
+    /// in the log itself rather than given by the rig.
+    pub fn set_gyro_full_scale(&mut self, full_scale: Option<T>) {
+        self.front.set_gyro_full_scale(full_scale);
     }
 
     /// Forgets all state.

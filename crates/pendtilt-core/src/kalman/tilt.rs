@@ -127,6 +127,13 @@ impl<T: Real> TiltKalman<T> {
         &self.state.kf
     }
 
+    /// Replaces the gyro's full scale (`None`: unknown), from the next sample on: a reading
+    /// at or beyond it is flagged [`Flags::SATURATED`] and grows the angle variance by
+    /// `(full_scale dt)^2`. For a clip found in the log itself rather than given by the rig.
+    pub fn set_gyro_full_scale(&mut self, full_scale: Option<T>) {
+        self.coefficients.gyro_full_scale = full_scale.filter(|f| crate::real::is_positive(*f));
+    }
+
     /// Forgets the run: back to the state before the first sample (the settings and
     /// the coefficients derived from them stay).
     pub fn reset(&mut self) {

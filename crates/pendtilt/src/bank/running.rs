@@ -58,6 +58,8 @@ pub struct Bank {
     skipped: Vec<Skipped>,
     measurements: Vec<(f64, f64)>,
     blank: Estimate<f64>,
+    /// The gyro full scale the estimators were last given (the rig's, or a clip's level).
+    gyro_full_scale: Option<f64>,
 }
 
 impl std::fmt::Debug for Bank {
@@ -108,6 +110,7 @@ impl Bank {
                 theta: f64::NAN,
                 flags: Flags::SAMPLE_MISSING,
             },
+            gyro_full_scale: settings.rig.gyro.checked_full_scale(),
         };
         for e in REGISTRY {
             if !wanted(e.name) {
@@ -282,8 +285,40 @@ impl Bank {
     /// after a gap longer than [`BankSettings::restart_gap`] first restarts the estimators
     /// that read it ([`Bank::restarted`]).
     pub fn update(&mut self, sample: &Sample<f64>, out: &mut Vec<Estimate<f64>>) {
+        self.update_clipped(sample, Inputs::default(), out);
+    }
+
+    /// [`Bank::update`] on a row whose `clipped` sensors read a clip found in the log
+    /// itself ([`crate::io::plateau`]) rather than at a full scale the rig gives: each is
+    /// taken exactly as a reading at a known full scale (a clipped gyro holds theta'' in
+    /// alg2/alg3 and grows the Kalman filters' angle variance by `(level dt)^2`: the same
+    /// estimates), and is flagged [`Flags::SATURATED`] by every estimator reading it (at a
+    /// known full scale the peers and `kf_accel`'s accelerometer path do not flag it).
+    pub fn update_clipped(
+        &mut self,
+        sample: &Sample<f64>,
+        clipped: Inputs,
+        out: &mut Vec<Estimate<f64>>,
+    ) {
         out.clear();
         self.restart_after_gaps(sample);
+        // The clip's level as the gyro's full scale for this row only: the estimators
+        // then take it exactly as the rig's full scale.
+        let fs = if clipped.gyro {
+            Some(sample.gyro.abs())
+        } else {
+            self.settings.rig.gyro.checked_full_scale()
+        };
+        if fs != self.gyro_full_scale {
+            self.gyro_full_scale = fs;
+            for slot in &mut self.slots {
+                match slot {
+                    Slot::Shared(front) => front.set_gyro_full_scale(fs),
+                    Slot::Kalman { kf, .. } => kf.set_gyro_full_scale(fs),
+                    Slot::Direct(_) => {}
+                }
+            }
+        }
         for slot in &mut self.slots {
             let e = match slot {
                 Slot::Direct(est) => est.update(sample),
@@ -318,6 +353,15 @@ impl Bank {
                 if need.intersects(self.stale) {
                     e.theta = f64::NAN;
                     e.flags |= Flags::SAMPLE_MISSING;
+                }
+            }
+        }
+        // Every estimator reading a clip says so, the peers too (at the rig's full scale
+        // only alg2/alg3 and the Kalman filters flag it: see docs/reliability.md).
+        if !clipped.is_empty() {
+            for (e, need) in out.iter_mut().zip(&self.needs) {
+                if need.intersects(clipped) {
+                    e.flags |= Flags::SATURATED;
                 }
             }
         }

@@ -34,11 +34,14 @@ pub enum WarningKind {
     /// A column's scale disagrees with the physics (the gyro against the encoder's
     /// derivative, the encoder against the accelerometer): degrees read as radians.
     UnitMismatch,
+    /// A run of identical readings well above the sensor's noise: a clip at a full scale
+    /// the rig does not give; the readings at its level are flagged `saturated`.
+    Clipped,
 }
 
 impl WarningKind {
     /// Every kind, in a fixed order (the order of [`LogSummary::warning_counts`]).
-    pub const ALL: [WarningKind; 12] = [
+    pub const ALL: [WarningKind; 13] = [
         WarningKind::TruncatedRow,
         WarningKind::EmptyCell,
         WarningKind::NonFinite,
@@ -51,6 +54,7 @@ impl WarningKind {
         WarningKind::Implausible,
         WarningKind::Restarted,
         WarningKind::UnitMismatch,
+        WarningKind::Clipped,
     ];
 
     /// A short snake_case name, for summaries.
@@ -68,6 +72,7 @@ impl WarningKind {
             WarningKind::Implausible => "implausible",
             WarningKind::Restarted => "restarted",
             WarningKind::UnitMismatch => "unit_mismatch",
+            WarningKind::Clipped => "clipped",
         }
     }
 

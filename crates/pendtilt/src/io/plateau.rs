@@ -5,7 +5,11 @@
 //! repeats a reading by itself (its resolution against its noise, or the digits the log
 //! keeps): with a share `p` of consecutive readings equal, a run of `n` happens by chance
 //! with a probability of about `p^(n-1)`, held below `10^-`[`CHANCE_DIGITS`] per row, and
-//! never shorter than [`MIN_PLATEAU_ROWS`] nor longer than [`PLATEAU_ROWS`]. Its level is
+//! never shorter than [`MIN_PLATEAU_ROWS`] nor longer than [`PLATEAU_ROWS`]. The repeats
+//! at the run's own value (of either sign) are left out of `p`: before its level is known,
+//! a clip crossed by a vibration's crests a few rows at a time repeats it often enough to
+//! keep raising the run it needs (the planar scooter's gyro clipped at 0.3 rad/s: runs of
+//! 5 to 8 rows, each needing one more than the last). Its level is
 //! then known for the rest of the log, and for the [`LOOK_AHEAD_ROWS`] rows before the run
 //! (the reader finds clips that far ahead of the estimators): a reading exactly at it, on
 //! any axis of the sensor and of either sign, is clipped too, however short its run.
@@ -17,7 +21,12 @@
 //!   [`MAX_REPEAT_SHARE`] of its consecutive readings are equal;
 //! - a noise-free (simulated) sensor, which repeats its reading whenever the body is
 //!   still: its readings are smooth, so an axis is watched only while their second
-//!   difference is at least [`MIN_ROUGHNESS`] times their first (white noise: sqrt 3);
+//!   difference is at least [`MIN_ROUGHNESS`] times their first (white noise: sqrt 3), or
+//!   under a vibration (second over first at least [`MIN_VIBRATION`]) their third at least
+//!   that times their second (white noise: sqrt(10/3)). A smooth signal loses a factor of
+//!   about `omega dt` at each difference, noise gains one; the third difference finds the
+//!   noise under a strong vibration: the planar scooter's gyro (a 40 Hz vibration, its
+//!   noise below it) has 0.27 and 0.92, its noise-free twin 0.25 and 0.25;
 //! - a noisy sensor repeating a reading near zero (a stale value at rest): a clip must be
 //!   at least [`NOISE_MULTIPLE`] times the axis' mean second difference (about twice its
 //!   noise) from zero.
@@ -50,9 +59,17 @@ pub const MAX_REPEAT_SHARE: f64 = 0.2;
 pub const MIN_PAIRS: u64 = 500;
 
 /// An axis is watched only while its mean absolute second difference is at least this
-/// share of its mean absolute first difference: noise makes it sqrt 3, a smooth
-/// (noise-free) signal sampled finely much less (a 40 Hz vibration at 1 kHz: 0.25).
+/// share of its mean absolute first difference, or its third of its second: noise makes
+/// them sqrt 3 and sqrt(10/3), a smooth (noise-free) signal sampled finely much less (a
+/// 40 Hz vibration at 1 kHz: 0.25).
 pub const MIN_ROUGHNESS: f64 = 0.5;
+
+/// The third difference tells noise only where the second is at least this share of the
+/// first (a smooth signal's share is about `omega dt`: 0.1 is 16 Hz at 1 kHz), that is
+/// under a vibration: a noise-free move that stops has kinks, which the third difference
+/// takes for noise (a sine's half period then still: second over first 0.003, third over
+/// second 2).
+pub const MIN_VIBRATION: f64 = 0.1;
 
 /// A clip must be at least this many times the axis' mean absolute second difference
 /// (about twice its noise) from zero: at rest a sensor's reading is its bias plus noise,
@@ -61,6 +78,9 @@ pub const NOISE_MULTIPLE: f64 = 5.0;
 
 /// Most clip levels remembered (two signs of one full scale, with room for a second).
 const MAX_LEVELS: usize = 4;
+
+/// Magnitudes whose repeats an axis counts apart (the most repeated ones kept).
+const COUNTED_VALUES: usize = 8;
 
 /// Per-axis statistics of a sensor with `K` axes.
 #[derive(Debug, Clone)]
@@ -77,6 +97,13 @@ pub struct PlateauWatch<const K: usize> {
     last_change: [f64; K],
     triples: [u64; K],
     change2: [f64; K],
+    // Likewise one order up: the last change of change, and the sum of |third difference|
+    // over `quads` of them.
+    last_change2: [f64; K],
+    quads: [u64; K],
+    change3: [f64; K],
+    // Repeats per reading magnitude, for the most repeated ones (NaN: a free entry).
+    repeats_at: [[(f64, u64); COUNTED_VALUES]; K],
     levels: [f64; MAX_LEVELS],
     n_levels: usize,
 }
@@ -103,6 +130,10 @@ impl<const K: usize> Default for PlateauWatch<K> {
             last_change: [f64::NAN; K],
             triples: [0; K],
             change2: [0.0; K],
+            last_change2: [f64::NAN; K],
+            quads: [0; K],
+            change3: [0.0; K],
+            repeats_at: [[(f64::NAN, 0); COUNTED_VALUES]; K],
             levels: [f64::NAN; MAX_LEVELS],
             n_levels: 0,
         }
@@ -124,11 +155,15 @@ impl<const K: usize> PlateauWatch<K> {
         self.levels().contains(&v.abs())
     }
 
-    /// The run of identical readings that makes a clip on axis `k` (see the module): the
-    /// share of repeats is counted with one more of each (a few hundred readings without
-    /// a repeat do not make repeats impossible).
-    fn needed_run(&self, k: usize) -> usize {
-        let p = (self.repeats[k] + 1) as f64 / (self.pairs[k] + 1) as f64;
+    /// The run of identical readings `v` that makes a clip on axis `k` (see the module):
+    /// the share of repeats, those at `v` left out, is counted with one more of each (a few
+    /// hundred readings without a repeat do not make repeats impossible).
+    fn needed_run(&self, k: usize, v: f64) -> usize {
+        let own = self.repeats_at[k]
+            .iter()
+            .find(|e| e.0 == v.abs())
+            .map_or(0, |e| e.1);
+        let p = (self.repeats[k] - own + 1) as f64 / (self.pairs[k] + 1) as f64;
         let n = 1.0 + (CHANCE_DIGITS / -p.log10()).ceil();
         (n as usize).clamp(MIN_PLATEAU_ROWS, PLATEAU_ROWS)
     }
@@ -141,8 +176,25 @@ impl<const K: usize> PlateauWatch<K> {
         }
         let d1 = self.change[k] / pairs;
         let d2 = self.change2[k] / self.triples[k] as f64;
-        let noisy = self.repeats[k] as f64 <= MAX_REPEAT_SHARE * pairs && d2 >= MIN_ROUGHNESS * d1;
+        let d3 = self.change3[k] / self.quads[k].max(1) as f64;
+        let rough = d2 >= MIN_ROUGHNESS * d1
+            || (d2 >= MIN_VIBRATION * d1 && d3 > 0.0 && d3 >= MIN_ROUGHNESS * d2);
+        let noisy = self.repeats[k] as f64 <= MAX_REPEAT_SHARE * pairs && rough;
         noisy.then_some(d2)
+    }
+
+    /// Counts a repeat of magnitude `a` on axis `k`: in its entry, else in a free one, else
+    /// in place of the least repeated (the magnitudes repeated most stay).
+    fn count_repeat(&mut self, k: usize, a: f64) {
+        let t = &mut self.repeats_at[k];
+        if let Some(e) = t.iter_mut().find(|e| e.0 == a) {
+            e.1 += 1;
+        } else if let Some(e) = t
+            .iter_mut()
+            .min_by_key(|e| if e.0.is_nan() { 0 } else { e.1 })
+        {
+            *e = (a, 1);
+        }
     }
 
     /// Which axes of readings `x` are at a clip level found so far.
@@ -162,13 +214,14 @@ impl<const K: usize> PlateauWatch<K> {
             if !v.is_finite() {
                 self.prev[k] = v;
                 self.last_change[k] = f64::NAN;
+                self.last_change2[k] = f64::NAN;
                 continue;
             }
             // Zero is no clip level (a sensor at rest, or a logger's fill value).
             let mut at_level = v != 0.0 && self.at_level(v);
             if let (false, true, Some(noise)) = (at_level, v != 0.0, self.noise(k)) {
                 let rows = self.run[k];
-                if rows >= self.needed_run(k)
+                if rows >= self.needed_run(k, v)
                     && v.abs() >= NOISE_MULTIPLE * noise
                     && self.n_levels < MAX_LEVELS
                 {
@@ -187,14 +240,26 @@ impl<const K: usize> PlateauWatch<K> {
                 let d = v - self.prev[k];
                 self.pairs[k] += 1;
                 self.repeats[k] += u64::from(same);
+                if same {
+                    self.count_repeat(k, v.abs());
+                }
                 self.change[k] += d.abs();
                 if self.last_change[k].is_finite() {
+                    let dd = d - self.last_change[k];
                     self.triples[k] += 1;
-                    self.change2[k] += (d - self.last_change[k]).abs();
+                    self.change2[k] += dd.abs();
+                    if self.last_change2[k].is_finite() {
+                        self.quads[k] += 1;
+                        self.change3[k] += (dd - self.last_change2[k]).abs();
+                    }
+                    self.last_change2[k] = dd;
+                } else {
+                    self.last_change2[k] = f64::NAN;
                 }
                 self.last_change[k] = d;
             } else {
                 self.last_change[k] = f64::NAN;
+                self.last_change2[k] = f64::NAN;
             }
             self.prev[k] = v;
         }
