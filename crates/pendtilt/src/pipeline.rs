@@ -77,7 +77,7 @@ pub struct PassSummary {
 }
 
 mod clips;
-use clips::ClipFinder;
+pub(crate) use clips::ClipFinder;
 
 /// Reads every row of `log`, runs `bank` on it, writes one row per input row to `out`
 /// (when given, flushing after each row if `flush_each`), hands each reader warning to

@@ -12,8 +12,9 @@ use crate::experiment::progress::{Progress, CHUNK};
 use crate::experiment::standard::standard_report;
 use crate::experiment::Ride;
 use crate::io::output::{self, NamedPath, OutputDir};
+use crate::io::plateau::LOOK_AHEAD_ROWS;
 use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions};
-use crate::pipeline;
+use crate::pipeline::{self, ClipFinder};
 use crate::report::markdown::{claims_markdown, metrics_markdown};
 
 use super::options::rig_bank_settings;
@@ -62,10 +63,13 @@ pub struct Args {
     pub score_from: Option<f64>,
 }
 
-/// Reads a whole log with a true angle into memory (rows without `theta` get NaN).
+/// Reads a whole log with a true angle into memory (rows without `theta` get NaN), with
+/// the clips found in it for the sensors whose full scale `settings` does not give
+/// ([`crate::io::plateau`], warned through `progress`).
 pub fn read_log(
     path: &std::path::Path,
     options: ReaderOptions,
+    settings: &crate::bank::BankSettings,
     progress: &dyn Progress,
 ) -> anyhow::Result<(Ride, crate::bank::Inputs)> {
     let mut log = LogReader::open(path, options)?;
@@ -82,15 +86,33 @@ pub fn read_log(
         samples: Vec::new(),
         theta: Vec::new(),
         theta_dd: Vec::new(),
+        clipped: Vec::new(),
     };
     progress.stage(&format!("reading {}", log.file()), 0);
-    while let Some(rec) = log.next_record()? {
+    let mut clips = ClipFinder::new(&log, settings, LOOK_AHEAD_ROWS);
+    loop {
+        let read = log.next_record()?;
         for w in log.drain_warnings() {
             progress.message(&format!("warning: {w}"));
         }
+        let end = read.is_none();
+        let next = match read {
+            Some(rec) => clips.push(rec),
+            None => clips.pop(),
+        };
+        for w in clips.drain_warnings() {
+            progress.message(&format!("warning: {w}"));
+        }
+        let Some((rec, clipped)) = next else {
+            if end {
+                break;
+            }
+            continue;
+        };
         ride.t.push(rec.t);
         ride.samples.push(rec.sample);
         ride.theta.push(rec.theta.unwrap_or(f64::NAN));
+        ride.clipped.push(clipped);
         if ride.t.len() as u64 % CHUNK == 0 {
             progress.advance(CHUNK);
         }
@@ -151,7 +173,7 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
         time_unit: args.time_unit,
         ..ReaderOptions::default()
     };
-    let (ride, inputs) = read_log(&args.log, options, bars)?;
+    let (ride, inputs) = read_log(&args.log, options, &settings, bars)?;
     let extras = if inputs.phi && inputs.gyro {
         vec![alg2_delay_compensated(&settings)]
     } else {

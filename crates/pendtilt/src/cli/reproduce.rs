@@ -89,9 +89,10 @@ impl Progress for Bars {
         if self.quiet || text.is_empty() {
             return;
         }
+        // A hidden bar (standard error not a terminal) prints nothing: say it plainly.
         match self.bar.borrow().as_ref() {
-            Some(b) => b.println(text),
-            None => eprintln!("{text}"),
+            Some(b) if !b.is_hidden() => b.println(text),
+            _ => eprintln!("{text}"),
         }
     }
 }

@@ -54,7 +54,8 @@ pub fn run_estimators(
         n as u64,
     );
     for (k, s) in ride.samples.iter().enumerate() {
-        bank.update(s, &mut est);
+        let clipped = ride.clipped.get(k).copied().unwrap_or_default();
+        bank.update_clipped(s, clipped, &mut est);
         for (col, e) in out.iter_mut().zip(&est) {
             col.push(e.theta);
         }

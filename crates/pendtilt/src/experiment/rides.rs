@@ -1,6 +1,8 @@
 //! The built-in data: simulated rides held in memory as sensor samples and the true angle.
 use pendtilt_core::Sample;
 
+use crate::bank::Inputs;
+
 use crate::sim::{Scenario, SimError, Simulator};
 
 use super::progress::{Progress, CHUNK};
@@ -19,6 +21,9 @@ pub struct Ride {
     pub theta: Vec<f64>,
     /// The exact theta'' \[rad/s^2\] (simulated rides only; empty for logs).
     pub theta_dd: Vec<f64>,
+    /// The sensors read at a clip found in the log itself, per sample
+    /// ([`crate::io::plateau`]; empty: none).
+    pub clipped: Vec<Inputs>,
 }
 
 impl Ride {
@@ -57,6 +62,7 @@ pub fn simulate_ride(
         samples: Vec::with_capacity(n),
         theta: Vec::with_capacity(n),
         theta_dd: Vec::with_capacity(n),
+        clipped: Vec::new(),
     };
     for (k, row) in sim.enumerate() {
         ride.t.push(row.t);
