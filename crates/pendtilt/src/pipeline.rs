@@ -97,15 +97,21 @@ pub fn run<R: BufRead, W: Write>(
     let mut clips = ClipFinder::new(log, bank.settings(), look_ahead);
     // A read error ends the log: the rows held before it are still run and written.
     let mut error = None;
+    let mut end = false;
     loop {
-        let read = log.next_record().unwrap_or_else(|e| {
-            error = Some(e);
-            None
-        });
+        // Past the end (or an error) only the rows held are left.
+        let read = if end { Ok(None) } else { log.next_record() };
+        let read = match read {
+            Ok(r) => r,
+            Err(e) => {
+                error = Some(e);
+                None
+            }
+        };
         for w in log.drain_warnings() {
             warn(&w);
         }
-        let end = read.is_none();
+        end = read.is_none();
         let next = match read {
             Some(rec) => clips.push(rec),
             None => clips.pop(),

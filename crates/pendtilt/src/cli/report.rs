@@ -90,12 +90,14 @@ pub fn read_log(
     };
     progress.stage(&format!("reading {}", log.file()), 0);
     let mut clips = ClipFinder::new(&log, settings, LOOK_AHEAD_ROWS);
+    let mut end = false;
     loop {
-        let read = log.next_record()?;
+        // Past the end only the rows held are left.
+        let read = if end { None } else { log.next_record()? };
         for w in log.drain_warnings() {
             progress.message(&format!("warning: {w}"));
         }
-        let end = read.is_none();
+        end = read.is_none();
         let next = match read {
             Some(rec) => clips.push(rec),
             None => clips.pop(),

@@ -219,7 +219,9 @@ impl<const K: usize> PlateauWatch<K> {
             }
             // Zero is no clip level (a sensor at rest, or a logger's fill value).
             let mut at_level = v != 0.0 && self.at_level(v);
-            if let (false, true, Some(noise)) = (at_level, v != 0.0, self.noise(k)) {
+            // (A run shorter than the shortest clip needs no statistics.)
+            let candidate = !at_level && v != 0.0 && self.run[k] >= MIN_PLATEAU_ROWS;
+            if let Some(noise) = candidate.then(|| self.noise(k)).flatten() {
                 let rows = self.run[k];
                 if rows >= self.needed_run(k, v)
                     && v.abs() >= NOISE_MULTIPLE * noise
