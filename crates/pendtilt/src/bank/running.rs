@@ -292,8 +292,8 @@ impl Bank {
     /// itself ([`crate::io::plateau`]) rather than at a full scale the rig gives: each is
     /// taken exactly as a reading at a known full scale (a clipped gyro holds theta'' in
     /// alg2/alg3 and grows the Kalman filters' angle variance by `(level dt)^2`: the same
-    /// estimates), and is flagged [`Flags::SATURATED`] by every estimator reading it (at a
-    /// known full scale the peers and `kf_accel`'s accelerometer path do not flag it).
+    /// estimates). A clipped reading, found or at the rig's full scale, is flagged
+    /// [`Flags::SATURATED`] by every estimator reading that sensor.
     pub fn update_clipped(
         &mut self,
         sample: &Sample<f64>,
@@ -356,11 +356,26 @@ impl Bank {
                 }
             }
         }
-        // Every estimator reading a clip says so, the peers too (at the rig's full scale
-        // only alg2/alg3 and the Kalman filters flag it: see docs/reliability.md).
-        if !clipped.is_empty() {
+        // Every estimator reading a clipped sensor says so, the peers too, whether the
+        // clip was found in the log or is at the rig's full scale.
+        let rig = &self.settings.rig;
+        let saturated = Inputs {
+            phi: false,
+            gyro: clipped.gyro
+                || rig
+                    .gyro
+                    .checked_full_scale()
+                    .is_some_and(|fs| sample.gyro.abs() >= fs),
+            accel: clipped.accel
+                || rig
+                    .accel
+                    .full_scale
+                    .filter(|f| *f > 0.0)
+                    .is_some_and(|fs| sample.ax.abs() >= fs || sample.ay.abs() >= fs),
+        };
+        if !saturated.is_empty() {
             for (e, need) in out.iter_mut().zip(&self.needs) {
-                if need.intersects(clipped) {
+                if need.intersects(saturated) {
                     e.flags |= Flags::SATURATED;
                 }
             }
