@@ -634,7 +634,11 @@ fn a_3d_log_given_to_a_planar_reader_is_named_never_read_as_planar() {
         e.contains("<stdin>:1: a 3-D log (MODEL.md 7.6), and this command reads planar logs"),
         "{e}"
     );
-    assert!(o.stdout.is_empty(), "{}", String::from_utf8_lossy(&o.stdout));
+    assert!(
+        o.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
     // `fit` said "no usable `theta` column".
     let log = write(dir.path(), "log.csv", &text);
     let fitted = dir.path().join("fit.toml");
@@ -645,7 +649,9 @@ fn a_3d_log_given_to_a_planar_reader_is_named_never_read_as_planar() {
     assert!(!e.contains("theta"), "{e}");
     assert!(!fitted.exists());
     // A 3-D log without gyro_z was read as planar: `accel` alone, exit 0.
-    let no_gz = text.replace(",gyro_z,", ",").replace(",0,0,0,0,0,0,", ",0,0,0,0,0,");
+    let no_gz = text
+        .replace(",gyro_z,", ",")
+        .replace(",0,0,0,0,0,0,", ",0,0,0,0,0,");
     let log = write(dir.path(), "no_gz.csv", &no_gz);
     let out = dir.path().join("est.csv");
     let o = pendtilt(&["estimate", s(&log), "-q", "-o", s(&out)]);
@@ -703,7 +709,10 @@ fn a_planar_log_through_a_pipe_reads_as_the_file_does() {
     let (from_file, from_pipe) = (dir.path().join("f.csv"), dir.path().join("p.csv"));
     let o = pendtilt(&["estimate", s(&log), "-q", "-o", s(&from_file)]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let o = piped(&["estimate", "/dev/stdin", "-q", "-o", s(&from_pipe)], &text);
+    let o = piped(
+        &["estimate", "/dev/stdin", "-q", "-o", s(&from_pipe)],
+        &text,
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(
         std::fs::read(&from_file).unwrap(),
