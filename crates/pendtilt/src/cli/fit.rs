@@ -127,7 +127,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// the command's steps, in order.
 fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     let rig = match &args.params {
-        Some(p) => RigConfig::load(p)?,
+        Some(p) => super::options::load_rig(p, args.quiet)?,
         None => RigConfig::default(),
     };
     let mut start = rig.params();
