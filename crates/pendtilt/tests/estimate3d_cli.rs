@@ -719,3 +719,29 @@ fn a_planar_log_through_a_pipe_reads_as_the_file_does() {
         std::fs::read(&from_pipe).unwrap()
     );
 }
+
+#[test]
+fn a_3d_line_the_file_ends_in_has_its_cut_cell_missing() {
+    // `0.1,0,0.03` cut from `0.1,0,0.0349,...`: phi_y reads as missing, the row flagged,
+    // not as 0.03.
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = level_log(100, 1.0, None);
+    text.push_str("0.1,0,0.03");
+    let log = write(dir.path(), "log.csv", &text);
+    let out = dir.path().join("est.csv");
+    let o = pendtilt(&[
+        "estimate",
+        s(&log),
+        "-q",
+        "--only",
+        "pendulum3d",
+        "--flags",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let last = csv.lines().last().unwrap();
+    // t, pendulum3d_roll, pendulum3d_pitch (held at the level 0, not 0.03), the flags.
+    assert_eq!(last, "0.1,0.0,0.0,sample_missing");
+}

@@ -337,7 +337,8 @@ fn crlf_bom_comments_and_blank_lines_keep_true_line_numbers() {
 
 #[test]
 fn truncated_last_line_is_kept_with_missing_cells() {
-    let (records, warnings) = ok("t,phi,gyro\n0,0.1,0.2\n0.001,0.1");
+    // A short line that ends with a line feed: its cells are whole.
+    let (records, warnings) = ok("t,phi,gyro\n0,0.1,0.2\n0.001,0.1\n");
     assert_eq!(records.len(), 2);
     let last = &records[1];
     assert_eq!((last.line, last.t, last.sample.phi), (3, 0.001, 0.1));
@@ -348,6 +349,29 @@ fn truncated_last_line_is_kept_with_missing_cells() {
     assert!(warnings[0]
         .to_string()
         .starts_with("log.csv:3: 2 fields, the header has 3"));
+    assert!(!warnings[0].to_string().contains("cut short"));
+    // The input ends in the line (a log cut while written): its last cell may be cut short
+    // (`0.1` of `0.1234`), so it reads as missing too (session 10: it was read as 0.1).
+    let (records, warnings) = ok("t,phi,gyro\n0,0.1,0.2\n0.001,0.1");
+    assert_eq!(records.len(), 2);
+    let last = &records[1];
+    assert_eq!((last.line, last.t), (3, 0.001));
+    assert!(last.sample.phi.is_nan() && last.sample.gyro.is_nan());
+    assert!(last.issues.truncated && last.issues.missing_values);
+    assert_eq!(
+        warnings[0].to_string(),
+        "log.csv:3: 2 fields, the header has 3 (a truncated line?): the absent cells read as \
+         missing; the input ends in this line, so its last cell `0.1` (field 2, `phi`) may be \
+         cut short and reads as missing too"
+    );
+    // Cut in the time cell: the row is kept, its time missing and flagged.
+    let (records, _) = ok("t,phi,gyro\n0,0.1,0.2\n0.00");
+    assert_eq!(records.len(), 2);
+    assert!(records[1].t.is_nan() && records[1].issues.bad_time);
+    // A whole last line without a line feed is read as it is.
+    let (records, warnings) = ok("t,phi,gyro\n0,0.1,0.2\n0.001,0.1,0.3");
+    assert_eq!(records[1].sample.gyro, 0.3);
+    assert!(warnings.is_empty());
 }
 
 #[test]
