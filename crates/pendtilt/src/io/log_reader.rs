@@ -156,9 +156,34 @@ pub struct LogReader<R> {
     degree_warned: [bool; 6],
     last_t: Option<f64>,
     first_dts: Vec<f64>,
+    /// Zero time steps (a repeated stamp) before the rate check.
+    zero_steps: u64,
     /// The time step has been checked against plausible rates.
     rate_checked: bool,
     finished: bool,
+}
+
+/// The error for a time column whose stamps repeat more often than they step: `zero`
+/// zero steps and `positive` steps of `dt` \[s\] (0 when none).
+fn rounded_time(zero: u64, positive: u64, dt: f64) -> String {
+    if positive == 0 {
+        return format!(
+            "the time never increases ({} rows at one stamp): is `t` the time column \
+             (--map t=NAME)?",
+            zero + 1
+        );
+    }
+    let run = (zero + positive) as f64 / positive as f64;
+    let step = super::plausibility::fmt_sig(dt);
+    format!(
+        "{zero} of the first {} time steps are zero: each stamp repeats for about {:.0} rows \
+         and then steps by {step} s, at about {} rows per second: the time was written \
+         rounded (to {step} s) or rows share a stamp; write `t` with more digits, one time \
+         per row",
+        zero + positive,
+        run,
+        super::plausibility::fmt_sig(run / dt)
+    )
 }
 
 /// Positive time steps used for the nominal step (their median).
@@ -200,6 +225,7 @@ impl<R: BufRead> LogReader<R> {
             degree_warned: [false; 6],
             last_t: None,
             first_dts: Vec::with_capacity(NOMINAL_DT_SAMPLES),
+            zero_steps: 0,
             rate_checked: false,
             finished: false,
         };
@@ -521,14 +547,29 @@ impl<R: BufRead> LogReader<R> {
     /// Once the nominal step is known (or at the end of a short log): an error when no
     /// sensor rate explains it, unless `--time-unit` was given.
     fn check_rate(&mut self) -> Result<(), LogError> {
-        if self.rate_checked || self.options.time_unit.is_some() {
+        if self.rate_checked {
             return Ok(());
         }
-        let Some(dt) = self.summary.nominal_dt else {
-            return Ok(());
+        let positive = self.first_dts.len() as u64;
+        // More repeated stamps than steps: the time is rounded (`%.1f` at 1 kHz repeats
+        // each stamp 100 times) or rows share a stamp, whatever its unit. Its steps are
+        // those of the rounding, which the rate check would take for a unit (1 s: "in ms?").
+        let found = if self.zero_steps > positive && self.zero_steps >= 2 {
+            Some(rounded_time(
+                self.zero_steps,
+                positive,
+                self.summary.nominal_dt.unwrap_or(0.0),
+            ))
+        } else if self.options.time_unit.is_some() {
+            None
+        } else {
+            let Some(dt) = self.summary.nominal_dt else {
+                return Ok(());
+            };
+            implausible_step(dt)
         };
-        self.rate_checked = true;
-        match implausible_step(dt) {
+        self.rate_checked = positive > 0 || found.is_some();
+        match found {
             None => Ok(()),
             Some(msg) => {
                 let line = Some(self.lines.line());
@@ -564,6 +605,9 @@ impl<R: BufRead> LogReader<R> {
         let dt = t - prev;
         if dt <= 0.0 {
             issues.bad_time = true;
+            if dt == 0.0 && !self.rate_checked {
+                self.zero_steps += 1;
+            }
             let what = if dt == 0.0 { "repeated" } else { "goes back" };
             self.warn(
                 WarningKind::TimeNotIncreasing,
