@@ -669,3 +669,30 @@ fn a_rounded_time_column_is_an_error_that_says_so_not_a_unit_hint() {
         .iter()
         .all(|w| w.kind == WarningKind::TimeNotIncreasing));
 }
+
+#[test]
+fn a_header_line_in_the_middle_is_named_as_one() {
+    // Two logs joined, or a logger restarted into the same stream. Before: `column 1
+    // (`t`): not a number: `t``, which points at a cell, not at what happened.
+    let e = fails(
+        "# log\nt,phi\n0,1\n0.001,1\n# restart\nt,phi\n0,1\n",
+        ReaderOptions::default(),
+    );
+    assert_eq!(
+        e.to_string(),
+        "log.csv:6: the header again (as on line 2): two logs joined, or a logger that \
+         restarted into the same file or stream? remove this line, or split the log here"
+    );
+    let e = fails("t,phi\n0,1\nphi,t\n", ReaderOptions::default());
+    assert!(
+        e.to_string()
+            .starts_with("log.csv:3: a new header (phi, t; line 1 has t, phi): two logs joined"),
+        "{e}"
+    );
+    // A word in a data cell is still a cell that is not a number.
+    let e = fails("t,phi\n0,1\n0.001,t\n", ReaderOptions::default());
+    assert_eq!(
+        e.to_string(),
+        "log.csv:3: column 2 (`phi`): not a number: `t`"
+    );
+}

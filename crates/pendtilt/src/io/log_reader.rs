@@ -158,6 +158,8 @@ pub struct LogReader<R> {
     first_dts: Vec<f64>,
     /// Zero time steps (a repeated stamp) before the rate check.
     zero_steps: u64,
+    /// The header's line (after comment and blank lines).
+    header_line: u64,
     /// The time step has been checked against plausible rates.
     rate_checked: bool,
     finished: bool,
@@ -226,6 +228,7 @@ impl<R: BufRead> LogReader<R> {
             last_t: None,
             first_dts: Vec::with_capacity(NOMINAL_DT_SAMPLES),
             zero_steps: 0,
+            header_line: 1,
             rate_checked: false,
             finished: false,
         };
@@ -463,6 +466,39 @@ impl<R: BufRead> LogReader<R> {
         Ok((values, unchecked))
     }
 
+    /// When the current line is a header (no field a number, one of them the time
+    /// column's name: two logs joined, a logger that restarted into the same file or
+    /// stream): what to say about it.
+    fn header_again(&self) -> Option<String> {
+        let n = self.lines.field_count();
+        let fields: Vec<String> = (0..n)
+            .map(|i| {
+                self.lines
+                    .field(i)
+                    .map(|f| String::from_utf8_lossy(&f).into_owned())
+                    .unwrap_or_default()
+            })
+            .collect();
+        let t_name = &self.header[self.positions[Column::T.index()]?];
+        let header_like = fields.iter().any(|f| f == t_name)
+            && fields
+                .iter()
+                .all(|f| f.is_empty() || f.trim().parse::<f64>().is_err());
+        if !header_like {
+            return None;
+        }
+        Some(if fields == self.header {
+            format!("the header again (as on line {})", self.header_line)
+        } else {
+            format!(
+                "a new header ({}; line {} has {})",
+                fields.join(", "),
+                self.header_line,
+                self.header.join(", ")
+            )
+        })
+    }
+
     /// One used cell (`parsed`: its number, `None` if it is not one): a finite value in SI
     /// units, or NaN (with a warning) when it is missing; an error when it is not a number.
     fn cell(
@@ -491,6 +527,10 @@ impl<R: BufRead> LogReader<R> {
             return Ok(f64::NAN);
         }
         let Some(raw) = parsed else {
+            if let Some(what) = self.header_again() {
+                let line = Some(self.lines.line());
+                return Err(self.error(line, None, LogErrorKind::HeaderAgain { what }));
+            }
             let text = String::from_utf8_lossy(&self.lines.bytes()[a..b]).into_owned();
             let cell = CellRef {
                 position: pos + 1,

@@ -63,6 +63,12 @@ pub enum LogErrorKind {
         /// The cell text.
         text: String,
     },
+    /// A data line that is a header (the same or another).
+    #[error("{what}: two logs joined, or a logger that restarted into the same file or stream? remove this line, or split the log here")]
+    HeaderAgain {
+        /// Which header, and the first one's line.
+        what: String,
+    },
     /// The time steps are not those of a sensor log in seconds (a log in ms or us).
     #[error("{0}")]
     ImplausibleTimeStep(String),

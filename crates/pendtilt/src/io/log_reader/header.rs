@@ -49,6 +49,7 @@ impl<R: BufRead> LogReader<R> {
             return Err(self.error(Some(1), None, LogErrorKind::Utf16));
         }
         self.split()?;
+        self.header_line = self.lines.line();
         let quoted = self.lines.bytes().contains(&b'"');
         let mut header = Vec::with_capacity(self.lines.ranges().len());
         for k in 0..self.lines.field_count() {
