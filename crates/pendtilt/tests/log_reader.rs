@@ -112,6 +112,17 @@ fn missing_time_column_is_an_error_with_a_hint() {
 
     let e = fails("t;phi;gyro\n0;1;2\n", ReaderOptions::default());
     assert!(e.to_string().contains("separated by `;`"), "{e}");
+    // The fix, not only the question (session 10: the CLI has no delimiter option).
+    assert!(
+        e.to_string().contains(
+            "the log must be comma-separated: convert it with `tr ';' ',' < log.csv > \
+             log_commas.csv` (numbers with a decimal comma, `0,5`: `sed 's/,/./g'` first)"
+        ),
+        "{e}"
+    );
+    let e = fails("t\tphi\n0\t1\n", ReaderOptions::default());
+    assert!(e.to_string().contains("separated by tabs"), "{e}");
+    assert!(e.to_string().contains("`tr '\\t' ','"), "{e}");
     let semicolon = ReaderOptions {
         delimiter: b';',
         ..ReaderOptions::default()

@@ -172,7 +172,17 @@ impl<R: BufRead> LogReader<R> {
              (t,phi,gyro,ax,ay,theta)"
                 .to_string()
         } else if self.header.len() == 1 && (listing.contains(';') || listing.contains('\t')) {
-            "; the header is a single field: are the fields separated by `;` or tabs?".to_string()
+            // The commands read commas only: say how to convert, a decimal comma first.
+            let (sep, tr) = if listing.contains(';') {
+                ("`;`", "tr ';' ','")
+            } else {
+                ("tabs", "tr '\\t' ','")
+            };
+            format!(
+                "; the header is a single field: the fields are separated by {sep}, and the log \
+                 must be comma-separated: convert it with `{tr} < log.csv > log_commas.csv` \
+                 (numbers with a decimal comma, `0,5`: `sed 's/,/./g'` first)"
+            )
         } else {
             "; name the time column with --map t=NAME".to_string()
         };
