@@ -298,6 +298,12 @@ pub struct Alg1Table {
 /// Name used in errors for configurations built in memory rather than read from a file.
 pub const IN_MEMORY: &str = "<rig parameters>";
 
+/// A pendulum length or pivot offset beyond this \[m\] is doubted ([`RigConfig::doubts`]).
+pub const DOUBTFUL_LENGTH: f64 = 2.0;
+
+/// g \[m/s^2\] for telling l12 from a normalised `c` (only for [`RigConfig::doubts`]).
+const DEFAULT_GRAVITY: f64 = 9.80665;
+
 impl RigConfig {
     /// The bounds of plausible readings the log reader applies: the sensors' full scales
     /// (`[gyro]`, `[accel]`), or the default physical bounds where they are unset.
@@ -306,6 +312,54 @@ impl RigConfig {
             gyro_full_scale: self.gyro.full_scale,
             accel_full_scale: self.accel.full_scale,
         }
+    }
+
+    /// Values that are possible but far more likely a unit mistake, each as one sentence
+    /// naming the key, the value and the fix: a pendulum length or pivot offset l12
+    /// beyond [`DOUBTFUL_LENGTH`] (a value in millimetres read as metres: l12 = 50 for
+    /// 50 mm left alg2_offset 87 deg RMS off, the EKF 2.3 and the UKF 5.4 deg instead of
+    /// 0.5, on a scooter ride, without a word). The commands print them as warnings.
+    pub fn doubts(&self) -> Vec<String> {
+        // (key, what, its value, l12 or l_p in metres, the value in metres' stead)
+        let mut rows = Vec::new();
+        match &self.pendulum {
+            PendulumConfig::Physical(p) => {
+                for (key, what, v) in [
+                    ("pendulum.length", "a pendulum length l_p", p.length),
+                    (
+                        "pendulum.pivot_offset",
+                        "a pivot offset l12",
+                        p.pivot_offset,
+                    ),
+                ] {
+                    rows.push((key, format!("{what} of {v} m"), v, v / 1000.0));
+                }
+            }
+            PendulumConfig::Normalised(p) => {
+                let l12 = p.c * DEFAULT_GRAVITY;
+                rows.push((
+                    "pendulum.c",
+                    format!(
+                        "c = l12 / g = {} s^2, a pivot offset l12 of {l12:.3} m,",
+                        p.c
+                    ),
+                    l12,
+                    p.c / 1000.0,
+                ));
+            }
+        }
+        rows.into_iter()
+            .filter(|r| r.2.abs() > DOUBTFUL_LENGTH)
+            .map(|(key, what, _, fix)| {
+                // Six significant digits, written plainly (0.0051, not 0.0050999999999999995).
+                let fix: f64 = format!("{fix:.5e}").parse().unwrap_or(fix);
+                format!(
+                    "{key}: {what} is beyond {DOUBTFUL_LENGTH} m, larger than any vehicle a \
+                     pendulum sensor rides on but a ship: if it was written in millimetres, \
+                     write {key} = {fix} (the rig file is in metres)"
+                )
+            })
+            .collect()
     }
 
     /// Reads and checks a rig file. Errors name `path`.

@@ -346,3 +346,90 @@ fn unusable_output_paths_are_refused_before_any_work_and_dev_null_stays_a_device
         .file_type()
         .is_char_device());
 }
+
+/// Waits up to 10 s for a name in `dir` that `pred` accepts.
+fn wait_for_name(dir: &Path, pred: impl Fn(&str) -> bool) -> Option<String> {
+    let start = std::time::Instant::now();
+    while start.elapsed() < std::time::Duration::from_secs(10) {
+        if let Some(n) = names_in(dir).into_iter().find(|n| pred(n)) {
+            return Some(n);
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    None
+}
+
+#[test]
+fn an_interrupted_run_leaves_no_partial_output_behind() {
+    use std::io::Write;
+    // The log is a named pipe that stays open: the command reads its first rows, has its
+    // partial output open and waits for more, deterministically, when the signal comes.
+    // Before: Ctrl-C or SIGTERM left `.NAME.XXXXXX.partial` (a hidden file, or a staging
+    // directory) as large as the run had got: 2.7 GB after 20 s of a long `simulate`.
+    let text = log_text(None);
+    let head: String = text.lines().take(500).map(|l| format!("{l}\n")).collect();
+    for (command, out_name, sig) in [
+        ("estimate", "est.csv", libc::SIGINT),
+        ("report", "rep", libc::SIGTERM),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("log.fifo");
+        let c = std::ffi::CString::new(s(&fifo)).unwrap();
+        // SAFETY: a valid NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+        let out = dir.path().join(out_name);
+        let child = common::bin()
+            .args([command, s(&fifo), "-q", "-o", s(&out)])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Opening the pipe for writing waits for the command to open it for reading.
+        let mut writer = std::fs::OpenOptions::new().write(true).open(&fifo).unwrap();
+        writer.write_all(head.as_bytes()).unwrap();
+        writer.flush().unwrap();
+        let partial = wait_for_name(dir.path(), |n| n.ends_with(".partial"));
+        assert!(partial.is_some(), "{command}: no partial output to remove");
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        // SAFETY: signalling the child this test started.
+        assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, sig) }, 0);
+        let o = child.wait_with_output().unwrap();
+        drop(writer);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(128 + sig), "{command}: {e}");
+        assert!(e.contains(&format!("interrupted (signal {sig})")), "{e}");
+        assert!(e.contains("the partial output was removed"), "{e}");
+        assert_eq!(
+            names_in(dir.path()),
+            BTreeSet::from(["log.fifo".to_string()]),
+            "{command}: {e}"
+        );
+    }
+    // A long simulation hung up while it writes: its log, rig and scenario files.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("long.csv");
+    let child = common::bin()
+        .args([
+            "simulate",
+            "--scenario",
+            "scooter",
+            "--duration=1e6",
+            "-q",
+            "-o",
+            s(&out),
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let partial = wait_for_name(dir.path(), |n| n.starts_with(".long.csv."));
+    assert!(partial.is_some(), "simulate: no partial output to remove");
+    // SAFETY: signalling the child this test started.
+    assert_eq!(
+        unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGHUP) },
+        0
+    );
+    let o = child.wait_with_output().unwrap();
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(128 + libc::SIGHUP), "simulate: {e}");
+    assert!(names_in(dir.path()).is_empty(), "simulate: {e}");
+}

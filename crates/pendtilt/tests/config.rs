@@ -581,3 +581,32 @@ fn alg3_gains_left_out_follow_the_files_pendulum() {
     let cfg = RigConfig::from_toml_str("[alg2]\nwindow = 0.05\n", "r").unwrap();
     assert!(cfg.to_toml_string().contains("window = 0.02 "));
 }
+
+#[test]
+fn lengths_that_look_like_millimetres_are_doubted_with_the_fix() {
+    let doubts = |text: &str| RigConfig::from_toml_str(text, "rig.toml").unwrap().doubts();
+    assert!(doubts("").is_empty());
+    assert!(doubts("[pendulum]\npivot_offset = 1.5\n").is_empty());
+    assert!(doubts("[pendulum]\npivot_offset = -0.3\nlength = 0.2\ninertia = 0.01\n").is_empty());
+    let d = doubts("[pendulum]\npivot_offset = -120\n");
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert!(d[0].starts_with("pendulum.pivot_offset: a pivot offset l12 of -120 m is beyond 2 m"));
+    assert!(
+        d[0].contains("write pendulum.pivot_offset = -0.12"),
+        "{d:?}"
+    );
+    // A length in mm with an inertia to match (else the inertia rule refuses it).
+    let d = doubts("[pendulum]\nlength = 50\ninertia = 130\n");
+    assert!(
+        d[0].contains("pendulum.length: a pendulum length l_p of 50 m"),
+        "{d:?}"
+    );
+    assert!(d[0].contains("write pendulum.length = 0.05"), "{d:?}");
+    // The normalised form: c = l12 / g.
+    let d = doubts("[pendulum]\na = 0.0436\nb = 0.0053\nc = 5.1\n");
+    assert!(
+        d[0].contains("pendulum.c: c = l12 / g = 5.1 s^2, a pivot offset l12 of 50.014 m"),
+        "{d:?}"
+    );
+    assert!(d[0].contains("write pendulum.c = 0.0051"), "{d:?}");
+}

@@ -599,3 +599,149 @@ fn beyond_the_restart_gap_there_is_no_estimate_and_the_summary_says_missing() {
         "{table}"
     );
 }
+
+/// Runs `pendtilt args..` with `input` on standard input (read through a pipe).
+fn piped(args: &[&str], input: &str) -> std::process::Output {
+    use std::io::Write;
+    use std::process::Stdio;
+    let mut child = common::bin()
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let text = input.to_string();
+    // A writer thread: the child may stop reading (an error) before the pipe is drained.
+    let writer = std::thread::spawn(move || {
+        let _ = stdin.write_all(text.as_bytes());
+    });
+    let out = child.wait_with_output().unwrap();
+    writer.join().unwrap();
+    out
+}
+
+#[test]
+fn a_3d_log_given_to_a_planar_reader_is_named_never_read_as_planar() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = level_log(200, 1.0, None);
+    // `stream` reads planar logs: it used to run `accel` on the 3-D ax, ay and exit 0.
+    let o = piped(&["stream", "-q"], &text);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("<stdin>:1: a 3-D log (MODEL.md 7.6), and this command reads planar logs"),
+        "{e}"
+    );
+    assert!(
+        o.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    // `fit` said "no usable `theta` column".
+    let log = write(dir.path(), "log.csv", &text);
+    let fitted = dir.path().join("fit.toml");
+    let o = pendtilt(&["fit", s(&log), "-q", "-o", s(&fitted)]);
+    let e = stderr(&o);
+    assert!(!o.status.success());
+    assert!(e.contains("log.csv:1: a 3-D log (MODEL.md 7.6)"), "{e}");
+    assert!(!e.contains("theta"), "{e}");
+    assert!(!fitted.exists());
+    // A 3-D log without gyro_z was read as planar: `accel` alone, exit 0.
+    let no_gz = text
+        .replace(",gyro_z,", ",")
+        .replace(",0,0,0,0,0,0,", ",0,0,0,0,0,");
+    let log = write(dir.path(), "no_gz.csv", &no_gz);
+    let out = dir.path().join("est.csv");
+    let o = pendtilt(&["estimate", s(&log), "-q", "-o", s(&out)]);
+    let e = stderr(&o);
+    assert!(!o.status.success(), "{e}");
+    assert!(
+        e.contains(
+            "no_gz.csv:1: the header has the 3-D columns phi_x, phi_y, gyro_x, gyro_y but no \
+             `gyro_z`"
+        ),
+        "{e}"
+    );
+    assert!(!out.exists());
+    // One axis read as a planar log on purpose still works.
+    let o = pendtilt(&[
+        "estimate",
+        s(&log),
+        "-q",
+        "--map",
+        "phi=phi_x,gyro=gyro_x",
+        "--only",
+        "alg2",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A 3-D log through a pipe to estimate: named, not read as planar.
+    let o = piped(&["estimate", "/dev/stdin", "-q", "-o", s(&out)], &text);
+    assert!(
+        stderr(&o).contains("/dev/stdin:1: a 3-D log (MODEL.md 7.6)"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn a_planar_log_through_a_pipe_reads_as_the_file_does() {
+    // `estimate <(cat log.csv)` or `cat log.csv | pendtilt estimate /dev/stdin`: the 3-D
+    // check used to read the pipe's first 8 kB, and the reader then took a line from the
+    // middle for the header ("no `t` column ... the first line looks like data").
+    let dir = tempfile::tempdir().unwrap();
+    let mut sc = pendtilt::sim::Scenario::named("sine").unwrap();
+    sc.duration = 2.0;
+    let rows = pendtilt::sim::simulate(&sc, 1).unwrap();
+    let mut text = String::from("t,phi,gyro,ax,ay,theta\n");
+    for r in &rows {
+        let x = r.sample();
+        text.push_str(&format!(
+            "{},{},{},{},{},{}\n",
+            r.t, x.phi, x.gyro, x.ax, x.ay, r.theta
+        ));
+    }
+    assert!(text.len() > 1 << 17, "more than the reader's buffer");
+    let log = write(dir.path(), "log.csv", &text);
+    let (from_file, from_pipe) = (dir.path().join("f.csv"), dir.path().join("p.csv"));
+    let o = pendtilt(&["estimate", s(&log), "-q", "-o", s(&from_file)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = piped(
+        &["estimate", "/dev/stdin", "-q", "-o", s(&from_pipe)],
+        &text,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read(&from_file).unwrap(),
+        std::fs::read(&from_pipe).unwrap()
+    );
+}
+
+#[test]
+fn a_3d_line_the_file_ends_in_has_its_cut_cell_missing() {
+    // `0.1,0,0.03` cut from `0.1,0,0.0349,...`: phi_y reads as missing, the row flagged,
+    // not as 0.03.
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = level_log(100, 1.0, None);
+    text.push_str("0.1,0,0.03");
+    let log = write(dir.path(), "log.csv", &text);
+    let out = dir.path().join("est.csv");
+    let o = pendtilt(&[
+        "estimate",
+        s(&log),
+        "-q",
+        "--only",
+        "pendulum3d",
+        "--flags",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let last = csv.lines().last().unwrap();
+    // t, pendulum3d_roll, pendulum3d_pitch (held at the level 0, not 0.03), the flags.
+    assert_eq!(last, "0.1,0.0,0.0,sample_missing");
+}

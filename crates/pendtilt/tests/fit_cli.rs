@@ -390,3 +390,40 @@ fn implausible_fit_can_be_accepted_and_help_labels_the_inverse_cost() {
     assert!(help.contains("BIASED under vibration"), "{help}");
     assert!(help.contains("[default: auto]"), "{help}");
 }
+
+#[test]
+fn numeric_options_a_fit_cannot_run_with_are_named_with_their_range() {
+    // Before: `--xtol nan` said "Newton h and dp must be finite and > 0"; `--skip -1`,
+    // `--ftol -1` and `--smoothing-hz 900` on a 1 kHz log ran and said "Converged".
+    let dir = tempfile::tempdir().unwrap();
+    let log = write_log(dir.path());
+    let out = dir.path().join("fit.toml");
+    let (log, out) = (log.to_str().unwrap(), out.to_str().unwrap());
+    for (option, value, said) in [
+        (
+            "--xtol",
+            "nan",
+            "--xtol NaN: must be a finite fraction >= 0",
+        ),
+        ("--ftol", "-1", "--ftol -1: must be a finite fraction >= 0"),
+        (
+            "--skip",
+            "-1",
+            "--skip -1: must be a finite number of seconds >= 0",
+        ),
+        ("--h", "0", "--h 0: must be a finite number > 0"),
+        ("--dp", "inf", "--dp inf: must be a finite number > 0"),
+        (
+            "--smoothing-hz",
+            "900",
+            "--smoothing-hz 900 Hz is at or above the Nyquist frequency 500 Hz of this log \
+             (median time step 0.001 s): valid above 0 up to below 500 Hz",
+        ),
+    ] {
+        let arg = format!("{option}={value}");
+        let e = fit(&[log, "-q", &arg, "-o", out]).unwrap_err();
+        assert!(format!("{e:#}").contains(said), "{option}: {e:#}");
+        assert!(!std::path::Path::new(out).exists());
+    }
+    fit(&[log, "-q", "--smoothing-hz", "499", "-o", out]).unwrap();
+}

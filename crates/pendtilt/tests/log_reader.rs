@@ -5,7 +5,8 @@
 use std::f64::consts::PI;
 
 use pendtilt::io::{
-    Column, LogError, LogErrorKind, LogReader, LogRecord, LogWarning, ReaderOptions, WarningKind,
+    Column, LogError, LogErrorKind, LogReader, LogRecord, LogWarning, ReaderOptions, TimeUnit,
+    WarningKind,
 };
 
 fn open(text: &str, options: ReaderOptions) -> Result<LogReader<&[u8]>, LogError> {
@@ -111,6 +112,17 @@ fn missing_time_column_is_an_error_with_a_hint() {
 
     let e = fails("t;phi;gyro\n0;1;2\n", ReaderOptions::default());
     assert!(e.to_string().contains("separated by `;`"), "{e}");
+    // The fix, not only the question (session 10: the CLI has no delimiter option).
+    assert!(
+        e.to_string().contains(
+            "the log must be comma-separated: convert it with `tr ';' ',' < log.csv > \
+             log_commas.csv` (numbers with a decimal comma, `0,5`: `sed 's/,/./g'` first)"
+        ),
+        "{e}"
+    );
+    let e = fails("t\tphi\n0\t1\n", ReaderOptions::default());
+    assert!(e.to_string().contains("separated by tabs"), "{e}");
+    assert!(e.to_string().contains("`tr '\\t' ','"), "{e}");
     let semicolon = ReaderOptions {
         delimiter: b';',
         ..ReaderOptions::default()
@@ -337,7 +349,8 @@ fn crlf_bom_comments_and_blank_lines_keep_true_line_numbers() {
 
 #[test]
 fn truncated_last_line_is_kept_with_missing_cells() {
-    let (records, warnings) = ok("t,phi,gyro\n0,0.1,0.2\n0.001,0.1");
+    // A short line that ends with a line feed: its cells are whole.
+    let (records, warnings) = ok("t,phi,gyro\n0,0.1,0.2\n0.001,0.1\n");
     assert_eq!(records.len(), 2);
     let last = &records[1];
     assert_eq!((last.line, last.t, last.sample.phi), (3, 0.001, 0.1));
@@ -348,6 +361,29 @@ fn truncated_last_line_is_kept_with_missing_cells() {
     assert!(warnings[0]
         .to_string()
         .starts_with("log.csv:3: 2 fields, the header has 3"));
+    assert!(!warnings[0].to_string().contains("cut short"));
+    // The input ends in the line (a log cut while written): its last cell may be cut short
+    // (`0.1` of `0.1234`), so it reads as missing too (session 10: it was read as 0.1).
+    let (records, warnings) = ok("t,phi,gyro\n0,0.1,0.2\n0.001,0.1");
+    assert_eq!(records.len(), 2);
+    let last = &records[1];
+    assert_eq!((last.line, last.t), (3, 0.001));
+    assert!(last.sample.phi.is_nan() && last.sample.gyro.is_nan());
+    assert!(last.issues.truncated && last.issues.missing_values);
+    assert_eq!(
+        warnings[0].to_string(),
+        "log.csv:3: 2 fields, the header has 3 (a truncated line?): the absent cells read as \
+         missing; the input ends in this line, so its last cell `0.1` (field 2, `phi`) may be \
+         cut short and reads as missing too"
+    );
+    // Cut in the time cell: the row is kept, its time missing and flagged.
+    let (records, _) = ok("t,phi,gyro\n0,0.1,0.2\n0.00");
+    assert_eq!(records.len(), 2);
+    assert!(records[1].t.is_nan() && records[1].issues.bad_time);
+    // A whole last line without a line feed is read as it is.
+    let (records, warnings) = ok("t,phi,gyro\n0,0.1,0.2\n0.001,0.1,0.3");
+    assert_eq!(records[1].sample.gyro, 0.3);
+    assert!(warnings.is_empty());
 }
 
 #[test]
@@ -591,4 +627,83 @@ mod never_panics {
             check(format!("t,phi,gyro\n{body}").as_bytes());
         }
     }
+}
+
+#[test]
+fn a_rounded_time_column_is_an_error_that_says_so_not_a_unit_hint() {
+    // 1 kHz rows with t written `%.1f` (each stamp 100 times) or `%.0f` (1000 times).
+    // Before: `%.0f` was refused as "time in milliseconds? --time-unit ms" and `%.1f` ran
+    // with 99 % of the rows flagged bad_time_step and alg2 1.30 deg RMS instead of 0.72.
+    let log = |digits: usize, rows: usize| {
+        let mut text = String::from("t,phi\n");
+        for k in 0..rows {
+            text.push_str(&format!("{:.*},0.1\n", digits, k as f64 * 1e-3));
+        }
+        text
+    };
+    let e = fails(&log(1, 3000), ReaderOptions::default());
+    assert_eq!(
+        e.to_string(),
+        "log.csv:1453: column 1 (`t`): 1436 of the first 1451 time steps are zero: each stamp \
+         repeats for about 97 rows and then steps by 0.100 s, at about 967 rows per second: \
+         the time was written rounded (to 0.100 s) or rows share a stamp; write `t` with more \
+         digits, one time per row"
+    );
+    let e = fails(&log(0, 16_000), ReaderOptions::default());
+    assert!(
+        e.to_string()
+            .contains("the time was written rounded (to 1.00 s)"),
+        "{e}"
+    );
+    assert!(!e.to_string().contains("milliseconds"), "{e}");
+    // --time-unit does not change that.
+    let ms = ReaderOptions {
+        time_unit: Some(TimeUnit::Ms),
+        ..ReaderOptions::default()
+    };
+    assert!(fails(&log(1, 3000), ms).to_string().contains("rounded"));
+    // A time that never increases.
+    let e = fails("t,phi\n5,0\n5,0\n5,0\n5,0\n", ReaderOptions::default());
+    assert_eq!(
+        e.to_string(),
+        "log.csv:5: column 1 (`t`): the time never increases (4 rows at one stamp): is `t` the \
+         time column (--map t=NAME)?"
+    );
+    // Whole stamps, and a few repeated ones among steps, are read as before.
+    let (records, _) = ok(&log(3, 3000));
+    assert_eq!(records.len(), 3000);
+    let mut text = log(3, 100);
+    text.push_str("0.099,0.1\n0.099,0.1\n0.1,0.1\n");
+    let (records, warnings) = ok(&text);
+    assert_eq!(records.len(), 103);
+    assert!(warnings
+        .iter()
+        .all(|w| w.kind == WarningKind::TimeNotIncreasing));
+}
+
+#[test]
+fn a_header_line_in_the_middle_is_named_as_one() {
+    // Two logs joined, or a logger restarted into the same stream. Before: `column 1
+    // (`t`): not a number: `t``, which points at a cell, not at what happened.
+    let e = fails(
+        "# log\nt,phi\n0,1\n0.001,1\n# restart\nt,phi\n0,1\n",
+        ReaderOptions::default(),
+    );
+    assert_eq!(
+        e.to_string(),
+        "log.csv:6: the header again (as on line 2): two logs joined, or a logger that \
+         restarted into the same file or stream? remove this line, or split the log here"
+    );
+    let e = fails("t,phi\n0,1\nphi,t\n", ReaderOptions::default());
+    assert!(
+        e.to_string()
+            .starts_with("log.csv:3: a new header (phi, t; line 1 has t, phi): two logs joined"),
+        "{e}"
+    );
+    // A word in a data cell is still a cell that is not a number.
+    let e = fails("t,phi\n0,1\n0.001,t\n", ReaderOptions::default());
+    assert_eq!(
+        e.to_string(),
+        "log.csv:3: column 2 (`phi`): not a number: `t`"
+    );
 }

@@ -148,3 +148,31 @@ fn bad_input_fails_with_a_clear_message() {
         "{err}"
     );
 }
+
+#[test]
+fn a_duration_of_no_row_is_refused_and_writes_nothing() {
+    // `--duration 0` wrote a header-only log (exit 0) that no command reads.
+    let dir = tempfile::tempdir().unwrap();
+    for scenario in ["scooter", "scooter3d"] {
+        let log = dir.path().join(format!("{scenario}.csv"));
+        let o = common::pendtilt(&[
+            "simulate",
+            "--scenario",
+            scenario,
+            "--duration",
+            "0",
+            "-o",
+            log.to_str().unwrap(),
+        ]);
+        let e = common::stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{e}");
+        assert!(
+            e.contains(
+                "a duration of 0 s at 1000 Hz gives no row, and a log needs at least one: give \
+                 --duration 0.001 or more"
+            ),
+            "{e}"
+        );
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}

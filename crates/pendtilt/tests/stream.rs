@@ -200,3 +200,39 @@ fn missing_and_wrapped_samples_stream_flagged() {
     let (status, stderr, _) = c.finish();
     assert!(status.success(), "{stderr}");
 }
+
+#[test]
+fn a_line_the_input_ends_in_streams_with_its_cut_cell_missing() {
+    // The producer stopped in the middle of a line: `0.004,-0.02` was `0.004,-0.0215,...`.
+    // Its row still comes out, the cut `phi` missing and flagged (session 10: it was read
+    // as -0.02 and the pendulum estimate moved to it).
+    let mut text = String::from("t,phi,gyro,ax,ay\n");
+    for k in 0..4 {
+        text.push_str(&format!("{},-0.0215,0,0,9.80665\n", k as f64 * 1e-3));
+    }
+    text.push_str("0.004,-0.02");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+        .args(["stream", "--only", "pendulum", "--flags"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(text.as_bytes())
+        .unwrap();
+    let o = child.wait_with_output().unwrap();
+    assert!(o.status.success());
+    let out = String::from_utf8(o.stdout).unwrap();
+    let last = out.lines().last().unwrap();
+    assert_eq!(last, "0.004,-0.0215,sample_missing", "{out}");
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("<stdin>:6: 2 fields, the header has 5 (a truncated line?)")
+            && e.contains("its last cell `-0.02` (field 2, `phi`) may be cut short"),
+        "{e}"
+    );
+}

@@ -461,3 +461,37 @@ fn the_jitter_is_scaled_where_the_gyro_says_the_ekf_gains() {
         assert!(n.how.contains("taken at"), "{n:?}");
     }
 }
+
+#[test]
+fn a_log_without_tilt_in_the_band_keeps_the_cutoffs_and_says_so() {
+    // A still log, and a scooter idling (its 40 Hz angular vibration, no tilt): any cutoff
+    // scored alike against the gyro's integral, and the search took the lowest (0.61 and
+    // 0.55 f_n), which took alg1 on a scooter ride from 0.61 to 1.00 deg RMS.
+    let start = Start::default();
+    let mut idle = Scenario::named("scooter").unwrap();
+    idle.duration = 15.0;
+    idle.motion = pendtilt::sim::motion::Motion::Still(Default::default());
+    for (name, sc) in [("still", Scenario::named("still").unwrap()), ("idle", idle)] {
+        let (samples, _) = columns(&sc, 11);
+        let t = tune(&samples, &start, &Options::default());
+        assert_eq!(
+            t.differentiator, start.alg2.front_end.differentiator,
+            "{name}"
+        );
+        assert_eq!(t.alg1_cutoff, None, "{name}");
+        for key in ["differentiator.cutoff_hz", "alg1.cutoff_times_natural"] {
+            let n = t.notes.iter().find(|n| n.key == key).unwrap();
+            assert!(
+                n.kept_default && n.how.contains("log too still for a cutoff"),
+                "{name}: {n:?}"
+            );
+        }
+    }
+    // A ride still gets its cutoff measured.
+    let mut ride = Scenario::named("scooter").unwrap();
+    ride.duration = 15.0;
+    let (samples, _) = columns(&ride, 11);
+    let t = tune(&samples, &start, &Options::default());
+    assert!(t.alg1_cutoff.is_some());
+    assert_ne!(t.differentiator, start.alg2.front_end.differentiator);
+}

@@ -83,16 +83,27 @@ impl Bank {
     ) -> Result<Self, String> {
         if let Some(only) = only {
             for n in only {
-                if !REGISTRY.iter().any(|e| e.name == n) {
+                if !REGISTRY.iter().any(|e| e.name == n.trim()) {
                     let known: Vec<_> = REGISTRY.iter().map(|e| e.name).collect();
+                    let hint = if crate::bank3d::REGISTRY3D.iter().any(|e| e.name == n.trim()) {
+                        "; it is a 3-D estimator, and this log is planar".to_string()
+                    } else if let Some(e) = REGISTRY
+                        .iter()
+                        .find(|e| e.name.eq_ignore_ascii_case(n.trim()))
+                    {
+                        format!("; did you mean `{}`?", e.name)
+                    } else {
+                        String::new()
+                    };
                     return Err(format!(
-                        "unknown estimator `{n}` (known: {})",
+                        "unknown estimator `{n}`{hint} (known: {})",
                         known.join(", ")
                     ));
                 }
             }
         }
-        let wanted = |name: &str| only.is_none_or(|o| o.iter().any(|n| n == name));
+        // `--only "alg2, kf_alg2"`: the space after the comma is not part of a name.
+        let wanted = |name: &str| only.is_none_or(|o| o.iter().any(|n| n.trim() == name));
         let mut bank = Bank {
             names: Vec::new(),
             needs: Vec::new(),
@@ -462,6 +473,28 @@ mod tests {
         assert!(Bank::new(&s, Inputs::ALL, Some(&only))
             .unwrap_err()
             .contains("alg2"));
+    }
+
+    #[test]
+    fn only_names_take_spaces_and_a_near_miss_is_named() {
+        // `--only "alg2, kf_alg2"` was refused as "unknown estimator ` kf_alg2`" (the 3-D
+        // bank already trimmed its names).
+        let s = BankSettings::from_params(PendulumParams::default());
+        let only = vec!["alg2".to_string(), " kf_alg2".to_string()];
+        let bank = Bank::new(&s, Inputs::ALL, Some(&only)).unwrap();
+        assert_eq!(bank.names(), ["alg2", "kf_alg2"]);
+        let only = vec!["ALG2".to_string()];
+        let e = Bank::new(&s, Inputs::ALL, Some(&only)).unwrap_err();
+        assert!(
+            e.starts_with("unknown estimator `ALG2`; did you mean `alg2`?"),
+            "{e}"
+        );
+        let only = vec!["ekf3d".to_string()];
+        let e = Bank::new(&s, Inputs::ALL, Some(&only)).unwrap_err();
+        assert!(
+            e.contains("it is a 3-D estimator, and this log is planar"),
+            "{e}"
+        );
     }
 
     /// Algorithms 1-3 in the bank share a front end; each output must equal its

@@ -80,9 +80,14 @@ pub(crate) fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::R
 
 /// True when the first header line of the file at `path` has every 3-D column (comment
 /// and blank lines before it skipped). An unreadable file is not 3-D: the planar reader
-/// then reports it.
+/// then reports it. Only a regular file is peeked at: reading a pipe (`<(cat log.csv)`,
+/// `/dev/stdin`) would take its first lines from the reader that follows (which then
+/// read a line from the middle as the header); the planar reader refuses a 3-D header.
 pub fn is_3d_log(path: &Path) -> bool {
     use std::io::BufRead;
+    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return false;
+    }
     let Ok(f) = File::open(path) else {
         return false;
     };

@@ -126,8 +126,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// Reads the log, fits, prints the iterations and the result, and returns the fitted rig:
 /// the command's steps, in order.
 fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
+    check_options(args)?;
     let rig = match &args.params {
-        Some(p) => RigConfig::load(p)?,
+        Some(p) => super::options::load_rig(p, args.quiet)?,
         None => RigConfig::default(),
     };
     let mut start = rig.params();
@@ -157,6 +158,18 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
         ),
         _ => String::new(),
     };
+    if let (Cost::Output, Some(s)) = (cost, span) {
+        // Seven significant digits, written plainly (500, not 499.99999999999955).
+        let tidy = |x: f64| format!("{x:.6e}").parse::<f64>().unwrap_or(x);
+        let nyquist = tidy(0.5 / s.median_step);
+        anyhow::ensure!(
+            args.smoothing_hz < nyquist,
+            "--smoothing-hz {} Hz is at or above the Nyquist frequency {nyquist} Hz of this log \
+             (median time step {} s): valid above 0 up to below {nyquist} Hz",
+            args.smoothing_hz,
+            tidy(s.median_step)
+        );
+    }
     let with_hint = |e: fit::FitError| anyhow::anyhow!("{e}{hint}");
     let problem = match cost {
         Cost::Output => None,
@@ -245,6 +258,54 @@ fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<FitLog> {
         truth,
         has_theta,
     })
+}
+
+/// The numeric options no fit can run with, refused with the option's name and the valid
+/// range before the log is read (`--xtol nan` was blamed on "Newton h and dp", `--skip -1`
+/// and a negative tolerance were taken as they were).
+fn check_options(args: &Args) -> anyhow::Result<()> {
+    let finite = |v: f64| v.is_finite();
+    for (name, v, ok, range) in [
+        (
+            "--h",
+            args.h,
+            finite(args.h) && args.h > 0.0,
+            "a finite number > 0",
+        ),
+        (
+            "--dp",
+            args.dp,
+            finite(args.dp) && args.dp > 0.0,
+            "a finite number > 0",
+        ),
+        (
+            "--ftol",
+            args.ftol,
+            finite(args.ftol) && args.ftol >= 0.0,
+            "a finite fraction >= 0",
+        ),
+        (
+            "--xtol",
+            args.xtol,
+            finite(args.xtol) && args.xtol >= 0.0,
+            "a finite fraction >= 0",
+        ),
+        (
+            "--skip",
+            args.skip,
+            finite(args.skip) && args.skip >= 0.0,
+            "a finite number of seconds >= 0",
+        ),
+        (
+            "--smoothing-hz",
+            args.smoothing_hz,
+            finite(args.smoothing_hz) && args.smoothing_hz > 0.0,
+            "a finite frequency > 0 [Hz], below the log's Nyquist frequency",
+        ),
+    ] {
+        anyhow::ensure!(ok, "{name} {v}: must be {range}");
+    }
+    Ok(())
 }
 
 /// The fit's settings from the options and the rig, starting at `start`.

@@ -43,11 +43,23 @@ pub struct BankOptions {
     pub quiet: bool,
 }
 
+/// Loads the rig file at `path` and prints its doubtful values ([`RigConfig::doubts`]) as
+/// warnings naming the file, unless `quiet`.
+pub fn load_rig(path: &std::path::Path, quiet: bool) -> anyhow::Result<RigConfig> {
+    let rig = RigConfig::load(path)?;
+    if !quiet {
+        for d in rig.doubts() {
+            eprintln!("warning: {}: {d}", path.display());
+        }
+    }
+    Ok(rig)
+}
+
 impl BankOptions {
     /// The rig file, or the default rig with a notice.
     pub fn rig(&self) -> anyhow::Result<RigConfig> {
         Ok(match &self.params {
-            Some(p) => RigConfig::load(p)?,
+            Some(p) => load_rig(p, self.quiet)?,
             None => {
                 self.notice("note: no --params: using the default rig of MODEL.md section 5");
                 RigConfig::default()

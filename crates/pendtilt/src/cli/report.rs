@@ -161,7 +161,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// Makes the report in `dir`; returns the page's path.
 fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<PathBuf> {
     let rig = match &args.params {
-        Some(p) => RigConfig::load(p)?,
+        Some(p) => super::options::load_rig(p, args.quiet)?,
         None => {
             bars.message("note: no --params: using the default rig of MODEL.md section 5");
             RigConfig::default()

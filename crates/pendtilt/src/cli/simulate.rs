@@ -151,6 +151,7 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
     apply_motion_and_vibration(&mut s, o)?;
     apply_sensors(&mut s, o)?;
     s.validate()?;
+    super::simulate::at_least_one_row(s.duration, s.rate, s.rows())?;
     Ok((s, args.seed.or(file_seed).unwrap_or(DEFAULT_SEED)))
 }
 
@@ -249,6 +250,18 @@ pub(super) fn progress_bar(total: u64, quiet: bool) -> ProgressBar {
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     b
+}
+
+/// A run of no row would write a header-only log that no command reads: refused with
+/// the shortest duration that gives one (`--duration 0` wrote one, exit 0).
+pub(super) fn at_least_one_row(duration: f64, rate: f64, rows: u64) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        rows > 0,
+        "a duration of {duration} s at {rate} Hz gives no row, and a log needs at least one: \
+         give --duration {} or more",
+        1.0 / rate
+    );
+    Ok(())
 }
 
 /// Simulates into the (uncommitted) log; returns the number of rows.

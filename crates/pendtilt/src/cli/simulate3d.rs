@@ -108,6 +108,7 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario3d, String, u64)> {
         s.motion = s.motion.without_vibration();
     }
     s.validate()?;
+    super::simulate::at_least_one_row(s.duration, s.rate, s.rows())?;
     Ok((s, name, seed))
 }
 

@@ -146,7 +146,7 @@ fn progress_bar(rows: usize, quiet: bool) -> ProgressBar {
 /// Reads, tunes, prints what was found and returns the rig file's text.
 fn tuned_text(args: &Args) -> anyhow::Result<String> {
     let rig = match &args.params {
-        Some(p) => RigConfig::load(p)?,
+        Some(p) => super::options::load_rig(p, args.quiet)?,
         None => RigConfig::default(),
     };
     let log = read_log(args, &rig)?;

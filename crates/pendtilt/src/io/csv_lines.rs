@@ -20,6 +20,8 @@ pub struct CsvLines<R> {
     buf: Vec<u8>,
     fields: Vec<(usize, usize)>,
     line: u64,
+    /// The current line ended with a line feed (not the input's end in the middle of it).
+    terminated: bool,
 }
 
 impl<R: BufRead> CsvLines<R> {
@@ -31,6 +33,7 @@ impl<R: BufRead> CsvLines<R> {
             buf: Vec::with_capacity(256),
             fields: Vec::with_capacity(16),
             line: 0,
+            terminated: true,
         }
     }
 
@@ -45,7 +48,8 @@ impl<R: BufRead> CsvLines<R> {
                 return Ok(false);
             }
             self.line += 1;
-            if self.buf.last() == Some(&b'\n') {
+            self.terminated = self.buf.last() == Some(&b'\n');
+            if self.terminated {
                 self.buf.pop();
             }
             if self.buf.last() == Some(&b'\r') {
@@ -59,6 +63,18 @@ impl<R: BufRead> CsvLines<R> {
                 Some(_) => return Ok(true),
             }
         }
+    }
+
+    /// True unless the input ended in the middle of the current line (no line feed after
+    /// it: a log cut while being written, the last line of a file without one).
+    pub fn terminated(&self) -> bool {
+        self.terminated
+    }
+
+    /// Forgets the current line's last field (a cell the input's end may have cut short
+    /// reads as absent).
+    pub fn drop_last_field(&mut self) {
+        self.fields.pop();
     }
 
     /// Splits the current line into fields. `Err(i)`: field `i` (0-based) opens a quote

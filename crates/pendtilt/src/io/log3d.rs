@@ -256,6 +256,11 @@ impl<R: BufRead> Log3dReader<R> {
             let line = Some(self.lines.line());
             return Err(self.error(line, None, LogErrorKind::TooManyFields { found, expected }));
         }
+        // A short row the input's end cut: its last cell may be cut short too (`-0.02` of
+        // `-0.0215`), so it reads as absent (NaN, the row flagged) like the cells after it.
+        if found < expected && !self.lines.terminated() {
+            self.lines.drop_last_field();
+        }
         let mut missing = false;
         let mut v = [f64::NAN; 12];
         for (k, x) in v.iter_mut().enumerate() {

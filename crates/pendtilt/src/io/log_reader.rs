@@ -156,9 +156,36 @@ pub struct LogReader<R> {
     degree_warned: [bool; 6],
     last_t: Option<f64>,
     first_dts: Vec<f64>,
+    /// Zero time steps (a repeated stamp) before the rate check.
+    zero_steps: u64,
+    /// The header's line (after comment and blank lines).
+    header_line: u64,
     /// The time step has been checked against plausible rates.
     rate_checked: bool,
     finished: bool,
+}
+
+/// The error for a time column whose stamps repeat more often than they step: `zero`
+/// zero steps and `positive` steps of `dt` \[s\] (0 when none).
+fn rounded_time(zero: u64, positive: u64, dt: f64) -> String {
+    if positive == 0 {
+        return format!(
+            "the time never increases ({} rows at one stamp): is `t` the time column \
+             (--map t=NAME)?",
+            zero + 1
+        );
+    }
+    let run = (zero + positive) as f64 / positive as f64;
+    let step = super::plausibility::fmt_sig(dt);
+    format!(
+        "{zero} of the first {} time steps are zero: each stamp repeats for about {:.0} rows \
+         and then steps by {step} s, at about {} rows per second: the time was written \
+         rounded (to {step} s) or rows share a stamp; write `t` with more digits, one time \
+         per row",
+        zero + positive,
+        run,
+        super::plausibility::fmt_sig(run / dt)
+    )
 }
 
 /// Positive time steps used for the nominal step (their median).
@@ -200,6 +227,8 @@ impl<R: BufRead> LogReader<R> {
             degree_warned: [false; 6],
             last_t: None,
             first_dts: Vec::with_capacity(NOMINAL_DT_SAMPLES),
+            zero_steps: 0,
+            header_line: 1,
             rate_checked: false,
             finished: false,
         };
@@ -361,13 +390,28 @@ impl<R: BufRead> LogReader<R> {
             }
         } else if found < expected {
             issues.truncated = true;
+            // Cut by the input's end (a log cut while written, `stream` stopped): its last
+            // cell may be cut too (`-0.02` of `-0.0215`); it reads as absent, never as a
+            // number it was not.
+            let cut = if self.lines.terminated() {
+                String::new()
+            } else {
+                let (a, b) = self.lines.ranges()[found - 1];
+                let text = String::from_utf8_lossy(&self.lines.bytes()[a..b]).into_owned();
+                self.lines.drop_last_field();
+                format!(
+                    "; the input ends in this line, so its last cell `{text}` (field {found}, \
+                     `{}`) may be cut short and reads as missing too",
+                    self.header[found - 1]
+                )
+            };
             self.warn(
                 WarningKind::TruncatedRow,
                 None,
                 None,
                 format!(
                     "{found} fields, the header has {expected} (a truncated line?): \
-                     the absent cells read as missing"
+                     the absent cells read as missing{cut}"
                 ),
             );
         }
@@ -422,6 +466,39 @@ impl<R: BufRead> LogReader<R> {
         Ok((values, unchecked))
     }
 
+    /// When the current line is a header (no field a number, one of them the time
+    /// column's name: two logs joined, a logger that restarted into the same file or
+    /// stream): what to say about it.
+    fn header_again(&self) -> Option<String> {
+        let n = self.lines.field_count();
+        let fields: Vec<String> = (0..n)
+            .map(|i| {
+                self.lines
+                    .field(i)
+                    .map(|f| String::from_utf8_lossy(&f).into_owned())
+                    .unwrap_or_default()
+            })
+            .collect();
+        let t_name = &self.header[self.positions[Column::T.index()]?];
+        let header_like = fields.iter().any(|f| f == t_name)
+            && fields
+                .iter()
+                .all(|f| f.is_empty() || f.trim().parse::<f64>().is_err());
+        if !header_like {
+            return None;
+        }
+        Some(if fields == self.header {
+            format!("the header again (as on line {})", self.header_line)
+        } else {
+            format!(
+                "a new header ({}; line {} has {})",
+                fields.join(", "),
+                self.header_line,
+                self.header.join(", ")
+            )
+        })
+    }
+
     /// One used cell (`parsed`: its number, `None` if it is not one): a finite value in SI
     /// units, or NaN (with a warning) when it is missing; an error when it is not a number.
     fn cell(
@@ -450,6 +527,10 @@ impl<R: BufRead> LogReader<R> {
             return Ok(f64::NAN);
         }
         let Some(raw) = parsed else {
+            if let Some(what) = self.header_again() {
+                let line = Some(self.lines.line());
+                return Err(self.error(line, None, LogErrorKind::HeaderAgain { what }));
+            }
             let text = String::from_utf8_lossy(&self.lines.bytes()[a..b]).into_owned();
             let cell = CellRef {
                 position: pos + 1,
@@ -506,14 +587,29 @@ impl<R: BufRead> LogReader<R> {
     /// Once the nominal step is known (or at the end of a short log): an error when no
     /// sensor rate explains it, unless `--time-unit` was given.
     fn check_rate(&mut self) -> Result<(), LogError> {
-        if self.rate_checked || self.options.time_unit.is_some() {
+        if self.rate_checked {
             return Ok(());
         }
-        let Some(dt) = self.summary.nominal_dt else {
-            return Ok(());
+        let positive = self.first_dts.len() as u64;
+        // More repeated stamps than steps: the time is rounded (`%.1f` at 1 kHz repeats
+        // each stamp 100 times) or rows share a stamp, whatever its unit. Its steps are
+        // those of the rounding, which the rate check would take for a unit (1 s: "in ms?").
+        let found = if self.zero_steps > positive && self.zero_steps >= 2 {
+            Some(rounded_time(
+                self.zero_steps,
+                positive,
+                self.summary.nominal_dt.unwrap_or(0.0),
+            ))
+        } else if self.options.time_unit.is_some() {
+            None
+        } else {
+            let Some(dt) = self.summary.nominal_dt else {
+                return Ok(());
+            };
+            implausible_step(dt)
         };
-        self.rate_checked = true;
-        match implausible_step(dt) {
+        self.rate_checked = positive > 0 || found.is_some();
+        match found {
             None => Ok(()),
             Some(msg) => {
                 let line = Some(self.lines.line());
@@ -549,6 +645,9 @@ impl<R: BufRead> LogReader<R> {
         let dt = t - prev;
         if dt <= 0.0 {
             issues.bad_time = true;
+            if dt == 0.0 && !self.rate_checked {
+                self.zero_steps += 1;
+            }
             let what = if dt == 0.0 { "repeated" } else { "goes back" };
             self.warn(
                 WarningKind::TimeNotIncreasing,

@@ -15,10 +15,13 @@
 //!   files are written into a staging directory beside the target and moved in one by one
 //!   only when the whole run succeeded.
 //! - [`not_written`] is the sentence a failed run adds to its error.
+//! - [`remove_partial_on_interrupt`] removes the temporary files and staging directories
+//!   when the run is interrupted (Ctrl-C, SIGTERM, SIGHUP), which ends it without a drop.
 use std::fs::{File, Permissions};
 use std::io::{self, Write};
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 /// A file a command reads or writes, with the option that named it (for the messages).
 #[derive(Debug, Clone, Copy)]
@@ -183,6 +186,8 @@ enum Sink {
 pub struct OutputFile {
     target: PathBuf,
     sink: Sink,
+    /// The temporary file, removed if the run is interrupted ([`remove_partial_on_interrupt`]).
+    _pending: Option<Pending>,
 }
 
 /// The file `path` names, following a symlink (so that committing replaces the file the
@@ -207,6 +212,7 @@ impl OutputFile {
             return Ok(Self {
                 target,
                 sink: Sink::Stdout,
+                _pending: None,
             });
         }
         let unusable = |message: String| OutputError::Unusable {
@@ -227,6 +233,7 @@ impl OutputFile {
                 return Ok(Self {
                     target,
                     sink: Sink::Direct(file),
+                    _pending: None,
                 });
             }
         }
@@ -259,6 +266,7 @@ impl OutputFile {
             })?;
         Ok(Self {
             target: dest,
+            _pending: Some(Pending::new(temp.path())),
             sink: Sink::Temp(temp),
         })
     }
@@ -337,6 +345,8 @@ pub struct OutputDir {
     option: String,
     target: PathBuf,
     staging: tempfile::TempDir,
+    /// The staging directory, removed if the run is interrupted.
+    _pending: Pending,
 }
 
 impl OutputDir {
@@ -382,6 +392,7 @@ impl OutputDir {
         Ok(Self {
             option: option.to_string(),
             target: path.to_path_buf(),
+            _pending: Pending::new(staging.path()),
             staging,
         })
     }
@@ -428,6 +439,98 @@ impl OutputDir {
         }
         Ok(self.target)
     }
+}
+
+/// The temporary files and staging directories of the outputs being written, for
+/// [`remove_partial_on_interrupt`]: their drop (or commit) removes them on a normal end,
+/// but a signal ends the process without running it.
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// One entry of [`PENDING`], taken out when dropped.
+#[derive(Debug)]
+struct Pending(PathBuf);
+
+impl Pending {
+    fn new(path: &Path) -> Self {
+        let path = absolute(path);
+        PENDING
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(path.clone());
+        Self(path)
+    }
+}
+
+impl Drop for Pending {
+    fn drop(&mut self) {
+        let mut pending = PENDING.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(i) = pending.iter().position(|p| *p == self.0) {
+            pending.swap_remove(i);
+        }
+    }
+}
+
+/// Removes every partial output (the `.NAME.XXXXXX.partial` files and staging directories
+/// beside the targets) when the process gets SIGINT (Ctrl-C), SIGTERM or SIGHUP, then ends
+/// it with status 128 + the signal's number, saying so on standard error. Without it an
+/// interrupted run left them behind, hidden, as large as the run had got (2.7 GB after 20
+/// s of `simulate --duration 1e7`). For the `pendtilt` binary: call it first thing in
+/// `main`, before any thread starts; the signals are then blocked in every thread and
+/// taken by one that waits for them (so the removal is ordinary code, not a signal
+/// handler's). A no-op off Unix.
+///
+/// # Errors
+/// When the signal mask cannot be set or the thread cannot start.
+pub fn remove_partial_on_interrupt() -> io::Result<()> {
+    #[cfg(unix)]
+    {
+        // SAFETY: sigset_t is plain data, initialised by sigemptyset before any use; the
+        // calls only read and write the set and this thread's mask.
+        let set = unsafe {
+            let mut set: libc::sigset_t = std::mem::zeroed();
+            libc::sigemptyset(&mut set);
+            for sig in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+                libc::sigaddset(&mut set, sig);
+            }
+            let rc = libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut());
+            if rc != 0 {
+                return Err(io::Error::from_raw_os_error(rc));
+            }
+            set
+        };
+        std::thread::Builder::new()
+            .name("interrupt".into())
+            .spawn(move || loop {
+                let mut sig: libc::c_int = 0;
+                // SAFETY: `set` is an initialised signal set, `sig` a valid out pointer.
+                if unsafe { libc::sigwait(&set, &mut sig) } != 0 {
+                    continue;
+                }
+                let paths = PENDING.lock().unwrap_or_else(|e| e.into_inner()).clone();
+                for p in &paths {
+                    let _ = if p.is_dir() {
+                        std::fs::remove_dir_all(p)
+                    } else {
+                        std::fs::remove_file(p)
+                    };
+                }
+                let removed = if paths.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        "; the partial output was removed, nothing was written ({})",
+                        paths
+                            .iter()
+                            .map(|p| p.display().to_string())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )
+                };
+                eprintln!("\ninterrupted (signal {sig}){removed}");
+                std::process::exit(128 + sig);
+            })?;
+    }
+    Ok(())
 }
 
 /// Every file under `dir`, recursively.

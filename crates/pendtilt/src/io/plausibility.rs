@@ -96,7 +96,7 @@ fn fmt_value(x: f64) -> String {
 }
 
 /// Three significant digits for a bound in a message (8.726646 -> 8.73).
-fn fmt_sig(x: f64) -> String {
+pub(crate) fn fmt_sig(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
         return format!("{x}");
     }

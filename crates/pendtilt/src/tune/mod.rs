@@ -168,6 +168,10 @@ pub const MIN_FIT_SECONDS: f64 = 10.0;
 /// A log whose tilt (phi's one-second means) spans less than this \[rad\] (1 deg) is too
 /// still to tell how the body moves: the process noises keep their defaults.
 pub const MIN_TILT_RANGE: f64 = 0.017_453_292_519_943_295;
+/// A log whose gyro integral moves less than this \[rad\] RMS (0.1 deg) above
+/// [`reference::CORNER_HZ`] keeps the differentiator cutoffs: no delay to trade against
+/// noise shows (a still log 0.004 deg, a scooter idling 0.04; rides 1.8-8 deg).
+pub const MIN_BAND_MOTION: f64 = 0.001_745_329_251_994_329_5;
 
 /// How one tuned (or kept) value was found.
 #[derive(Debug, Clone, PartialEq)]
@@ -554,14 +558,35 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         ekf_start.encoder_jitter *= js.scale;
         notes::jitter_scale(ekf_start.encoder_jitter, js, &mut notes);
     }
-    let by_gyro = bias.filter(|_| duration >= MIN_FIT_SECONDS).map(|b| {
-        cutoff::by_gyro_reference(fit_samples, &start.alg1, &start.alg2, b, skip, &mut budget)
+    // Without tilt in the reference's band there is no delay to trade against noise:
+    // any cutoff scores alike, and the lowest was taken (a still log tuned to 0.61 f_n
+    // took alg1 on a scooter ride from 0.61 to 1.00 deg RMS).
+    let too_still = bias.and_then(|b| {
+        let motion = reference::band_motion(fit_samples, b, skip);
+        (motion < MIN_BAND_MOTION).then(|| {
+            format!(
+                "log too still for a cutoff (the gyro's integral above {} Hz moves {:.4} deg \
+                 RMS, at least {:.1} deg needed to see the delay)",
+                reference::CORNER_HZ,
+                motion.to_degrees(),
+                MIN_BAND_MOTION.to_degrees()
+            )
+        })
     });
+    let cut = match &too_still {
+        Some(why) => Err(why.clone()),
+        None => cut,
+    };
+    let by_gyro = bias
+        .filter(|_| duration >= MIN_FIT_SECONDS && too_still.is_none())
+        .map(|b| {
+            cutoff::by_gyro_reference(fit_samples, &start.alg1, &start.alg2, b, skip, &mut budget)
+        });
     let cutoff_by_gyro = by_gyro.map(|c| c.alg2).filter(|(_, e)| e.is_finite());
     let alg1_cutoff = by_gyro.map(|c| c.alg1).filter(|(_, e)| e.is_finite());
     let differentiator = adopted_differentiator(start, cutoff_by_gyro, &cut);
     notes::cutoff(&cut, cutoff_by_gyro, &start_diff, &start.params, &mut notes);
-    notes::alg1_cutoff(alg1_cutoff, &start.params, &mut notes);
+    notes::alg1_cutoff(alg1_cutoff, too_still.as_deref(), &start.params, &mut notes);
     let fits = match why_not {
         None => {
             let data = FitData {

@@ -226,6 +226,7 @@ pub(super) fn forcing(
 /// Algorithm 1's own cutoff's note.
 pub(super) fn alg1_cutoff(
     c: Option<(f64, f64)>,
+    why_not: Option<&str>,
     params: &PendulumParams<f64>,
     notes: &mut Vec<Note>,
 ) {
@@ -233,8 +234,9 @@ pub(super) fn alg1_cutoff(
         Some((x, e)) => note(notes, "alg1.cutoff_times_natural", format!("{x:.3}"), false, format!(
             "{:.3} Hz: least error of Algorithm 1 against the gyro's integral above {} Hz ({:.4} deg RMS); apart from Algorithm 2's, which suits it poorly on a slow pendulum",
             x * params.natural_frequency_hz(), super::reference::CORNER_HZ, e.to_degrees())),
-        None => note(notes, "alg1.cutoff_times_natural", "none".into(), true,
-            "no gyro bias estimate to measure it against (or too short): alg1 takes [differentiator]'s cutoff".into()),
+        None => note(notes, "alg1.cutoff_times_natural", "none".into(), true, format!(
+            "{}: alg1 takes [differentiator]'s cutoff",
+            why_not.unwrap_or("no gyro bias estimate to measure it against (or too short)"))),
     }
 }
 

@@ -58,3 +58,10 @@ pub fn band_error(est: &[f64], reference: &[f64], samples: &[Sample<f64>], skip:
     let m = sum / n as f64;
     (sum2 / n as f64 - m * m).max(0.0).sqrt()
 }
+
+/// RMS \[rad\] of the gyro's integral (less `bias`) above [`CORNER_HZ`] from row `skip` on:
+/// how much the tilt moves in the band where a differentiator's delay shows.
+pub fn band_motion(samples: &[Sample<f64>], bias: f64, skip: usize) -> f64 {
+    let reference = integral(samples, bias);
+    band_error(&vec![0.0; samples.len()], &reference, samples, skip)
+}

@@ -63,6 +63,12 @@ pub enum LogErrorKind {
         /// The cell text.
         text: String,
     },
+    /// A data line that is a header (the same or another).
+    #[error("{what}: two logs joined, or a logger that restarted into the same file or stream? remove this line, or split the log here")]
+    HeaderAgain {
+        /// Which header, and the first one's line.
+        what: String,
+    },
     /// The time steps are not those of a sensor log in seconds (a log in ms or us).
     #[error("{0}")]
     ImplausibleTimeStep(String),
@@ -73,6 +79,14 @@ pub enum LogErrorKind {
         found: usize,
         /// Fields in the header.
         expected: usize,
+    },
+    /// A 3-D header (complete or not) given to the planar reader.
+    #[error("{what}; to read one axis as a planar log, name its columns with --map phi=...,gyro=... (the header has: {header})")]
+    NotPlanar {
+        /// What the header is and what is missing.
+        what: String,
+        /// The header names, comma-separated.
+        header: String,
     },
     /// Required columns of a 3-D log (MODEL.md 7.6) absent from the header.
     #[error("not a 3-D log: no {missing} column (the header has: {header}; a 3-D log needs t, phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az)")]

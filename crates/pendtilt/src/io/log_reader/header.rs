@@ -11,6 +11,7 @@ impl<R: BufRead> LogReader<R> {
         if statuses[Column::T.index()].position.is_none() {
             return Err(self.missing_time(&statuses, listing));
         }
+        self.refuse_3d(&statuses, &listing)?;
         let used: Vec<usize> = statuses.iter().filter_map(|s| s.position).collect();
         self.check_duplicates(&used)?;
         if let Some(u) = self.options.time_unit {
@@ -48,6 +49,7 @@ impl<R: BufRead> LogReader<R> {
             return Err(self.error(Some(1), None, LogErrorKind::Utf16));
         }
         self.split()?;
+        self.header_line = self.lines.line();
         let quoted = self.lines.bytes().contains(&b'"');
         let mut header = Vec::with_capacity(self.lines.ranges().len());
         for k in 0..self.lines.field_count() {
@@ -118,6 +120,49 @@ impl<R: BufRead> LogReader<R> {
         Ok(statuses)
     }
 
+    /// A header with the encoder or gyro columns of a 3-D log (MODEL.md 7.6) and neither
+    /// `phi` nor `gyro` is a 3-D log, complete or not: read as planar, only `accel` would
+    /// run, on the 3-D log's axes, and give a wrong angle without a word. An error, naming
+    /// what is missing for a 3-D log and how to read one axis as a planar log.
+    fn refuse_3d(&mut self, statuses: &[ColumnStatus], listing: &str) -> Result<(), LogError> {
+        const SPATIAL: [&str; 5] = ["phi_x", "phi_y", "gyro_x", "gyro_y", "gyro_z"];
+        let planar = |c: Column| statuses[c.index()].position.is_some();
+        let found: Vec<&str> = SPATIAL
+            .into_iter()
+            .filter(|c| self.header.iter().any(|h| h == c))
+            .collect();
+        if found.is_empty() || planar(Column::Phi) || planar(Column::Gyro) {
+            return Ok(());
+        }
+        let missing: Vec<String> = crate::io::LOG3D_COLUMNS[..crate::io::LOG3D_REQUIRED]
+            .iter()
+            .filter(|c| !self.header.iter().any(|h| h == *c))
+            .map(|c| format!("`{c}`"))
+            .collect();
+        let what = if missing.is_empty() {
+            "a 3-D log (MODEL.md 7.6), and this command reads planar logs (t, phi, gyro, ax, \
+             ay): `estimate` and `report` read 3-D logs, given as a file (a pipe cannot be \
+             looked at before it is read)"
+                .to_string()
+        } else {
+            format!(
+                "the header has the 3-D columns {} but no {}: a 3-D log (MODEL.md 7.6) needs t, \
+                 phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az",
+                found.join(", "),
+                missing.join(", ")
+            )
+        };
+        let line = Some(self.lines.line());
+        Err(self.error(
+            line,
+            None,
+            LogErrorKind::NotPlanar {
+                what,
+                header: listing.to_string(),
+            },
+        ))
+    }
+
     /// The error for a header without a time column, with a hint at the likely cause.
     fn missing_time(&mut self, statuses: &[ColumnStatus], listing: String) -> LogError {
         let hint = if let Some(s) = &statuses[Column::T.index()].suggestion {
@@ -127,7 +172,17 @@ impl<R: BufRead> LogReader<R> {
              (t,phi,gyro,ax,ay,theta)"
                 .to_string()
         } else if self.header.len() == 1 && (listing.contains(';') || listing.contains('\t')) {
-            "; the header is a single field: are the fields separated by `;` or tabs?".to_string()
+            // The commands read commas only: say how to convert, a decimal comma first.
+            let (sep, tr) = if listing.contains(';') {
+                ("`;`", "tr ';' ','")
+            } else {
+                ("tabs", "tr '\\t' ','")
+            };
+            format!(
+                "; the header is a single field: the fields are separated by {sep}, and the log \
+                 must be comma-separated: convert it with `{tr} < log.csv > log_commas.csv` \
+                 (numbers with a decimal comma, `0,5`: `sed 's/,/./g'` first)"
+            )
         } else {
             "; name the time column with --map t=NAME".to_string()
         };
