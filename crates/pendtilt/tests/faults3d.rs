@@ -456,6 +456,15 @@ fn outcome(
     }
 }
 
+/// The simulator's roll and pitch \[rad\] per row of `csv`.
+fn truth(csv: &Csv) -> Vec<(f64, f64)> {
+    let (roll, pitch) = (csv.col("roll"), csv.col("pitch"));
+    csv.rows
+        .iter()
+        .map(|r| (r[roll].parse().unwrap(), r[pitch].parse().unwrap()))
+        .collect()
+}
+
 /// Simulates the ride into `dir` (ride.csv, ride.rig.toml, ride.scenario.toml).
 fn simulate(dir: &Path) -> PathBuf {
     let log = dir.join("ride.csv");
@@ -551,12 +560,7 @@ fn every_3d_estimator_survives_gaps_glitches_saturation_and_time_glitches() {
         assert_eq!(run.t.len(), c.rows.len(), "{}: rows", fault.name);
         let t = &clean.t[..run.t.len()];
         // The simulator's truth, the same in both logs (the faults edit sensor cells only).
-        let (roll, pitch) = (c.col("roll"), c.col("pitch"));
-        let truth: Vec<(f64, f64)> = c
-            .rows
-            .iter()
-            .map(|r| (r[roll].parse().unwrap(), r[pitch].parse().unwrap()))
-            .collect();
+        let truth = truth(&c);
         let warned: Vec<&str> = run
             .stderr
             .lines()
@@ -682,12 +686,7 @@ fn every_3d_estimator_survives_gaps_glitches_saturation_and_time_glitches() {
 /// anywhere from 10 s to 20 s (Mahony 7 of 11, VQF and fusion3d all 11). Figures:
 /// `cargo test --release -p pendtilt --test faults3d -- --nocapture`.
 fn oracle_restarts(clean: &Run, csv: &Csv) {
-    let (roll, pitch) = (csv.col("roll"), csv.col("pitch"));
-    let truth: Vec<(f64, f64)> = csv
-        .rows
-        .iter()
-        .map(|r| (r[roll].parse().unwrap(), r[pitch].parse().unwrap()))
-        .collect();
+    let truth = truth(csv);
     let row = |at: f64| clean.t.iter().position(|t| *t >= at).unwrap();
     let rates = [
         ("mahony3d", pendtilt::peers::spatial::MAHONY3D_GAINS[0]),
