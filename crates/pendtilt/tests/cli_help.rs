@@ -86,6 +86,10 @@ fn estimate_help_lists_every_estimator_and_the_input_units() {
             "gyro [rad/s]",
             "ax, ay [m/s^2]",
             "theta [rad]",
+            // What happens to a reading beyond, at and without a full scale.
+            "flagged implausible",
+            "kept and flagged saturated",
+            "a clip is found in the readings",
         ] {
             assert!(h.contains(unit), "{c}: {unit} missing:\n{h}");
         }
