@@ -771,6 +771,53 @@ fn degrees_are_found_from_the_physics_with_the_factor_and_correct_logs_are_quiet
     }
 }
 
+/// Short logs (4 s): the gyro in deg/s and `--deg` given on a log in radians are found
+/// (session 10: the filters start on the mean of the first 50 ms and are read from one
+/// period of their cutoff on, 1.8 s, where they waited 3.7 s after starting on one reading,
+/// and none of these was said), and the correct logs stay quiet, a still one included (a
+/// reference moving less than 0.5 deg gives no fit).
+#[test]
+fn degree_mistakes_on_a_4_s_log_are_found_and_correct_short_logs_are_quiet() {
+    for name in ["step", "sine", "sigmoid", "scooter", "chirp", "still"] {
+        for seed in [1, 2] {
+            let (rows, rig) = ride(name, 4.0, seed);
+            let case = format!("{name} seed {seed}");
+            let clean = run(&text(&cells(&rows)), &rig);
+            assert!(
+                findings(&clean).is_empty(),
+                "{case}: {:?}",
+                findings(&clean)
+            );
+            if name == "still" {
+                continue;
+            }
+            let r = run(&degrees(&rows, &[2]), &rig);
+            let f = findings(&r);
+            assert!(
+                f.iter()
+                    .any(|f| f.0 == "gyro" && f.2.contains("--deg gyro")),
+                "{case}: {f:?}"
+            );
+            // In radians, read with --deg: 1/57.3 of the accelerometer's angle.
+            let twice = run_with(
+                &text(&cells(&rows)),
+                &rig,
+                ReaderOptions {
+                    limits: rig.limits(),
+                    degrees: "phi,gyro,theta".parse().unwrap(),
+                    ..ReaderOptions::default()
+                },
+            );
+            let f = findings(&twice);
+            assert!(
+                f.iter()
+                    .any(|f| f.0 == "phi" && f.2.contains("already in radians")),
+                "{case}: {f:?}"
+            );
+        }
+    }
+}
+
 #[test]
 fn cutoffs_above_nyquist_or_below_the_floor_are_refused_with_the_valid_range() {
     let (rows, rig) = ride("step", 2.0, 1);
