@@ -332,6 +332,11 @@ fn a_found_clip_is_taken_exactly_as_the_rigs_full_scale() {
         let w = stderr(&o);
         assert_eq!(clip_warnings(&w).len(), usize::from(r == &blind), "{w}");
         json.push(std::fs::read(out.join("report.json")).unwrap());
+        // The page says so too, where the clip was found (not where the rig gave it).
+        let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+        let said = page.contains("Reading the log gave 1 warning")
+            && page.contains("a clip at an unknown full scale");
+        assert_eq!(said, r == &blind, "{}", r.display());
     }
     assert!(json[0] == json[1], "report.json differs");
 }

@@ -129,6 +129,34 @@ fn report_agrees_with_estimate_and_writes_its_figures() {
     }
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("| ekf3d |") && md.contains("![") && md.contains("inclination.png"));
+    // A clean log: the page claims no warning.
+    assert!(!html.contains("Reading the log gave"));
+
+    // One impossible gyro cell: the page says so at its top, as standard error does.
+    let text = std::fs::read_to_string(&log).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let col = header.iter().position(|h| *h == "gyro_x").unwrap();
+    let mut cells: Vec<String> = lines[3000].split(',').map(str::to_string).collect();
+    cells[col] = "1e6".into();
+    lines[3000] = cells.join(",");
+    let bad = dir.path().join("bad.csv");
+    std::fs::write(&bad, lines.join("\n") + "\n").unwrap();
+    let out = dir.path().join("bad_report");
+    ok(&[
+        "report",
+        s(&bad),
+        "--scenario",
+        s(&scen),
+        "-o",
+        s(&out),
+        "-q",
+    ]);
+    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(
+        html.contains("Reading the log gave 1 warning") && html.contains("bad.csv:3001"),
+        "{html}"
+    );
 }
 
 /// A still log where every estimator but the raw pendulum is exact: the report's RMS for

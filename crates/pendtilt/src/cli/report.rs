@@ -65,13 +65,19 @@ pub struct Args {
 
 /// Reads a whole log with a true angle into memory (rows without `theta` get NaN), with
 /// the clips found in it for the sensors whose full scale `settings` does not give
-/// ([`crate::io::plateau`], warned through `progress`).
+/// ([`crate::io::plateau`]). Every warning goes through `progress` and is returned too,
+/// for the page.
 pub fn read_log(
     path: &std::path::Path,
     options: ReaderOptions,
     settings: &crate::bank::BankSettings,
     progress: &dyn Progress,
-) -> anyhow::Result<(Ride, crate::bank::Inputs)> {
+) -> anyhow::Result<(Ride, crate::bank::Inputs, Vec<String>)> {
+    let mut said = Vec::new();
+    let mut warn = |w: String| {
+        progress.message(&format!("warning: {w}"));
+        said.push(w);
+    };
     let mut log = LogReader::open(path, options)?;
     anyhow::ensure!(
         log.columns().has(Column::Theta),
@@ -95,7 +101,7 @@ pub fn read_log(
         // Past the end only the rows held are left.
         let read = if end { None } else { log.next_record()? };
         for w in log.drain_warnings() {
-            progress.message(&format!("warning: {w}"));
+            warn(w.to_string());
         }
         end = read.is_none();
         let next = match read {
@@ -103,7 +109,7 @@ pub fn read_log(
             None => clips.pop(),
         };
         for w in clips.drain_warnings() {
-            progress.message(&format!("warning: {w}"));
+            warn(w.to_string());
         }
         let Some((rec, clipped)) = next else {
             if end {
@@ -120,13 +126,13 @@ pub fn read_log(
         }
     }
     for w in log.drain_warnings() {
-        progress.message(&format!("warning: {w}"));
+        warn(w.to_string());
     }
     if log.summary().total_warnings() > 0 {
         progress.message(&log.summary().to_string());
     }
     anyhow::ensure!(ride.len() >= 2, "{}: fewer than two data rows", log.file());
-    Ok((ride, inputs))
+    Ok((ride, inputs, said))
 }
 
 /// Runs `pendtilt report`: writes every file into a staging directory beside `-o` and
@@ -175,7 +181,7 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
         time_unit: args.time_unit,
         ..ReaderOptions::default()
     };
-    let (ride, inputs) = read_log(&args.log, options, &settings, bars)?;
+    let (ride, inputs, warnings) = read_log(&args.log, options, &settings, bars)?;
     let extras = if inputs.phi && inputs.gyro {
         vec![alg2_delay_compensated(&settings)]
     } else {
@@ -198,6 +204,9 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
     let label = ride.label.clone();
     let (mut report, _) = standard_report(&title, ride.t, ride.theta, series)
         .with_context(|| format!("{label}: cannot build the report"))?;
+    if let Some(text) = warnings_paragraph(&warnings) {
+        report = report.intro(&text);
+    }
     // The paper's claims, on this log's metrics (claim 4's overshoot only on a step).
     let computed = report.compute()?;
     let view = computed
@@ -223,6 +232,29 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
         );
     }
     Ok(out.html)
+}
+
+/// What the page says of the log's warnings (a clip found, an impossible reading, a gap):
+/// how many, and the first few, so that the figures are not read as those of a clean log
+/// (also at the top of the 3-D page, whose notes list them all).
+pub(crate) fn warnings_paragraph(warnings: &[String]) -> Option<String> {
+    const SHOWN: usize = 3;
+    let (first, n) = (warnings.iter().take(SHOWN), warnings.len());
+    if n == 0 {
+        return None;
+    }
+    let mut text = format!(
+        "Reading the log gave {n} warning{}, which the figures below carry: {}",
+        if n == 1 { "" } else { "s" },
+        first.cloned().collect::<Vec<_>>().join(" | ")
+    );
+    if n > SHOWN {
+        text.push_str(&format!(
+            " | and {} more (all on the command's standard error)",
+            n - SHOWN
+        ));
+    }
+    Some(text)
 }
 
 /// The paper's claims on `metrics` (claim 4 with the rig's gains unless they are Eq 21's),

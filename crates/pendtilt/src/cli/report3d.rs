@@ -141,6 +141,10 @@ fn report(args: &Args, opts: &Options3d, dir: &Path) -> anyhow::Result<PathBuf> 
                     .to_string(),
             }
         ));
+    let said: Vec<String> = result.warnings.iter().map(|w| w.to_string()).collect();
+    if let Some(text) = super::report::warnings_paragraph(&said) {
+        report = report.intro(&text);
+    }
     for w in &result.warnings {
         report = report.note(&format!("warning: {w}"));
     }
