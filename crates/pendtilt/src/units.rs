@@ -49,6 +49,7 @@ pub const MIN_MOTION: f64 = 0.5 * std::f64::consts::PI / 180.0;
 /// in radians, is found (with 2 periods, and the filters started on one reading, the 4 s
 /// logs' gyro in deg/s and `--deg` on radians went unsaid: 35 of 45 found).
 pub const SETTLE_PERIODS: f64 = 1.0;
+/// `u`, or 0 for a missing (non-finite) reading.
 fn or0(u: f64) -> f64 {
     if u.is_finite() {
         u
