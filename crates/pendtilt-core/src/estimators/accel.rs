@@ -34,6 +34,13 @@ impl<T> Default for AccelSettings<T> {
     }
 }
 
+impl<T: Real> AccelSettings<T> {
+    /// The full scale if it is a usable bound (positive), for the per-sample check.
+    pub fn checked_full_scale(&self) -> Option<T> {
+        self.full_scale.filter(|f| crate::real::is_positive(*f))
+    }
+}
+
 /// Eq (1) as a streaming estimator. [`Estimator::reset`] restarts the low-passes and
 /// the clock; the settings and the low-passes' design stay.
 #[derive(Debug, Clone)]

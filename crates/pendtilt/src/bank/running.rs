@@ -380,8 +380,7 @@ impl Bank {
             accel: clipped.accel
                 || rig
                     .accel
-                    .full_scale
-                    .filter(|f| *f > 0.0)
+                    .checked_full_scale()
                     .is_some_and(|fs| sample.ax.abs() >= fs || sample.ay.abs() >= fs),
         };
         if !saturated.is_empty() {

@@ -170,11 +170,12 @@ impl<F: ImuFilter> Imu6<F> {
             }
             self.clipped_for = 0.0;
         }
-        self.advance(s)
+        self.advance(s, at_scale)
     }
 
-    /// One step of the wrapper and its filter.
-    fn advance(&mut self, s: &SpatialSample<f64>) -> Attitude<f64> {
+    /// One step of the wrapper and its filter; `at_scale`: a gyro axis reads at the rig's
+    /// full scale (flagged saturated).
+    fn advance(&mut self, s: &SpatialSample<f64>, at_scale: bool) -> Attitude<f64> {
         let step = match self.clock.offer(s.dt) {
             Ok(step) => step,
             Err(flags) => return self.hold(flags),
@@ -221,10 +222,8 @@ impl<F: ImuFilter> Imu6<F> {
             };
             return self.last;
         };
-        if let Some(fs) = self.gyro_full_scale {
-            if s.gyro.iter().any(|g| g.abs() >= fs) {
-                flags |= Flags::SATURATED;
-            }
+        if at_scale {
+            flags |= Flags::SATURATED;
         }
         // Axis by axis: a missing (or clipped, read as missing) axis takes its recent mean,
         // the others stay as read.
@@ -687,7 +686,11 @@ mod tests {
                     accel: up_from_roll_pitch(roll, 0.0).map(|v| v * 9.81),
                     speed: f64::NAN,
                 };
-                last = if restart { e.update(&s) } else { e.advance(&s) };
+                last = if restart {
+                    e.update(&s)
+                } else {
+                    e.advance(&s, w >= 0.1)
+                };
                 restarted |= t > 1.5 && last.flags.contains(Flags::INITIALISING);
             }
             let off = inclination_error(last.roll, last.pitch, roll, 0.0).to_degrees();

@@ -46,7 +46,7 @@ impl ClipFinder {
             .filter(|_| rig.gyro.checked_full_scale().is_none())
             .map(|w| (PlateauWatch::new(), w));
         let accel = match (watched(Column::Ax), watched(Column::Ay)) {
-            (Some(x), Some(y)) if !rig.accel.full_scale.is_some_and(|f| f > 0.0) => {
+            (Some(x), Some(y)) if rig.accel.checked_full_scale().is_none() => {
                 Some((PlateauWatch::new(), [x, y]))
             }
             _ => None,
