@@ -43,8 +43,9 @@ impl<T: Real> Default for ComplementarySettings<T> {
 /// forward by the gyro) rather than one vibrating reading forgotten at the rate 1 / tau:
 /// after a restart this put the filter within 0.05 deg of a run that never stopped
 /// sooner (see `docs/reliability.md` section 7b). A missing gyro is replaced by its
-/// recent mean ([`super::input_hold::MISSING_RATE_TAU`], [`Flags::SAMPLE_MISSING`]); a
-/// missing accelerometer integrates the gyro alone ([`Flags::MEASUREMENT_SKIPPED`]).
+/// recent mean ([`super::input_hold::MISSING_RATE_TAU`], [`Flags::SAMPLE_MISSING`]), and
+/// the angle held through the gap is corrected once the gyro is back
+/// ([`super::input_hold::InputHold::bridged`]); a missing accelerometer integrates the gyro alone ([`Flags::MEASUREMENT_SKIPPED`]).
 ///
 /// After a long gap ([`Estimator::resume`]) it keeps its steady offset: a gyro bias `b`
 /// holds the filter `b tau` from the accelerometer angle, which a gap cannot change but
@@ -203,7 +204,13 @@ impl<T: Real> Estimator for Complementary<T> {
             }
             Step::Next { dt, gyro, flags } => (dt, gyro, flags),
         };
-        let mut predicted = self.theta + gyro * dt;
+        // The angle a gap in the gyro held wrong, once the readings after it tell.
+        let gain = if self.tau > T::zero() {
+            T::one() / self.tau
+        } else {
+            T::zero()
+        };
+        let mut predicted = self.theta + gyro * dt + self.input.bridged(gain);
         if !predicted.is_finite() {
             // A rate near the type's largest value over a long step overflows (found by
             // fuzzing): do not integrate it, keep the angle, flag the gyro.

@@ -3,7 +3,9 @@
 //! same preamble: a sample whose time is not finite or does not advance is refused
 //! ([`Flags::BAD_TIME_STEP`], the caller holds its output); a missing gyro reading is
 //! replaced by the recent mean of the good ones ([`MISSING_RATE_TAU`],
-//! [`Flags::SAMPLE_MISSING`]); the time step runs from the last accepted sample.
+//! [`Flags::SAMPLE_MISSING`]); the time step runs from the last accepted sample. Once the
+//! gyro is back, the angle the hold integrated through the gap is corrected
+//! ([`InputHold::bridged`]).
 use crate::{Flags, Real, Sample, StepClock};
 
 /// Time constant \[s\] of the gyro mean that stands in for a missing reading. The last
@@ -13,6 +15,25 @@ use crate::{Flags, Real, Sample, StepClock};
 /// last reading, 0.43-0.59 deg with a 25 ms mean and 0.52-0.74 deg with a 50 ms one (a
 /// longer mean lags the manoeuvres).
 pub const MISSING_RATE_TAU: f64 = 0.025;
+
+/// How long after a gap in the gyro its readings are averaged for [`InputHold::bridged`]
+/// \[s\]: four [`MISSING_RATE_TAU`], by which the weights `exp(-t / tau)` mirroring the
+/// mean held before the gap have fallen to 2 %.
+pub const BRIDGE_WINDOW: f64 = 4.0 * MISSING_RATE_TAU;
+
+/// A gap in the gyro: held, then averaged after it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Gap<T> {
+    /// The mean held through it \[rad/s\].
+    held: T,
+    /// Its length: the held steps \[s\].
+    length: T,
+    /// Time since its end \[s\]; zero while it lasts.
+    since: T,
+    /// Sums of `w g dt` and `w dt` over the readings after it, `w = exp(-t / tau)`.
+    sum: T,
+    weight: T,
+}
 
 /// What [`InputHold::begin`] makes of a sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -46,6 +67,10 @@ pub struct InputHold<T> {
     /// The gyro's recent mean [rad/s] ([`MISSING_RATE_TAU`]); zero before any reading.
     mean_gyro: T,
     seen_gyro: bool,
+    /// The gap being held or averaged after.
+    gap: Option<Gap<T>>,
+    /// A correction found and not yet taken: (angle \[rad\], age \[s\]).
+    pending: Option<(T, T)>,
 }
 
 impl<T: Real> Default for InputHold<T> {
@@ -61,6 +86,8 @@ impl<T: Real> InputHold<T> {
             clock: StepClock::new(),
             mean_gyro: T::zero(),
             seen_gyro: false,
+            gap: None,
+            pending: None,
         }
     }
 
@@ -73,7 +100,10 @@ impl<T: Real> InputHold<T> {
         let mut flags = Flags::empty();
         let gyro = if s.gyro.is_finite() {
             let a = match step {
-                Some(dt) if self.seen_gyro => (dt / T::lit(MISSING_RATE_TAU)).min(T::one()),
+                Some(dt) if self.seen_gyro => {
+                    self.after_gap(s.gyro, dt);
+                    (dt / T::lit(MISSING_RATE_TAU)).min(T::one())
+                }
                 _ => T::one(),
             };
             self.mean_gyro = self.mean_gyro + a * (s.gyro - self.mean_gyro);
@@ -81,6 +111,9 @@ impl<T: Real> InputHold<T> {
             s.gyro
         } else {
             flags |= Flags::SAMPLE_MISSING;
+            if let (Some(dt), true) = (step, self.seen_gyro) {
+                self.in_gap(dt);
+            }
             self.mean_gyro
         };
         match step {
@@ -89,6 +122,86 @@ impl<T: Real> InputHold<T> {
                 self.clock.accept();
                 Step::Next { dt, gyro, flags }
             }
+        }
+    }
+
+    /// The correction \[rad\] to add to the angle integrated through the last gap in the
+    /// gyro, once [`BRIDGE_WINDOW`] of readings have come after it (zero otherwise, and
+    /// after it was taken once).
+    ///
+    /// Through the gap the hold integrated the mean of the readings before it, `m_b`, whose
+    /// weights `exp(-t / tau)` centre them `tau` before the gap. The readings after it are
+    /// averaged with the mirrored weights into `m_a`, centred `tau` after. The rate is
+    /// taken as the line through both means, whose integral over a gap of length `L` is
+    /// `L (m_b + m_a) / 2` whatever `tau`: the correction is `L (m_a - m_b) / 2`. The
+    /// hold's error is the body's manoeuvre through the gap, of which the line keeps the
+    /// slope. On 100 missing readings of the simulated scooter rides (seeds 1, 3, 6, 340
+    /// gap positions) the angle integrated through the gap was off by 0.48 deg RMS (at most
+    /// 1.2) with the hold, 0.08 deg (at most 0.37) with the line: what is left is the 40 Hz
+    /// vibration in the two means.
+    ///
+    /// `gain` \[1/s\] is the rate at which the estimator forgets an angle error (Mahony's
+    /// `kp`, a complementary filter's `1 / tau`; zero for none): it has already forgotten
+    /// part of the error the hold made since it was made, so the correction is that much
+    /// smaller (`exp(-gain age)`, `age` from the correction's centroid in the gap).
+    pub fn bridged(&mut self, gain: T) -> T {
+        match self.pending.take() {
+            Some((angle, age)) => angle * (-gain.max(T::zero()) * age).exp(),
+            None => T::zero(),
+        }
+    }
+
+    /// A held step of `dt` (the gyro missing).
+    fn in_gap(&mut self, dt: T) {
+        match &mut self.gap {
+            Some(g) if g.since == T::zero() => g.length += dt,
+            _ => {
+                // A new gap, or one in the readings after the last: close that with what
+                // came so far.
+                self.close_gap();
+                self.gap = Some(Gap {
+                    held: self.mean_gyro,
+                    length: dt,
+                    since: T::zero(),
+                    sum: T::zero(),
+                    weight: T::zero(),
+                });
+            }
+        }
+    }
+
+    /// A good reading `g` after a step of `dt`: averaged after the gap, if one was held.
+    fn after_gap(&mut self, g: T, dt: T) {
+        let Some(gap) = &mut self.gap else {
+            return;
+        };
+        let tau = T::lit(MISSING_RATE_TAU);
+        let w = (-(gap.since + dt * T::lit(0.5)) / tau).exp() * dt;
+        gap.sum += w * g;
+        gap.weight += w;
+        gap.since += dt;
+        if gap.since >= T::lit(BRIDGE_WINDOW) {
+            self.close_gap();
+        }
+    }
+
+    /// Turns the gap into the correction [`InputHold::bridged`] hands out.
+    fn close_gap(&mut self) {
+        let Some(gap) = self.gap.take() else {
+            return;
+        };
+        if gap.weight <= T::zero() {
+            return;
+        }
+        let (l, c) = (gap.length, T::lit(MISSING_RATE_TAU));
+        let two = T::lit(2.0);
+        let angle = l * (gap.sum / gap.weight - gap.held) / two;
+        // The correction grows along the gap as the line less the held mean, as `u + c` at
+        // `u` from its start: its centroid lies `l (l / 3 + c / 2) / (l / 2 + c)` in.
+        let centroid = l * (l / T::lit(3.0) + c / two) / (l / two + c);
+        let age = gap.since + l - centroid;
+        if angle.is_finite() && age.is_finite() {
+            self.pending = Some((angle, age));
         }
     }
 
@@ -168,5 +281,81 @@ mod tests {
         assert!(flags.contains(Flags::SAMPLE_MISSING));
         // The 25 ms mean leaves about 1 / (2 pi 250 Hz 25 ms) = 2.5 % of the square wave.
         assert!((gyro - 0.2).abs() < 0.05, "{gyro}");
+    }
+
+    /// The rate ramps through a 100 ms gap: the hold integrates the mean before it, the
+    /// bridge adds what the ramp turned beyond that, once 100 ms of readings follow.
+    #[test]
+    fn a_ramp_through_a_gap_is_integrated_by_the_bridge() {
+        let dt = 1e-3;
+        let rate = |k: usize| 0.1 + 2.0 * k as f64 * dt; // 2 rad/s^2
+        let mut h = InputHold::<f64>::new();
+        h.begin(&s(0.0, rate(0)));
+        h.started();
+        let (mut held, mut truth) = (0.0, 0.0);
+        let mut bridge = 0.0;
+        for k in 1..1400 {
+            let missing = (1000..1100).contains(&k);
+            let Step::Next { gyro, .. } = h.begin(&s(dt, if missing { f64::NAN } else { rate(k) }))
+            else {
+                panic!("a step");
+            };
+            if k >= 1000 {
+                held += gyro * dt;
+                truth += rate(k) * dt;
+            }
+            let b = h.bridged(0.0);
+            if b != 0.0 {
+                // Handed out once, BRIDGE_WINDOW after the gap's end.
+                assert_eq!(k, 1100 + (BRIDGE_WINDOW / dt).round() as usize - 1);
+                assert_eq!(h.bridged(0.0), 0.0);
+            }
+            bridge += b;
+        }
+        // The hold is off by the ramp's rise over the gap and the mean's lag, (tau + L / 2)
+        // 2 rad/s^2 L = 15 mrad; the bridge takes all but the window's truncation.
+        let off = truth - held;
+        assert!(
+            (off - 2.0 * (MISSING_RATE_TAU + 0.05) * 0.1).abs() < 1e-3,
+            "{off}"
+        );
+        assert!(
+            (truth - held - bridge).abs() < 0.02 * off,
+            "{bridge} for {off}"
+        );
+    }
+
+    /// An estimator that forgets an angle error at `gain` takes less of the correction,
+    /// the more the older it is; and a gap before any good reading is not bridged.
+    #[test]
+    fn the_bridge_is_forgotten_at_the_gain_and_needs_a_reading_before_the_gap() {
+        let run = |gain: f64, first_good: usize| {
+            let mut h = InputHold::<f64>::new();
+            h.begin(&s(0.0, f64::NAN));
+            h.started();
+            let mut total = 0.0;
+            for k in 1..400 {
+                let g = if k < first_good || (100..150).contains(&k) {
+                    f64::NAN
+                } else if k < 100 {
+                    0.0
+                } else {
+                    1.0
+                };
+                h.begin(&s(1e-3, g));
+                total += h.bridged(gain);
+            }
+            total
+        };
+        // 50 ms held at 0 where the rate is 1 rad/s after: half of it is the line's.
+        let full = run(0.0, 1);
+        assert!((full - 0.025).abs() < 1e-3, "{full}");
+        let k = 2.0;
+        let part = run(k, 1);
+        // Its age lies between the window and the window plus the gap.
+        assert!(part < full * (-k * BRIDGE_WINDOW).exp() + 1e-12, "{part}");
+        assert!(part > full * (-k * (BRIDGE_WINDOW + 0.05)).exp(), "{part}");
+        // Missing from the start until the gap: nothing was held from a reading.
+        assert_eq!(run(0.0, 150), 0.0);
     }
 }

@@ -6,7 +6,9 @@
 //! `(ax, ay) = (g sin theta, g cos theta)` at rest, and the tilt is the quaternion's roll.
 //! The filters are started at the accelerometer angle of the first sample and their
 //! sample period follows each sample's actual step. A missing gyro reading is replaced by
-//! the gyro's recent mean ([`MISSING_RATE_TAU`], the core's input hold).
+//! the gyro's recent mean ([`MISSING_RATE_TAU`], the core's input hold); Mahony's angle
+//! held through the gap is corrected once the gyro is back
+//! ([`InputHold::bridged`](pendtilt_core::estimators::input_hold::InputHold::bridged)).
 //!
 //! A first start is left as the published filters have it (they start at the first
 //! accelerometer angle). A start-up gain ramp for Mahony on a first start (`kp = max(kp,
@@ -165,6 +167,14 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
             };
         };
         f.set_period(dt);
+        // The angle a gap in the gyro held wrong, once the readings after it tell, turned
+        // in with this step, less what the gain forgot since. Madgwick forgets an angle
+        // error at 2 beta (135 deg/s) whatever it is: it has none left to correct.
+        let bridge = match f.gain_mut() {
+            Some(_) => self.input.bridged(self.gains[0]),
+            None => 0.0,
+        };
+        let gyro = gyro + bridge / dt;
         let g = Vector3::new(gyro, 0.0, 0.0);
         let gain = self.gains[0];
         let restarting = self.kept.is_some() && self.elapsed * gain < 1.0;
