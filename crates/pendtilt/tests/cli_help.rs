@@ -89,6 +89,7 @@ fn estimate_help_lists_every_estimator_and_the_input_units() {
             // What happens to a reading beyond, at and without a full scale.
             "flagged implausible",
             "kept and flagged saturated",
+            "ekf and ukf do not use it",
             "a clip is found in the readings",
         ] {
             assert!(h.contains(unit), "{c}: {unit} missing:\n{h}");

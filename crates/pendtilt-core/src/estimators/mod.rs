@@ -22,6 +22,7 @@ pub mod accel;
 pub mod alg1;
 pub mod alg2;
 pub mod alg3;
+pub mod clip_gate;
 pub mod complementary;
 pub(crate) mod encoder;
 pub mod equations;

@@ -49,6 +49,10 @@ pub struct Entry {
     pub kind: Kind,
     /// One line for `--help` and reports.
     pub about: &'static str,
+    /// Whether it takes the gyro as missing while the gyro clips heavily
+    /// ([`pendtilt_core::estimators::clip_gate`]): the model-based filters, which the
+    /// biased readings within range would pull off most.
+    pub gyro_gated: bool,
 }
 
 const PHI: Inputs = Inputs {
@@ -85,12 +89,14 @@ pub static REGISTRY: &[Entry] = &[
         },
         kind: Kind::Direct(|s| Box::new(Accel::new(s.rig.accel))),
         about: "accelerometer, Eq (1)",
+        gyro_gated: false,
     },
     Entry {
         name: "pendulum",
         needs: PHI,
         kind: Kind::Direct(|_| Box::new(Pendulum::new(PendulumSettings {}))),
         about: "raw pendulum angle",
+        gyro_gated: false,
     },
     Entry {
         name: "alg1",
@@ -106,6 +112,7 @@ pub static REGISTRY: &[Entry] = &[
             (fe, a.equation())
         }),
         about: "Algorithm 1, Eq (20)",
+        gyro_gated: false,
     },
     Entry {
         name: "alg2",
@@ -115,6 +122,7 @@ pub static REGISTRY: &[Entry] = &[
             (a.front_end, a.equation())
         }),
         about: "Algorithm 2, Eqs (21)-(22)",
+        gyro_gated: false,
     },
     Entry {
         name: "alg2_offset",
@@ -127,6 +135,7 @@ pub static REGISTRY: &[Entry] = &[
             (a.front_end, a.equation())
         }),
         about: "Algorithm 2 with the pivot-offset term (not in the paper)",
+        gyro_gated: false,
     },
     Entry {
         name: "alg2_dc",
@@ -139,6 +148,7 @@ pub static REGISTRY: &[Entry] = &[
             (a.front_end, a.equation())
         }),
         about: "Algorithm 2 with the differentiator's delay removed by the gyro (not in the paper)",
+        gyro_gated: false,
     },
     Entry {
         name: "alg3",
@@ -148,36 +158,42 @@ pub static REGISTRY: &[Entry] = &[
             (a.front_end, Equation::Alg3(a.gains))
         }),
         about: "Algorithm 3's Eq (30) with the configured K, L, M, N",
+        gyro_gated: false,
     },
     Entry {
         name: "kf_accel",
         needs: ACCEL_GYRO,
         kind: Kind::Kalman(&[("accel", r_accel)]),
         about: "Kalman filter fed by the accelerometer (the classic filter)",
+        gyro_gated: false,
     },
     Entry {
         name: "kf_alg1",
         needs: PHI_GYRO,
         kind: Kind::Kalman(&[("alg1", r_pendulum)]),
         about: "Kalman filter fed by Algorithm 1",
+        gyro_gated: false,
     },
     Entry {
         name: "kf_alg2",
         needs: PHI_GYRO,
         kind: Kind::Kalman(&[("alg2", r_pendulum)]),
         about: "Kalman filter fed by Algorithm 2",
+        gyro_gated: false,
     },
     Entry {
         name: "kf_alg3",
         needs: PHI_GYRO,
         kind: Kind::Kalman(&[("alg3", r_pendulum)]),
         about: "Kalman filter fed by Algorithm 3",
+        gyro_gated: false,
     },
     Entry {
         name: "kf_fused",
         needs: Inputs::ALL,
         kind: Kind::Kalman(&[("accel", r_accel), ("alg2", r_pendulum)]),
         about: "Kalman filter fed by the accelerometer and Algorithm 2 in turn",
+        gyro_gated: false,
     },
     Entry {
         name: "ekf",
@@ -190,6 +206,7 @@ pub static REGISTRY: &[Entry] = &[
             ))))
         }),
         about: "EKF on the pendulum's own dynamics with l12 (the paper's future work)",
+        gyro_gated: true,
     },
     Entry {
         name: "ukf",
@@ -202,24 +219,28 @@ pub static REGISTRY: &[Entry] = &[
             ))))
         }),
         about: "UKF on the same model",
+        gyro_gated: true,
     },
     Entry {
         name: "madgwick",
         needs: ACCEL_GYRO,
         kind: Kind::Direct(|s| Box::new(ahrs_planar::madgwick(s.peers.madgwick_beta))),
         about: "Madgwick (ahrs crate), planar use, gain from a search on the scooter ride",
+        gyro_gated: false,
     },
     Entry {
         name: "mahony",
         needs: ACCEL_GYRO,
         kind: Kind::Direct(|s| Box::new(ahrs_planar::mahony(s.peers.mahony[0], s.peers.mahony[1]))),
         about: "Mahony (ahrs crate), planar use, gains from a search on the scooter ride",
+        gyro_gated: false,
     },
     Entry {
         name: "complementary",
         needs: ACCEL_GYRO,
         kind: Kind::Direct(|s| Box::new(Complementary::new(s.peers.complementary))),
         about: "complementary filter of gyro and accelerometer",
+        gyro_gated: false,
     },
 ];
 

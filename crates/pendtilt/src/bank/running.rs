@@ -1,5 +1,6 @@
 //! The running bank ([`Bank`]): the registry's entries that a log's inputs allow, run
 //! side by side one sample at a time, restarted after long sensor gaps.
+use pendtilt_core::estimators::clip_gate::ClipGate;
 use pendtilt_core::estimators::front_end::SharedFrontEnd;
 use pendtilt_core::kalman::tilt::UNUSABLE;
 use pendtilt_core::kalman::TiltKalman;
@@ -60,6 +61,10 @@ pub struct Bank {
     blank: Estimate<f64>,
     /// The gyro full scale the estimators were last given (the rig's, or a clip's level).
     gyro_full_scale: Option<f64>,
+    /// Whether each slot takes the gyro as missing while it clips heavily
+    /// ([`super::registry::Entry::gyro_gated`]), and the gate that says when.
+    gated: Vec<bool>,
+    clip_gate: ClipGate<f64>,
 }
 
 impl std::fmt::Debug for Bank {
@@ -122,6 +127,8 @@ impl Bank {
                 flags: Flags::SAMPLE_MISSING,
             },
             gyro_full_scale: settings.rig.gyro.checked_full_scale(),
+            gated: Vec::new(),
+            clip_gate: ClipGate::new(),
         };
         for e in REGISTRY {
             if !wanted(e.name) {
@@ -180,6 +187,7 @@ impl Bank {
             bank.needs.push(e.needs);
             bank.slots.push(slot);
             bank.slot_needs.push(e.needs);
+            bank.gated.push(e.gyro_gated);
         }
         Ok(bank)
     }
@@ -330,8 +338,22 @@ impl Bank {
                 }
             }
         }
-        for slot in &mut self.slots {
+        // A gyro that clips heavily: its readings within range are the vibration's
+        // troughs, which the gated estimators take as missing.
+        let heavy = self
+            .clip_gate
+            .offer(sample.dt, fs.is_some_and(|f| sample.gyro.abs() >= f));
+        let censored = Sample {
+            gyro: f64::NAN,
+            ..*sample
+        };
+        for (slot, &gated) in self.slots.iter_mut().zip(&self.gated) {
             let e = match slot {
+                Slot::Direct(est) if gated && heavy => {
+                    let mut e = est.update(&censored);
+                    e.flags |= Flags::SATURATED;
+                    e
+                }
                 Slot::Direct(est) => est.update(sample),
                 Slot::Shared(front) => {
                     let n = front.equations().len();
@@ -394,6 +416,7 @@ impl Bank {
 
     /// Forgets all history.
     pub fn reset(&mut self) {
+        self.clip_gate = ClipGate::new();
         for slot in &mut self.slots {
             match slot {
                 Slot::Direct(e) => e.reset(),

@@ -15,8 +15,9 @@ t in ms or us: --time-unit. Other column names: --map. A gyro or accelerometer r
 the rig's [gyro]/[accel] full_scale (without one: 100 rad/s, 500 m/s^2) is read as missing \
 and flagged implausible; one at it is kept and flagged saturated; without a full scale, a \
 clip is found in the readings themselves (one value on several rows in a row, which a noisy \
-sensor never writes), warned and flagged saturated. The estimates are written in rad \
-(--out-deg: deg), t in s.";
+sensor never writes), warned and flagged saturated. While the gyro clips often (8 % of the \
+readings over 3 s), ekf and ukf do not use it until 1 s after (flagged saturated). The \
+estimates are written in rad (--out-deg: deg), t in s.";
 
 /// The estimators the bank knows, one line each: name, the columns it needs, what it is.
 pub fn estimator_list() -> String {
