@@ -128,7 +128,7 @@ pub struct LogRecord {
 
 mod error;
 mod header;
-pub use error::{CellRef, LogError, LogErrorKind};
+pub use error::{decimal_comma_hint, CellRef, LogError, LogErrorKind, DECIMAL_COMMA_FIX};
 
 /// Streaming sensor-log reader over any [`BufRead`].
 ///
