@@ -474,3 +474,75 @@ fn quoted_decimal_commas_are_named_with_a_command_that_converts_the_log() {
         "{e}"
     );
 }
+
+#[test]
+fn a_header_in_degrees_read_as_radians_is_named_and_the_unit_check_agrees() {
+    // `phi (deg)` and `gyro[deg/s]` mapped without --deg: the name says it, line 1.
+    let dir = tempfile::tempdir().unwrap();
+    let deg = dir.path().join("deg.csv");
+    let names = ["t", "phi (deg)", "gyro[deg/s]", "ax", "ay", "theta"];
+    write_log(&deg, names, true, false);
+    let rad = dir.path().join("rad.csv");
+    write_log(
+        &rad,
+        ["t", "phi", "gyro", "ax", "ay", "theta"],
+        false,
+        false,
+    );
+    let run = |log: &Path, extra: &[&str], out: &str| {
+        let o = bin()
+            .arg("estimate")
+            .arg(log)
+            .args(extra)
+            .arg("-o")
+            .arg(dir.path().join(out))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let map = "phi=phi (deg),gyro=gyro[deg/s]";
+    let e = run(&deg, &["--map", map], "a.csv");
+    let at = |c: &str| format!("warning: {}:1: column `{c}`", deg.display());
+    assert!(
+        e.contains(&format!(
+            "{} (gyro): its name says deg/s, and it is read in rad/s (no --deg): read it with \
+             --deg gyro",
+            at("gyro[deg/s]")
+        )) && e.contains(&format!(
+            "{} (phi): its name says degrees, and it is read in radians (no --deg): read it \
+             with --deg phi",
+            at("phi (deg)")
+        )),
+        "{e}"
+    );
+    // The unit check from the physics gives the same fix.
+    assert!(
+        e.contains("is gyro in deg/s? read it with --deg gyro"),
+        "{e}"
+    );
+    // With the fix: no unit warning, and the radian log's estimates.
+    let e = run(&deg, &["--map", map, "--deg", "phi,gyro,theta"], "b.csv");
+    assert!(!e.contains("--deg"), "{e}");
+    run(&rad, &[], "c.csv");
+    let read = |f: &str| -> Vec<f64> {
+        std::fs::read_to_string(dir.path().join(f))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .flat_map(|l| {
+                l.split(',')
+                    .map(|v| v.parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    };
+    let (b, c) = (read("b.csv"), read("c.csv"));
+    assert_eq!(b.len(), c.len());
+    let worst = b
+        .iter()
+        .zip(&c)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9, "{worst}");
+}

@@ -32,7 +32,10 @@ pub mod plateau;
 pub mod plausibility;
 mod split;
 
-pub use columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns, OptionError};
+pub use columns::{
+    header_unit_warning, unit_in_name, Column, ColumnMap, ColumnReport, ColumnStatus,
+    DegreeColumns, NamedUnit, OptionError,
+};
 pub use diagnostics::{LogSummary, LogWarning, WarningKind};
 pub use estimates3d_writer::{Column3d, Estimates3dWriter};
 pub use estimates_writer::{EstimatesWriter, WriterOptions};
