@@ -459,7 +459,9 @@ fn quoted_decimal_commas_are_named_with_a_command_that_converts_the_log() {
     for (command, out) in [("estimate", "csv"), ("filter", "f.csv")] {
         let a = run(command, &converted, &format!("a.{out}"));
         let b = run(command, &log, &format!("b.{out}"));
-        assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
+        for o in [&a, &b] {
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        }
         let (a, b) = (
             std::fs::read(dir.path().join(format!("a.{out}"))).unwrap(),
             std::fs::read(dir.path().join(format!("b.{out}"))).unwrap(),
