@@ -304,6 +304,72 @@ pub const DOUBTFUL_LENGTH: f64 = 2.0;
 /// g \[m/s^2\] for telling l12 from a normalised `c` (only for [`RigConfig::doubts`]).
 const DEFAULT_GRAVITY: f64 = 9.80665;
 
+/// A length that is possible but far more likely millimetres read as metres: one of the
+/// rig's lengths beyond [`DOUBTFUL_LENGTH`], wherever it was given (a rig or scenario file,
+/// a command-line option; planar or 3-D). Made by [`doubt_length`], the one check.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LengthDoubt {
+    /// The key that holds it (`pendulum.pivot_offset`, `rig.pendulum3d.length`).
+    pub key: String,
+    /// What it is, with its value (`a pivot offset l12 of 50 m`).
+    pub what: String,
+    /// The value written in metres, if it was meant in millimetres (`0.05`).
+    pub fix: String,
+}
+
+/// The one check of a length \[m\]: a doubt when `|metres|` is beyond
+/// [`DOUBTFUL_LENGTH`]. `key`, `what` and `fix` as in [`LengthDoubt`].
+pub fn doubt_length(
+    key: &str,
+    what: String,
+    metres: f64,
+    fix: impl std::fmt::Display,
+) -> Option<LengthDoubt> {
+    (metres.abs() > DOUBTFUL_LENGTH).then(|| LengthDoubt {
+        key: key.into(),
+        what,
+        fix: fix.to_string(),
+    })
+}
+
+/// `x` to six significant digits, written plainly (0.0051, not 0.0050999999999999995).
+pub fn plain(x: f64) -> f64 {
+    format!("{x:.5e}").parse().unwrap_or(x)
+}
+
+impl LengthDoubt {
+    /// Why it is doubted.
+    fn why(&self) -> String {
+        format!(
+            "{} is beyond {DOUBTFUL_LENGTH} m, larger than any vehicle a pendulum sensor \
+             rides on but a ship",
+            self.what
+        )
+    }
+
+    /// The sentence for a file of kind `kind` (`rig file`, `scenario file`): the key, the
+    /// value, and `write KEY = FIX (the KIND is in metres)`.
+    pub fn in_file(&self, kind: &str) -> String {
+        format!(
+            "{}: {}: if it was written in millimetres, write {} = {} (the {kind} is in metres)",
+            self.key,
+            self.why(),
+            self.key,
+            self.fix
+        )
+    }
+
+    /// The sentence for a command-line option: `given` as typed (`--pivot-offset 50`),
+    /// and the fix `fixed` would give (`--pivot-offset 0.05`).
+    pub fn on_command_line(&self, given: &str, fixed: &str) -> String {
+        format!(
+            "{given}: {}: if it was meant in millimetres, give {fixed} (the options are in \
+             metres)",
+            self.why()
+        )
+    }
+}
+
 impl RigConfig {
     /// The bounds of plausible readings the log reader applies: the sensors' full scales
     /// (`[gyro]`, `[accel]`), or the default physical bounds where they are unset.
@@ -320,46 +386,44 @@ impl RigConfig {
     /// 50 mm left alg2_offset 87 deg RMS off, the EKF 2.3 and the UKF 5.4 deg instead of
     /// 0.5, on a scooter ride, without a word). The commands print them as warnings.
     pub fn doubts(&self) -> Vec<String> {
-        // (key, what, its value, l12 or l_p in metres, the value in metres' stead)
-        let mut rows = Vec::new();
+        self.length_doubts()
+            .iter()
+            .map(|d| d.in_file("rig file"))
+            .collect()
+    }
+
+    /// The lengths [`RigConfig::doubts`] words for a rig file, for callers that name
+    /// another source (a command-line option, a scenario file).
+    pub fn length_doubts(&self) -> Vec<LengthDoubt> {
         match &self.pendulum {
-            PendulumConfig::Physical(p) => {
-                for (key, what, v) in [
-                    ("pendulum.length", "a pendulum length l_p", p.length),
-                    (
-                        "pendulum.pivot_offset",
-                        "a pivot offset l12",
-                        p.pivot_offset,
-                    ),
-                ] {
-                    rows.push((key, format!("{what} of {v} m"), v, v / 1000.0));
-                }
-            }
+            PendulumConfig::Physical(p) => [
+                ("pendulum.length", "a pendulum length l_p", p.length),
+                (
+                    "pendulum.pivot_offset",
+                    "a pivot offset l12",
+                    p.pivot_offset,
+                ),
+            ]
+            .into_iter()
+            .filter_map(|(key, what, v)| {
+                doubt_length(key, format!("{what} of {v} m"), v, plain(v / 1000.0))
+            })
+            .collect(),
             PendulumConfig::Normalised(p) => {
                 let l12 = p.c * DEFAULT_GRAVITY;
-                rows.push((
+                doubt_length(
                     "pendulum.c",
                     format!(
                         "c = l12 / g = {} s^2, a pivot offset l12 of {l12:.3} m,",
                         p.c
                     ),
                     l12,
-                    p.c / 1000.0,
-                ));
+                    plain(p.c / 1000.0),
+                )
+                .into_iter()
+                .collect()
             }
         }
-        rows.into_iter()
-            .filter(|r| r.2.abs() > DOUBTFUL_LENGTH)
-            .map(|(key, what, _, fix)| {
-                // Six significant digits, written plainly (0.0051, not 0.0050999999999999995).
-                let fix: f64 = format!("{fix:.5e}").parse().unwrap_or(fix);
-                format!(
-                    "{key}: {what} is beyond {DOUBTFUL_LENGTH} m, larger than any vehicle a \
-                     pendulum sensor rides on but a ship: if it was written in millimetres, \
-                     write {key} = {fix} (the rig file is in metres)"
-                )
-            })
-            .collect()
     }
 
     /// Reads and checks a rig file. Errors name `path`.

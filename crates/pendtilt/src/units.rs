@@ -439,7 +439,7 @@ fn finding(column: &'static str, comparison: Comparison, fit: Fit, k: f64) -> Fi
     } else {
         format!(
             "{column} is 1/{:.1} of {against}: is {column} already in radians and read \
-             with --deg? ({how})",
+             with --deg? leave {column} out of --deg ({how})",
             1.0 / fit.factor
         )
     };

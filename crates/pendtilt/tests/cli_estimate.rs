@@ -383,3 +383,168 @@ fn a_pivot_offset_in_millimetres_is_doubted_by_every_command_that_reads_the_rig(
         .unwrap();
     assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
 }
+
+#[test]
+fn quoted_decimal_commas_are_named_with_a_command_that_converts_the_log() {
+    // A spreadsheet's export: comma-separated, every cell quoted, numbers with a decimal
+    // comma ("0,001","-0,026",...). Was: `not a number: `0,0``, and nothing to act on.
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("log.csv");
+    write_log(
+        &log,
+        ["t", "phi", "gyro", "ax", "ay", "theta"],
+        false,
+        false,
+    );
+    let text = std::fs::read_to_string(&log).unwrap();
+    let quoted: String = text
+        .lines()
+        .map(|l| {
+            let cells: Vec<String> = l
+                .split(',')
+                .map(|c| format!("\"{}\"", c.replace('.', ",")))
+                .collect();
+            cells.join(",") + "\n"
+        })
+        .collect();
+    assert!(quoted.contains("e-") || quoted.contains("E-") || quoted.contains("\"0\""));
+    let comma = dir.path().join("comma.csv");
+    std::fs::write(&comma, &quoted).unwrap();
+    let run = |command: &str, input: &Path, out: &str| {
+        bin()
+            .arg(command)
+            .arg(input)
+            .arg("-o")
+            .arg(dir.path().join(out))
+            .output()
+            .unwrap()
+    };
+    let fix = pendtilt::io::DECIMAL_COMMA_FIX;
+    let o = run("estimate", &comma, "e.csv");
+    let e = String::from_utf8_lossy(&o.stderr);
+    let at = format!(
+        "{}:2: column 1 (`t`): not a number: `0,0`: ",
+        comma.display()
+    );
+    assert!(!o.status.success() && e.contains(&at), "{e}");
+    assert!(
+        e.contains("a number with a decimal comma (quoted, \"0,0\"), and the log must use decimal points: convert it with `")
+            && e.contains(fix),
+        "{e}"
+    );
+    let o = run("filter", &comma, "f.csv");
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success()
+            && e.contains("'0,0' is not a number: a number with a decimal comma")
+            && e.contains(fix),
+        "{e}"
+    );
+    // The command as given, on this log: the estimates of the comma log are the plain
+    // log's, byte for byte (the quoted header, and quoted cells without a comma, read as
+    // they are).
+    let converted = dir.path().join("log_points.csv");
+    let cmd = fix
+        .replace("log.csv", comma.to_str().unwrap())
+        .replace("log_points.csv", converted.to_str().unwrap());
+    let sh = std::process::Command::new("sh")
+        .args(["-c", &cmd])
+        .output()
+        .unwrap();
+    assert!(
+        sh.status.success(),
+        "{cmd}: {}",
+        String::from_utf8_lossy(&sh.stderr)
+    );
+    for (command, out) in [("estimate", "csv"), ("filter", "f.csv")] {
+        let a = run(command, &converted, &format!("a.{out}"));
+        let b = run(command, &log, &format!("b.{out}"));
+        for o in [&a, &b] {
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        }
+        let (a, b) = (
+            std::fs::read(dir.path().join(format!("a.{out}"))).unwrap(),
+            std::fs::read(dir.path().join(format!("b.{out}"))).unwrap(),
+        );
+        assert!(a.len() > 1000 && a == b, "{command}");
+    }
+    // A cell that is no number at all gets no such hint.
+    std::fs::write(&comma, text.replacen("\n0.0,", "\nabc,", 1)).unwrap();
+    let e = String::from_utf8_lossy(&run("estimate", &comma, "e.csv").stderr).into_owned();
+    assert!(
+        e.contains("not a number: `abc`") && !e.contains("decimal comma"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_header_in_degrees_read_as_radians_is_named_and_the_unit_check_agrees() {
+    // `phi (deg)` and `gyro[deg/s]` mapped without --deg: the name says it, line 1.
+    let dir = tempfile::tempdir().unwrap();
+    let deg = dir.path().join("deg.csv");
+    let names = ["t", "phi (deg)", "gyro[deg/s]", "ax", "ay", "theta"];
+    write_log(&deg, names, true, false);
+    let rad = dir.path().join("rad.csv");
+    write_log(
+        &rad,
+        ["t", "phi", "gyro", "ax", "ay", "theta"],
+        false,
+        false,
+    );
+    let run = |log: &Path, extra: &[&str], out: &str| {
+        let o = bin()
+            .arg("estimate")
+            .arg(log)
+            .args(extra)
+            .arg("-o")
+            .arg(dir.path().join(out))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let map = "phi=phi (deg),gyro=gyro[deg/s]";
+    let e = run(&deg, &["--map", map], "a.csv");
+    let at = |c: &str| format!("warning: {}:1: column `{c}`", deg.display());
+    assert!(
+        e.contains(&format!(
+            "{} (gyro): its name says deg/s, and it is read in rad/s (no --deg): read it with \
+             --deg gyro",
+            at("gyro[deg/s]")
+        )) && e.contains(&format!(
+            "{} (phi): its name says degrees, and it is read in radians (no --deg): read it \
+             with --deg phi",
+            at("phi (deg)")
+        )),
+        "{e}"
+    );
+    // The unit check from the physics gives the same fix.
+    assert!(
+        e.contains("is gyro in deg/s? read it with --deg gyro"),
+        "{e}"
+    );
+    // With the fix: no unit warning, and the radian log's estimates.
+    let e = run(&deg, &["--map", map, "--deg", "phi,gyro,theta"], "b.csv");
+    assert!(!e.contains("--deg"), "{e}");
+    run(&rad, &[], "c.csv");
+    let read = |f: &str| -> Vec<f64> {
+        std::fs::read_to_string(dir.path().join(f))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .flat_map(|l| {
+                l.split(',')
+                    .map(|v| v.parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    };
+    let (b, c) = (read("b.csv"), read("c.csv"));
+    assert_eq!(b.len(), c.len());
+    let worst = b
+        .iter()
+        .zip(&c)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9, "{worst}");
+}

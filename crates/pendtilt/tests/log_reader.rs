@@ -707,3 +707,103 @@ fn a_header_line_in_the_middle_is_named_as_one() {
         "log.csv:3: column 2 (`phi`): not a number: `t`"
     );
 }
+
+#[test]
+fn a_header_that_names_the_other_unit_is_warned_about_on_line_1() {
+    use pendtilt::io::{ColumnMap, DegreeColumns};
+    let read = |header: &str, map: &str, deg: &str| -> Vec<String> {
+        let text = format!("{header}\n0,0.01,0.02,0,9.8\n0.001,0.01,0.02,0,9.8\n");
+        let options = ReaderOptions {
+            map: if map.is_empty() {
+                ColumnMap::new()
+            } else {
+                map.parse().unwrap()
+            },
+            degrees: if deg.is_empty() {
+                DegreeColumns::none()
+            } else {
+                deg.parse().unwrap()
+            },
+            ..ReaderOptions::default()
+        };
+        let (records, warnings, error) = read_all(&text, options);
+        assert!(error.is_none() && records.len() == 2, "{error:?}");
+        warnings
+            .iter()
+            .filter(|w| w.kind == WarningKind::UnitMismatch)
+            .map(|w| w.to_string())
+            .collect()
+    };
+    // Degrees in the name, read as radians: file, line 1, the column, the fix.
+    let w = read(
+        "t,phi (deg),gyro[deg/s],ax,ay",
+        "phi=phi (deg),gyro=gyro[deg/s]",
+        "",
+    );
+    assert_eq!(
+        w,
+        [
+            "log.csv:1: column `phi (deg)` (phi): its name says degrees, and it is read in \
+             radians (no --deg): read it with --deg phi",
+            "log.csv:1: column `gyro[deg/s]` (gyro): its name says deg/s, and it is read in \
+             rad/s (no --deg): read it with --deg gyro"
+        ]
+    );
+    let w = read("t,phi,gyro_deg_s,ax,ay", "gyro=gyro_deg_s", "");
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].ends_with("read it with --deg gyro"), "{w:?}");
+    for h in ["gyro_dps", "gyro (°/s)", "Gyro_Degrees"] {
+        assert_eq!(
+            read(&format!("t,phi,{h},ax,ay"), &format!("gyro={h}"), "").len(),
+            1,
+            "{h}"
+        );
+    }
+    // Radians in the name, read with --deg.
+    let w = read(
+        "t,phi_rad,gyro[rad/s],ax,ay",
+        "phi=phi_rad,gyro=gyro[rad/s]",
+        "phi,gyro",
+    );
+    assert_eq!(
+        w[1],
+        "log.csv:1: column `gyro[rad/s]` (gyro): its name says rad/s, and it is read in deg/s \
+         (--deg): leave gyro out of --deg"
+    );
+    // Right as read, or saying nothing about units: not a word.
+    for (header, map, deg) in [
+        (
+            "t,phi (deg),gyro[deg/s],ax,ay",
+            "phi=phi (deg),gyro=gyro[deg/s]",
+            "phi,gyro",
+        ),
+        (
+            "t,phi_rad,gyro[rad/s],ax,ay",
+            "phi=phi_rad,gyro=gyro[rad/s]",
+            "",
+        ),
+        ("t,phi,gyro,ax,ay", "", ""),
+        ("t,phi,gyro,ax,ay", "", "phi,gyro"),
+        (
+            "t,enc_angle,gradient,ax,ay",
+            "phi=enc_angle,gyro=gradient",
+            "",
+        ),
+        ("t,phi,radius_gyro,ax,ay", "gyro=radius_gyro", "gyro"),
+        ("t,phi,gyro,ax_deg,ay", "ax=ax_deg", ""),
+    ] {
+        assert!(read(header, map, deg).is_empty(), "{header} {map} {deg}");
+    }
+}
+
+#[test]
+fn a_missing_column_whose_name_carries_a_unit_is_suggested_with_the_unit_option() {
+    let text = "t,phi_deg,gyro[rad/s],ax,ay\n0,1,0.02,0,9.8\n";
+    let r = open(text, ReaderOptions::default()).unwrap();
+    let c = r.columns().to_string();
+    assert!(
+        c.contains("phi (the header has `phi_deg`: --map phi=phi_deg --deg phi?)")
+            && c.contains("gyro (the header has `gyro[rad/s]`: --map 'gyro=gyro[rad/s]'?)"),
+        "{c}"
+    );
+}

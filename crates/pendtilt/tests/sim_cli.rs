@@ -176,3 +176,119 @@ fn a_duration_of_no_row_is_refused_and_writes_nothing() {
     }
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
+
+#[test]
+fn a_length_in_millimetres_on_the_command_line_is_doubted_like_in_a_rig_file() {
+    // `--pivot-offset 50` meant 50 mm: every command reading a rig file warned about it,
+    // simulate (which writes that rig file) did not. One check (config::doubt_length)
+    // now words it for where the value was given.
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| dir.path().join(n);
+    let run = |extra: &[&str], out: &str| {
+        let log = p(out);
+        let mut args = vec!["simulate", "--duration", "0.01"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", s(&log)]);
+        let o = pendtilt(&args);
+        assert!(
+            o.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let beyond = "a pivot offset l12 of 50 m is beyond 2 m, larger than any vehicle";
+    let e = run(&["--scenario", "still", "--pivot-offset", "50"], "a.csv");
+    assert!(
+        e.contains(&format!("warning: --pivot-offset 50: {beyond}")),
+        "{e}"
+    );
+    assert!(
+        e.contains("give --pivot-offset 0.05 (the options are in metres)"),
+        "{e}"
+    );
+    let e = run(
+        &["--scenario", "still", "--set", "pendulum.pivot_offset=-120"],
+        "b.csv",
+    );
+    assert!(
+        e.contains(
+            "warning: --set pendulum.pivot_offset=-120: a pivot offset l12 of -120 m is beyond 2 m"
+        ),
+        "{e}"
+    );
+    assert!(e.contains("give --set pendulum.pivot_offset=-0.12"), "{e}");
+    // The rig it wrote, given back as --rig, and its scenario file as --config.
+    let rig = p("a.rig.toml");
+    let e = run(&["--scenario", "step", "--rig", s(&rig)], "c.csv");
+    assert!(
+        e.contains(&format!(
+            "warning: {}: pendulum.pivot_offset: {beyond}",
+            s(&rig)
+        )),
+        "{e}"
+    );
+    assert!(
+        e.contains("write pendulum.pivot_offset = 0.05 (the rig file is in metres)"),
+        "{e}"
+    );
+    let scen = p("c.scenario.toml");
+    let e = run(&["--config", s(&scen)], "d.csv");
+    assert!(
+        e.contains(&format!(
+            "warning: {}: pendulum.pivot_offset: {beyond}",
+            s(&scen)
+        )),
+        "{e}"
+    );
+    assert!(e.contains("(the scenario file is in metres)"), "{e}");
+    // A 3-D scenario file with r12 = 50 m on z; the 3-D rig file it wrote, to estimate.
+    run(&["--scenario", "still3d"], "s3.csv");
+    for f in ["s3.scenario.toml", "s3.rig.toml"] {
+        let t = std::fs::read_to_string(p(f)).unwrap();
+        let t = t.replace(
+            "pivot_offset = [0.0, 0.0, 0.0]",
+            "pivot_offset = [0.0, 0.0, 50.0]",
+        );
+        std::fs::write(p(f), t).unwrap();
+    }
+    let e = run(&["--config", s(&p("s3.scenario.toml"))], "s4.csv");
+    assert!(e.contains("rig.pendulum3d.pivot_offset: a pivot offset r12 = [0.0, 0.0, 50.0] m (50.000 m long) is beyond 2 m"), "{e}");
+    assert!(
+        e.contains("write rig.pendulum3d.pivot_offset = [0.0, 0.0, 0.05]"),
+        "{e}"
+    );
+    let o = pendtilt(&[
+        "estimate",
+        s(&p("s3.csv")),
+        "-p",
+        s(&p("s3.rig.toml")),
+        "-o",
+        s(&p("e3.csv")),
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() && e.contains("pendulum3d.pivot_offset: a pivot offset r12"),
+        "{e}"
+    );
+    // Plausible lengths (1.5 m, the defaults), or --quiet: not a word.
+    let e = run(
+        &[
+            "--scenario",
+            "still",
+            "--pivot-offset",
+            "1.5",
+            "--length",
+            "0.2",
+            "--inertia",
+            "0.01",
+        ],
+        "e.csv",
+    );
+    assert!(!e.contains("warning"), "{e}");
+    let e = run(
+        &["--scenario", "still", "--pivot-offset", "50", "--quiet"],
+        "f.csv",
+    );
+    assert!(e.is_empty(), "{e}");
+}

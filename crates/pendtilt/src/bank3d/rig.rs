@@ -12,6 +12,7 @@ use pendtilt_core::spatial::cardan::CardanParams;
 use pendtilt_core::spatial::ekf;
 use serde::Deserialize;
 
+use crate::config::{doubt_length, plain, LengthDoubt};
 use crate::sim3d::{Mounting, Pendulum3d};
 
 /// The keys of the normalised form.
@@ -32,6 +33,52 @@ impl Pendulum3dConfig {
         match self {
             Self::Physical(p) => p.normalised(),
             Self::Normalised(c) => *c,
+        }
+    }
+
+    /// Its lengths beyond [`crate::config::DOUBTFUL_LENGTH`] (the check every planar rig
+    /// gets, [`crate::config::doubt_length`]): the length l and the pivot offset r12 (or
+    /// c g), each named by `table`'s key (`pendulum3d`, a scenario's `rig.pendulum3d`).
+    pub fn length_doubts(&self, table: &str) -> Vec<LengthDoubt> {
+        let norm = |v: [f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let milli = |v: [f64; 3]| format!("{:?}", v.map(|x| plain(x / 1000.0)));
+        match self {
+            Self::Physical(p) => [
+                doubt_length(
+                    &format!("{table}.length"),
+                    format!("a pendulum length l of {} m", p.length),
+                    p.length,
+                    plain(p.length / 1000.0),
+                ),
+                doubt_length(
+                    &format!("{table}.pivot_offset"),
+                    format!(
+                        "a pivot offset r12 = {:?} m ({:.3} m long)",
+                        p.pivot_offset,
+                        norm(p.pivot_offset)
+                    ),
+                    norm(p.pivot_offset),
+                    milli(p.pivot_offset),
+                ),
+            ]
+            .into_iter()
+            .flatten()
+            .collect(),
+            Self::Normalised(c) => {
+                let r12 = c.c.map(|x| x * c.gravity);
+                doubt_length(
+                    &format!("{table}.c"),
+                    format!(
+                        "c = r12 / g = {:?} s^2, a pivot offset {:.3} m long,",
+                        c.c,
+                        norm(r12)
+                    ),
+                    norm(r12),
+                    milli(c.c),
+                )
+                .into_iter()
+                .collect()
+            }
         }
     }
 }

@@ -37,7 +37,7 @@ use pendtilt_core::spatial::Attitude;
 
 use super::estimate::Args;
 use crate::bank::Inputs;
-use crate::bank3d::rig::Rig3dConfig;
+use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Clips, Settings3d};
 use crate::io::output::{self, NamedPath, OutputFile};
@@ -208,6 +208,13 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
     let settings = match (opts.params, &scenario) {
         (Some(p), s) => {
             let rig = Rig3dConfig::load(p).map_err(anyhow::Error::msg)?;
+            for d in rig.pendulum3d.length_doubts("pendulum3d") {
+                opts.notice(&format!(
+                    "warning: {}: {}",
+                    p.display(),
+                    d.in_file("rig file")
+                ));
+            }
             let mut settings = Settings3d::new(
                 rig.pendulum3d.params(),
                 rig.mounting,
@@ -217,7 +224,16 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
             settings.ekf.gyro = rig.gyro;
             settings
         }
-        (None, Some(s)) => Settings3d::of_scenario(s),
+        (None, Some(s)) => {
+            let file = opts
+                .scenario
+                .map(|p| p.display().to_string())
+                .unwrap_or_default();
+            for d in Pendulum3dConfig::Physical(s.rig.pendulum3d).length_doubts("rig.pendulum3d") {
+                opts.notice(&format!("warning: {file}: {}", d.in_file("scenario file")));
+            }
+            Settings3d::of_scenario(s)
+        }
         (None, None) => {
             opts.notice("note: no --params: using the default 3-D rig of MODEL.md 7.6");
             let rig = Rig3dConfig::default();

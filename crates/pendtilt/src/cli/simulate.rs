@@ -155,6 +155,39 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
     Ok((s, args.seed.or(file_seed).unwrap_or(DEFAULT_SEED)))
 }
 
+/// The resolved pendulum's doubtful lengths ([`crate::config::doubt_length`], the check
+/// every rig file gets), each worded for where it was last set: `--set`, `--length` or
+/// `--pivot-offset`, `--rig` or `--config` (the order they are applied in, reversed).
+pub fn length_doubts(args: &Args, s: &Scenario) -> anyhow::Result<Vec<String>> {
+    let o = &args.settings;
+    let mut out = Vec::new();
+    for d in s.rig()?.length_doubts() {
+        let (flag, given) = match d.key.as_str() {
+            "pendulum.length" => ("--length", o.length),
+            _ => ("--pivot-offset", o.pivot_offset),
+        };
+        let set = o
+            .set
+            .iter()
+            .rev()
+            .find(|a| a.split('=').next().map(str::trim) == Some(d.key.as_str()));
+        out.push(match (set, given, &o.rig, &args.config) {
+            (Some(a), ..) => {
+                d.on_command_line(&format!("--set {a}"), &format!("--set {}={}", d.key, d.fix))
+            }
+            (None, Some(v), ..) => {
+                d.on_command_line(&format!("{flag} {v}"), &format!("{flag} {}", d.fix))
+            }
+            (None, None, Some(rig), _) => format!("{}: {}", rig.display(), d.in_file("rig file")),
+            (None, None, None, Some(c)) => {
+                format!("{}: {}", c.display(), d.in_file("scenario file"))
+            }
+            (None, None, None, None) => d.in_file("scenario"),
+        });
+    }
+    Ok(out)
+}
+
 /// The pendulum's and the timing's overrides.
 fn apply_rig_and_timing(s: &mut Scenario, args: &Args) {
     let o = &args.settings;
@@ -377,6 +410,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     let (scenario, seed) = resolve(&args)?;
+    if !args.quiet {
+        for d in length_doubts(&args, &scenario)? {
+            eprintln!("warning: {d}");
+        }
+    }
     // Every key is written below, so the base only has to exist.
     let base = args.scenario.clone().unwrap_or_else(|| "still".into());
     let scenario_text = format!(

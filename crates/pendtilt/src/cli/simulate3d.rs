@@ -109,6 +109,17 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario3d, String, u64)> {
     }
     s.validate()?;
     super::simulate::at_least_one_row(s.duration, s.rate, s.rows())?;
+    // Only a --config file sets the 3-D pendulum (no option does), so it is named.
+    if let (Some(path), false) = (&args.config, args.quiet) {
+        let p = crate::bank3d::rig::Pendulum3dConfig::Physical(s.rig.pendulum3d);
+        for d in p.length_doubts("rig.pendulum3d") {
+            eprintln!(
+                "warning: {}: {}",
+                path.display(),
+                d.in_file("scenario file")
+            );
+        }
+    }
     Ok((s, name, seed))
 }
 

@@ -194,6 +194,15 @@ fn tuned_text(args: &Args) -> anyhow::Result<String> {
             println!("  {} = {}{kept}", n.key, n.value);
         }
     }
+    for n in t.notes.iter().filter(|n| n.fell_back && !args.quiet) {
+        eprintln!(
+            "warning: {}: {} = {}: {}",
+            args.log.display(),
+            n.key,
+            n.value,
+            n.how
+        );
+    }
     let tuned = rig_file::tuned_rig(&rig, &t);
     tuned.validate()?;
     Ok(rig_file::annotated_toml(&tuned, &t, &header))

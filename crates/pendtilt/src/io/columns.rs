@@ -236,7 +236,8 @@ pub struct ColumnStatus {
     /// True when the column is read in degrees and converted.
     pub degrees: bool,
     /// For a missing column: a header name that matches it but for case or spaces
-    /// (`Phi`, ` phi `), offered as a `--map` suggestion; never used on its own.
+    /// (`Phi`, ` phi `), or that is its name and a unit (`gyro[deg/s]`, `phi_rad`),
+    /// offered as a `--map` suggestion (with `--deg` for degrees); never used on its own.
     pub suggestion: Option<String>,
 }
 
@@ -290,7 +291,18 @@ impl fmt::Display for ColumnReport {
             let names: Vec<String> = missing
                 .iter()
                 .map(|c| match &self.status(*c).suggestion {
-                    Some(s) => format!("{c} (the header has `{s}`: --map {c}={s}?)"),
+                    Some(s) => {
+                        // A name that states degrees wants --deg too (see
+                        // [`header_unit_warning`]).
+                        let deg = match unit_in_name(s) {
+                            Some(NamedUnit::Degrees) => format!(" --deg {c}"),
+                            _ => String::new(),
+                        };
+                        format!(
+                            "{c} (the header has `{s}`: --map {}{deg}?)",
+                            shell_word(&format!("{c}={s}"))
+                        )
+                    }
                     None => c.name().to_string(),
                 })
                 .collect();
@@ -301,6 +313,108 @@ impl fmt::Display for ColumnReport {
         }
         Ok(())
     }
+}
+
+/// The angular unit a header name states.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NamedUnit {
+    /// Degrees or degrees per second (`phi_deg`, `gyro[deg/s]`, `gyro_dps`, `theta (°)`).
+    Degrees,
+    /// Radians or radians per second (`phi_rad`, `gyro[rad/s]`, `gyro_rads`).
+    Radians,
+}
+
+impl NamedUnit {
+    /// `deg`/`deg/s` or `rad`/`rad/s`, as `column` takes it.
+    fn unit(self, column: Column) -> &'static str {
+        match (self, column) {
+            (NamedUnit::Degrees, Column::Gyro) => "deg/s",
+            (NamedUnit::Degrees, _) => "degrees",
+            (NamedUnit::Radians, Column::Gyro) => "rad/s",
+            (NamedUnit::Radians, _) => "radians",
+        }
+    }
+}
+
+/// The words of a header name, lower case, split at anything but letters, digits and `°`
+/// (`gyro[deg/s]` -> gyro, deg, s).
+fn name_words(name: &str) -> Vec<String> {
+    name.to_lowercase()
+        .split(|ch: char| !(ch.is_alphanumeric() || ch == '°'))
+        .filter(|w| !w.is_empty())
+        .map(str::to_string)
+        .collect()
+}
+
+/// The angular unit header name `name` states as a word of its own (`deg`, `degs`,
+/// `degree(s)`, `dps`, `°`; `rad`, `rads`, `radian(s)`), if it states one and not both.
+/// A name that says nothing about units (`gyro`, `enc_angle`, `gradient`) gives `None`.
+pub fn unit_in_name(name: &str) -> Option<NamedUnit> {
+    let words = name_words(name);
+    let has = |set: &[&str]| words.iter().any(|w| set.contains(&w.as_str()));
+    let deg = has(&["deg", "degs", "degree", "degrees", "dps", "°"]);
+    let rad = has(&["rad", "rads", "radian", "radians"]);
+    match (deg, rad) {
+        (true, false) => Some(NamedUnit::Degrees),
+        (false, true) => Some(NamedUnit::Radians),
+        _ => None,
+    }
+}
+
+/// The warning for angular column `column`, read from header name `name` in degrees
+/// (`degrees`) or not, when the name states the other unit: the column, what the name
+/// says, how it is read, and the fix, worded as the unit check's
+/// ([`crate::units::UnitCheck`]): `read it with --deg gyro` / `leave gyro out of --deg`.
+pub fn header_unit_warning(column: Column, name: &str, degrees: bool) -> Option<String> {
+    if !column.is_angular() {
+        return None;
+    }
+    let named = unit_in_name(name)?;
+    let read = if degrees {
+        NamedUnit::Degrees
+    } else {
+        NamedUnit::Radians
+    };
+    (named != read).then(|| {
+        let fix = if degrees {
+            format!("leave {column} out of --deg")
+        } else {
+            format!("read it with --deg {column}")
+        };
+        format!(
+            "its name says {}, and it is read in {}{}: {fix}",
+            named.unit(column),
+            read.unit(column),
+            if degrees { " (--deg)" } else { " (no --deg)" }
+        )
+    })
+}
+
+/// `word` as one shell word: as it is when plain, else in single quotes.
+fn shell_word(word: &str) -> String {
+    if word
+        .chars()
+        .all(|ch| ch.is_ascii_alphanumeric() || "_-.=,/:".contains(ch))
+    {
+        word.to_string()
+    } else {
+        format!("'{}'", word.replace('\'', "'\\''"))
+    }
+}
+
+/// For a missing angular column: a header name that is the column's name and a unit
+/// (`gyro[deg/s]`, `phi_rad`), offered as a `--map` suggestion.
+pub(crate) fn unit_named_suggestion(column: Column, header: &[String]) -> Option<String> {
+    if !column.is_angular() {
+        return None;
+    }
+    header
+        .iter()
+        .find(|h| {
+            name_words(h).first().map(String::as_str) == Some(column.name())
+                && unit_in_name(h).is_some()
+        })
+        .cloned()
 }
 
 #[cfg(test)]

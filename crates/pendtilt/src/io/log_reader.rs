@@ -21,7 +21,10 @@ use std::path::Path;
 
 use pendtilt_core::{Sample, StepGate};
 
-use super::columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns};
+use super::columns::{
+    header_unit_warning, unit_named_suggestion, Column, ColumnMap, ColumnReport, ColumnStatus,
+    DegreeColumns,
+};
 use super::csv_lines::CsvLines;
 use super::diagnostics::{LogSummary, LogWarning, WarningKind};
 use super::plausibility::{implausible_step, SensorLimits, TimeUnit};
@@ -128,7 +131,7 @@ pub struct LogRecord {
 
 mod error;
 mod header;
-pub use error::{CellRef, LogError, LogErrorKind};
+pub use error::{decimal_comma_hint, CellRef, LogError, LogErrorKind, DECIMAL_COMMA_FIX};
 
 /// Streaming sensor-log reader over any [`BufRead`].
 ///

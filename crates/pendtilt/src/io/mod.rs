@@ -32,7 +32,10 @@ pub mod plateau;
 pub mod plausibility;
 mod split;
 
-pub use columns::{Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns, OptionError};
+pub use columns::{
+    header_unit_warning, unit_in_name, Column, ColumnMap, ColumnReport, ColumnStatus,
+    DegreeColumns, NamedUnit, OptionError,
+};
 pub use diagnostics::{LogSummary, LogWarning, WarningKind};
 pub use estimates3d_writer::{Column3d, Estimates3dWriter};
 pub use estimates_writer::{EstimatesWriter, WriterOptions};
@@ -40,7 +43,7 @@ pub use log3d::{
     is_3d_header, read_log3d, Log3dReader, Log3dRecord, Row3dIssues, LOG3D_COLUMNS, LOG3D_REQUIRED,
 };
 pub use log_reader::{
-    CellRef, LogError, LogErrorKind, LogReader, LogRecord, ReaderOptions, RowIssues,
-    ANGLE_LOOKS_LIKE_DEGREES, RATE_LOOKS_LIKE_DEGREES,
+    decimal_comma_hint, CellRef, LogError, LogErrorKind, LogReader, LogRecord, ReaderOptions,
+    RowIssues, ANGLE_LOOKS_LIKE_DEGREES, DECIMAL_COMMA_FIX, RATE_LOOKS_LIKE_DEGREES,
 };
 pub use plausibility::{SensorLimits, TimeUnit};

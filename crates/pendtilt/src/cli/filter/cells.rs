@@ -94,9 +94,10 @@ pub(super) fn parse_cell(
     }
     s.parse::<f64>().map_err(|_| {
         anyhow::anyhow!(
-            "{}:{line}: column '{name}' (field {}): '{s}' is not a number",
+            "{}:{line}: column '{name}' (field {}): '{s}' is not a number{}",
             path.display(),
-            i + 1
+            i + 1,
+            crate::io::decimal_comma_hint(s)
         )
     })
 }

@@ -10,6 +10,27 @@ pub struct CellRef {
     pub header: String,
 }
 
+/// The command [`decimal_comma_hint`] gives: each quoted field that is a number with a
+/// decimal comma, `"-0,5"` or `"1,5e-3"`, becomes `-0.5`, `1.5e-3`; other fields (a quoted
+/// header `"t","phi"`, `"0"`) are left as they are, which the reader takes.
+pub const DECIMAL_COMMA_FIX: &str = r#"sed -E 's/(^|,)"([-+]?[0-9]*),([0-9]*([eE][-+]?[0-9]+)?)"/\1\2.\3/g' log.csv > log_points.csv"#;
+
+/// What to do about a cell `text` that is a number written with a decimal comma (`0,5`;
+/// a comma-separated log can hold one only quoted, `"0,5"`): the sentence to append to
+/// the error, with a command that converts the log ([`DECIMAL_COMMA_FIX`]); empty for
+/// any other text.
+pub fn decimal_comma_hint(text: &str) -> String {
+    let t = text.trim();
+    let comma_number = t.matches(',').count() == 1 && t.replace(',', ".").parse::<f64>().is_ok();
+    if !comma_number {
+        return String::new();
+    }
+    format!(
+        ": a number with a decimal comma (quoted, \"{t}\"), and the log must use decimal \
+         points: convert it with `{DECIMAL_COMMA_FIX}`"
+    )
+}
+
 /// Why a log could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum LogErrorKind {
@@ -58,7 +79,7 @@ pub enum LogErrorKind {
         header: String,
     },
     /// A cell that is not a number (nor empty, `nan` or `inf`).
-    #[error("not a number: `{text}`")]
+    #[error("not a number: `{text}`{}", decimal_comma_hint(text))]
     NotANumber {
         /// The cell text.
         text: String,

@@ -72,15 +72,15 @@ impl<R: BufRead> LogReader<R> {
     /// mapped one, else its own name unless that header column is mapped onto another
     /// contract column. An error for a `--map` source not in the header (`listing`).
     fn resolve_columns(&mut self, listing: &str) -> Result<Vec<ColumnStatus>, LogError> {
-        let mapped_sources: Vec<&str> = Column::ALL
+        let mapped_sources: Vec<String> = Column::ALL
             .into_iter()
-            .filter_map(|c| self.options.map.source(c))
+            .filter_map(|c| self.options.map.source(c).map(String::from))
             .collect();
         let mut statuses = Vec::with_capacity(6);
         for column in Column::ALL {
             let (source, mapped) = match self.options.map.source(column) {
                 Some(s) => (Some(s.to_string()), true),
-                None if mapped_sources.contains(&column.name()) => (None, false),
+                None if mapped_sources.iter().any(|m| m == column.name()) => (None, false),
                 None => (Some(column.name().to_string()), false),
             };
             let position = source
@@ -103,10 +103,17 @@ impl<R: BufRead> LogReader<R> {
                     .iter()
                     .find(|h| h.trim().eq_ignore_ascii_case(column.name()))
                     .cloned()
+                    .or_else(|| unit_named_suggestion(column, &self.header))
             } else {
                 None
             };
             let degrees = self.options.degrees.contains(column);
+            if let Some(p) = position {
+                let name = self.header[p].clone();
+                if let Some(message) = header_unit_warning(column, &name, degrees) {
+                    self.warn(WarningKind::UnitMismatch, Some(column), Some(name), message);
+                }
+            }
             statuses.push(ColumnStatus {
                 column,
                 source: position.and(source),
