@@ -16,18 +16,18 @@
 //!
 //! | full scale | readings at it | EKF |
 //! |---|---|---|
-//! | 0.3 rad/s | 30-44 % | 1.60-2.49 -> 0.52-0.65 deg |
-//! | 0.5 rad/s | 6-19 % | 0.60-1.15 -> 0.45-0.62 deg |
-//! | 0.6 rad/s | 2-10 % | 0.32-0.73 -> 0.35-0.53 deg |
-//! | 0.7 rad/s | 1-5 % | 0.16-0.45 -> 0.16-0.51 deg |
+//! | 0.3 rad/s | 30-44 % | 1.60-2.49 -> 0.48-0.58 deg |
+//! | 0.5 rad/s | 6-19 % | 0.60-1.15 -> 0.45-0.53 deg |
+//! | 0.6 rad/s | 2-10 % | 0.32-0.73 -> 0.29-0.49 deg |
+//! | 0.7 rad/s | 1-5 % | 0.16-0.45 -> 0.16-0.45 deg |
 //! | 0.8, 1.0 rad/s | 0-2 % | unchanged (0.12-0.28 deg) |
 //!
-//! Better on 14 of the 25 rides and levels, unchanged on 8, worse on 3: seed 6 at 0.7
-//! rad/s (0.37 -> 0.51 deg), seed 3 at 0.7 (0.45 -> 0.48), seed 5 at 0.6 (0.32 -> 0.35),
-//! where a manoeuvre's own clips opened the gate and the filter ran on the pendulum alone
-//! through a turn. Without the gyro the filter runs on the pendulum alone (0.58 deg on the
-//! seed-6 ride), which is what the gate gives where the gyro clips most. Counting clip
-//! onsets per second instead of the share (2, 5, 10 /s) measured no better at 0.7 rad/s.
+//! Better on 14 of the 25 rides and levels, unchanged on 10, worse on 1: seed 6 at 0.7
+//! rad/s (0.368 -> 0.386 deg), where a manoeuvre's own clips opened the gate and the
+//! filter ran on the pendulum alone through a turn. Without the gyro the filter runs on
+//! the pendulum alone (0.58 deg on the seed-6 ride), which is what the gate gives where
+//! the gyro clips most. Counting clip onsets per second instead of the share (2, 5,
+//! 10 /s) measured no better at 0.7 rad/s.
 use crate::Real;
 
 /// Time constant \[s\] of the share of gyro readings at the full scale. 1 s followed a
