@@ -815,3 +815,40 @@ fn correct_logs_never_look_clipped() {
         );
     }
 }
+
+/// A rig that overstates the gyro's range: the gyro clipped at 0.1 rad/s for 2 s (the
+/// `gyro_clipped` fault) read with `[gyro] full_scale = 8.7` in the rig. The clip is below
+/// the rig's full scale, so the finder still looks (it looked only without a full scale,
+/// and said nothing): warned as a range smaller than the rig says, and every estimate is
+/// the same as without a full scale in the rig.
+#[test]
+fn a_gyro_clip_below_the_rigs_full_scale_is_found_and_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = simulate(dir.path());
+    let mut c = Csv::read(&log);
+    c.clip(
+        &["gyro_x", "gyro_y", "gyro_z"],
+        T_FAULT,
+        T_FAULT + 2.0,
+        GYRO_CLIP,
+    );
+    let bad = dir.path().join("clipped.csv");
+    c.write(&bad);
+    let unknown = estimate(dir.path(), &bad, "unknown", "");
+    let told = estimate(dir.path(), &bad, "told", "[gyro]\nfull_scale = 8.7\n");
+    assert!(
+        told.stderr.contains(
+            "(`gyro_y`): -0.1 rad/s on 5 rows in a row up to here, which a sensor with noise \
+             never writes: a clip below the rig's [gyro] full_scale 8.7 rad/s: the sensor's \
+             range is smaller than the rig says"
+        ),
+        "{}",
+        told.stderr
+    );
+    assert!(
+        !told.stderr.contains("unknown full scale"),
+        "{}",
+        told.stderr
+    );
+    assert_eq!(unknown.est, told.est, "the same estimates and flags");
+}

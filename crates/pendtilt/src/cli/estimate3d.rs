@@ -686,8 +686,13 @@ impl<'a> RowInput<'a> {
             gyro: refused(&r.gyro, &gyro),
             accel: refused(&r.accel, &accel),
         };
+        // A reading at the rig's full scale is its known clip, not one found here.
+        let (k, fs) = (self.angle_scale, self.gyro_full_scale);
+        let found = self.gyro_clips.clipped(r.gyro);
         self.clipped = Clips {
-            gyro: self.gyro_clips.clipped(r.gyro),
+            gyro: core::array::from_fn(|i| {
+                found[i] && fs.is_none_or(|fs| (r.gyro[i] * k).abs() < fs)
+            }),
             accel: self.accel_clips.clipped(r.accel).contains(&true),
         };
         let dt = if self.lone_stamp(t, next_t.map(|n| n * self.time_scale), gate, line) {
@@ -708,18 +713,21 @@ impl<'a> RowInput<'a> {
 
     /// Looks for clips in record `r`, read [`LOOK_AHEAD_ROWS`] before it reaches the
     /// estimators. A reading at the rig's gyro full scale is a known clip (kept, flagged by
-    /// the estimators); without one, gyro clips are found in the readings.
+    /// the estimators); gyro clips at an unknown full scale, or below the rig's (a range
+    /// smaller than the rig says), are found in the readings.
     fn find_clips(&mut self, r: &Log3dRecord) {
         // An impossible reading (read as missing) is no clip level: a burst of them is a
         // run of identical readings that the finder would otherwise take for one.
         let possible = |x: f64, bound: f64| if x.abs() <= bound { x } else { f64::NAN };
-        if self.gyro_full_scale.is_none() {
-            let k = self.angle_scale;
-            let gyro = r.gyro.map(|x| possible(x, MAX_RATE / k));
-            if let Some(f) = self.gyro_clips.observe(gyro) {
-                let name = ["gyro_x", "gyro_y", "gyro_z"][f.axis];
-                let x = f.reading * self.angle_scale;
-                self.clip_warning(r.line, name, f, x, "rad/s", "[gyro] full_scale");
+        let k = self.angle_scale;
+        let fs = self.gyro_full_scale;
+        let gyro = r.gyro.map(|x| possible(x, fs.unwrap_or(MAX_RATE) / k));
+        if let Some(f) = self.gyro_clips.observe(gyro) {
+            let name = ["gyro_x", "gyro_y", "gyro_z"][f.axis];
+            let x = f.reading * self.angle_scale;
+            // A clip at the rig's full scale is the one the rig told.
+            if fs.is_none_or(|fs| x.abs() < fs) {
+                self.clip_warning(r.line, name, f, x, "rad/s", "[gyro] full_scale", fs);
             }
         }
         if let Some(f) = self
@@ -727,22 +735,40 @@ impl<'a> RowInput<'a> {
             .observe(r.accel.map(|x| possible(x, MAX_ACCEL)))
         {
             let name = ["ax", "ay", "az"][f.axis];
-            self.clip_warning(r.line, name, f, f.reading, "m/s^2", "");
+            self.clip_warning(r.line, name, f, f.reading, "m/s^2", "", None);
         }
     }
 
-    /// Says that a run of identical readings `x` of column `name` is a clip.
-    fn clip_warning(&mut self, line: u64, name: &str, f: NewLevel, x: f64, unit: &str, rig: &str) {
+    /// Says that a run of identical readings `x` of column `name` is a clip, at an unknown
+    /// full scale or below the rig's `told`.
+    #[allow(clippy::too_many_arguments)]
+    fn clip_warning(
+        &mut self,
+        line: u64,
+        name: &str,
+        f: NewLevel,
+        x: f64,
+        unit: &str,
+        rig: &str,
+        told: Option<f64>,
+    ) {
         let col = self.column(name);
         let hint = if rig.is_empty() {
             String::new()
         } else {
             format!("; if it is the range of the sensor, give it as the rig's {rig}")
         };
+        let what = match told {
+            Some(fs) => format!(
+                "a clip below the rig's {rig} {fs} {unit}: the sensor's range is smaller \
+                 than the rig says"
+            ),
+            None => "a clip at an unknown full scale".to_string(),
+        };
         self.warn(format!(
             "{}:{line}: column {col} (`{name}`): {x} {unit} on {} rows in a row up to here, \
-             which a sensor with noise never writes: a clip at an unknown full scale; \
-             readings at +-{} {unit} are clipped (flagged saturated){hint}",
+             which a sensor with noise never writes: {what}; readings at +-{} {unit} are \
+             clipped (flagged saturated){hint}",
             self.file,
             f.rows,
             x.abs()

@@ -1,6 +1,7 @@
 //! Clips of a planar log's gyro and accelerometer found in the readings themselves
-//! ([`crate::io::plateau`], as on 3-D logs), for the sensors whose full scale the rig does
-//! not give: rows are handed on a number of rows after they are read, so that a clip found
+//! ([`crate::io::plateau`], as on 3-D logs): at an unknown full scale when the rig gives
+//! none, or below the full scale the rig gives (the sensor's range is smaller than the
+//! rig says). Rows are handed on a number of rows after they are read, so that a clip found
 //! on a row marks the readings at its level from that many rows before it.
 use std::collections::VecDeque;
 
@@ -13,14 +14,16 @@ struct Watched {
     /// 1-based position in the header.
     position: usize,
     header: String,
+    /// The rig's full scale of its sensor, if it gives one.
+    full_scale: Option<f64>,
 }
 
 /// Finds clips in a planar log's rows and delays the rows by its look-ahead.
 pub(crate) struct ClipFinder {
     file: String,
-    /// The gyro, when the log has one and the rig gives no `[gyro] full_scale`.
+    /// The gyro, when the log has one.
     gyro: Option<(PlateauWatch<1>, Watched)>,
-    /// ax and ay, when the log has them and the rig gives no `[accel] full_scale`.
+    /// ax and ay, when the log has them.
     accel: Option<(PlateauWatch<2>, [Watched; 2])>,
     look_ahead: usize,
     queue: VecDeque<LogRecord>,
@@ -35,20 +38,19 @@ impl ClipFinder {
         look_ahead: usize,
     ) -> Self {
         let c = log.columns();
-        let watched = |col: Column| {
+        let rig = &settings.rig;
+        let watched = |col: Column, full_scale: Option<f64>| {
             c.status(col).position.map(|p| Watched {
                 position: p + 1,
                 header: log.header().get(p).cloned().unwrap_or_default(),
+                full_scale,
             })
         };
-        let rig = &settings.rig;
-        let gyro = watched(Column::Gyro)
-            .filter(|_| rig.gyro.checked_full_scale().is_none())
-            .map(|w| (PlateauWatch::new(), w));
-        let accel = match (watched(Column::Ax), watched(Column::Ay)) {
-            (Some(x), Some(y)) if rig.accel.checked_full_scale().is_none() => {
-                Some((PlateauWatch::new(), [x, y]))
-            }
+        let gyro =
+            watched(Column::Gyro, rig.gyro.checked_full_scale()).map(|w| (PlateauWatch::new(), w));
+        let fs = rig.accel.checked_full_scale();
+        let accel = match (watched(Column::Ax, fs), watched(Column::Ay, fs)) {
+            (Some(x), Some(y)) => Some((PlateauWatch::new(), [x, y])),
             _ => None,
         };
         Self {
@@ -66,14 +68,15 @@ impl ClipFinder {
         let s = &rec.sample;
         if let Some((w, col)) = &mut self.gyro {
             if let Some(f) = w.observe([s.gyro]) {
-                let w = warning(&self.file, rec.line, col, f, "rad/s", "[gyro]");
-                self.found.push(w);
+                self.found
+                    .extend(warning(&self.file, rec.line, col, f, "rad/s", "[gyro]"));
             }
         }
         if let Some((w, cols)) = &mut self.accel {
             if let Some(f) = w.observe([s.ax, s.ay]) {
-                let w = warning(&self.file, rec.line, &cols[f.axis], f, "m/s^2", "[accel]");
-                self.found.push(w);
+                let col = &cols[f.axis];
+                self.found
+                    .extend(warning(&self.file, rec.line, col, f, "m/s^2", "[accel]"));
             }
         }
         self.queue.push_back(rec);
@@ -108,9 +111,32 @@ impl ClipFinder {
     }
 }
 
-/// Says that a run of identical readings of `col` is a clip.
-fn warning(file: &str, line: u64, col: &Watched, f: NewLevel, unit: &str, rig: &str) -> LogWarning {
-    LogWarning {
+/// Says that a run of identical readings of `col` is a clip: at an unknown full scale, or
+/// below the rig's. None for a clip at the rig's full scale, which the rig already told.
+fn warning(
+    file: &str,
+    line: u64,
+    col: &Watched,
+    f: NewLevel,
+    unit: &str,
+    rig: &str,
+) -> Option<LogWarning> {
+    let level = f.reading.abs();
+    let what = match col.full_scale {
+        Some(fs) if level >= fs => return None,
+        Some(fs) => format!(
+            "a clip below the rig's {rig} full_scale {fs} {unit}: the sensor's range is \
+             smaller than the rig says; readings at +-{level} {unit} are clipped (flagged \
+             saturated, taken as at the full scale); if it is the range of the sensor, give \
+             it as the rig's {rig} full_scale"
+        ),
+        None => format!(
+            "a clip at an unknown full scale; readings at +-{level} {unit} are clipped \
+             (flagged saturated, taken as at the full scale); if it is the range of the \
+             sensor, give it as the rig's {rig} full_scale"
+        ),
+    };
+    Some(LogWarning {
         file: file.to_string(),
         line,
         column: None,
@@ -118,14 +144,8 @@ fn warning(file: &str, line: u64, col: &Watched, f: NewLevel, unit: &str, rig: &
         kind: WarningKind::Clipped,
         message: format!(
             "column {} (`{}`): {} {unit} on {} rows in a row up to here, which a sensor with \
-             noise never writes: a clip at an unknown full scale; readings at +-{} {unit} are \
-             clipped (flagged saturated, taken as at the full scale); if it is the range of \
-             the sensor, give it as the rig's {rig} full_scale",
-            col.position,
-            col.header,
-            f.reading,
-            f.rows,
-            f.reading.abs()
+             noise never writes: {what}",
+            col.position, col.header, f.reading, f.rows,
         ),
-    }
+    })
 }
