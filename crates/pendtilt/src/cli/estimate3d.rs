@@ -84,28 +84,23 @@ pub(crate) fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::R
 /// `/dev/stdin`) would take its first lines from the reader that follows (which then
 /// read a line from the middle as the header); the planar reader refuses a 3-D header.
 pub fn is_3d_log(path: &Path) -> bool {
-    use std::io::BufRead;
     if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
         return false;
     }
     let Ok(f) = File::open(path) else {
         return false;
     };
-    let mut line = String::new();
-    let mut r = BufReader::new(f);
-    loop {
-        line.clear();
-        match r.read_line(&mut line) {
-            Ok(0) | Err(_) => return false,
-            Ok(_) => {}
-        }
-        let l = line.trim();
-        if l.is_empty() || l.starts_with('#') {
-            continue;
-        }
-        let header: Vec<&str> = l.split(',').map(|h| h.trim().trim_matches('"')).collect();
-        return crate::io::is_3d_header(&header);
+    // The readers' own line reader: a byte-order mark (Excel's "CSV UTF-8"), CRLF, quotes
+    // and comment lines are taken as the reader that follows takes them.
+    let mut lines = crate::io::csv_lines::CsvLines::new(BufReader::new(f), b',');
+    if !matches!(lines.next_row(), Ok(Some(()))) {
+        return false;
     }
+    let header: Vec<String> = (0..lines.field_count())
+        .filter_map(|i| lines.field(i))
+        .map(|f| String::from_utf8_lossy(&f).into_owned())
+        .collect();
+    crate::io::is_3d_header(&header)
 }
 
 /// What a 3-D run is given: the log and the options `estimate` and `report` share.
