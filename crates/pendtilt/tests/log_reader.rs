@@ -707,3 +707,52 @@ fn a_header_line_in_the_middle_is_named_as_one() {
         "log.csv:3: column 2 (`phi`): not a number: `t`"
     );
 }
+
+/// Two logs joined without a second header (or a logger whose clock restarted): the time
+/// goes back by more than the restart gap and runs on from there. The estimators, which
+/// refuse a time before the last one they took, would hold every later row (session 11: a
+/// 12 s ride made of two 6 s halves ran with exit 0, the second half's 6000 rows held and
+/// flagged, alg2 4.68 deg RMS against 0.70, and one warning about "the sample"). Now an
+/// error on the row that runs on, naming the line to split at with the commands; a step
+/// back shorter than the restart gap and a single stray stamp are kept and flagged as
+/// before, the warning saying how long the estimators hold.
+#[test]
+fn time_that_goes_back_and_runs_on_is_two_logs_an_error_naming_the_split() {
+    let mut text = regular(1000, 0.001);
+    text.push_str(&regular(30, 0.001)["t,phi\n".len()..]);
+    let (records, _, error) = read_all(&text, ReaderOptions::default());
+    let e = error.expect("two logs joined must not read").to_string();
+    assert_eq!(records.len(), 1001, "every row before the error was given");
+    assert!(records[1000].issues.bad_time);
+    assert!(
+        e.starts_with("log.csv:1003: column 1 (`t`): the time went back on line 1002 (0.999 then 0 s) and runs on from there (0.001 s here): two logs joined"),
+        "{e}"
+    );
+    assert!(
+        e.contains("split the log at line 1002: `head -n 1001 log.csv > first.csv; (sed -n 1p log.csv; tail -n +1002 log.csv) > second.csv`"),
+        "{e}"
+    );
+    // One stray stamp far back, then the log goes on: kept, flagged, no error.
+    let mut stray = regular(1000, 0.001);
+    stray.push_str("0.2,0\n1.0,0\n1.001,0\n");
+    let (records, warnings) = ok(&stray);
+    assert_eq!(records.len(), 1003);
+    let bad: Vec<bool> = records[999..].iter().map(|r| r.issues.bad_time).collect();
+    assert_eq!(bad, vec![false, true, false, false]);
+    let back = warnings
+        .iter()
+        .find(|w| w.kind == WarningKind::TimeNotIncreasing)
+        .unwrap();
+    assert!(
+        back.message.contains("until the time passes 0.999 s again"),
+        "{back}"
+    );
+    // A step back of 0.2 s (a clock set back, a chunk sent twice) that runs on: kept.
+    let mut short = regular(1000, 0.001);
+    for k in 0..400 {
+        short.push_str(&format!("{},0\n", 0.8 + k as f64 * 0.001));
+    }
+    let (records, _) = ok(&short);
+    assert_eq!(records.len(), 1400);
+    assert_eq!(records.iter().filter(|r| r.issues.bad_time).count(), 1);
+}

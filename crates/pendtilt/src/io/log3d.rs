@@ -10,7 +10,7 @@ use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 use super::csv_lines::CsvLines;
-use super::log_reader::{CellRef, LogError, LogErrorKind};
+use super::log_reader::{new_time_base, CellRef, LogError, LogErrorKind, TimeBack};
 
 /// The columns of a 3-D log, in [`Log3dRecord`] order (MODEL.md 7.6).
 pub const LOG3D_COLUMNS: [&str; 12] = [
@@ -68,6 +68,12 @@ pub struct Log3dReader<R> {
     /// Field position of each of [`LOG3D_COLUMNS`].
     positions: [Option<usize>; 12],
     last_t: Option<f64>,
+    /// The latest time so far (the one the estimators' step gates hold).
+    max_t: Option<f64>,
+    /// The previous row's time went back by more than the restart gap.
+    went_back: Option<TimeBack>,
+    /// The header's line.
+    header_line: u64,
     rows: u64,
     finished: bool,
 }
@@ -101,6 +107,9 @@ impl<R: BufRead> Log3dReader<R> {
             header: Vec::new(),
             positions: [None; 12],
             last_t: None,
+            max_t: None,
+            went_back: None,
+            header_line: 1,
             rows: 0,
             finished: false,
         };
@@ -166,6 +175,7 @@ impl<R: BufRead> Log3dReader<R> {
             return Err(self.error(None, None, LogErrorKind::Empty));
         }
         let line = Some(self.lines.line());
+        self.header_line = self.lines.line();
         let mut header = Vec::with_capacity(self.lines.field_count());
         for i in 0..self.lines.field_count() {
             let Some(name) = self
@@ -236,6 +246,21 @@ impl<R: BufRead> Log3dReader<R> {
         }
     }
 
+    /// An error when the previous row's time went back by more than the restart gap and
+    /// this one (`t`, finite) runs on from it; notes a step back at this row.
+    fn check_time_base(&mut self, t: f64) -> Result<(), LogError> {
+        if let Some(back) = self.went_back.take() {
+            if back.runs_on(t) {
+                let msg = new_time_base(&back, t, &self.file, self.header_line);
+                let (line, column) = (Some(self.lines.line()), self.positions[0]);
+                let column = column.map(|p| self.cell_ref(p));
+                return Err(self.error(line, column, LogErrorKind::NewTimeBase(msg)));
+            }
+        }
+        self.went_back = TimeBack::of(self.lines.line(), self.max_t, t);
+        Ok(())
+    }
+
     /// Reads the next data row; `Ok(None)` at the end (an error if there was no data row).
     pub fn next_record(&mut self) -> Result<Option<Log3dRecord>, LogError> {
         if self.finished {
@@ -270,7 +295,9 @@ impl<R: BufRead> Log3dReader<R> {
         }
         let time_not_increasing = self.last_t.is_some_and(|p| v[0] <= p || v[0].is_nan());
         if v[0].is_finite() {
+            self.check_time_base(v[0])?;
             self.last_t = Some(v[0]);
+            self.max_t = Some(self.max_t.map_or(v[0], |m| m.max(v[0])));
         }
         self.rows += 1;
         let optional = |k: usize| self.positions[k].map(|_| v[k]);

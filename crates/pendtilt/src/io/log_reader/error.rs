@@ -69,6 +69,10 @@ pub enum LogErrorKind {
         /// Which header, and the first one's line.
         what: String,
     },
+    /// The time went back by more than the restart gap and ran on from there: two logs
+    /// joined, or a clock restarted ([`new_time_base`](super::new_time_base)).
+    #[error("{0}")]
+    NewTimeBase(String),
     /// The time steps are not those of a sensor log in seconds (a log in ms or us).
     #[error("{0}")]
     ImplausibleTimeStep(String),
