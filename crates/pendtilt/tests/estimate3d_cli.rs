@@ -806,3 +806,87 @@ fn two_3d_logs_joined_are_refused_with_the_commands_that_split_them() {
         );
     }
 }
+
+/// The truth of a 3-D log in degrees, or one absurd truth cell, is said with its place,
+/// never scored silently (session 11: scooter3d with roll and pitch in degrees printed
+/// inv3d 100.5 deg RMS and nothing else; one roll cell 1e6 moved inv3d's max from 1.31 to
+/// 18.25 deg, without a word). A cell beyond the angle's range (roll: pi, pitch: pi/2) is
+/// read as missing, not scored; a truth 57x the encoder it follows is named as degrees even
+/// when every cell is in range.
+#[test]
+fn a_3d_truth_in_degrees_or_out_of_range_is_said_not_scored_silently() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = simulate(dir.path(), "scooter3d", &["--duration", "6", "--seed", "3"]);
+    let text = std::fs::read_to_string(&log).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    let cols: Vec<&str> = header.split(',').collect();
+    let (ri, pi) = (
+        cols.iter().position(|c| *c == "roll").unwrap(),
+        cols.iter().position(|c| *c == "pitch").unwrap(),
+    );
+    let rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    let emit = |f: &dyn Fn(usize, usize, &str) -> String| {
+        let mut out = format!("{header}\n");
+        for (k, r) in rows.iter().enumerate() {
+            let cells: Vec<String> = r.iter().enumerate().map(|(i, c)| f(k, i, c)).collect();
+            out.push_str(&cells.join(","));
+            out.push('\n');
+        }
+        out
+    };
+    let deg = emit(&|_, i, c| {
+        if i == ri || i == pi {
+            c.parse::<f64>().unwrap().to_degrees().to_string()
+        } else {
+            c.to_string()
+        }
+    });
+    let absurd = emit(&|k, i, c| {
+        if k == 3000 && i == ri {
+            "1e6".to_string()
+        } else {
+            c.to_string()
+        }
+    });
+    let run = |name: &str, text: &str| {
+        let log = write(dir.path(), name, text);
+        let out = dir.path().join("est.csv");
+        let o = pendtilt(&["estimate", s(&log), "--score-from", "1", "-o", s(&out)]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        (stderr(&o), String::from_utf8_lossy(&o.stdout).into_owned())
+    };
+    let (e, _) = run("clean.csv", &text);
+    assert!(!e.contains("roll") && !e.contains("pitch"), "{e}");
+    let (e, _) = run("deg.csv", &deg);
+    assert!(
+        e.contains("deg.csv:2: column 11 (`roll`): ") && e.contains("rad is beyond pi, no roll angle (MODEL.md 7): read as missing, not scored; the column looks like degrees"),
+        "{e}"
+    );
+    assert!(e.contains("is `roll` in degrees?"), "{e}");
+    let (e, table) = run("absurd.csv", &absurd);
+    assert!(
+        e.contains("absurd.csv:3002: column 11 (`roll`): 1e6 rad is beyond pi, no roll angle (MODEL.md 7): read as missing, not scored")
+            && !e.contains("looks like degrees"),
+        "{e}"
+    );
+    assert!(table.contains("(4999 rows scored)"), "{table}");
+
+    // Every cell in range, the truth in degrees: the slope on the encoder names it.
+    let mut small = format!("{HEAD},roll,pitch\n");
+    for k in 0..4000 {
+        let t = k as f64 * 1e-3;
+        let roll = 0.02 * (2.0 * std::f64::consts::PI * 0.5 * t).sin();
+        small.push_str(&format!(
+            "{t},{roll},0,0,0,0,0,0,9.80665,{},0\n",
+            roll.to_degrees()
+        ));
+    }
+    let (e, _) = run("small.csv", &small);
+    assert!(
+        e.contains("small.csv: roll is 57.3x the encoder's phi_x: is `roll` in degrees?"),
+        "{e}"
+    );
+}

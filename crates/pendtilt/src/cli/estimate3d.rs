@@ -539,7 +539,58 @@ struct RowInput<'a> {
     /// Clips of the gyro (when the rig gives no full scale) and of the accelerometer.
     gyro_clips: PlateauWatch<3>,
     accel_clips: PlateauWatch<3>,
+    /// Truth cells (roll, pitch) beyond their range, read as missing.
+    truth_refused: [u64; 2],
+    /// The truth (roll, pitch) against the encoder (phi_x, phi_y), for its unit.
+    truth_fit: [Slope; 2],
 }
+
+/// A least-squares slope of `y` on `x` with an intercept, from running sums.
+#[derive(Debug, Clone, Copy, Default)]
+struct Slope {
+    n: f64,
+    sx: f64,
+    sy: f64,
+    sxx: f64,
+    syy: f64,
+    sxy: f64,
+}
+
+impl Slope {
+    fn add(&mut self, x: f64, y: f64) {
+        if x.is_finite() && y.is_finite() {
+            self.n += 1.0;
+            self.sx += x;
+            self.sy += y;
+            self.sxx += x * x;
+            self.syy += y * y;
+            self.sxy += x * y;
+        }
+    }
+
+    /// The slope, the correlation and the RMS of `x` about its mean.
+    fn fit(&self) -> Option<(f64, f64, f64)> {
+        let n = self.n;
+        if n < 2.0 {
+            return None;
+        }
+        let vx = self.sxx / n - (self.sx / n).powi(2);
+        let vy = self.syy / n - (self.sy / n).powi(2);
+        let c = self.sxy / n - self.sx * self.sy / (n * n);
+        (vx > 0.0 && vy > 0.0).then(|| (c / vx, c / (vx * vy).sqrt(), vx.sqrt()))
+    }
+}
+
+/// The truth columns, their range in radians (MODEL.md 7: roll in -pi..pi, pitch in
+/// -pi/2..pi/2) and the encoder that follows each below the pendulum's frequency.
+const TRUTH: [(&str, f64, &str, &str); 2] = [
+    ("roll", std::f64::consts::PI, "pi", "phi_x"),
+    ("pitch", std::f64::consts::FRAC_PI_2, "pi/2", "phi_y"),
+];
+
+/// The encoder must move by this much (RMS, rad: 0.5 deg, the planar unit check's
+/// `units::MIN_MOTION`) for the truth's slope on it to say anything.
+const TRUTH_FIT_MIN_MOTION: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 impl<'a> RowInput<'a> {
     fn new(setup: &Setup, file: &'a str, header: &'a [String]) -> Self {
@@ -556,7 +607,41 @@ impl<'a> RowInput<'a> {
 
             gyro_clips: PlateauWatch::new(),
             accel_clips: PlateauWatch::new(),
+            truth_refused: [0; 2],
+            truth_fit: [Slope::default(); 2],
         }
+    }
+
+    /// True angle `x` \[rad\] of truth column `k` (0 roll, 1 pitch) when within its range,
+    /// else NaN (not scored), the first one per column warned with its place. A value that
+    /// would be in range in degrees says that the column looks like degrees: its cells in
+    /// range would be scored as radians.
+    fn truth(&mut self, line: u64, k: usize, x: f64) -> f64 {
+        let (name, bound, bound_name, _) = TRUTH[k];
+        if x.is_nan() || x.abs() <= bound * (1.0 + 1e-9) {
+            return x;
+        }
+        self.truth_refused[k] += 1;
+        if self.truth_refused[k] > 1 {
+            return f64::NAN;
+        }
+        let col = self.column(name);
+        let degrees = if self.angle_scale == 1.0 && x.to_radians().abs() <= bound {
+            format!(
+                "; the column looks like degrees, and its cells within {bound_name} would be \
+                 scored as radians: the inclination errors are not to be trusted; write \
+                 roll and pitch in radians (--deg reads every angular column in degrees)"
+            )
+        } else {
+            String::new()
+        };
+        self.warn(format!(
+            "{}:{line}: column {col} (`{name}`): {} rad is beyond {bound_name}, no {name} \
+             angle (MODEL.md 7): read as missing, not scored{degrees}",
+            self.file,
+            written(x)
+        ));
+        f64::NAN
     }
 
     fn warn(&mut self, w: String) {
@@ -577,6 +662,36 @@ impl<'a> RowInput<'a> {
             r.gap,
             crate::bank::RESTART_GAP
         ));
+    }
+
+    /// Degrees found from the physics: below the pendulum's frequency the encoders follow
+    /// the tilt (roll ~ phi_x, pitch ~ phi_y), so a truth 57x the encoder is in degrees
+    /// (and 1/57 of it read with --deg in radians), however small the tilt.
+    fn truth_unit(&self) -> Vec<String> {
+        let deg = 180.0 / std::f64::consts::PI;
+        let mut w = Vec::new();
+        for (k, (name, _, _, phi)) in TRUTH.iter().enumerate() {
+            let Some((slope, r, motion)) = self.truth_fit[k].fit() else {
+                continue;
+            };
+            if motion < TRUTH_FIT_MIN_MOTION || r < 0.8 {
+                continue;
+            }
+            let what = if (deg / 1.5..deg * 1.5).contains(&slope) {
+                format!("{slope:.1}x the encoder's {phi}: is `{name}` in degrees?")
+            } else if (1.0 / (deg * 1.5)..1.5 / deg).contains(&slope) {
+                format!("1/{:.1} of the encoder's {phi}: was `{name}` read in degrees (--deg) but written in radians?", 1.0 / slope)
+            } else {
+                continue;
+            };
+            w.push(format!(
+                "{}: {name} is {what} The inclination errors are not to be trusted: write roll \
+                 and pitch in radians (--deg reads every angular column in degrees) (least \
+                 squares over {} rows, r = {r:.2})",
+                self.file, self.truth_fit[k].n
+            ));
+        }
+        w
     }
 
     /// The 1-based column of `name` in the header (0 if absent), for warnings.
@@ -681,8 +796,12 @@ impl<'a> RowInput<'a> {
             accel,
             speed: r.speed.unwrap_or(f64::NAN),
         };
-        let truth = |x: Option<f64>| x.map_or(f64::NAN, |v| v * k);
-        (t, s, truth(r.roll), truth(r.pitch))
+        let (roll, pitch) = (r.roll.map(|v| v * k), r.pitch.map(|v| v * k));
+        let roll = roll.map_or(f64::NAN, |v| self.truth(line, 0, v));
+        let pitch = pitch.map_or(f64::NAN, |v| self.truth(line, 1, v));
+        self.truth_fit[0].add(s.phi[0], roll);
+        self.truth_fit[1].add(s.phi[1], pitch);
+        (t, s, roll, pitch)
     }
 
     /// Looks for clips in record `r`, read [`LOOK_AHEAD_ROWS`] before it reaches the
@@ -747,6 +866,15 @@ impl<'a> RowInput<'a> {
 
     fn warnings(&self) -> Vec<String> {
         let mut w = self.warnings.clone();
+        for (k, (name, _, bound_name, _)) in TRUTH.iter().enumerate() {
+            if self.truth_refused[k] > 1 {
+                w.push(format!(
+                    "{}: {} cells of `{name}` beyond {bound_name} read as missing, not scored",
+                    self.file, self.truth_refused[k]
+                ));
+            }
+        }
+        w.extend(self.truth_unit());
         if self.more > 0 {
             w.push(format!(
                 "{} more warnings (impossible readings, restarts, bad time stamps)",
