@@ -197,7 +197,7 @@ fn non_numeric_cell_is_an_error_naming_line_column_and_text() {
     let (records, _, error) = read_all(text, ReaderOptions::default());
     assert_eq!(records.len(), 1, "rows before the bad one are delivered");
     let e = error.unwrap();
-    assert!(matches!(*e.kind, LogErrorKind::NotANumber { ref text } if text == "abc"));
+    assert!(matches!(*e.kind, LogErrorKind::NotANumber { ref text, .. } if text == "abc"));
     assert_eq!(e.line, Some(3));
     assert_eq!(
         e.to_string(),
@@ -755,4 +755,50 @@ fn time_that_goes_back_and_runs_on_is_two_logs_an_error_naming_the_split() {
     let (records, _) = ok(&short);
     assert_eq!(records.len(), 1400);
     assert_eq!(records.iter().filter(|r| r.issues.bad_time).count(), 1);
+}
+
+/// A units line under the header and a logger's marker of a missing reading (`NA`, `-`,
+/// `null`, ...) are still errors (nothing is guessed), but say what the text likely is
+/// and what to do, in the planar and the 3-D reader (session 11: `not a number: `s`` and
+/// `not a number: `NA`` alone). A units line made a comment, as said, reads.
+#[test]
+fn a_units_line_or_a_missing_marker_says_what_to_do() {
+    let units = "t,phi,gyro\ns,rad,rad/s\n0,0.1,0.2\n0.001,0.1,0.2\n";
+    let e = fails(units, ReaderOptions::default()).to_string();
+    assert_eq!(
+        e,
+        "log.csv:2: column 1 (`t`): not a number: `s`; the first row under the header is \
+         text: a units line? make it a comment with `#` (`sed -i '2s/^/#/' log.csv`) or \
+         delete it"
+    );
+    let (records, _) = ok(&units.replace("\ns,rad", "\n#s,rad"));
+    assert_eq!(records.len(), 2);
+    for marker in ["NA", "N/A", "null", "None", "-", "?"] {
+        let text = format!("t,phi,gyro\n0,0.1,0.2\n0.001,{marker},0.2\n");
+        let e = fails(&text, ReaderOptions::default()).to_string();
+        assert_eq!(
+            e,
+            format!(
+                "log.csv:3: column 2 (`phi`): not a number: `{marker}`; if `{marker}` marks a \
+                 missing reading, leave the cell empty (or write nan): an empty cell reads as \
+                 missing, and the estimators hold and flag the sample"
+            )
+        );
+    }
+    // A word in a later row is no units line; a plain typo gets no hint.
+    let e = fails("t,phi\n0,0.1\nabc,def\n", ReaderOptions::default()).to_string();
+    assert_eq!(e, "log.csv:3: column 1 (`t`): not a number: `abc`");
+    // The 3-D reader says the same.
+    let head = "t,phi_x,phi_y,gyro_x,gyro_y,gyro_z,ax,ay,az";
+    let three = |body: &str| {
+        pendtilt::io::Log3dReader::new(format!("{head}\n{body}").as_bytes(), "log.csv")
+            .unwrap()
+            .collect::<Result<Vec<_>, _>>()
+            .unwrap_err()
+            .to_string()
+    };
+    let e = three("s,rad,rad,rad/s,rad/s,rad/s,m/s^2,m/s^2,m/s^2\n0,0,0,0,0,0,0,0,9.8\n");
+    assert!(e.ends_with("a units line? make it a comment with `#` (`sed -i '2s/^/#/' log.csv`) or delete it"), "{e}");
+    let e = three("0,0,0,0,0,0,0,0,9.8\n0.001,0,0,NA,0,0,0,0,9.8\n");
+    assert!(e.starts_with("log.csv:3: column 4 (`gyro_x`): not a number: `NA`; if `NA` marks a missing reading"), "{e}");
 }

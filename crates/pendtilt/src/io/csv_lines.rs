@@ -120,6 +120,20 @@ impl<R: BufRead> CsvLines<R> {
         self.fields.get(i).map(|&(a, b)| &self.buf[a..b])
     }
 
+    /// True when no field of the current line is a number (empty fields aside): a header
+    /// or a units line, not data.
+    pub fn all_text(&self) -> bool {
+        (0..self.field_count()).all(|i| {
+            self.raw(i).is_none_or(|f| {
+                f.is_empty()
+                    || std::str::from_utf8(f)
+                        .ok()
+                        .and_then(|t| t.parse::<f64>().ok())
+                        .is_none()
+            })
+        })
+    }
+
     /// Field `i`'s content: as [`CsvLines::raw`] with doubled quotes undone.
     pub fn field(&self, i: usize) -> Option<Cow<'_, [u8]>> {
         let raw = self.raw(i)?;

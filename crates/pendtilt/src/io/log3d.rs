@@ -10,7 +10,9 @@ use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 use super::csv_lines::CsvLines;
-use super::log_reader::{new_time_base, CellRef, LogError, LogErrorKind, TimeBack};
+use super::log_reader::{
+    new_time_base, not_a_number_hint, CellRef, LogError, LogErrorKind, TimeBack,
+};
 
 /// The columns of a 3-D log, in [`Log3dRecord`] order (MODEL.md 7.6).
 pub const LOG3D_COLUMNS: [&str; 12] = [
@@ -239,9 +241,12 @@ impl<R: BufRead> Log3dReader<R> {
             }
             None => {
                 let text = String::from_utf8_lossy(&raw).into_owned();
-                let line = Some(self.lines.line());
+                let line = self.lines.line();
                 let column = Some(self.cell_ref(pos));
-                Err(self.error(line, column, LogErrorKind::NotANumber { text }))
+                let (first, all_text) = (self.rows == 0, self.lines.all_text());
+                let hint = not_a_number_hint(&text, first, all_text, line, &self.file);
+                let kind = LogErrorKind::NotANumber { text, hint };
+                Err(self.error(Some(line), column, kind))
             }
         }
     }

@@ -128,7 +128,7 @@ pub struct LogRecord {
 
 mod error;
 mod header;
-pub use error::{CellRef, LogError, LogErrorKind};
+pub use error::{not_a_number_hint, CellRef, LogError, LogErrorKind};
 
 /// Streaming sensor-log reader over any [`BufRead`].
 ///
@@ -596,8 +596,16 @@ impl<R: BufRead> LogReader<R> {
                 position: pos + 1,
                 header: self.header[pos].clone(),
             };
-            let line = Some(self.lines.line());
-            return Err(self.error(line, Some(cell), LogErrorKind::NotANumber { text }));
+            let line = self.lines.line();
+            let hint = not_a_number_hint(
+                &text,
+                self.summary.rows == 0,
+                self.lines.all_text(),
+                line,
+                &self.file,
+            );
+            let kind = LogErrorKind::NotANumber { text, hint };
+            return Err(self.error(Some(line), Some(cell), kind));
         };
         if !raw.is_finite() {
             self.summary.missing_cells[column.index()] += 1;
