@@ -802,3 +802,41 @@ fn a_units_line_or_a_missing_marker_says_what_to_do() {
     let e = three("0,0,0,0,0,0,0,0,9.8\n0.001,0,0,NA,0,0,0,0,9.8\n");
     assert!(e.starts_with("log.csv:3: column 4 (`gyro_x`): not a number: `NA`; if `NA` marks a missing reading"), "{e}");
 }
+
+/// A header in capitals: the planar hint gives the whole `--map` at once, and following
+/// it reads the log; a 3-D header in capitals is named as one (session 11: `did you mean
+/// `T`? (--map t=T)`, one column per round; on a 3-D log in capitals that hint led to
+/// `--map t=T,ax=AX,ay=AY`, which ran the planar `accel` on the 3-D axes, exit 0).
+#[test]
+fn a_header_in_capitals_gets_one_whole_map_and_a_3d_one_is_named() {
+    let upper = "T,PHI,GYRO,AX,AY\n0,0.1,0.2,0.3,9.8\n0.001,0.1,0.2,0.3,9.8\n";
+    let e = fails(upper, ReaderOptions::default()).to_string();
+    assert!(
+        e.ends_with("did you mean `T`? (--map t=T,phi=PHI,gyro=GYRO,ax=AX,ay=AY)"),
+        "{e}"
+    );
+    let map = "t=T,phi=PHI,gyro=GYRO,ax=AX,ay=AY".parse::<pendtilt::io::ColumnMap>().unwrap();
+    let (records, _, error) = read_all(
+        upper,
+        ReaderOptions {
+            map,
+            ..ReaderOptions::default()
+        },
+    );
+    assert!(error.is_none(), "{error:?}");
+    assert_eq!((records.len(), records[1].sample.ay), (2, 9.8));
+
+    let upper3d = "T,PHI_X,PHI_Y,GYRO_X,GYRO_Y,GYRO_Z,AX,AY,AZ\n0,0,0,0,0,0,0,0,9.8\n";
+    let want = "log.csv:1: a 3-D log (MODEL.md 7.6) with its column names in capitals: its \
+                columns are read by their names in lower case (t, phi_x, phi_y, gyro_x, ...); \
+                write the header in lower case: `sed -i '1s/.*/\\L&/' log.csv`";
+    let e = fails(upper3d, ReaderOptions::default()).to_string();
+    assert!(e.starts_with(want), "{e}");
+    let map = "t=T,ax=AX,ay=AY".parse::<pendtilt::io::ColumnMap>().unwrap();
+    let options = ReaderOptions {
+        map,
+        ..ReaderOptions::default()
+    };
+    let e = fails(upper3d, options).to_string();
+    assert!(e.starts_with(want), "{e}");
+}
