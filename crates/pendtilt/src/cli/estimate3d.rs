@@ -400,6 +400,7 @@ pub(crate) fn pass(
     }
     let header: Vec<String> = log.header().to_vec();
     let mut row = RowInput::new(setup, &file, &header);
+    let mut gyro_units = GyroUnits::new();
     let mut gate = StepGate::new();
     let mut scores = vec![Inclination::default(); names.len()];
     let mut quats = vec![None; names.len()];
@@ -427,6 +428,7 @@ pub(crate) fn pass(
             break;
         };
         let (t, s, roll, pitch) = row.sample(&r, &ahead, &mut gate);
+        gyro_units.add(&r, s.dt, setup.angle_scale);
         bank.update_clipped(&s, row.clipped);
         if let Some((re, n)) = bank.restarted() {
             row.restart_warning(r.line, re, n);
@@ -456,9 +458,14 @@ pub(crate) fn pass(
         rows += 1;
     }
     let mut warnings = row.warnings();
-    if let Some(w) = slip_warning(&file, slip_rows, speed_rows) {
-        warnings.push(w);
+    let gyro_found = gyro_units.findings(&file);
+    // A gyro in deg/s makes the speed disagree with everything too: the gyro is the cause.
+    if gyro_found.is_empty() {
+        if let Some(w) = slip_warning(&file, slip_rows, speed_rows) {
+            warnings.push(w);
+        }
     }
+    warnings.extend(gyro_found);
     Ok(Pass {
         rows,
         names,
@@ -466,6 +473,79 @@ pub(crate) fn pass(
         scores,
         warnings,
     })
+}
+
+/// The gyro's unit found from the physics, per axis, with the planar check
+/// ([`crate::units::UnitCheck`]): below the pendulum's frequency the encoders follow the
+/// tilt, so d(phi_x)/dt ~ gyro_x and d(phi_y)/dt ~ gyro_y (roll and pitch rates, for the
+/// tilts of a vehicle); a gyro 57x that is in deg/s, 1/57 of it converted twice.
+struct GyroUnits {
+    axes: [crate::units::UnitCheck; 2],
+}
+
+impl GyroUnits {
+    fn new() -> Self {
+        let settings = crate::cli::options::rig_bank_settings(&crate::config::RigConfig::default());
+        let inputs = crate::bank::Inputs {
+            phi: true,
+            gyro: true,
+            accel: false,
+        };
+        Self {
+            axes: std::array::from_fn(|_| crate::units::UnitCheck::new(&settings, inputs)),
+        }
+    }
+
+    /// One row as written (`k`: the --deg factor), before the plausibility bounds: a gyro
+    /// in deg/s is beyond them.
+    fn add(&mut self, r: &Log3dRecord, dt: f64, k: f64) {
+        for (i, axis) in self.axes.iter_mut().enumerate() {
+            let s = pendtilt_core::Sample {
+                dt,
+                phi: r.phi[i] * k,
+                gyro: r.gyro[i] * k,
+                ax: f64::NAN,
+                ay: f64::NAN,
+            };
+            axis.add(&s, None);
+        }
+    }
+
+    /// One warning per gyro axis found in deg/s (or converted twice).
+    fn findings(&self, file: &str) -> Vec<String> {
+        let deg = crate::units::DEG;
+        let tol = crate::units::FACTOR_TOLERANCE;
+        let mut out = Vec::new();
+        for (i, axis) in self.axes.iter().enumerate() {
+            let (gyro, phi) = [("gyro_x", "phi_x"), ("gyro_y", "phi_y")][i];
+            let Some(f) = axis.fit(crate::units::Comparison::GyroEncoderRate) else {
+                continue;
+            };
+            if f.correlation < crate::units::MIN_CORRELATION {
+                continue;
+            }
+            let near = |target: f64| f.factor / target < tol && target / f.factor < tol;
+            let what = if near(deg) {
+                format!("{:.1}x the encoder's derivative d({phi})/dt: is the gyro in deg/s?", f.factor)
+            } else if near(1.0 / deg) {
+                format!(
+                    "1/{:.1} of the encoder's derivative d({phi})/dt: was the gyro converted \
+                     to rad/s twice?",
+                    1.0 / f.factor
+                )
+            } else {
+                continue;
+            };
+            out.push(format!(
+                "{file}: {gyro} is {what} Every estimator reading it is wrong by as much: \
+                 write gyro_x, gyro_y, gyro_z in rad/s, or give --deg if every angular column \
+                 (phi_x, phi_y, gyro_*, roll, pitch) is in degrees (least squares over {} rows \
+                 below f_n / 4, r = {:.2})",
+                f.samples, f.correlation
+            ));
+        }
+        out
+    }
 }
 
 /// The median step of the first rows must be a sensor rate (as the planar reader checks).
@@ -485,7 +565,7 @@ fn slip_warning(file: &str, slip_rows: u64, speed_rows: u64) -> Option<String> {
             "{file}: wheel slip flagged on {slip_rows} of {speed_rows} rows with a speed \
              ({:.0} %): the `speed` column disagrees with the accelerometer almost \
              everywhere; is it in m/s? (km/h reads 3.6x, mph 2.24x; ekf3d and ukf3d skip it \
-             while they flag slip)",
+             while they flag slip); a gyro in deg/s does the same",
             share * 100.0
         )
     })
