@@ -946,3 +946,40 @@ fn a_3d_gyro_in_deg_per_s_is_named_not_blamed_on_the_speed() {
     let e = run(&log, &["--deg"]);
     assert!(!e.contains("deg/s"), "{e}");
 }
+
+/// A missing cell and a repeated time stamp in a 3-D log are said with their line, as the
+/// planar reader says them; a burst lists the first three and counts the rest, apart from
+/// the other warnings (session 11: the rows were flagged, and nothing was said).
+#[test]
+fn missing_cells_and_repeated_times_in_a_3d_log_are_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = level_log(2000, 1.0, Some((300, "0.3,0,0,nan,0,0,0,0,9.80665")));
+    text = text.replace("\n0.5,0,0,", "\n0.499,0,0,");
+    for k in 1000..1200 {
+        text = text.replace(
+            &format!("\n{},0,0,0,0,0,0,0,9.80665\n", k as f64 * 1e-3),
+            &format!("\n{},0,0,0,0,0,,0,9.80665\n", k as f64 * 1e-3),
+        );
+    }
+    let log = write(dir.path(), "log.csv", &text);
+    let out = dir.path().join("est.csv");
+    let o = pendtilt(&["estimate", s(&log), "--only", "pendulum3d,ekf3d", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("log.csv:302: `gyro_x` empty, nan, infinite or absent: read as missing"),
+        "{e}"
+    );
+    assert!(
+        e.contains("log.csv:502: column 1 (`t`): time repeated (0.499 then 0.499 s): the row is kept"),
+        "{e}"
+    );
+    assert!(e.contains("log.csv:1002: `ax` empty"), "{e}");
+    assert!(e.contains("log.csv:1003: `ax` empty"), "{e}");
+    assert!(!e.contains("log.csv:1004: `ax` empty"), "{e}");
+    assert!(
+        e.contains("log.csv: 201 rows with a missing sensor cell (flagged sample_missing), the first 3 listed"),
+        "{e}"
+    );
+    assert_eq!(std::fs::read_to_string(&out).unwrap().lines().count(), 2001);
+}

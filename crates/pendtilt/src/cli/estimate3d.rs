@@ -292,6 +292,9 @@ pub(crate) struct Row<'a> {
 /// Warnings printed in full; the rest are counted.
 const MAX_WARNINGS: usize = 10;
 
+/// Rows with a missing cell, and rows whose time does not increase, listed each.
+const ROW_ISSUES_LISTED: u64 = 3;
+
 /// Where a pass puts its rows: the estimates file, or memory (`report`).
 pub(crate) trait Sink3d {
     /// Called once, before the first row: the estimators, which of them give a
@@ -621,6 +624,11 @@ struct RowInput<'a> {
     accel_clips: PlateauWatch<3>,
     /// Truth cells (roll, pitch) beyond their range, read as missing.
     truth_refused: [u64; 2],
+    /// Rows with a missing sensor cell, rows whose time does not increase, and the first
+    /// [`ROW_ISSUES_LISTED`] of each said (apart from [`MAX_WARNINGS`], which they would
+    /// fill before a restart is said).
+    row_issues: [u64; 2],
+    row_notes: Vec<String>,
     /// The truth (roll, pitch) against the encoder (phi_x, phi_y), for its unit.
     truth_fit: [Slope; 2],
 }
@@ -688,6 +696,8 @@ impl<'a> RowInput<'a> {
             gyro_clips: PlateauWatch::new(),
             accel_clips: PlateauWatch::new(),
             truth_refused: [0; 2],
+            row_issues: [0; 2],
+            row_notes: Vec::new(),
             truth_fit: [Slope::default(); 2],
         }
     }
@@ -864,6 +874,7 @@ impl<'a> RowInput<'a> {
             gyro: self.gyro_clips.clipped(r.gyro),
             accel: self.accel_clips.clipped(r.accel).contains(&true),
         };
+        self.row_issues(r, t, gate);
         let dt = if self.lone_stamp(t, next_t.map(|n| n * self.time_scale), gate, line) {
             f64::NAN
         } else {
@@ -929,6 +940,58 @@ impl<'a> RowInput<'a> {
 
     /// Whether `t` is a lone glitched stamp: after the next row's, which itself follows the
     /// last accepted one (so the next row, not this one, continues the clock).
+    /// Says what the reader flagged on row `r` (time `t` \[s\]): a missing sensor cell, a
+    /// time that does not increase; as the planar reader says it (the rows are flagged
+    /// either way, but `--flags` is not every user's first look).
+    fn row_issues(&mut self, r: &Log3dRecord, t: f64, gate: &StepGate<f64>) {
+        if r.issues.missing {
+            let cells = [
+                ("t", r.t),
+                ("phi_x", r.phi[0]),
+                ("phi_y", r.phi[1]),
+                ("gyro_x", r.gyro[0]),
+                ("gyro_y", r.gyro[1]),
+                ("gyro_z", r.gyro[2]),
+                ("ax", r.accel[0]),
+                ("ay", r.accel[1]),
+                ("az", r.accel[2]),
+            ];
+            let names: Vec<String> = cells
+                .iter()
+                .filter(|(_, v)| v.is_nan())
+                .map(|(n, _)| format!("`{n}`"))
+                .collect();
+            self.row_issues[0] += 1;
+            if self.row_issues[0] <= ROW_ISSUES_LISTED {
+                self.row_notes.push(format!(
+                    "{}:{}: {} empty, nan, infinite or absent: read as missing, the \
+                     estimators reading it hold and flag the sample",
+                    self.file,
+                    r.line,
+                    names.join(", ")
+                ));
+            }
+        }
+        if let (true, Some(last)) = (r.issues.time_not_increasing, gate.last()) {
+            // After a lone stamp (held, said) the row is behind it but not behind `last`.
+            if t.is_finite() && t <= last {
+                let what = if t == last { "repeated" } else { "goes back" };
+                self.row_issues[1] += 1;
+                if self.row_issues[1] > ROW_ISSUES_LISTED {
+                    return;
+                }
+                self.row_notes.push(format!(
+                    "{}:{}: column {} (`t`): time {what} ({last} then {t} s): the row is kept, \
+                     the estimators holding their estimate, flagged bad_time_step, until the \
+                     time passes {last} s again",
+                    self.file,
+                    r.line,
+                    self.column("t")
+                ));
+            }
+        }
+    }
+
     fn lone_stamp(&mut self, t: f64, next: Option<f64>, gate: &StepGate<f64>, line: u64) -> bool {
         let (Some(next), Some(last)) = (next, gate.last()) else {
             return false;
@@ -946,6 +1009,18 @@ impl<'a> RowInput<'a> {
 
     fn warnings(&self) -> Vec<String> {
         let mut w = self.warnings.clone();
+        w.extend(self.row_notes.iter().cloned());
+        for (n, what) in self.row_issues.iter().zip([
+            "with a missing sensor cell (flagged sample_missing)",
+            "whose time does not increase (flagged bad_time_step)",
+        ]) {
+            if *n > ROW_ISSUES_LISTED {
+                w.push(format!(
+                    "{}: {n} rows {what}, the first {ROW_ISSUES_LISTED} listed",
+                    self.file
+                ));
+            }
+        }
         for (k, (name, _, bound_name, _)) in TRUTH.iter().enumerate() {
             if self.truth_refused[k] > 1 {
                 w.push(format!(
