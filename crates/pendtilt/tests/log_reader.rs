@@ -840,3 +840,49 @@ fn a_header_in_capitals_gets_one_whole_map_and_a_3d_one_is_named() {
     let e = fails(upper3d, options).to_string();
     assert!(e.starts_with(want), "{e}");
 }
+
+/// NUL bytes (an SD-card logger's preallocated space it never wrote, a write cut by a
+/// power loss) are removed and said once, by line and count, never printed: a line of them
+/// alone is blank, a line they end is cut (session 11: 4096 NULs after the last line gave
+/// one more row, all missing with t NaN, and a warning that printed the 4096 NULs).
+#[test]
+fn nul_padding_after_the_last_line_is_no_row_and_is_said_without_the_bytes() {
+    let mut text = regular(20, 0.001).into_bytes();
+    text.extend(std::iter::repeat_n(0u8, 4096));
+    let text = String::from_utf8(text).unwrap();
+    let (records, warnings) = ok(&text);
+    assert_eq!(records.len(), 20, "no row made of NULs");
+    assert!(records.iter().all(|r| !r.issues.bad_time));
+    let said: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        said,
+        vec!["log.csv:22: 4096 NUL byte(s) from line 22 on (space a logger allocated and never \
+              wrote, or a write a power loss cut): removed, a line of them alone read as \
+              blank, a line they end as cut (its last cell may be cut short)"]
+    );
+    // A line the NULs cut: kept, its last cell read as missing, as a cut last line.
+    let cut = format!("t,phi,gyro\n0,0.1,0.2\n0.001,0.1{}", "\0".repeat(100));
+    let (records, warnings) = ok(&cut);
+    assert_eq!(records.len(), 2);
+    assert!(records[1].sample.phi.is_nan() && records[1].issues.truncated);
+    assert!(warnings.iter().all(|w| !w.to_string().contains('\0')));
+    // The 3-D reader likewise, through `estimate`.
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("nul3d.csv");
+    let mut three = String::from("t,phi_x,phi_y,gyro_x,gyro_y,gyro_z,ax,ay,az\n");
+    for k in 0..50 {
+        three.push_str(&format!("{},0,0,0,0,0,0,0,9.80665\n", k as f64 * 1e-3));
+    }
+    three.push_str(&"\0".repeat(512));
+    std::fs::write(&log, three).unwrap();
+    let out = dir.path().join("est.csv");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+        .args(["estimate", log.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(e.contains("nul3d.csv:52: 512 NUL byte(s) from line 52 on"), "{e}");
+    assert!(!e.contains('\0'));
+    assert_eq!(std::fs::read_to_string(&out).unwrap().lines().count(), 51);
+}

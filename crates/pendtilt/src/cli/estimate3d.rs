@@ -461,6 +461,9 @@ pub(crate) fn pass(
         rows += 1;
     }
     let mut warnings = row.warnings();
+    if let Some((line, n)) = log.take_nul() {
+        warnings.push(format!("{file}:{line}: {}", crate::io::nul_message(line, n)));
+    }
     let gyro_found = gyro_units.findings(&file);
     // A gyro in deg/s makes the speed disagree with everything too: the gyro is the cause.
     if gyro_found.is_empty() {

@@ -124,6 +124,12 @@ impl<R: BufRead> Log3dReader<R> {
         &self.header
     }
 
+    /// NUL bytes removed from the lines so far (`csv_lines`): the line of the first and
+    /// the count, for a warning ([`super::nul_message`]).
+    pub fn take_nul(&mut self) -> Option<(u64, u64)> {
+        self.lines.take_nul()
+    }
+
     /// Whether the log has the column `name` (one of [`LOG3D_COLUMNS`]).
     pub fn has(&self, name: &str) -> bool {
         LOG3D_COLUMNS

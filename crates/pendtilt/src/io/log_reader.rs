@@ -246,6 +246,16 @@ pub fn new_time_base(back: &TimeBack, t: f64, file: &str, header_line: u64) -> S
     )
 }
 
+/// What to say about `n` NUL bytes removed, the first on `line` (never the bytes: they
+/// would garble a terminal).
+pub fn nul_message(line: u64, n: u64) -> String {
+    format!(
+        "{n} NUL byte(s) from line {line} on (space a logger allocated and never wrote, or a \
+         write a power loss cut): removed, a line of them alone read as blank, a line they \
+         end as cut (its last cell may be cut short)"
+    )
+}
+
 /// Positive time steps used for the nominal step (their median).
 const NOMINAL_DT_SAMPLES: usize = 15;
 
@@ -361,10 +371,14 @@ impl<R: BufRead> LogReader<R> {
     /// Reads the next line that is neither blank nor a comment ([`CsvLines::next_line`]).
     /// `Ok(false)` at the end of the input.
     fn next_line(&mut self) -> Result<bool, LogError> {
-        self.lines.next_line().map_err(|e| {
+        let more = self.lines.next_line().map_err(|e| {
             let line = Some(self.lines.line() + 1);
             self.error(line, None, LogErrorKind::Io(e))
-        })
+        })?;
+        if let Some((line, n)) = self.lines.take_nul() {
+            self.warn(WarningKind::TruncatedRow, None, None, nul_message(line, n));
+        }
+        Ok(more)
     }
 
     fn split(&mut self) -> Result<(), LogError> {
