@@ -757,7 +757,9 @@ fn a_3d_log_with_a_byte_order_mark_reads_as_without() {
     let text = std::fs::read_to_string(&log).unwrap();
     let marked = format!("\u{feff}# logger 1.2\r\n{}", text.replace('\n', "\r\n"));
     let bom = write(dir.path(), "bom.csv", &marked);
-    assert!(std::fs::read(&bom).unwrap().starts_with(b"\xEF\xBB\xBF# logger"));
+    assert!(std::fs::read(&bom)
+        .unwrap()
+        .starts_with(b"\xEF\xBB\xBF# logger"));
     let (a, b) = (dir.path().join("a.csv"), dir.path().join("b.csv"));
     ok(&["estimate", s(&log), "-q", "--flags", "-o", s(&a)]);
     ok(&["estimate", s(&bom), "-q", "--flags", "-o", s(&b)]);
@@ -787,11 +789,16 @@ fn two_3d_logs_joined_are_refused_with_the_commands_that_split_them() {
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(!out.exists());
     assert!(
-        e.contains("joined.csv:803: column 1 (`t`): the time went back on line 802 (0.799 then 0 s)"),
+        e.contains(
+            "joined.csv:803: column 1 (`t`): the time went back on line 802 (0.799 then 0 s)"
+        ),
         "{e}"
     );
     let cmd = e.split('`').rev().nth(1).unwrap();
-    assert!(cmd.starts_with("head -n 801 joined.csv > first.csv"), "{cmd}");
+    assert!(
+        cmd.starts_with("head -n 801 joined.csv > first.csv"),
+        "{cmd}"
+    );
     let sh = std::process::Command::new("sh")
         .current_dir(dir.path())
         .args(["-c", cmd])
@@ -936,7 +943,8 @@ fn a_3d_gyro_in_deg_per_s_is_named_not_blamed_on_the_speed() {
     };
     let e = run(&deg, &[]);
     assert!(
-        e.contains("gdeg.csv: gyro_x is ") && e.contains("x the encoder's derivative d(phi_x)/dt: is the gyro in deg/s?"),
+        e.contains("gdeg.csv: gyro_x is ")
+            && e.contains("x the encoder's derivative d(phi_x)/dt: is the gyro in deg/s?"),
         "{e}"
     );
     assert!(!e.contains("is it in m/s?"), "{e}");
@@ -963,7 +971,14 @@ fn missing_cells_and_repeated_times_in_a_3d_log_are_said() {
     }
     let log = write(dir.path(), "log.csv", &text);
     let out = dir.path().join("est.csv");
-    let o = pendtilt(&["estimate", s(&log), "--only", "pendulum3d,ekf3d", "-o", s(&out)]);
+    let o = pendtilt(&[
+        "estimate",
+        s(&log),
+        "--only",
+        "pendulum3d,ekf3d",
+        "-o",
+        s(&out),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(
@@ -971,7 +986,9 @@ fn missing_cells_and_repeated_times_in_a_3d_log_are_said() {
         "{e}"
     );
     assert!(
-        e.contains("log.csv:502: column 1 (`t`): time repeated (0.499 then 0.499 s): the row is kept"),
+        e.contains(
+            "log.csv:502: column 1 (`t`): time repeated (0.499 then 0.499 s): the row is kept"
+        ),
         "{e}"
     );
     assert!(e.contains("log.csv:1002: `ax` empty"), "{e}");

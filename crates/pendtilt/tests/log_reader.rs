@@ -798,9 +798,19 @@ fn a_units_line_or_a_missing_marker_says_what_to_do() {
             .to_string()
     };
     let e = three("s,rad,rad,rad/s,rad/s,rad/s,m/s^2,m/s^2,m/s^2\n0,0,0,0,0,0,0,0,9.8\n");
-    assert!(e.ends_with("a units line? make it a comment with `#` (`sed -i '2s/^/#/' log.csv`) or delete it"), "{e}");
+    assert!(
+        e.ends_with(
+            "a units line? make it a comment with `#` (`sed -i '2s/^/#/' log.csv`) or delete it"
+        ),
+        "{e}"
+    );
     let e = three("0,0,0,0,0,0,0,0,9.8\n0.001,0,0,NA,0,0,0,0,9.8\n");
-    assert!(e.starts_with("log.csv:3: column 4 (`gyro_x`): not a number: `NA`; if `NA` marks a missing reading"), "{e}");
+    assert!(
+        e.starts_with(
+            "log.csv:3: column 4 (`gyro_x`): not a number: `NA`; if `NA` marks a missing reading"
+        ),
+        "{e}"
+    );
 }
 
 /// A header in capitals: the planar hint gives the whole `--map` at once, and following
@@ -815,7 +825,9 @@ fn a_header_in_capitals_gets_one_whole_map_and_a_3d_one_is_named() {
         e.ends_with("did you mean `T`? (--map t=T,phi=PHI,gyro=GYRO,ax=AX,ay=AY)"),
         "{e}"
     );
-    let map = "t=T,phi=PHI,gyro=GYRO,ax=AX,ay=AY".parse::<pendtilt::io::ColumnMap>().unwrap();
+    let map = "t=T,phi=PHI,gyro=GYRO,ax=AX,ay=AY"
+        .parse::<pendtilt::io::ColumnMap>()
+        .unwrap();
     let (records, _, error) = read_all(
         upper,
         ReaderOptions {
@@ -832,7 +844,9 @@ fn a_header_in_capitals_gets_one_whole_map_and_a_3d_one_is_named() {
                 write the header in lower case: `sed -i '1s/.*/\\L&/' log.csv`";
     let e = fails(upper3d, ReaderOptions::default()).to_string();
     assert!(e.starts_with(want), "{e}");
-    let map = "t=T,ax=AX,ay=AY".parse::<pendtilt::io::ColumnMap>().unwrap();
+    let map = "t=T,ax=AX,ay=AY"
+        .parse::<pendtilt::io::ColumnMap>()
+        .unwrap();
     let options = ReaderOptions {
         map,
         ..ReaderOptions::default()
@@ -856,9 +870,11 @@ fn nul_padding_after_the_last_line_is_no_row_and_is_said_without_the_bytes() {
     let said: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
     assert_eq!(
         said,
-        vec!["log.csv:22: 4096 NUL byte(s) from line 22 on (space a logger allocated and never \
+        vec![
+            "log.csv:22: 4096 NUL byte(s) from line 22 on (space a logger allocated and never \
               wrote, or a write a power loss cut): removed, a line of them alone read as \
-              blank, a line they end as cut (its last cell may be cut short)"]
+              blank, a line they end as cut (its last cell may be cut short)"
+        ]
     );
     // A line the NULs cut: kept, its last cell read as missing, as a cut last line.
     let cut = format!("t,phi,gyro\n0,0.1,0.2\n0.001,0.1{}", "\0".repeat(100));
@@ -877,12 +893,20 @@ fn nul_padding_after_the_last_line_is_no_row_and_is_said_without_the_bytes() {
     std::fs::write(&log, three).unwrap();
     let out = dir.path().join("est.csv");
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_pendtilt"))
-        .args(["estimate", log.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .args([
+            "estimate",
+            log.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
         .output()
         .unwrap();
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{e}");
-    assert!(e.contains("nul3d.csv:52: 512 NUL byte(s) from line 52 on"), "{e}");
+    assert!(
+        e.contains("nul3d.csv:52: 512 NUL byte(s) from line 52 on"),
+        "{e}"
+    );
     assert!(!e.contains('\0'));
     assert_eq!(std::fs::read_to_string(&out).unwrap().lines().count(), 51);
 }

@@ -1039,7 +1039,12 @@ fn an_absurd_truth_cell_is_not_scored_and_not_called_degrees() {
         std::fs::write(&log, text(c)).unwrap();
         let out = dir.path().join("est.csv");
         let o = Command::new(env!("CARGO_BIN_EXE_pendtilt"))
-            .args(["estimate", log.to_str().unwrap(), "-o", out.to_str().unwrap()])
+            .args([
+                "estimate",
+                log.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
             .output()
             .unwrap();
         assert!(o.status.success());

@@ -462,7 +462,10 @@ pub(crate) fn pass(
     }
     let mut warnings = row.warnings();
     if let Some((line, n)) = log.take_nul() {
-        warnings.push(format!("{file}:{line}: {}", crate::io::nul_message(line, n)));
+        warnings.push(format!(
+            "{file}:{line}: {}",
+            crate::io::nul_message(line, n)
+        ));
     }
     let gyro_found = gyro_units.findings(&file);
     // A gyro in deg/s makes the speed disagree with everything too: the gyro is the cause.
@@ -532,7 +535,10 @@ impl GyroUnits {
             }
             let near = |target: f64| f.factor / target < tol && target / f.factor < tol;
             let what = if near(deg) {
-                format!("{:.1}x the encoder's derivative d({phi})/dt: is the gyro in deg/s?", f.factor)
+                format!(
+                    "{:.1}x the encoder's derivative d({phi})/dt: is the gyro in deg/s?",
+                    f.factor
+                )
             } else if near(1.0 / deg) {
                 format!(
                     "1/{:.1} of the encoder's derivative d({phi})/dt: was the gyro converted \

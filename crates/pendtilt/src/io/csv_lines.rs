@@ -86,7 +86,11 @@ impl<R: BufRead> CsvLines<R> {
             }
             return;
         };
-        let end = self.buf.iter().rposition(|&b| b != 0).map_or(len, |e| e + 1);
+        let end = self
+            .buf
+            .iter()
+            .rposition(|&b| b != 0)
+            .map_or(len, |e| e + 1);
         if start == 0 && end == len {
             return;
         }

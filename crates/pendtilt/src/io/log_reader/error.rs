@@ -62,7 +62,7 @@ pub enum LogErrorKind {
     NotANumber {
         /// The cell text.
         text: String,
-        /// What it may be and what to do ([`not_a_number_hint`]), or empty.
+        /// What it may be and what to do (`not_a_number_hint`), or empty.
         hint: String,
     },
     /// A data line that is a header (the same or another).
@@ -72,7 +72,7 @@ pub enum LogErrorKind {
         what: String,
     },
     /// The time went back by more than the restart gap and ran on from there: two logs
-    /// joined, or a clock restarted ([`new_time_base`](super::new_time_base)).
+    /// joined, or a clock restarted (`log_reader::new_time_base`).
     #[error("{0}")]
     NewTimeBase(String),
     /// The time steps are not those of a sensor log in seconds (a log in ms or us).
@@ -140,7 +140,13 @@ const MISSING_MARKERS: [&str; 12] = [
 /// under the header (`first_row`: the first data row, `all_text`: none of its cells is a
 /// number; `line`, `file` for the command that comments it out), or a marker of a missing
 /// reading. Empty when neither.
-pub fn not_a_number_hint(text: &str, first_row: bool, all_text: bool, line: u64, file: &str) -> String {
+pub fn not_a_number_hint(
+    text: &str,
+    first_row: bool,
+    all_text: bool,
+    line: u64,
+    file: &str,
+) -> String {
     if first_row && all_text {
         let fix = if file.starts_with('<') {
             String::new()
@@ -152,7 +158,10 @@ pub fn not_a_number_hint(text: &str, first_row: bool, all_text: bool, line: u64,
              with `#`{fix} or delete it"
         );
     }
-    if MISSING_MARKERS.iter().any(|m| text.trim().eq_ignore_ascii_case(m)) {
+    if MISSING_MARKERS
+        .iter()
+        .any(|m| text.trim().eq_ignore_ascii_case(m))
+    {
         return format!(
             "; if `{text}` marks a missing reading, leave the cell empty (or write nan): \
              an empty cell reads as missing, and the estimators hold and flag the sample"

@@ -177,9 +177,7 @@ impl<R: BufRead> LogReader<R> {
         let all = required
             .iter()
             .all(|c| self.header.iter().any(|h| h.eq_ignore_ascii_case(c)));
-        let exact = required
-            .iter()
-            .all(|c| self.header.iter().any(|h| h == c));
+        let exact = required.iter().all(|c| self.header.iter().any(|h| h == c));
         if !all || exact {
             return None;
         }
