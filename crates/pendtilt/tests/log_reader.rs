@@ -910,3 +910,18 @@ fn nul_padding_after_the_last_line_is_no_row_and_is_said_without_the_bytes() {
     assert!(!e.contains('\0'));
     assert_eq!(std::fs::read_to_string(&out).unwrap().lines().count(), 51);
 }
+
+/// A header with a trailing comma (every row too) reads as without it, and the report of
+/// the columns names the empty field instead of an empty name (session 11: `ignored: `).
+#[test]
+fn a_trailing_comma_on_every_line_names_its_unnamed_field() {
+    let text = "t,phi,\n0,0.1,\n0.001,0.2,\n";
+    let reader = open(text, ReaderOptions::default()).unwrap();
+    assert_eq!(
+        reader.columns().to_string(),
+        "columns: t, phi; missing: gyro, ax, ay, theta; ignored: (unnamed field 3)"
+    );
+    let (records, warnings) = ok(text);
+    assert_eq!(records.len(), 2);
+    assert!(warnings.is_empty(), "{warnings:?}");
+}

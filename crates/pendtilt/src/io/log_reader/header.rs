@@ -29,7 +29,14 @@ impl<R: BufRead> LogReader<R> {
                 .iter()
                 .enumerate()
                 .filter(|(i, _)| !used.contains(i))
-                .map(|(_, h)| h.clone())
+                // A trailing comma's field has no name: say which field it is.
+                .map(|(i, h)| {
+                    if h.is_empty() {
+                        format!("(unnamed field {})", i + 1)
+                    } else {
+                        h.clone()
+                    }
+                })
                 .collect(),
             columns: statuses,
         };
