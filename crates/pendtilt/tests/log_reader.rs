@@ -197,7 +197,7 @@ fn non_numeric_cell_is_an_error_naming_line_column_and_text() {
     let (records, _, error) = read_all(text, ReaderOptions::default());
     assert_eq!(records.len(), 1, "rows before the bad one are delivered");
     let e = error.unwrap();
-    assert!(matches!(*e.kind, LogErrorKind::NotANumber { ref text } if text == "abc"));
+    assert!(matches!(*e.kind, LogErrorKind::NotANumber { ref text, .. } if text == "abc"));
     assert_eq!(e.line, Some(3));
     assert_eq!(
         e.to_string(),
@@ -806,4 +806,222 @@ fn a_missing_column_whose_name_carries_a_unit_is_suggested_with_the_unit_option(
             && c.contains("gyro (the header has `gyro[rad/s]`: --map 'gyro=gyro[rad/s]'?)"),
         "{c}"
     );
+}
+
+/// Two logs joined without a second header (or a logger whose clock restarted): the time
+/// goes back by more than the restart gap and runs on from there. The estimators, which
+/// refuse a time before the last one they took, would hold every later row (session 11: a
+/// 12 s ride made of two 6 s halves ran with exit 0, the second half's 6000 rows held and
+/// flagged, alg2 4.68 deg RMS against 0.70, and one warning about "the sample"). Now an
+/// error on the row that runs on, naming the line to split at with the commands; a step
+/// back shorter than the restart gap and a single stray stamp are kept and flagged as
+/// before, the warning saying how long the estimators hold.
+#[test]
+fn time_that_goes_back_and_runs_on_is_two_logs_an_error_naming_the_split() {
+    let mut text = regular(1000, 0.001);
+    text.push_str(&regular(30, 0.001)["t,phi\n".len()..]);
+    let (records, _, error) = read_all(&text, ReaderOptions::default());
+    let e = error.expect("two logs joined must not read").to_string();
+    assert_eq!(records.len(), 1001, "every row before the error was given");
+    assert!(records[1000].issues.bad_time);
+    assert!(
+        e.starts_with("log.csv:1003: column 1 (`t`): the time went back on line 1002 (0.999 then 0 s) and runs on from there (0.001 s here): two logs joined"),
+        "{e}"
+    );
+    assert!(
+        e.contains("split the log at line 1002: `head -n 1001 log.csv > first.csv; (sed -n 1p log.csv; tail -n +1002 log.csv) > second.csv`"),
+        "{e}"
+    );
+    // One stray stamp far back, then the log goes on: kept, flagged, no error.
+    let mut stray = regular(1000, 0.001);
+    stray.push_str("0.2,0\n1.0,0\n1.001,0\n");
+    let (records, warnings) = ok(&stray);
+    assert_eq!(records.len(), 1003);
+    let bad: Vec<bool> = records[999..].iter().map(|r| r.issues.bad_time).collect();
+    assert_eq!(bad, vec![false, true, false, false]);
+    let back = warnings
+        .iter()
+        .find(|w| w.kind == WarningKind::TimeNotIncreasing)
+        .unwrap();
+    assert!(
+        back.message.contains("until the time passes 0.999 s again"),
+        "{back}"
+    );
+    // A step back of 0.2 s (a clock set back, a chunk sent twice) that runs on: kept.
+    let mut short = regular(1000, 0.001);
+    for k in 0..400 {
+        short.push_str(&format!("{},0\n", 0.8 + k as f64 * 0.001));
+    }
+    let (records, _) = ok(&short);
+    assert_eq!(records.len(), 1400);
+    assert_eq!(records.iter().filter(|r| r.issues.bad_time).count(), 1);
+}
+
+/// A units line under the header and a logger's marker of a missing reading (`NA`, `-`,
+/// `null`, ...) are still errors (nothing is guessed), but say what the text likely is
+/// and what to do, in the planar and the 3-D reader (session 11: `not a number: `s`` and
+/// `not a number: `NA`` alone). A units line made a comment, as said, reads.
+#[test]
+fn a_units_line_or_a_missing_marker_says_what_to_do() {
+    let units = "t,phi,gyro\ns,rad,rad/s\n0,0.1,0.2\n0.001,0.1,0.2\n";
+    let e = fails(units, ReaderOptions::default()).to_string();
+    assert_eq!(
+        e,
+        "log.csv:2: column 1 (`t`): not a number: `s`; the first row under the header is \
+         text: a units line? make it a comment with `#` (`sed -i '2s/^/#/' log.csv`) or \
+         delete it"
+    );
+    let (records, _) = ok(&units.replace("\ns,rad", "\n#s,rad"));
+    assert_eq!(records.len(), 2);
+    for marker in ["NA", "N/A", "null", "None", "-", "?"] {
+        let text = format!("t,phi,gyro\n0,0.1,0.2\n0.001,{marker},0.2\n");
+        let e = fails(&text, ReaderOptions::default()).to_string();
+        assert_eq!(
+            e,
+            format!(
+                "log.csv:3: column 2 (`phi`): not a number: `{marker}`; if `{marker}` marks a \
+                 missing reading, leave the cell empty (or write nan): an empty cell reads as \
+                 missing, and the estimators hold and flag the sample"
+            )
+        );
+    }
+    // A word in a later row is no units line; a plain typo gets no hint.
+    let e = fails("t,phi\n0,0.1\nabc,def\n", ReaderOptions::default()).to_string();
+    assert_eq!(e, "log.csv:3: column 1 (`t`): not a number: `abc`");
+    // The 3-D reader says the same.
+    let head = "t,phi_x,phi_y,gyro_x,gyro_y,gyro_z,ax,ay,az";
+    let three = |body: &str| {
+        pendtilt::io::Log3dReader::new(format!("{head}\n{body}").as_bytes(), "log.csv")
+            .unwrap()
+            .collect::<Result<Vec<_>, _>>()
+            .unwrap_err()
+            .to_string()
+    };
+    let e = three("s,rad,rad,rad/s,rad/s,rad/s,m/s^2,m/s^2,m/s^2\n0,0,0,0,0,0,0,0,9.8\n");
+    assert!(
+        e.ends_with(
+            "a units line? make it a comment with `#` (`sed -i '2s/^/#/' log.csv`) or delete it"
+        ),
+        "{e}"
+    );
+    let e = three("0,0,0,0,0,0,0,0,9.8\n0.001,0,0,NA,0,0,0,0,9.8\n");
+    assert!(
+        e.starts_with(
+            "log.csv:3: column 4 (`gyro_x`): not a number: `NA`; if `NA` marks a missing reading"
+        ),
+        "{e}"
+    );
+}
+
+/// A header in capitals: the planar hint gives the whole `--map` at once, and following
+/// it reads the log; a 3-D header in capitals is named as one (session 11: `did you mean
+/// `T`? (--map t=T)`, one column per round; on a 3-D log in capitals that hint led to
+/// `--map t=T,ax=AX,ay=AY`, which ran the planar `accel` on the 3-D axes, exit 0).
+#[test]
+fn a_header_in_capitals_gets_one_whole_map_and_a_3d_one_is_named() {
+    let upper = "T,PHI,GYRO,AX,AY\n0,0.1,0.2,0.3,9.8\n0.001,0.1,0.2,0.3,9.8\n";
+    let e = fails(upper, ReaderOptions::default()).to_string();
+    assert!(
+        e.ends_with("did you mean `T`? (--map t=T,phi=PHI,gyro=GYRO,ax=AX,ay=AY)"),
+        "{e}"
+    );
+    let map = "t=T,phi=PHI,gyro=GYRO,ax=AX,ay=AY"
+        .parse::<pendtilt::io::ColumnMap>()
+        .unwrap();
+    let (records, _, error) = read_all(
+        upper,
+        ReaderOptions {
+            map,
+            ..ReaderOptions::default()
+        },
+    );
+    assert!(error.is_none(), "{error:?}");
+    assert_eq!((records.len(), records[1].sample.ay), (2, 9.8));
+
+    let upper3d = "T,PHI_X,PHI_Y,GYRO_X,GYRO_Y,GYRO_Z,AX,AY,AZ\n0,0,0,0,0,0,0,0,9.8\n";
+    let want = "log.csv:1: a 3-D log (MODEL.md 7.6) with its column names in capitals: its \
+                columns are read by their names in lower case (t, phi_x, phi_y, gyro_x, ...); \
+                write the header in lower case: `sed -i '1s/.*/\\L&/' log.csv`";
+    let e = fails(upper3d, ReaderOptions::default()).to_string();
+    assert!(e.starts_with(want), "{e}");
+    let map = "t=T,ax=AX,ay=AY"
+        .parse::<pendtilt::io::ColumnMap>()
+        .unwrap();
+    let options = ReaderOptions {
+        map,
+        ..ReaderOptions::default()
+    };
+    let e = fails(upper3d, options).to_string();
+    assert!(e.starts_with(want), "{e}");
+}
+
+/// NUL bytes (an SD-card logger's preallocated space it never wrote, a write cut by a
+/// power loss) are removed and said once, by line and count, never printed: a line of them
+/// alone is blank, a line they end is cut (session 11: 4096 NULs after the last line gave
+/// one more row, all missing with t NaN, and a warning that printed the 4096 NULs).
+#[test]
+fn nul_padding_after_the_last_line_is_no_row_and_is_said_without_the_bytes() {
+    let mut text = regular(20, 0.001).into_bytes();
+    text.extend(std::iter::repeat_n(0u8, 4096));
+    let text = String::from_utf8(text).unwrap();
+    let (records, warnings) = ok(&text);
+    assert_eq!(records.len(), 20, "no row made of NULs");
+    assert!(records.iter().all(|r| !r.issues.bad_time));
+    let said: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        said,
+        vec![
+            "log.csv:22: 4096 NUL byte(s) from line 22 on (space a logger allocated and never \
+              wrote, or a write a power loss cut): removed, a line of them alone read as \
+              blank, a line they end as cut (its last cell may be cut short)"
+        ]
+    );
+    // A line the NULs cut: kept, its last cell read as missing, as a cut last line.
+    let cut = format!("t,phi,gyro\n0,0.1,0.2\n0.001,0.1{}", "\0".repeat(100));
+    let (records, warnings) = ok(&cut);
+    assert_eq!(records.len(), 2);
+    assert!(records[1].sample.phi.is_nan() && records[1].issues.truncated);
+    assert!(warnings.iter().all(|w| !w.to_string().contains('\0')));
+    // The 3-D reader likewise, through `estimate`.
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("nul3d.csv");
+    let mut three = String::from("t,phi_x,phi_y,gyro_x,gyro_y,gyro_z,ax,ay,az\n");
+    for k in 0..50 {
+        three.push_str(&format!("{},0,0,0,0,0,0,0,9.80665\n", k as f64 * 1e-3));
+    }
+    three.push_str(&"\0".repeat(512));
+    std::fs::write(&log, three).unwrap();
+    let out = dir.path().join("est.csv");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+        .args([
+            "estimate",
+            log.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("nul3d.csv:52: 512 NUL byte(s) from line 52 on"),
+        "{e}"
+    );
+    assert!(!e.contains('\0'));
+    assert_eq!(std::fs::read_to_string(&out).unwrap().lines().count(), 51);
+}
+
+/// A header with a trailing comma (every row too) reads as without it, and the report of
+/// the columns names the empty field instead of an empty name (session 11: `ignored: `).
+#[test]
+fn a_trailing_comma_on_every_line_names_its_unnamed_field() {
+    let text = "t,phi,\n0,0.1,\n0.001,0.2,\n";
+    let reader = open(text, ReaderOptions::default()).unwrap();
+    assert_eq!(
+        reader.columns().to_string(),
+        "columns: t, phi; missing: gyro, ax, ay, theta; ignored: (unnamed field 3)"
+    );
+    let (records, warnings) = ok(text);
+    assert_eq!(records.len(), 2);
+    assert!(warnings.is_empty(), "{warnings:?}");
 }

@@ -84,28 +84,23 @@ pub(crate) fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::R
 /// `/dev/stdin`) would take its first lines from the reader that follows (which then
 /// read a line from the middle as the header); the planar reader refuses a 3-D header.
 pub fn is_3d_log(path: &Path) -> bool {
-    use std::io::BufRead;
     if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
         return false;
     }
     let Ok(f) = File::open(path) else {
         return false;
     };
-    let mut line = String::new();
-    let mut r = BufReader::new(f);
-    loop {
-        line.clear();
-        match r.read_line(&mut line) {
-            Ok(0) | Err(_) => return false,
-            Ok(_) => {}
-        }
-        let l = line.trim();
-        if l.is_empty() || l.starts_with('#') {
-            continue;
-        }
-        let header: Vec<&str> = l.split(',').map(|h| h.trim().trim_matches('"')).collect();
-        return crate::io::is_3d_header(&header);
+    // The readers' own line reader: a byte-order mark (Excel's "CSV UTF-8"), CRLF, quotes
+    // and comment lines are taken as the reader that follows takes them.
+    let mut lines = crate::io::csv_lines::CsvLines::new(BufReader::new(f), b',');
+    if !matches!(lines.next_row(), Ok(Some(()))) {
+        return false;
     }
+    let header: Vec<String> = (0..lines.field_count())
+        .filter_map(|i| lines.field(i))
+        .map(|f| String::from_utf8_lossy(&f).into_owned())
+        .collect();
+    crate::io::is_3d_header(&header)
 }
 
 /// What a 3-D run is given: the log and the options `estimate` and `report` share.
@@ -313,6 +308,9 @@ pub(crate) struct Row<'a> {
 /// Warnings printed in full; the rest are counted.
 const MAX_WARNINGS: usize = 10;
 
+/// Rows with a missing cell, and rows whose time does not increase, listed each.
+const ROW_ISSUES_LISTED: u64 = 3;
+
 /// Where a pass puts its rows: the estimates file, or memory (`report`).
 pub(crate) trait Sink3d {
     /// Called once, before the first row: the estimators, which of them give a
@@ -421,6 +419,7 @@ pub(crate) fn pass(
     }
     let header: Vec<String> = log.header().to_vec();
     let mut row = RowInput::new(setup, &file, &header);
+    let mut gyro_units = GyroUnits::new();
     let mut gate = StepGate::new();
     let mut scores = vec![Inclination::default(); names.len()];
     let mut quats = vec![None; names.len()];
@@ -448,6 +447,7 @@ pub(crate) fn pass(
             break;
         };
         let (t, s, roll, pitch) = row.sample(&r, &ahead, &mut gate);
+        gyro_units.add(&r, s.dt, setup.angle_scale);
         bank.update_clipped(&s, row.clipped);
         if let Some((re, n)) = bank.restarted() {
             row.restart_warning(r.line, re, n);
@@ -477,9 +477,20 @@ pub(crate) fn pass(
         rows += 1;
     }
     let mut warnings = row.warnings();
-    if let Some(w) = slip_warning(&file, slip_rows, speed_rows) {
-        warnings.push(w);
+    if let Some((line, n)) = log.take_nul() {
+        warnings.push(format!(
+            "{file}:{line}: {}",
+            crate::io::nul_message(line, n)
+        ));
     }
+    let gyro_found = gyro_units.findings(&file);
+    // A gyro in deg/s makes the speed disagree with everything too: the gyro is the cause.
+    if gyro_found.is_empty() {
+        if let Some(w) = slip_warning(&file, slip_rows, speed_rows) {
+            warnings.push(w);
+        }
+    }
+    warnings.extend(gyro_found);
     Ok(Pass {
         rows,
         names,
@@ -487,6 +498,82 @@ pub(crate) fn pass(
         scores,
         warnings,
     })
+}
+
+/// The gyro's unit found from the physics, per axis, with the planar check
+/// ([`crate::units::UnitCheck`]): below the pendulum's frequency the encoders follow the
+/// tilt, so d(phi_x)/dt ~ gyro_x and d(phi_y)/dt ~ gyro_y (roll and pitch rates, for the
+/// tilts of a vehicle); a gyro 57x that is in deg/s, 1/57 of it converted twice.
+struct GyroUnits {
+    axes: [crate::units::UnitCheck; 2],
+}
+
+impl GyroUnits {
+    fn new() -> Self {
+        let settings = crate::cli::options::rig_bank_settings(&crate::config::RigConfig::default());
+        let inputs = crate::bank::Inputs {
+            phi: true,
+            gyro: true,
+            accel: false,
+        };
+        Self {
+            axes: std::array::from_fn(|_| crate::units::UnitCheck::new(&settings, inputs)),
+        }
+    }
+
+    /// One row as written (`k`: the --deg factor), before the plausibility bounds: a gyro
+    /// in deg/s is beyond them.
+    fn add(&mut self, r: &Log3dRecord, dt: f64, k: f64) {
+        for (i, axis) in self.axes.iter_mut().enumerate() {
+            let s = pendtilt_core::Sample {
+                dt,
+                phi: r.phi[i] * k,
+                gyro: r.gyro[i] * k,
+                ax: f64::NAN,
+                ay: f64::NAN,
+            };
+            axis.add(&s, None);
+        }
+    }
+
+    /// One warning per gyro axis found in deg/s (or converted twice).
+    fn findings(&self, file: &str) -> Vec<String> {
+        let deg = crate::units::DEG;
+        let tol = crate::units::FACTOR_TOLERANCE;
+        let mut out = Vec::new();
+        for (i, axis) in self.axes.iter().enumerate() {
+            let (gyro, phi) = [("gyro_x", "phi_x"), ("gyro_y", "phi_y")][i];
+            let Some(f) = axis.fit(crate::units::Comparison::GyroEncoderRate) else {
+                continue;
+            };
+            if f.correlation < crate::units::MIN_CORRELATION {
+                continue;
+            }
+            let near = |target: f64| f.factor / target < tol && target / f.factor < tol;
+            let what = if near(deg) {
+                format!(
+                    "{:.1}x the encoder's derivative d({phi})/dt: is the gyro in deg/s?",
+                    f.factor
+                )
+            } else if near(1.0 / deg) {
+                format!(
+                    "1/{:.1} of the encoder's derivative d({phi})/dt: was the gyro converted \
+                     to rad/s twice?",
+                    1.0 / f.factor
+                )
+            } else {
+                continue;
+            };
+            out.push(format!(
+                "{file}: {gyro} is {what} Every estimator reading it is wrong by as much: \
+                 write gyro_x, gyro_y, gyro_z in rad/s, or give --deg if every angular column \
+                 (phi_x, phi_y, gyro_*, roll, pitch) is in degrees (least squares over {} rows \
+                 below f_n / 4, r = {:.2})",
+                f.samples, f.correlation
+            ));
+        }
+        out
+    }
 }
 
 /// The median step of the first rows must be a sensor rate (as the planar reader checks).
@@ -506,7 +593,7 @@ fn slip_warning(file: &str, slip_rows: u64, speed_rows: u64) -> Option<String> {
             "{file}: wheel slip flagged on {slip_rows} of {speed_rows} rows with a speed \
              ({:.0} %): the `speed` column disagrees with the accelerometer almost \
              everywhere; is it in m/s? (km/h reads 3.6x, mph 2.24x; ekf3d and ukf3d skip it \
-             while they flag slip)",
+             while they flag slip); a gyro in deg/s does the same",
             share * 100.0
         )
     })
@@ -560,7 +647,63 @@ struct RowInput<'a> {
     /// Clips of the gyro (when the rig gives no full scale) and of the accelerometer.
     gyro_clips: PlateauWatch<3>,
     accel_clips: PlateauWatch<3>,
+    /// Truth cells (roll, pitch) beyond their range, read as missing.
+    truth_refused: [u64; 2],
+    /// Rows with a missing sensor cell, rows whose time does not increase, and the first
+    /// [`ROW_ISSUES_LISTED`] of each said (apart from [`MAX_WARNINGS`], which they would
+    /// fill before a restart is said).
+    row_issues: [u64; 2],
+    row_notes: Vec<String>,
+    /// The truth (roll, pitch) against the encoder (phi_x, phi_y), for its unit.
+    truth_fit: [Slope; 2],
 }
+
+/// A least-squares slope of `y` on `x` with an intercept, from running sums.
+#[derive(Debug, Clone, Copy, Default)]
+struct Slope {
+    n: f64,
+    sx: f64,
+    sy: f64,
+    sxx: f64,
+    syy: f64,
+    sxy: f64,
+}
+
+impl Slope {
+    fn add(&mut self, x: f64, y: f64) {
+        if x.is_finite() && y.is_finite() {
+            self.n += 1.0;
+            self.sx += x;
+            self.sy += y;
+            self.sxx += x * x;
+            self.syy += y * y;
+            self.sxy += x * y;
+        }
+    }
+
+    /// The slope, the correlation and the RMS of `x` about its mean.
+    fn fit(&self) -> Option<(f64, f64, f64)> {
+        let n = self.n;
+        if n < 2.0 {
+            return None;
+        }
+        let vx = self.sxx / n - (self.sx / n).powi(2);
+        let vy = self.syy / n - (self.sy / n).powi(2);
+        let c = self.sxy / n - self.sx * self.sy / (n * n);
+        (vx > 0.0 && vy > 0.0).then(|| (c / vx, c / (vx * vy).sqrt(), vx.sqrt()))
+    }
+}
+
+/// The truth columns, their range in radians (MODEL.md 7: roll in -pi..pi, pitch in
+/// -pi/2..pi/2) and the encoder that follows each below the pendulum's frequency.
+const TRUTH: [(&str, f64, &str, &str); 2] = [
+    ("roll", std::f64::consts::PI, "pi", "phi_x"),
+    ("pitch", std::f64::consts::FRAC_PI_2, "pi/2", "phi_y"),
+];
+
+/// The encoder must move by this much (RMS, rad: 0.5 deg, the planar unit check's
+/// `units::MIN_MOTION`) for the truth's slope on it to say anything.
+const TRUTH_FIT_MIN_MOTION: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 impl<'a> RowInput<'a> {
     fn new(setup: &Setup, file: &'a str, header: &'a [String]) -> Self {
@@ -577,7 +720,43 @@ impl<'a> RowInput<'a> {
 
             gyro_clips: PlateauWatch::new(),
             accel_clips: PlateauWatch::new(),
+            truth_refused: [0; 2],
+            row_issues: [0; 2],
+            row_notes: Vec::new(),
+            truth_fit: [Slope::default(); 2],
         }
+    }
+
+    /// True angle `x` \[rad\] of truth column `k` (0 roll, 1 pitch) when within its range,
+    /// else NaN (not scored), the first one per column warned with its place. A value that
+    /// would be in range in degrees says that the column looks like degrees: its cells in
+    /// range would be scored as radians.
+    fn truth(&mut self, line: u64, k: usize, x: f64) -> f64 {
+        let (name, bound, bound_name, _) = TRUTH[k];
+        if x.is_nan() || x.abs() <= bound * (1.0 + 1e-9) {
+            return x;
+        }
+        self.truth_refused[k] += 1;
+        if self.truth_refused[k] > 1 {
+            return f64::NAN;
+        }
+        let col = self.column(name);
+        let degrees = if self.angle_scale == 1.0 && x.to_radians().abs() <= bound {
+            format!(
+                "; the column looks like degrees, and its cells within {bound_name} would be \
+                 scored as radians: the inclination errors are not to be trusted; write \
+                 roll and pitch in radians (--deg reads every angular column in degrees)"
+            )
+        } else {
+            String::new()
+        };
+        self.warn(format!(
+            "{}:{line}: column {col} (`{name}`): {} rad is beyond {bound_name}, no {name} \
+             angle (MODEL.md 7): read as missing, not scored{degrees}",
+            self.file,
+            written(x)
+        ));
+        f64::NAN
     }
 
     fn warn(&mut self, w: String) {
@@ -598,6 +777,36 @@ impl<'a> RowInput<'a> {
             r.gap,
             crate::bank::RESTART_GAP
         ));
+    }
+
+    /// Degrees found from the physics: below the pendulum's frequency the encoders follow
+    /// the tilt (roll ~ phi_x, pitch ~ phi_y), so a truth 57x the encoder is in degrees
+    /// (and 1/57 of it read with --deg in radians), however small the tilt.
+    fn truth_unit(&self) -> Vec<String> {
+        let deg = 180.0 / std::f64::consts::PI;
+        let mut w = Vec::new();
+        for (k, (name, _, _, phi)) in TRUTH.iter().enumerate() {
+            let Some((slope, r, motion)) = self.truth_fit[k].fit() else {
+                continue;
+            };
+            if motion < TRUTH_FIT_MIN_MOTION || r < 0.8 {
+                continue;
+            }
+            let what = if (deg / 1.5..deg * 1.5).contains(&slope) {
+                format!("{slope:.1}x the encoder's {phi}: is `{name}` in degrees?")
+            } else if (1.0 / (deg * 1.5)..1.5 / deg).contains(&slope) {
+                format!("1/{:.1} of the encoder's {phi}: was `{name}` read in degrees (--deg) but written in radians?", 1.0 / slope)
+            } else {
+                continue;
+            };
+            w.push(format!(
+                "{}: {name} is {what} The inclination errors are not to be trusted: write roll \
+                 and pitch in radians (--deg reads every angular column in degrees) (least \
+                 squares over {} rows, r = {r:.2})",
+                self.file, self.truth_fit[k].n
+            ));
+        }
+        w
     }
 
     /// The 1-based column of `name` in the header (0 if absent), for warnings.
@@ -695,6 +904,7 @@ impl<'a> RowInput<'a> {
             }),
             accel: self.accel_clips.clipped(r.accel).contains(&true),
         };
+        self.row_issues(r, t, gate);
         let dt = if self.lone_stamp(t, next_t.map(|n| n * self.time_scale), gate, line) {
             f64::NAN
         } else {
@@ -707,8 +917,12 @@ impl<'a> RowInput<'a> {
             accel,
             speed: r.speed.unwrap_or(f64::NAN),
         };
-        let truth = |x: Option<f64>| x.map_or(f64::NAN, |v| v * k);
-        (t, s, truth(r.roll), truth(r.pitch))
+        let (roll, pitch) = (r.roll.map(|v| v * k), r.pitch.map(|v| v * k));
+        let roll = roll.map_or(f64::NAN, |v| self.truth(line, 0, v));
+        let pitch = pitch.map_or(f64::NAN, |v| self.truth(line, 1, v));
+        self.truth_fit[0].add(s.phi[0], roll);
+        self.truth_fit[1].add(s.phi[1], pitch);
+        (t, s, roll, pitch)
     }
 
     /// Looks for clips in record `r`, read [`LOOK_AHEAD_ROWS`] before it reaches the
@@ -777,6 +991,58 @@ impl<'a> RowInput<'a> {
 
     /// Whether `t` is a lone glitched stamp: after the next row's, which itself follows the
     /// last accepted one (so the next row, not this one, continues the clock).
+    /// Says what the reader flagged on row `r` (time `t` \[s\]): a missing sensor cell, a
+    /// time that does not increase; as the planar reader says it (the rows are flagged
+    /// either way, but `--flags` is not every user's first look).
+    fn row_issues(&mut self, r: &Log3dRecord, t: f64, gate: &StepGate<f64>) {
+        if r.issues.missing {
+            let cells = [
+                ("t", r.t),
+                ("phi_x", r.phi[0]),
+                ("phi_y", r.phi[1]),
+                ("gyro_x", r.gyro[0]),
+                ("gyro_y", r.gyro[1]),
+                ("gyro_z", r.gyro[2]),
+                ("ax", r.accel[0]),
+                ("ay", r.accel[1]),
+                ("az", r.accel[2]),
+            ];
+            let names: Vec<String> = cells
+                .iter()
+                .filter(|(_, v)| v.is_nan())
+                .map(|(n, _)| format!("`{n}`"))
+                .collect();
+            self.row_issues[0] += 1;
+            if self.row_issues[0] <= ROW_ISSUES_LISTED {
+                self.row_notes.push(format!(
+                    "{}:{}: {} empty, nan, infinite or absent: read as missing, the \
+                     estimators reading it hold and flag the sample",
+                    self.file,
+                    r.line,
+                    names.join(", ")
+                ));
+            }
+        }
+        if let (true, Some(last)) = (r.issues.time_not_increasing, gate.last()) {
+            // After a lone stamp (held, said) the row is behind it but not behind `last`.
+            if t.is_finite() && t <= last {
+                let what = if t == last { "repeated" } else { "goes back" };
+                self.row_issues[1] += 1;
+                if self.row_issues[1] > ROW_ISSUES_LISTED {
+                    return;
+                }
+                self.row_notes.push(format!(
+                    "{}:{}: column {} (`t`): time {what} ({last} then {t} s): the row is kept, \
+                     the estimators holding their estimate, flagged bad_time_step, until the \
+                     time passes {last} s again",
+                    self.file,
+                    r.line,
+                    self.column("t")
+                ));
+            }
+        }
+    }
+
     fn lone_stamp(&mut self, t: f64, next: Option<f64>, gate: &StepGate<f64>, line: u64) -> bool {
         let (Some(next), Some(last)) = (next, gate.last()) else {
             return false;
@@ -794,6 +1060,27 @@ impl<'a> RowInput<'a> {
 
     fn warnings(&self) -> Vec<String> {
         let mut w = self.warnings.clone();
+        w.extend(self.row_notes.iter().cloned());
+        for (n, what) in self.row_issues.iter().zip([
+            "with a missing sensor cell (flagged sample_missing)",
+            "whose time does not increase (flagged bad_time_step)",
+        ]) {
+            if *n > ROW_ISSUES_LISTED {
+                w.push(format!(
+                    "{}: {n} rows {what}, the first {ROW_ISSUES_LISTED} listed",
+                    self.file
+                ));
+            }
+        }
+        for (k, (name, _, bound_name, _)) in TRUTH.iter().enumerate() {
+            if self.truth_refused[k] > 1 {
+                w.push(format!(
+                    "{}: {} cells of `{name}` beyond {bound_name} read as missing, not scored",
+                    self.file, self.truth_refused[k]
+                ));
+            }
+        }
+        w.extend(self.truth_unit());
         if self.more > 0 {
             w.push(format!(
                 "{} more warnings (impossible readings, restarts, bad time stamps)",

@@ -22,6 +22,11 @@ pub struct CsvLines<R> {
     line: u64,
     /// The current line ended with a line feed (not the input's end in the middle of it).
     terminated: bool,
+    /// NUL bytes removed so far, the line of the first, and whether they were said
+    /// ([`CsvLines::take_nul`]).
+    nul: u64,
+    nul_line: u64,
+    nul_said: u64,
 }
 
 impl<R: BufRead> CsvLines<R> {
@@ -34,6 +39,9 @@ impl<R: BufRead> CsvLines<R> {
             fields: Vec::with_capacity(16),
             line: 0,
             terminated: true,
+            nul: 0,
+            nul_line: 0,
+            nul_said: 0,
         }
     }
 
@@ -55,6 +63,7 @@ impl<R: BufRead> CsvLines<R> {
             if self.buf.last() == Some(&b'\r') {
                 self.buf.pop();
             }
+            self.strip_nul();
             if self.line == 1 && self.buf.starts_with(b"\xEF\xBB\xBF") {
                 self.buf.drain(..3);
             }
@@ -63,6 +72,54 @@ impl<R: BufRead> CsvLines<R> {
                 Some(_) => return Ok(true),
             }
         }
+    }
+
+    /// Removes NUL bytes around the current line: the space an SD-card logger allocated
+    /// and never wrote, or a write a power loss cut (a line they end is cut: its last cell
+    /// may be cut short). A line of NULs alone is then blank.
+    fn strip_nul(&mut self) {
+        let len = self.buf.len();
+        let Some(start) = self.buf.iter().position(|&b| b != 0) else {
+            if len > 0 {
+                self.note_nul(len);
+                self.buf.clear();
+            }
+            return;
+        };
+        let end = self
+            .buf
+            .iter()
+            .rposition(|&b| b != 0)
+            .map_or(len, |e| e + 1);
+        if start == 0 && end == len {
+            return;
+        }
+        self.note_nul(len - (end - start));
+        if end < len {
+            self.terminated = false;
+        }
+        self.buf.truncate(end);
+        self.buf.drain(..start);
+        if self.buf.last() == Some(&b'\r') {
+            self.buf.pop();
+        }
+    }
+
+    fn note_nul(&mut self, n: usize) {
+        if self.nul == 0 {
+            self.nul_line = self.line;
+        }
+        self.nul += n as u64;
+    }
+
+    /// NUL bytes removed since the last call: `(line of the first ever, count so far)`, or
+    /// `None` when there were none new.
+    pub fn take_nul(&mut self) -> Option<(u64, u64)> {
+        if self.nul == self.nul_said {
+            return None;
+        }
+        self.nul_said = self.nul;
+        Some((self.nul_line, self.nul))
     }
 
     /// True unless the input ended in the middle of the current line (no line feed after
@@ -118,6 +175,20 @@ impl<R: BufRead> CsvLines<R> {
     /// doubled quotes still doubled); `None` past the last field.
     pub fn raw(&self, i: usize) -> Option<&[u8]> {
         self.fields.get(i).map(|&(a, b)| &self.buf[a..b])
+    }
+
+    /// True when no field of the current line is a number (empty fields aside): a header
+    /// or a units line, not data.
+    pub fn all_text(&self) -> bool {
+        (0..self.field_count()).all(|i| {
+            self.raw(i).is_none_or(|f| {
+                f.is_empty()
+                    || std::str::from_utf8(f)
+                        .ok()
+                        .and_then(|t| t.parse::<f64>().ok())
+                        .is_none()
+            })
+        })
     }
 
     /// Field `i`'s content: as [`CsvLines::raw`] with doubled quotes undone.

@@ -10,7 +10,9 @@ use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 use super::csv_lines::CsvLines;
-use super::log_reader::{CellRef, LogError, LogErrorKind};
+use super::log_reader::{
+    new_time_base, not_a_number_hint, CellRef, LogError, LogErrorKind, TimeBack,
+};
 
 /// The columns of a 3-D log, in [`Log3dRecord`] order (MODEL.md 7.6).
 pub const LOG3D_COLUMNS: [&str; 12] = [
@@ -68,6 +70,12 @@ pub struct Log3dReader<R> {
     /// Field position of each of [`LOG3D_COLUMNS`].
     positions: [Option<usize>; 12],
     last_t: Option<f64>,
+    /// The latest time so far (the one the estimators' step gates hold).
+    max_t: Option<f64>,
+    /// The previous row's time went back by more than the restart gap.
+    went_back: Option<TimeBack>,
+    /// The header's line.
+    header_line: u64,
     rows: u64,
     finished: bool,
 }
@@ -101,6 +109,9 @@ impl<R: BufRead> Log3dReader<R> {
             header: Vec::new(),
             positions: [None; 12],
             last_t: None,
+            max_t: None,
+            went_back: None,
+            header_line: 1,
             rows: 0,
             finished: false,
         };
@@ -111,6 +122,12 @@ impl<R: BufRead> Log3dReader<R> {
     /// The header names, in file order.
     pub fn header(&self) -> &[String] {
         &self.header
+    }
+
+    /// NUL bytes removed from the lines so far (`csv_lines`): the line of the first and
+    /// the count, for a warning ([`super::nul_message`]).
+    pub fn take_nul(&mut self) -> Option<(u64, u64)> {
+        self.lines.take_nul()
     }
 
     /// Whether the log has the column `name` (one of [`LOG3D_COLUMNS`]).
@@ -166,6 +183,7 @@ impl<R: BufRead> Log3dReader<R> {
             return Err(self.error(None, None, LogErrorKind::Empty));
         }
         let line = Some(self.lines.line());
+        self.header_line = self.lines.line();
         let mut header = Vec::with_capacity(self.lines.field_count());
         for i in 0..self.lines.field_count() {
             let Some(name) = self
@@ -229,11 +247,29 @@ impl<R: BufRead> Log3dReader<R> {
             }
             None => {
                 let text = String::from_utf8_lossy(&raw).into_owned();
-                let line = Some(self.lines.line());
+                let line = self.lines.line();
                 let column = Some(self.cell_ref(pos));
-                Err(self.error(line, column, LogErrorKind::NotANumber { text }))
+                let (first, all_text) = (self.rows == 0, self.lines.all_text());
+                let hint = not_a_number_hint(&text, first, all_text, line, &self.file);
+                let kind = LogErrorKind::NotANumber { text, hint };
+                Err(self.error(Some(line), column, kind))
             }
         }
+    }
+
+    /// An error when the previous row's time went back by more than the restart gap and
+    /// this one (`t`, finite) runs on from it; notes a step back at this row.
+    fn check_time_base(&mut self, t: f64) -> Result<(), LogError> {
+        if let Some(back) = self.went_back.take() {
+            if back.runs_on(t) {
+                let msg = new_time_base(&back, t, &self.file, self.header_line);
+                let (line, column) = (Some(self.lines.line()), self.positions[0]);
+                let column = column.map(|p| self.cell_ref(p));
+                return Err(self.error(line, column, LogErrorKind::NewTimeBase(msg)));
+            }
+        }
+        self.went_back = TimeBack::of(self.lines.line(), self.max_t, t);
+        Ok(())
     }
 
     /// Reads the next data row; `Ok(None)` at the end (an error if there was no data row).
@@ -270,7 +306,9 @@ impl<R: BufRead> Log3dReader<R> {
         }
         let time_not_increasing = self.last_t.is_some_and(|p| v[0] <= p || v[0].is_nan());
         if v[0].is_finite() {
+            self.check_time_base(v[0])?;
             self.last_t = Some(v[0]);
+            self.max_t = Some(self.max_t.map_or(v[0], |m| m.max(v[0])));
         }
         self.rows += 1;
         let optional = |k: usize| self.positions[k].map(|_| v[k]);

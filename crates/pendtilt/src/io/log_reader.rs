@@ -131,7 +131,9 @@ pub struct LogRecord {
 
 mod error;
 mod header;
-pub use error::{decimal_comma_hint, CellRef, LogError, LogErrorKind, DECIMAL_COMMA_FIX};
+pub use error::{
+    decimal_comma_hint, not_a_number_hint, CellRef, LogError, LogErrorKind, DECIMAL_COMMA_FIX,
+};
 
 /// Streaming sensor-log reader over any [`BufRead`].
 ///
@@ -165,6 +167,8 @@ pub struct LogReader<R> {
     header_line: u64,
     /// The time step has been checked against plausible rates.
     rate_checked: bool,
+    /// The previous row's time went back by more than [`TIME_BASE_JUMP`].
+    went_back: Option<TimeBack>,
     finished: bool,
 }
 
@@ -188,6 +192,72 @@ fn rounded_time(zero: u64, positive: u64, dt: f64) -> String {
         zero + positive,
         run,
         super::plausibility::fmt_sig(run / dt)
+    )
+}
+
+/// A time that goes back by more than this \[s\] (the bank's restart gap) and runs on from
+/// there is a new time base, an error ([`new_time_base`]); a shorter step back holds the
+/// estimators for as long, flagged, as before.
+pub const TIME_BASE_JUMP: f64 = crate::bank::RESTART_GAP;
+
+/// Where the time went back by more than [`TIME_BASE_JUMP`]: the line and the times
+/// before and at it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeBack {
+    /// The line whose time went back.
+    pub line: u64,
+    /// The last time before it that the estimators took \[s\].
+    pub from: f64,
+    /// Its time \[s\].
+    pub to: f64,
+}
+
+impl TimeBack {
+    /// The step back at `line` from `from` to `to`, when it is longer than
+    /// [`TIME_BASE_JUMP`].
+    pub fn of(line: u64, from: Option<f64>, to: f64) -> Option<Self> {
+        let from = from?;
+        (from - to > TIME_BASE_JUMP).then_some(Self { line, from, to })
+    }
+
+    /// True when `t`, on the row after, runs on from this new time (after it, and still
+    /// before `from`, so the estimators would hold until the old time came back).
+    pub fn runs_on(&self, t: f64) -> bool {
+        t > self.to && t <= self.from
+    }
+}
+
+/// What to say when the time went back (`back`) and the row at `t` runs on from there:
+/// the estimators, which refuse a time before the last one they took, would hold the rest
+/// of the log (every row flagged `bad_time_step`, scored as held) until the old time came
+/// back. `file` and `header_line` give the commands that split the log.
+pub fn new_time_base(back: &TimeBack, t: f64, file: &str, header_line: u64) -> String {
+    let n = back.line;
+    let split = if file.starts_with('<') {
+        String::new()
+    } else {
+        format!(
+            ": `head -n {} {file} > first.csv; (sed -n {header_line}p {file}; tail -n +{n} \
+             {file}) > second.csv`",
+            n - 1
+        )
+    };
+    format!(
+        "the time went back on line {n} ({} then {} s) and runs on from there ({t} s here): \
+         two logs joined, or a logger whose clock restarted? The estimators would hold the \
+         estimate of the row before line {n} until the time passed {} s again; split the \
+         log at line {n}{split}",
+        back.from, back.to, back.from,
+    )
+}
+
+/// What to say about `n` NUL bytes removed, the first on `line` (never the bytes: they
+/// would garble a terminal).
+pub fn nul_message(line: u64, n: u64) -> String {
+    format!(
+        "{n} NUL byte(s) from line {line} on (space a logger allocated and never wrote, or a \
+         write a power loss cut): removed, a line of them alone read as blank, a line they \
+         end as cut (its last cell may be cut short)"
     )
 }
 
@@ -233,6 +303,7 @@ impl<R: BufRead> LogReader<R> {
             zero_steps: 0,
             header_line: 1,
             rate_checked: false,
+            went_back: None,
             finished: false,
         };
         reader.read_header()?;
@@ -305,10 +376,14 @@ impl<R: BufRead> LogReader<R> {
     /// Reads the next line that is neither blank nor a comment ([`CsvLines::next_line`]).
     /// `Ok(false)` at the end of the input.
     fn next_line(&mut self) -> Result<bool, LogError> {
-        self.lines.next_line().map_err(|e| {
+        let more = self.lines.next_line().map_err(|e| {
             let line = Some(self.lines.line() + 1);
             self.error(line, None, LogErrorKind::Io(e))
-        })
+        })?;
+        if let Some((line, n)) = self.lines.take_nul() {
+            self.warn(WarningKind::TruncatedRow, None, None, nul_message(line, n));
+        }
+        Ok(more)
     }
 
     fn split(&mut self) -> Result<(), LogError> {
@@ -344,6 +419,7 @@ impl<R: BufRead> LogReader<R> {
         let parsed = self.parse_used();
         let (values, unchecked) = self.used_cells(&parsed, &mut issues)?;
 
+        self.check_time_base(values[Column::T.index()])?;
         self.check_time(values[Column::T.index()], &mut issues);
         if self.first_dts.len() == NOMINAL_DT_SAMPLES {
             self.check_rate()?;
@@ -539,8 +615,16 @@ impl<R: BufRead> LogReader<R> {
                 position: pos + 1,
                 header: self.header[pos].clone(),
             };
-            let line = Some(self.lines.line());
-            return Err(self.error(line, Some(cell), LogErrorKind::NotANumber { text }));
+            let line = self.lines.line();
+            let hint = not_a_number_hint(
+                &text,
+                self.summary.rows == 0,
+                self.lines.all_text(),
+                line,
+                &self.file,
+            );
+            let kind = LogErrorKind::NotANumber { text, hint };
+            return Err(self.error(Some(line), Some(cell), kind));
         };
         if !raw.is_finite() {
             self.summary.missing_cells[column.index()] += 1;
@@ -626,6 +710,28 @@ impl<R: BufRead> LogReader<R> {
         }
     }
 
+    /// An error when the previous row's time went back by more than [`TIME_BASE_JUMP`]
+    /// and this one runs on from it ([`new_time_base`]); notes a step back at this row.
+    fn check_time_base(&mut self, t: f64) -> Result<(), LogError> {
+        if t.is_nan() {
+            return Ok(());
+        }
+        if let Some(back) = self.went_back.take() {
+            if back.runs_on(t) {
+                let msg = new_time_base(&back, t, &self.file, self.header_line);
+                let pos = self.positions[Column::T.index()].unwrap_or(0);
+                let cell = CellRef {
+                    position: pos + 1,
+                    header: self.header[pos].clone(),
+                };
+                let line = Some(self.lines.line());
+                return Err(self.error(line, Some(cell), LogErrorKind::NewTimeBase(msg)));
+            }
+        }
+        self.went_back = TimeBack::of(self.lines.line(), self.gate.last(), t);
+        Ok(())
+    }
+
     fn check_time(&mut self, t: f64, issues: &mut RowIssues) {
         if t.is_nan() {
             issues.bad_time = true;
@@ -652,14 +758,20 @@ impl<R: BufRead> LogReader<R> {
                 self.zero_steps += 1;
             }
             let what = if dt == 0.0 { "repeated" } else { "goes back" };
+            // The gate holds the latest time taken: every row until the time passes it
+            // again is held, not only this one.
+            let held = match self.gate.last() {
+                Some(last) if dt < 0.0 => format!(
+                    "this sample and every one until the time passes {last} s again are kept, \
+                     the estimators holding their estimate, flagged bad_time_step"
+                ),
+                _ => "the sample is kept and the estimators flag bad_time_step".to_string(),
+            };
             self.warn(
                 WarningKind::TimeNotIncreasing,
                 Some(Column::T),
                 None,
-                format!(
-                    "time {what} ({prev} then {t}): the sample is kept and the estimators \
-                     flag bad_time_step"
-                ),
+                format!("time {what} ({prev} then {t}): {held}"),
             );
             return;
         }

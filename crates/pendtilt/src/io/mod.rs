@@ -43,7 +43,7 @@ pub use log3d::{
     is_3d_header, read_log3d, Log3dReader, Log3dRecord, Row3dIssues, LOG3D_COLUMNS, LOG3D_REQUIRED,
 };
 pub use log_reader::{
-    decimal_comma_hint, CellRef, LogError, LogErrorKind, LogReader, LogRecord, ReaderOptions,
-    RowIssues, ANGLE_LOOKS_LIKE_DEGREES, DECIMAL_COMMA_FIX, RATE_LOOKS_LIKE_DEGREES,
+    decimal_comma_hint, nul_message, CellRef, LogError, LogErrorKind, LogReader, LogRecord,
+    ReaderOptions, RowIssues, ANGLE_LOOKS_LIKE_DEGREES, DECIMAL_COMMA_FIX, RATE_LOOKS_LIKE_DEGREES,
 };
 pub use plausibility::{SensorLimits, TimeUnit};

@@ -70,7 +70,20 @@ impl SensorLimits {
                     )
                 });
             }
-            Column::T | Column::Theta => return None,
+            // The truth is no reading: beyond the encoder's bound it is no angle in
+            // radians nor in degrees, and scored it would be the whole summary.
+            Column::Theta => {
+                let limit = pendtilt_core::estimators::PHI_LIMIT;
+                return (value.abs() >= limit).then(|| {
+                    format!(
+                        "theta {} rad is no tilt (beyond {limit} rad, {} turns): the true \
+                         angle is read as missing, the row not scored",
+                        fmt_value(raw),
+                        (limit / std::f64::consts::TAU).round()
+                    )
+                });
+            }
+            Column::T => return None,
         };
         if value.abs() <= limit * (1.0 + FULL_SCALE_ROUNDING) {
             return None;
@@ -240,7 +253,12 @@ mod tests {
             .check(Column::Phi, 2e4, 2e4)
             .unwrap()
             .contains("impossible"));
-        assert!(d.check(Column::Theta, 1e300, 1e300).is_none());
+        // The truth: beyond the encoder's bound no angle (not scored); 45 may be degrees.
+        assert!(d
+            .check(Column::Theta, 1e300, 1e300)
+            .unwrap()
+            .contains("not scored"));
+        assert!(d.check(Column::Theta, 45.0, 45.0).is_none());
     }
 
     #[test]

@@ -79,10 +79,12 @@ pub enum LogErrorKind {
         header: String,
     },
     /// A cell that is not a number (nor empty, `nan` or `inf`).
-    #[error("not a number: `{text}`{}", decimal_comma_hint(text))]
+    #[error("not a number: `{text}`{hint}")]
     NotANumber {
         /// The cell text.
         text: String,
+        /// What it may be and what to do (`not_a_number_hint`), or empty.
+        hint: String,
     },
     /// A data line that is a header (the same or another).
     #[error("{what}: two logs joined, or a logger that restarted into the same file or stream? remove this line, or split the log here")]
@@ -90,6 +92,10 @@ pub enum LogErrorKind {
         /// Which header, and the first one's line.
         what: String,
     },
+    /// The time went back by more than the restart gap and ran on from there: two logs
+    /// joined, or a clock restarted (`log_reader::new_time_base`).
+    #[error("{0}")]
+    NewTimeBase(String),
     /// The time steps are not those of a sensor log in seconds (a log in ms or us).
     #[error("{0}")]
     ImplausibleTimeStep(String),
@@ -144,4 +150,48 @@ fn column_part(column: &Option<CellRef>) -> String {
         .as_ref()
         .map(|c| format!(": column {} (`{}`)", c.position, c.header))
         .unwrap_or_default()
+}
+
+/// Texts loggers and tools write for a missing reading (compared without case).
+const MISSING_MARKERS: [&str; 12] = [
+    "na", "n/a", "#n/a", "null", "none", "nil", "-", "--", "?", "missing", "nodata", "n.a.",
+];
+
+/// What a cell `text` that is not a number may be, said after the error: a units line
+/// under the header (`first_row`: the first data row, `all_text`: none of its cells is a
+/// number; `line`, `file` for the command that comments it out), or a marker of a missing
+/// reading, or a number with a decimal comma ([`decimal_comma_hint`]). Empty when none.
+pub fn not_a_number_hint(
+    text: &str,
+    first_row: bool,
+    all_text: bool,
+    line: u64,
+    file: &str,
+) -> String {
+    // A number written with a decimal comma is that, whatever the rest of the row.
+    let comma = decimal_comma_hint(text);
+    if !comma.is_empty() {
+        return comma;
+    }
+    if first_row && all_text {
+        let fix = if file.starts_with('<') {
+            String::new()
+        } else {
+            format!(" (`sed -i '{line}s/^/#/' {file}`)")
+        };
+        return format!(
+            "; the first row under the header is text: a units line? make it a comment \
+             with `#`{fix} or delete it"
+        );
+    }
+    if MISSING_MARKERS
+        .iter()
+        .any(|m| text.trim().eq_ignore_ascii_case(m))
+    {
+        return format!(
+            "; if `{text}` marks a missing reading, leave the cell empty (or write nan): \
+             an empty cell reads as missing, and the estimators hold and flag the sample"
+        );
+    }
+    String::new()
 }

@@ -29,7 +29,14 @@ impl<R: BufRead> LogReader<R> {
                 .iter()
                 .enumerate()
                 .filter(|(i, _)| !used.contains(i))
-                .map(|(_, h)| h.clone())
+                // A trailing comma's field has no name: say which field it is.
+                .map(|(i, h)| {
+                    if h.is_empty() {
+                        format!("(unnamed field {})", i + 1)
+                    } else {
+                        h.clone()
+                    }
+                })
                 .collect(),
             columns: statuses,
         };
@@ -134,12 +141,19 @@ impl<R: BufRead> LogReader<R> {
     fn refuse_3d(&mut self, statuses: &[ColumnStatus], listing: &str) -> Result<(), LogError> {
         const SPATIAL: [&str; 5] = ["phi_x", "phi_y", "gyro_x", "gyro_y", "gyro_z"];
         let planar = |c: Column| statuses[c.index()].position.is_some();
+        // Named but for case too: read as planar (with `--map t=T,ax=AX,ay=AY`) only
+        // `accel` would run, on the 3-D axes.
         let found: Vec<&str> = SPATIAL
             .into_iter()
-            .filter(|c| self.header.iter().any(|h| h == c))
+            .filter(|c| self.header.iter().any(|h| h.eq_ignore_ascii_case(c)))
             .collect();
         if found.is_empty() || planar(Column::Phi) || planar(Column::Gyro) {
             return Ok(());
+        }
+        if let Some(what) = self.capital_3d() {
+            let line = Some(self.lines.line());
+            let header = listing.to_string();
+            return Err(self.error(line, None, LogErrorKind::NotPlanar { what, header }));
         }
         let missing: Vec<String> = crate::io::LOG3D_COLUMNS[..crate::io::LOG3D_REQUIRED]
             .iter()
@@ -170,10 +184,43 @@ impl<R: BufRead> LogReader<R> {
         ))
     }
 
+    /// When the header has a 3-D log's columns (MODEL.md 7.6), some of them in other case
+    /// (`PHI_X`): what to say (they are read by their names, in lower case).
+    fn capital_3d(&self) -> Option<String> {
+        let required = &crate::io::LOG3D_COLUMNS[..crate::io::LOG3D_REQUIRED];
+        let all = required
+            .iter()
+            .all(|c| self.header.iter().any(|h| h.eq_ignore_ascii_case(c)));
+        let exact = required.iter().all(|c| self.header.iter().any(|h| h == c));
+        if !all || exact {
+            return None;
+        }
+        let fix = if self.file.starts_with('<') {
+            String::new()
+        } else {
+            format!(": `sed -i '{}s/.*/\\L&/' {}`", self.lines.line(), self.file)
+        };
+        Some(format!(
+            "a 3-D log (MODEL.md 7.6) with its column names in capitals: its columns are read \
+             by their names in lower case (t, phi_x, phi_y, gyro_x, ...); write the header in \
+             lower case{fix}"
+        ))
+    }
+
     /// The error for a header without a time column, with a hint at the likely cause.
     fn missing_time(&mut self, statuses: &[ColumnStatus], listing: String) -> LogError {
+        if let Some(what) = self.capital_3d() {
+            let line = Some(self.lines.line());
+            let header = listing;
+            return self.error(line, None, LogErrorKind::NotPlanar { what, header });
+        }
         let hint = if let Some(s) = &statuses[Column::T.index()].suggestion {
-            format!("; did you mean `{s}`? (--map t={s})")
+            // Every column named but for case in one --map, not one round per column.
+            let map: Vec<String> = statuses
+                .iter()
+                .filter_map(|st| Some(format!("{}={}", st.column, st.suggestion.as_ref()?)))
+                .collect();
+            format!("; did you mean `{s}`? (--map {})", map.join(","))
         } else if self.header.iter().all(|h| h.parse::<f64>().is_ok()) {
             "; the first line looks like data: the log needs a header row \
              (t,phi,gyro,ax,ay,theta)"
