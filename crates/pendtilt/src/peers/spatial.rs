@@ -11,7 +11,8 @@
 //! [`RESTART_AVERAGE`], keeping what the filter says a gap cannot change (VQF's bias;
 //! Mahony's steady offset from the accelerometer, [`Imu6::with_restart_offset`]); a
 //! missing gyro reading is bridged, axis by axis, by the gyro's recent mean (as the planar
-//! peers do, see [`super::ahrs_planar::MISSING_RATE_TAU`]); a missing accelerometer
+//! peers do, see [`super::ahrs_planar::MISSING_RATE_TAU`]), and the attitude held through
+//! the gap is corrected once the gyro is back ([`Imu6::with_gap_bridge`]); a missing accelerometer
 //! reading skips the correction (flagged; VQF takes a reading with only some axes missing
 //! with those from their recent mean, [`ImuFilter::bridges_accel`]); a gyro reading at or
 //! beyond the rig's full scale ([`Imu6::with_gyro_full_scale`]) is flagged `saturated`
