@@ -12,12 +12,14 @@
 //! Mahony's steady offset from the accelerometer, [`Imu6::with_restart_offset`]); a
 //! missing gyro reading is bridged, axis by axis, by the gyro's recent mean (as the planar
 //! peers do, see [`super::ahrs_planar::MISSING_RATE_TAU`]), and the attitude held through
-//! the gap is corrected once the gyro is back ([`Imu6::with_gap_bridge`]); a missing accelerometer
-//! reading skips the correction (flagged; VQF takes a reading with only some axes missing
-//! with those from their recent mean, [`ImuFilter::bridges_accel`]); a gyro reading at or
-//! beyond the rig's full scale ([`Imu6::with_gyro_full_scale`]) is flagged `saturated`
-//! (and still used: the filters have no other rate). Roll and pitch are those of the
-//! filter's up direction in body axes.
+//! the gap is corrected once the gyro is back ([`Imu6::with_gap_bridge`]: Mahony at kp,
+//! VQF at 1 / tau_acc, fusion3d at its gain; Madgwick, which forgets an angle error within
+//! ms, takes none); a missing accelerometer reading skips the correction (flagged; VQF
+//! takes a reading with only some axes missing with those from their recent mean,
+//! [`ImuFilter::bridges_accel`]); a gyro reading at or beyond the rig's full scale
+//! ([`Imu6::with_gyro_full_scale`]) is flagged `saturated` (and still used: the filters
+//! have no other rate). Roll and pitch are those of the filter's up direction in body
+//! axes.
 use nalgebra_ahrs::{UnitQuaternion, Vector3};
 use pendtilt_core::estimators::input_hold::GapBridge;
 use pendtilt_core::spatial::attitude::roll_pitch_from_up;
