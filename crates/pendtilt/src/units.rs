@@ -60,9 +60,10 @@ fn or0(u: f64) -> f64 {
 /// A differentiator cutoff below this multiple of the natural frequency is refused.
 pub const MIN_DIFF_CUTOFF_TIMES_NATURAL: f64 = 0.5;
 
-/// Running least squares of `y = k x + c`.
+/// Running least squares of `y = k x + c`: the unit checks' comparisons, planar here and
+/// of the 3-D truth against its encoders (`cli::estimate3d`).
 #[derive(Debug, Clone, Copy, Default)]
-struct Pair {
+pub(crate) struct Pair {
     n: f64,
     sx: f64,
     sy: f64,
@@ -83,7 +84,11 @@ pub struct Fit {
 }
 
 impl Pair {
-    fn add(&mut self, x: f64, y: f64) {
+    /// Adds a pair of readings (a non-finite one is left out).
+    pub(crate) fn add(&mut self, x: f64, y: f64) {
+        if !(x.is_finite() && y.is_finite()) {
+            return;
+        }
         self.n += 1.0;
         self.sx += x;
         self.sy += y;
@@ -92,7 +97,14 @@ impl Pair {
         self.sxy += x * y;
     }
 
-    fn fit(&self) -> Option<Fit> {
+    /// Pairs added.
+    pub(crate) fn samples(&self) -> u64 {
+        self.n as u64
+    }
+
+    /// The factor, the correlation and the RMS of `x` about its mean (its motion); `None`
+    /// below 3 pairs or when either does not vary.
+    pub(crate) fn slope(&self) -> Option<(f64, f64, f64)> {
         if self.n < 3.0 {
             return None;
         }
@@ -100,15 +112,17 @@ impl Pair {
         let vx = self.sxx / n - (self.sx / n).powi(2);
         let vy = self.syy / n - (self.sy / n).powi(2);
         let c = self.sxy / n - self.sx * self.sy / (n * n);
+        (vx > 0.0 && vy > 0.0).then(|| (c / vx, c / (vx * vy).sqrt(), vx.sqrt()))
+    }
+
+    fn fit(&self) -> Option<Fit> {
+        let (factor, correlation, motion) = self.slope()?;
         // Too little motion in the reference: its factor would be noise (a 3 s still log
         // gave theta 1/82.7 of the accelerometer's angle at r > 0.8 without this floor).
-        if !(vx > 0.0 && vy > 0.0) || vx.sqrt() < MIN_MOTION {
-            return None;
-        }
-        Some(Fit {
-            factor: c / vx,
-            correlation: c / (vx * vy).sqrt(),
-            samples: n as u64,
+        (motion >= MIN_MOTION).then_some(Fit {
+            factor,
+            correlation,
+            samples: self.samples(),
         })
     }
 }

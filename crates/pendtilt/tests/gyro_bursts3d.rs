@@ -14,7 +14,7 @@
 //! anywhere from 2 s to 10 s (`the_3d_peers_after_a_burst_of_100_missing_gyro_readings_anywhere`).
 //!
 //! `cargo test --release -p pendtilt --test gyro_bursts3d -- --nocapture` prints each.
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use pendtilt::core::spatial::attitude::inclination_error;
 
@@ -43,41 +43,56 @@ fn attitude(path: &Path, name: &str) -> Vec<(f64, f64, f64)> {
         .collect()
 }
 
+/// A scooter3d ride of `secs` seconds with seed `seed` in `dir`: its log, rig file and
+/// scenario file.
+fn ride(dir: &Path, seed: u64, secs: &str) -> (PathBuf, PathBuf, PathBuf) {
+    let log = dir.join(format!("ride{seed}.csv"));
+    let seed_text = seed.to_string();
+    let args = [
+        "simulate",
+        "--scenario",
+        "scooter3d",
+        "--duration",
+        secs,
+        "--seed",
+        &seed_text,
+        "-q",
+        "-o",
+        s(&log),
+    ];
+    let o = pendtilt(&args);
+    assert!(o.status.success());
+    let rig = dir.join(format!("ride{seed}.rig.toml"));
+    let scen = dir.join(format!("ride{seed}.scenario.toml"));
+    (log, rig, scen)
+}
+
+/// `estimate input` with the ride's rig and scenario, only the estimators `only`, into
+/// `out`.
+fn estimate_only(rig: &Path, scen: &Path, only: &str, input: &Path, out: &Path) {
+    let o = pendtilt(&[
+        "estimate",
+        s(input),
+        "-p",
+        s(rig),
+        "--scenario",
+        s(scen),
+        "--only",
+        only,
+        "-o",
+        s(out),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
 #[test]
 fn ekf3d_and_ukf3d_are_back_within_2_s_after_100_missing_readings_of_one_gyro_axis() {
     let dir = tempfile::tempdir().unwrap();
     let mut backs = Vec::new();
     for seed in [1u64, 3, 5] {
-        let log = dir.path().join(format!("ride{seed}.csv"));
-        let o = pendtilt(&[
-            "simulate",
-            "--scenario",
-            "scooter3d",
-            "--duration",
-            "30",
-            "--seed",
-            &seed.to_string(),
-            "-o",
-            s(&log),
-        ]);
-        assert!(o.status.success());
-        let rig = dir.path().join(format!("ride{seed}.rig.toml"));
-        let scen = dir.path().join(format!("ride{seed}.scenario.toml"));
-        let estimate = |input: &Path, out: &Path| {
-            let o = pendtilt(&[
-                "estimate",
-                s(input),
-                "-p",
-                s(&rig),
-                "--scenario",
-                s(&scen),
-                "--only",
-                "ekf3d,ukf3d",
-                "-o",
-                s(out),
-            ]);
-            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        };
+        let (log, rig, scen) = ride(dir.path(), seed, "30");
+        let estimate =
+            |input: &Path, out: &Path| estimate_only(&rig, &scen, "ekf3d,ukf3d", input, out);
         let clean_out = dir.path().join("clean.csv");
         estimate(&log, &clean_out);
         let text = std::fs::read_to_string(&log).unwrap();
@@ -191,37 +206,9 @@ fn the_3d_peers_after_a_burst_of_100_missing_gyro_readings_anywhere() {
     // (case, peer) -> (back [s], deg from 2 s on) per burst.
     let mut backs: Vec<(&str, &str, f64, f64)> = Vec::new();
     for seed in [1u64, 2, 3] {
-        let log = dir.path().join(format!("ride{seed}.csv"));
-        let o = pendtilt(&[
-            "simulate",
-            "--scenario",
-            "scooter3d",
-            "--duration",
-            "14",
-            "--seed",
-            &seed.to_string(),
-            "-q",
-            "-o",
-            s(&log),
-        ]);
-        assert!(o.status.success());
-        let rig = dir.path().join(format!("ride{seed}.rig.toml"));
-        let scen = dir.path().join(format!("ride{seed}.scenario.toml"));
-        let estimate = |input: &Path, out: &Path| {
-            let o = pendtilt(&[
-                "estimate",
-                s(input),
-                "-p",
-                s(&rig),
-                "--scenario",
-                s(&scen),
-                "--only",
-                &PEERS.join(","),
-                "-o",
-                s(out),
-            ]);
-            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        };
+        let (log, rig, scen) = ride(dir.path(), seed, "14");
+        let only = PEERS.join(",");
+        let estimate = |input: &Path, out: &Path| estimate_only(&rig, &scen, &only, input, out);
         let clean_out = dir.path().join("clean.csv");
         estimate(&log, &clean_out);
         let clean: Vec<_> = PEERS.iter().map(|p| attitude(&clean_out, p)).collect();

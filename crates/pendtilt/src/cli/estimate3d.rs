@@ -49,6 +49,7 @@ use crate::io::{
     Column3d, ColumnMap, DegreeColumns, Estimates3dWriter, Log3dReader, Log3dRecord, TimeUnit,
 };
 use crate::sim3d::Scenario3d;
+use crate::units::Pair;
 
 /// Scoring starts this long after the first row when neither `--score-from` nor a
 /// scenario file says \[s\]: the filters' start-up (the pendulum settling, VQF's
@@ -655,43 +656,7 @@ struct RowInput<'a> {
     row_issues: [u64; 2],
     row_notes: Vec<String>,
     /// The truth (roll, pitch) against the encoder (phi_x, phi_y), for its unit.
-    truth_fit: [Slope; 2],
-}
-
-/// A least-squares slope of `y` on `x` with an intercept, from running sums.
-#[derive(Debug, Clone, Copy, Default)]
-struct Slope {
-    n: f64,
-    sx: f64,
-    sy: f64,
-    sxx: f64,
-    syy: f64,
-    sxy: f64,
-}
-
-impl Slope {
-    fn add(&mut self, x: f64, y: f64) {
-        if x.is_finite() && y.is_finite() {
-            self.n += 1.0;
-            self.sx += x;
-            self.sy += y;
-            self.sxx += x * x;
-            self.syy += y * y;
-            self.sxy += x * y;
-        }
-    }
-
-    /// The slope, the correlation and the RMS of `x` about its mean.
-    fn fit(&self) -> Option<(f64, f64, f64)> {
-        let n = self.n;
-        if n < 2.0 {
-            return None;
-        }
-        let vx = self.sxx / n - (self.sx / n).powi(2);
-        let vy = self.syy / n - (self.sy / n).powi(2);
-        let c = self.sxy / n - self.sx * self.sy / (n * n);
-        (vx > 0.0 && vy > 0.0).then(|| (c / vx, c / (vx * vy).sqrt(), vx.sqrt()))
-    }
+    truth_fit: [Pair; 2],
 }
 
 /// The truth columns, their range in radians (MODEL.md 7: roll in -pi..pi, pitch in
@@ -723,7 +688,7 @@ impl<'a> RowInput<'a> {
             truth_refused: [0; 2],
             row_issues: [0; 2],
             row_notes: Vec::new(),
-            truth_fit: [Slope::default(); 2],
+            truth_fit: [Pair::default(); 2],
         }
     }
 
@@ -786,7 +751,7 @@ impl<'a> RowInput<'a> {
         let deg = 180.0 / std::f64::consts::PI;
         let mut w = Vec::new();
         for (k, (name, _, _, phi)) in TRUTH.iter().enumerate() {
-            let Some((slope, r, motion)) = self.truth_fit[k].fit() else {
+            let Some((slope, r, motion)) = self.truth_fit[k].slope() else {
                 continue;
             };
             if motion < TRUTH_FIT_MIN_MOTION || r < 0.8 {
@@ -803,7 +768,8 @@ impl<'a> RowInput<'a> {
                 "{}: {name} is {what} The inclination errors are not to be trusted: write roll \
                  and pitch in radians (--deg reads every angular column in degrees) (least \
                  squares over {} rows, r = {r:.2})",
-                self.file, self.truth_fit[k].n
+                self.file,
+                self.truth_fit[k].samples()
             ));
         }
         w
