@@ -40,6 +40,7 @@ use crate::bank::Inputs;
 use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Clips, Settings3d};
+use crate::config::doubt_gyro_full_scale;
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::plateau::{NewLevel, PlateauWatch, LOOK_AHEAD_ROWS};
 use crate::io::plausibility::{
@@ -209,6 +210,10 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
                     p.display(),
                     d.in_file("rig file")
                 ));
+            }
+            let fs = rig.gyro.full_scale;
+            if let Some(d) = fs.and_then(|f| doubt_gyro_full_scale("gyro.full_scale", f)) {
+                opts.notice(&format!("warning: {}: {d}", p.display()));
             }
             let mut settings = Settings3d::new(
                 rig.pendulum3d.params(),
