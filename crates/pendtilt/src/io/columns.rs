@@ -391,7 +391,7 @@ pub fn header_unit_warning(column: Column, name: &str, degrees: bool) -> Option<
 }
 
 /// `word` as one shell word: as it is when plain, else in single quotes.
-fn shell_word(word: &str) -> String {
+pub(crate) fn shell_word(word: &str) -> String {
     if word
         .chars()
         .all(|ch| ch.is_ascii_alphanumeric() || "_-.=,/:".contains(ch))
@@ -413,6 +413,54 @@ pub(crate) fn unit_named_suggestion(column: Column, header: &[String]) -> Option
         .find(|h| {
             name_words(h).first().map(String::as_str) == Some(column.name())
                 && unit_in_name(h).is_some()
+        })
+        .cloned()
+}
+
+/// Words that name a time column on their own (`time`, `Timestamp`, `seconds`).
+const TIME_WORDS: [&str; 9] = [
+    "time",
+    "timestamp",
+    "times",
+    "ts",
+    "stamp",
+    "elapsed",
+    "seconds",
+    "secs",
+    "sec",
+];
+
+/// The time unit a header name states as a word of its own, as `--time-unit` takes it
+/// (`s`, `ms`, `us`, `ns`): `Time [s]`, `t_ms`, `time (usec)`, `millis`.
+pub(crate) fn time_unit_in_name(name: &str) -> Option<&'static str> {
+    name_words(name).iter().find_map(|w| match w.as_str() {
+        "s" | "sec" | "secs" | "second" | "seconds" => Some("s"),
+        "ms" | "msec" | "millis" | "millisecond" | "milliseconds" => Some("ms"),
+        "us" | "µs" | "usec" | "micros" | "microsecond" | "microseconds" => Some("us"),
+        "ns" | "nsec" | "nanos" | "nanosecond" | "nanoseconds" => Some("ns"),
+        _ => None,
+    })
+}
+
+/// For a missing `t`: the header name that is most likely the time column, offered as a
+/// `--map` suggestion: its first word names time (`time`, `Timestamp`, `Time [s]`,
+/// `seconds`), or it is `t` with a time unit (`t_s`, `t[ms]`). `temp`, `theta`, `t_env`:
+/// none.
+pub(crate) fn time_named_suggestion(header: &[String]) -> Option<String> {
+    header
+        .iter()
+        .find(|h| {
+            let words = name_words(h);
+            match words.first().map(String::as_str) {
+                Some("t") => {
+                    words.len() > 1 && words[1..].iter().all(|w| time_unit_in_name(w).is_some())
+                }
+                Some(w) => {
+                    TIME_WORDS.contains(&w)
+                        || (time_unit_in_name(w).is_some() && words.len() == 1 && w.len() > 2)
+                }
+                None => false,
+            }
         })
         .cloned()
 }
