@@ -401,6 +401,12 @@ pub(crate) fn pass(
     let mut bank = Bank3d::new(&setup.settings, opts.only).map_err(anyhow::Error::msg)?;
     let names = bank.names();
     let truth = log.has("roll") && log.has("pitch");
+    // A truth named with its unit (`roll_deg`) is not read: say so, with the fix.
+    if let Some(h) = crate::io::unit_named_3d_hint(&["roll", "pitch"], log.header(), &file) {
+        opts.notice(&format!(
+            "warning: {file}:1: {h}; until then no inclination error is scored"
+        ));
+    }
     if !log.has("speed") {
         // Issue 15: without the speed no estimator knows the vehicle's own acceleration.
         opts.notice(&format!(

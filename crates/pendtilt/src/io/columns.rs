@@ -410,11 +410,72 @@ pub(crate) fn unit_named_suggestion(column: Column, header: &[String]) -> Option
     }
     header
         .iter()
-        .find(|h| {
-            name_words(h).first().map(String::as_str) == Some(column.name())
-                && unit_in_name(h).is_some()
-        })
+        .find(|h| is_name_and_unit(h, column.name()))
         .cloned()
+}
+
+/// True when header name `h` is the name `column` (`gyro`, `gyro_x`) followed by an
+/// angular unit ([`unit_in_name`]): `gyro[deg/s]`, `gyro_x_rad`, `roll (°)`.
+fn is_name_and_unit(h: &str, column: &str) -> bool {
+    let words = name_words(h);
+    let col = name_words(column);
+    words.len() > col.len() && words.starts_with(&col) && unit_in_name(h).is_some()
+}
+
+/// `text` as a literal in a sed pattern (`gyro_x[deg/s]` -> `gyro_x\[deg\/s\]`).
+fn sed_literal(text: &str) -> String {
+    text.chars()
+        .flat_map(|ch| {
+            let esc = "[]/.*^$\\".contains(ch);
+            esc.then_some('\\').into_iter().chain(std::iter::once(ch))
+        })
+        .collect()
+}
+
+/// For a 3-D log (MODEL.md 7.6), whose columns are read by their names alone (no
+/// `--map`, and `--deg` for every angular column or none): the header names in
+/// `header` that are one of `columns` and an angular unit (`gyro_x[deg/s]`, `roll_deg`,
+/// the planar reader's `unit_named_suggestion` rule), said with the fix: the `sed`
+/// command that renames them in `file`, and `--deg` when a name says degrees. `None`
+/// when there is none.
+pub fn unit_named_3d_hint(columns: &[&str], header: &[String], file: &str) -> Option<String> {
+    let found: Vec<(&str, &String)> = columns
+        .iter()
+        .filter(|c| !header.iter().any(|h| h == *c))
+        .filter_map(|c| Some((*c, header.iter().find(|h| is_name_and_unit(h, c))?)))
+        .collect();
+    if found.is_empty() {
+        return None;
+    }
+    let named: Vec<String> = found
+        .iter()
+        .map(|(c, h)| format!("`{h}` is `{c}`"))
+        .collect();
+    let sed: Vec<String> = found
+        .iter()
+        .map(|(c, h)| format!("1s/{}/{c}/", sed_literal(h)))
+        .collect();
+    let deg = found
+        .iter()
+        .any(|(_, h)| unit_in_name(h) == Some(NamedUnit::Degrees));
+    let deg = if deg {
+        "; then read it with --deg, which reads every angular column (phi_x, phi_y, gyro_*, \
+         roll, pitch) in degrees (convert any in radians first)"
+    } else {
+        ""
+    };
+    Some(format!(
+        "{} with {} in the name, and a 3-D log's columns are read by their MODEL.md 7.6 \
+         names alone (no --map): rename {}: `sed -i '{}' {file}`{deg}",
+        named.join(", "),
+        if found.len() == 1 {
+            "its unit"
+        } else {
+            "their units"
+        },
+        if found.len() == 1 { "it" } else { "them" },
+        sed.join(";")
+    ))
 }
 
 /// Words that name a time column on their own (`time`, `Timestamp`, `seconds`).

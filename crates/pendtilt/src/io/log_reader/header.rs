@@ -171,9 +171,14 @@ impl<R: BufRead> LogReader<R> {
              looked at before it is read)"
                 .to_string()
         } else {
+            // A missing one under its name and a unit (`gyro_x[deg/s]`): its fix.
+            let required = &crate::io::LOG3D_COLUMNS[..crate::io::LOG3D_REQUIRED];
+            let units = crate::io::unit_named_3d_hint(required, &self.header, &self.file)
+                .map(|h| format!("; {h}"))
+                .unwrap_or_default();
             format!(
                 "the header has the 3-D columns {} but no {}: a 3-D log (MODEL.md 7.6) needs t, \
-                 phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az",
+                 phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az{units}",
                 found.join(", "),
                 missing.join(", ")
             )
