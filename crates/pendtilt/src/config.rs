@@ -337,6 +337,69 @@ pub fn plain(x: f64) -> f64 {
     format!("{x:.5e}").parse().unwrap_or(x)
 }
 
+/// A gyro full scale above this \[rad/s\] is doubted ([`doubt_gyro_full_scale`]):
+/// 4000 deg/s, the largest range of MEMS gyros (ICM-42686-P, LSM6DSV); the common ones
+/// stop at 2000 deg/s (34.9 rad/s). Every range written in deg/s (125, 250, 500, 1000,
+/// 2000, 4000) is above it when read as rad/s, so a range in deg/s is always caught.
+pub const DOUBTFUL_GYRO_FULL_SCALE: f64 = 4000.0 * std::f64::consts::PI / 180.0;
+
+/// An accelerometer full scale below this \[m/s^2\] is doubted
+/// ([`doubt_accel_full_scale`]): 2 g, the smallest range of MEMS accelerometers (a
+/// smaller one clips gravity itself on a tilted or shaken body). The ranges written in g
+/// (2, 4, 8, 16) are all below it.
+pub const DOUBTFUL_ACCEL_FULL_SCALE_LOW: f64 = 2.0 * DEFAULT_GRAVITY;
+
+/// An accelerometer full scale above this \[m/s^2\] is doubted
+/// ([`doubt_accel_full_scale`]): 200 g, the largest range of IMU-class MEMS
+/// accelerometers (ADXL375; the 400 g parts are crash recorders, not tilt sensors). The
+/// ranges written in mg (2000 to 16000) are all above it.
+pub const DOUBTFUL_ACCEL_FULL_SCALE_HIGH: f64 = 200.0 * DEFAULT_GRAVITY;
+
+/// The one check of a gyro full scale \[rad/s\] under `key` (`gyro.full_scale`): above
+/// [`DOUBTFUL_GYRO_FULL_SCALE`] it is far more likely deg/s read as rad/s (500 for
+/// 500 deg/s: the clip finder and the plausibility bound then never act). The sentence
+/// names the key, the value and the fix (`write gyro.full_scale = 8.73`).
+pub fn doubt_gyro_full_scale(key: &str, full_scale: f64) -> Option<String> {
+    (full_scale > DOUBTFUL_GYRO_FULL_SCALE).then(|| {
+        format!(
+            "{key}: {full_scale} rad/s is above {:.1} rad/s (4000 deg/s), more than any MEMS \
+             gyro has: if it was written in deg/s, write {key} = {} (the rig file is in \
+             rad/s)",
+            DOUBTFUL_GYRO_FULL_SCALE,
+            plain(full_scale.to_radians())
+        )
+    })
+}
+
+/// The one check of an accelerometer full scale \[m/s^2\] under `key`
+/// (`accel.full_scale`): below [`DOUBTFUL_ACCEL_FULL_SCALE_LOW`] it is far more likely
+/// written in g (16 for 16 g), above [`DOUBTFUL_ACCEL_FULL_SCALE_HIGH`] in mg. The
+/// sentence names the key, the value and the fix in m/s^2.
+pub fn doubt_accel_full_scale(key: &str, full_scale: f64) -> Option<String> {
+    if full_scale > 0.0 && full_scale < DOUBTFUL_ACCEL_FULL_SCALE_LOW {
+        Some(format!(
+            "{key}: {full_scale} m/s^2 is below {:.1} m/s^2 (2 g), less than any MEMS \
+             accelerometer has: written in g? {full_scale} g is {:.1} m/s^2: write {key} = {} \
+             (the rig file is in m/s^2)",
+            DOUBTFUL_ACCEL_FULL_SCALE_LOW,
+            full_scale * DEFAULT_GRAVITY,
+            plain(full_scale * DEFAULT_GRAVITY)
+        ))
+    } else if full_scale > DOUBTFUL_ACCEL_FULL_SCALE_HIGH {
+        let g = full_scale / 1000.0;
+        Some(format!(
+            "{key}: {full_scale} m/s^2 is above {:.0} m/s^2 (200 g), more than any IMU \
+             accelerometer has: written in mg? {full_scale} mg is {:.1} m/s^2: write {key} = \
+             {} (the rig file is in m/s^2)",
+            DOUBTFUL_ACCEL_FULL_SCALE_HIGH,
+            g * DEFAULT_GRAVITY,
+            plain(g * DEFAULT_GRAVITY)
+        ))
+    } else {
+        None
+    }
+}
+
 impl LengthDoubt {
     /// Why it is doubted.
     fn why(&self) -> String {
@@ -385,11 +448,27 @@ impl RigConfig {
     /// beyond [`DOUBTFUL_LENGTH`] (a value in millimetres read as metres: l12 = 50 for
     /// 50 mm left alg2_offset 87 deg RMS off, the EKF 2.3 and the UKF 5.4 deg instead of
     /// 0.5, on a scooter ride, without a word). The commands print them as warnings.
+    /// A full scale in other units is doubted too: `[gyro]` above
+    /// [`DOUBTFUL_GYRO_FULL_SCALE`] (deg/s read as rad/s: `full_scale = 500` silently
+    /// switched off the clip finder's "below the full scale" check and the plausibility
+    /// bound), `[accel]` outside 2 g to 200 g (written in g or mg).
     pub fn doubts(&self) -> Vec<String> {
-        self.length_doubts()
+        let mut d: Vec<String> = self
+            .length_doubts()
             .iter()
             .map(|d| d.in_file("rig file"))
-            .collect()
+            .collect();
+        d.extend(
+            self.gyro
+                .full_scale
+                .and_then(|f| doubt_gyro_full_scale("gyro.full_scale", f)),
+        );
+        d.extend(
+            self.accel
+                .full_scale
+                .and_then(|f| doubt_accel_full_scale("accel.full_scale", f)),
+        );
+        d
     }
 
     /// The lengths [`RigConfig::doubts`] words for a rig file, for callers that name

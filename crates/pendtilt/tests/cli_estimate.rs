@@ -385,6 +385,65 @@ fn a_pivot_offset_in_millimetres_is_doubted_by_every_command_that_reads_the_rig(
 }
 
 #[test]
+fn a_gyro_full_scale_in_deg_per_s_is_doubted_by_every_command_that_reads_the_rig() {
+    // `[gyro] full_scale = 500` meant 500 deg/s: read as rad/s it switched off the clip
+    // finder's "below the full scale" check and the plausibility bound, without a word.
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("log.csv");
+    write_log(
+        &log,
+        ["t", "phi", "gyro", "ax", "ay", "theta"],
+        false,
+        false,
+    );
+    let rig = dir.path().join("deg.toml");
+    std::fs::write(&rig, "[gyro]\nfull_scale = 500\n[accel]\nfull_scale = 16\n").unwrap();
+    let rig_s = rig.to_str().unwrap();
+    let gyro = format!("warning: {rig_s}: gyro.full_scale: 500 rad/s is above 69.8 rad/s");
+    let gyro_fix = "if it was written in deg/s, write gyro.full_scale = 8.72665";
+    let accel = format!("warning: {rig_s}: accel.full_scale: 16 m/s^2 is below 19.6 m/s^2");
+    let accel_fix = "written in g? 16 g is 156.9 m/s^2: write accel.full_scale = 156.906";
+    let out = dir.path().join("out");
+    for (command, extra) in [
+        ("estimate", &["--only", "alg2_offset"][..]),
+        ("fit", &[][..]),
+        ("report", &[][..]),
+        ("tune", &["--time-limit", "1"][..]),
+    ] {
+        let o = bin()
+            .arg(command)
+            .arg(&log)
+            .arg("-p")
+            .arg(&rig)
+            .args(extra)
+            .arg("-o")
+            .arg(out.with_extension(command))
+            .output()
+            .unwrap();
+        let e = String::from_utf8_lossy(&o.stderr);
+        for want in [&gyro[..], gyro_fix, &accel[..], accel_fix] {
+            assert!(e.contains(want), "{command}: {want}: {e}");
+        }
+    }
+    // The ranges in rad/s and m/s^2: nothing.
+    std::fs::write(
+        &rig,
+        "[gyro]\nfull_scale = 8.73\n[accel]\nfull_scale = 156.9\n",
+    )
+    .unwrap();
+    let o = bin()
+        .arg("estimate")
+        .arg(&log)
+        .arg("-p")
+        .arg(&rig)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
+}
+
+#[test]
 fn quoted_decimal_commas_are_named_with_a_command_that_converts_the_log() {
     // A spreadsheet's export: comma-separated, every cell quoted, numbers with a decimal
     // comma ("0,001","-0,026",...). Was: `not a number: `0,0``, and nothing to act on.

@@ -610,3 +610,46 @@ fn lengths_that_look_like_millimetres_are_doubted_with_the_fix() {
     );
     assert!(d[0].contains("write pendulum.c = 0.0051"), "{d:?}");
 }
+
+#[test]
+fn full_scales_that_look_like_deg_per_s_g_or_mg_are_doubted_with_the_fix() {
+    let doubts = |text: &str| RigConfig::from_toml_str(text, "rig.toml").unwrap().doubts();
+    // Ranges in the rig's own units: nothing (4000 deg/s = 69.8 rad/s; 2 g .. 200 g).
+    for ok in [
+        "[gyro]\nfull_scale = 8.73\n",
+        "[gyro]\nfull_scale = 69.8\n",
+        "[gyro]\nfull_scale = 0.3\n",
+        "[accel]\nfull_scale = 19.7\n",
+        "[accel]\nfull_scale = 156.9\n",
+        "[accel]\nfull_scale = 1961\n",
+    ] {
+        assert!(doubts(ok).is_empty(), "{ok}: {:?}", doubts(ok));
+    }
+    // 500 deg/s read as rad/s: 500 deg/s is 8.72665 rad/s.
+    let d = doubts("[gyro]\nfull_scale = 500\n");
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert!(
+        d[0].starts_with("gyro.full_scale: 500 rad/s is above 69.8 rad/s (4000 deg/s)"),
+        "{d:?}"
+    );
+    assert!(d[0].contains("write gyro.full_scale = 8.72665"), "{d:?}");
+    // The smallest range in deg/s, 125, is caught too.
+    assert_eq!(doubts("[gyro]\nfull_scale = 125\n").len(), 1);
+    // 16 g written as 16: 16 g is 156.9 m/s^2.
+    let d = doubts("[accel]\nfull_scale = 16\n");
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert!(d[0].contains("written in g? 16 g is 156.9 m/s^2"), "{d:?}");
+    assert!(d[0].contains("write accel.full_scale = 156.906"), "{d:?}");
+    // 8000 mg: 8 g.
+    let d = doubts("[accel]\nfull_scale = 8000\n");
+    assert!(
+        d[0].contains("written in mg? 8000 mg is 78.5 m/s^2"),
+        "{d:?}"
+    );
+    assert!(d[0].contains("write accel.full_scale = 78.4532"), "{d:?}");
+    // Both at once, with a length in millimetres: three doubts.
+    let d = doubts(
+        "[pendulum]\npivot_offset = 50\n[gyro]\nfull_scale = 2000\n[accel]\nfull_scale = 4\n",
+    );
+    assert_eq!(d.len(), 3, "{d:?}");
+}

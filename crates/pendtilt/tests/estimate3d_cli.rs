@@ -379,6 +379,96 @@ fn rig_forms_and_output_safety() {
     assert_eq!(std::fs::read(&log).unwrap(), before);
 }
 
+/// `[gyro] full_scale = 500` (meant deg/s) in a 3-D rig is doubted with the fix, as in a
+/// planar one; 8.73 is not.
+#[test]
+fn a_3d_rigs_gyro_full_scale_in_deg_per_s_is_doubted_with_the_fix() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = write(dir.path(), "log.csv", &level_log(20, 1.0, None));
+    let out = dir.path().join("est.csv");
+    let rig = write(
+        dir.path(),
+        "r.toml",
+        "[pendulum3d]\n[gyro]\nfull_scale = 500\n",
+    );
+    let o = pendtilt(&["estimate", s(&log), "--params", s(&rig), "-o", s(&out)]);
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("r.toml: gyro.full_scale: 500 rad/s is above 69.8 rad/s")
+            && e.contains("write gyro.full_scale = 8.72665"),
+        "{e}"
+    );
+    let rig = write(
+        dir.path(),
+        "r.toml",
+        "[pendulum3d]\n[gyro]\nfull_scale = 8.73\n",
+    );
+    let o = pendtilt(&["estimate", s(&log), "--params", s(&rig), "-o", s(&out)]);
+    assert!(!stderr(&o).contains("gyro.full_scale"), "{}", stderr(&o));
+}
+
+/// A 3-D header with units in its names (`gyro_x[deg/s]`, `phi_y_deg`, `roll_deg`):
+/// each named with the `sed` that renames it and `--deg` for degrees (was: the generic
+/// missing-column error, and `roll_deg` silently unscored). The planar rule, reused.
+#[test]
+fn a_3d_header_with_units_in_its_names_is_named_with_the_fix() {
+    let dir = tempfile::tempdir().unwrap();
+    let clean = level_log(20, 1.0, None);
+    let named = clean
+        .replacen("gyro_x", "gyro_x[deg/s]", 1)
+        .replacen("phi_y", "phi_y_deg", 1);
+    let log = write(dir.path(), "u.csv", &named);
+    let out = dir.path().join("est.csv");
+    let o = pendtilt(&["estimate", s(&log), "-q", "-o", s(&out)]);
+    let e = stderr(&o);
+    assert!(!o.status.success());
+    let fix = format!(
+        "`phi_y_deg` is `phi_y`, `gyro_x[deg/s]` is `gyro_x` with their units in the name, \
+         and a 3-D log's columns are read by their MODEL.md 7.6 names alone (no --map): \
+         rename them: `sed -i '1s/phi_y_deg/phi_y/;1s/gyro_x\\[deg\\/s\\]/gyro_x/' {}`; \
+         then read it with --deg",
+        s(&log)
+    );
+    assert!(e.contains("u.csv:1: ") && e.contains(&fix), "{e}");
+    // The library's 3-D reader gives the same fix.
+    let e = pendtilt::io::read_log3d(&log).unwrap_err().to_string();
+    assert!(
+        e.contains("no `phi_y`, `gyro_x` column") && e.contains(&fix),
+        "{e}"
+    );
+    // The sed given restores the header.
+    let sed = std::process::Command::new("sed")
+        .args([
+            "-i",
+            "1s/phi_y_deg/phi_y/;1s/gyro_x\\[deg\\/s\\]/gyro_x/",
+            s(&log),
+        ])
+        .status()
+        .unwrap();
+    assert!(sed.success());
+    assert_eq!(std::fs::read_to_string(&log).unwrap(), clean);
+    // A truth in radians under its unit: read, warned as not scored, no --deg asked for.
+    let with_truth = clean
+        .replacen("az\n", "az,roll_rad,pitch\n", 1)
+        .replace(",9.80665\n", ",9.80665,0,0\n");
+    let log = write(dir.path(), "r.csv", &with_truth);
+    let o = pendtilt(&["estimate", s(&log), "-o", s(&out)]);
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("r.csv:1: `roll_rad` is `roll` with its unit in the name")
+            && e.contains("`sed -i '1s/roll_rad/roll/'")
+            && e.contains("until then no inclination error is scored")
+            && !e.contains("--deg"),
+        "{e}"
+    );
+    // Plain names: no such words.
+    let log = write(dir.path(), "c.csv", &clean);
+    let o = pendtilt(&["estimate", s(&log), "-o", s(&out)]);
+    assert!(!stderr(&o).contains("in the name"), "{}", stderr(&o));
+}
+
 /// Issue 15: a log without a `speed` column is estimated as before, with a note that the
 /// vehicle's own accelerations will bias the estimates; a log with one gets no such note.
 #[test]

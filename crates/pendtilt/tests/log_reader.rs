@@ -133,6 +133,51 @@ fn missing_time_column_is_an_error_with_a_hint() {
 }
 
 #[test]
+fn a_time_column_under_another_name_is_named_in_the_hint() {
+    // A new user's `time` got `--map t=NAME`, the fix left to guess.
+    let hint = |header: &str| {
+        let e = fails(
+            &format!("{header},phi,gyro\n0,1,2\n"),
+            ReaderOptions::default(),
+        );
+        assert!(matches!(*e.kind, LogErrorKind::MissingTime { .. }), "{e}");
+        e.to_string()
+    };
+    for (header, fix) in [
+        ("time", "did you mean `time`? (--map t=time)"),
+        ("timestamp", "did you mean `timestamp`? (--map t=timestamp)"),
+        ("Time", "did you mean `Time`? (--map t=Time)"),
+        ("Time [s]", "did you mean `Time [s]`? (--map 't=Time [s]')"),
+        ("t_s", "(--map t=t_s)"),
+        ("seconds", "(--map t=seconds)"),
+        // A smaller unit in the name: its --time-unit too.
+        ("time_ms", "(--map t=time_ms --time-unit ms)"),
+        (
+            "Timestamp (us)",
+            "(--map 't=Timestamp (us)' --time-unit us)",
+        ),
+    ] {
+        let msg = hint(header);
+        assert!(msg.contains(fix), "{header}: {msg}");
+    }
+    // Names that are not time: the general hint, never a guess.
+    for header in ["temp", "t_env", "theta_ref"] {
+        let msg = hint(header);
+        assert!(
+            msg.contains("name the time column with --map t=NAME"),
+            "{header}: {msg}"
+        );
+    }
+    // With --time-unit already given, it is not asked for again.
+    let ms = ReaderOptions {
+        time_unit: Some(TimeUnit::Ms),
+        ..ReaderOptions::default()
+    };
+    let e = fails("time_ms,phi\n0,1\n", ms);
+    assert!(e.to_string().contains("(--map t=time_ms)"), "{e}");
+}
+
+#[test]
 fn missing_optional_columns_are_reported_not_errors() {
     let text = "t,phi,temp\n0,0.1,20\n";
     let reader = open(text, ReaderOptions::default()).unwrap();

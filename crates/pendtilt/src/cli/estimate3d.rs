@@ -40,6 +40,7 @@ use crate::bank::Inputs;
 use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Clips, Settings3d};
+use crate::config::doubt_gyro_full_scale;
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::plateau::{NewLevel, PlateauWatch, LOOK_AHEAD_ROWS};
 use crate::io::plausibility::{
@@ -210,6 +211,10 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
                     p.display(),
                     d.in_file("rig file")
                 ));
+            }
+            let fs = rig.gyro.full_scale;
+            if let Some(d) = fs.and_then(|f| doubt_gyro_full_scale("gyro.full_scale", f)) {
+                opts.notice(&format!("warning: {}: {d}", p.display()));
             }
             let mut settings = Settings3d::new(
                 rig.pendulum3d.params(),
@@ -397,6 +402,12 @@ pub(crate) fn pass(
     let mut bank = Bank3d::new(&setup.settings, opts.only).map_err(anyhow::Error::msg)?;
     let names = bank.names();
     let truth = log.has("roll") && log.has("pitch");
+    // A truth named with its unit (`roll_deg`) is not read: say so, with the fix.
+    if let Some(h) = crate::io::unit_named_3d_hint(&["roll", "pitch"], log.header(), &file) {
+        opts.notice(&format!(
+            "warning: {file}:1: {h}; until then no inclination error is scored"
+        ));
+    }
     if !log.has("speed") {
         // Issue 15: without the speed no estimator knows the vehicle's own acceleration.
         opts.notice(&format!(

@@ -391,7 +391,7 @@ pub fn header_unit_warning(column: Column, name: &str, degrees: bool) -> Option<
 }
 
 /// `word` as one shell word: as it is when plain, else in single quotes.
-fn shell_word(word: &str) -> String {
+pub(crate) fn shell_word(word: &str) -> String {
     if word
         .chars()
         .all(|ch| ch.is_ascii_alphanumeric() || "_-.=,/:".contains(ch))
@@ -410,9 +410,118 @@ pub(crate) fn unit_named_suggestion(column: Column, header: &[String]) -> Option
     }
     header
         .iter()
+        .find(|h| is_name_and_unit(h, column.name()))
+        .cloned()
+}
+
+/// True when header name `h` is the name `column` (`gyro`, `gyro_x`) followed by an
+/// angular unit ([`unit_in_name`]): `gyro[deg/s]`, `gyro_x_rad`, `roll (°)`.
+fn is_name_and_unit(h: &str, column: &str) -> bool {
+    let words = name_words(h);
+    let col = name_words(column);
+    words.len() > col.len() && words.starts_with(&col) && unit_in_name(h).is_some()
+}
+
+/// `text` as a literal in a sed pattern (`gyro_x[deg/s]` -> `gyro_x\[deg\/s\]`).
+fn sed_literal(text: &str) -> String {
+    text.chars()
+        .flat_map(|ch| {
+            let esc = "[]/.*^$\\".contains(ch);
+            esc.then_some('\\').into_iter().chain(std::iter::once(ch))
+        })
+        .collect()
+}
+
+/// For a 3-D log (MODEL.md 7.6), whose columns are read by their names alone (no
+/// `--map`, and `--deg` for every angular column or none): the header names in
+/// `header` that are one of `columns` and an angular unit (`gyro_x[deg/s]`, `roll_deg`,
+/// the planar reader's `unit_named_suggestion` rule), said with the fix: the `sed`
+/// command that renames them in `file`, and `--deg` when a name says degrees. `None`
+/// when there is none.
+pub fn unit_named_3d_hint(columns: &[&str], header: &[String], file: &str) -> Option<String> {
+    let found: Vec<(&str, &String)> = columns
+        .iter()
+        .filter(|c| !header.iter().any(|h| h == *c))
+        .filter_map(|c| Some((*c, header.iter().find(|h| is_name_and_unit(h, c))?)))
+        .collect();
+    if found.is_empty() {
+        return None;
+    }
+    let named: Vec<String> = found
+        .iter()
+        .map(|(c, h)| format!("`{h}` is `{c}`"))
+        .collect();
+    let sed: Vec<String> = found
+        .iter()
+        .map(|(c, h)| format!("1s/{}/{c}/", sed_literal(h)))
+        .collect();
+    let deg = found
+        .iter()
+        .any(|(_, h)| unit_in_name(h) == Some(NamedUnit::Degrees));
+    let deg = if deg {
+        "; then read it with --deg, which reads every angular column (phi_x, phi_y, gyro_*, \
+         roll, pitch) in degrees (convert any in radians first)"
+    } else {
+        ""
+    };
+    Some(format!(
+        "{} with {} in the name, and a 3-D log's columns are read by their MODEL.md 7.6 \
+         names alone (no --map): rename {}: `sed -i '{}' {file}`{deg}",
+        named.join(", "),
+        if found.len() == 1 {
+            "its unit"
+        } else {
+            "their units"
+        },
+        if found.len() == 1 { "it" } else { "them" },
+        sed.join(";")
+    ))
+}
+
+/// Words that name a time column on their own (`time`, `Timestamp`, `seconds`).
+const TIME_WORDS: [&str; 9] = [
+    "time",
+    "timestamp",
+    "times",
+    "ts",
+    "stamp",
+    "elapsed",
+    "seconds",
+    "secs",
+    "sec",
+];
+
+/// The time unit a header name states as a word of its own, as `--time-unit` takes it
+/// (`s`, `ms`, `us`, `ns`): `Time [s]`, `t_ms`, `time (usec)`, `millis`.
+pub(crate) fn time_unit_in_name(name: &str) -> Option<&'static str> {
+    name_words(name).iter().find_map(|w| match w.as_str() {
+        "s" | "sec" | "secs" | "second" | "seconds" => Some("s"),
+        "ms" | "msec" | "millis" | "millisecond" | "milliseconds" => Some("ms"),
+        "us" | "µs" | "usec" | "micros" | "microsecond" | "microseconds" => Some("us"),
+        "ns" | "nsec" | "nanos" | "nanosecond" | "nanoseconds" => Some("ns"),
+        _ => None,
+    })
+}
+
+/// For a missing `t`: the header name that is most likely the time column, offered as a
+/// `--map` suggestion: its first word names time (`time`, `Timestamp`, `Time [s]`,
+/// `seconds`), or it is `t` with a time unit (`t_s`, `t[ms]`). `temp`, `theta`, `t_env`:
+/// none.
+pub(crate) fn time_named_suggestion(header: &[String]) -> Option<String> {
+    header
+        .iter()
         .find(|h| {
-            name_words(h).first().map(String::as_str) == Some(column.name())
-                && unit_in_name(h).is_some()
+            let words = name_words(h);
+            match words.first().map(String::as_str) {
+                Some("t") => {
+                    words.len() > 1 && words[1..].iter().all(|w| time_unit_in_name(w).is_some())
+                }
+                Some(w) => {
+                    TIME_WORDS.contains(&w)
+                        || (time_unit_in_name(w).is_some() && words.len() == 1 && w.len() > 2)
+                }
+                None => false,
+            }
         })
         .cloned()
 }

@@ -213,9 +213,13 @@ impl<R: BufRead> Log3dReader<R> {
             .map(|k| format!("`{}`", LOG3D_COLUMNS[k]))
             .collect();
         if !missing.is_empty() {
+            let required = &LOG3D_COLUMNS[..LOG3D_REQUIRED];
+            let units = super::unit_named_3d_hint(required, &self.header, &self.file)
+                .map(|h| format!("; {h}"))
+                .unwrap_or_default();
             let kind = LogErrorKind::MissingColumns {
                 missing: missing.join(", "),
-                header: self.header.join(", "),
+                header: format!("{}{units}", self.header.join(", ")),
             };
             return Err(self.error(line, None, kind));
         }

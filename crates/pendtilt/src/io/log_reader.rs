@@ -22,8 +22,8 @@ use std::path::Path;
 use pendtilt_core::{Sample, StepGate};
 
 use super::columns::{
-    header_unit_warning, unit_named_suggestion, Column, ColumnMap, ColumnReport, ColumnStatus,
-    DegreeColumns,
+    header_unit_warning, shell_word, time_named_suggestion, time_unit_in_name,
+    unit_named_suggestion, Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns,
 };
 use super::csv_lines::CsvLines;
 use super::diagnostics::{LogSummary, LogWarning, WarningKind};

@@ -33,8 +33,8 @@ pub mod plausibility;
 mod split;
 
 pub use columns::{
-    header_unit_warning, unit_in_name, Column, ColumnMap, ColumnReport, ColumnStatus,
-    DegreeColumns, NamedUnit, OptionError,
+    header_unit_warning, unit_in_name, unit_named_3d_hint, Column, ColumnMap, ColumnReport,
+    ColumnStatus, DegreeColumns, NamedUnit, OptionError,
 };
 pub use diagnostics::{LogSummary, LogWarning, WarningKind};
 pub use estimates3d_writer::{Column3d, Estimates3dWriter};

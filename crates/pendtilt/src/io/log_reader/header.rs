@@ -111,6 +111,11 @@ impl<R: BufRead> LogReader<R> {
                     .find(|h| h.trim().eq_ignore_ascii_case(column.name()))
                     .cloned()
                     .or_else(|| unit_named_suggestion(column, &self.header))
+                    .or_else(|| {
+                        (column == Column::T)
+                            .then(|| time_named_suggestion(&self.header))
+                            .flatten()
+                    })
             } else {
                 None
             };
@@ -166,9 +171,14 @@ impl<R: BufRead> LogReader<R> {
              looked at before it is read)"
                 .to_string()
         } else {
+            // A missing one under its name and a unit (`gyro_x[deg/s]`): its fix.
+            let required = &crate::io::LOG3D_COLUMNS[..crate::io::LOG3D_REQUIRED];
+            let units = crate::io::unit_named_3d_hint(required, &self.header, &self.file)
+                .map(|h| format!("; {h}"))
+                .unwrap_or_default();
             format!(
                 "the header has the 3-D columns {} but no {}: a 3-D log (MODEL.md 7.6) needs t, \
-                 phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az",
+                 phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az{units}",
                 found.join(", "),
                 missing.join(", ")
             )
@@ -220,7 +230,17 @@ impl<R: BufRead> LogReader<R> {
                 .iter()
                 .filter_map(|st| Some(format!("{}={}", st.column, st.suggestion.as_ref()?)))
                 .collect();
-            format!("; did you mean `{s}`? (--map {})", map.join(","))
+            // A name that states a smaller unit (`time_ms`) wants --time-unit too.
+            let unit = match time_unit_in_name(s) {
+                Some(u) if u != "s" && self.options.time_unit.is_none() => {
+                    format!(" --time-unit {u}")
+                }
+                _ => String::new(),
+            };
+            format!(
+                "; did you mean `{s}`? (--map {}{unit})",
+                shell_word(&map.join(","))
+            )
         } else if self.header.iter().all(|h| h.parse::<f64>().is_ok()) {
             "; the first line looks like data: the log needs a header row \
              (t,phi,gyro,ax,ay,theta)"
