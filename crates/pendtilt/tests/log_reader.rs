@@ -1012,6 +1012,9 @@ fn nul_padding_after_the_last_line_is_no_row_and_is_said_without_the_bytes() {
     let (records, warnings) = ok(&text);
     assert_eq!(records.len(), 20, "no row made of NULs");
     assert!(records.iter().all(|r| !r.issues.bad_time));
+    // Counted as what they are, not as a cut row (the summary said `truncated_row 1`).
+    assert!(warnings.iter().all(|w| w.kind == WarningKind::NulBytes));
+    assert!(records.iter().all(|r| !r.issues.truncated));
     let said: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
     assert_eq!(
         said,

@@ -37,11 +37,14 @@ pub enum WarningKind {
     /// A run of identical readings well above the sensor's noise: a clip at a full scale
     /// the rig does not give; the readings at its level are flagged `saturated`.
     Clipped,
+    /// NUL bytes in the file (a logger's preallocated space, or a write a power loss cut):
+    /// removed; a line of them alone is blank, a line they end is cut (`TruncatedRow`).
+    NulBytes,
 }
 
 impl WarningKind {
     /// Every kind, in a fixed order (the order of [`LogSummary::warning_counts`]).
-    pub const ALL: [WarningKind; 13] = [
+    pub const ALL: [WarningKind; 14] = [
         WarningKind::TruncatedRow,
         WarningKind::EmptyCell,
         WarningKind::NonFinite,
@@ -55,6 +58,7 @@ impl WarningKind {
         WarningKind::Restarted,
         WarningKind::UnitMismatch,
         WarningKind::Clipped,
+        WarningKind::NulBytes,
     ];
 
     /// A short snake_case name, for summaries.
@@ -73,6 +77,7 @@ impl WarningKind {
             WarningKind::Restarted => "restarted",
             WarningKind::UnitMismatch => "unit_mismatch",
             WarningKind::Clipped => "clipped",
+            WarningKind::NulBytes => "nul_bytes",
         }
     }
 

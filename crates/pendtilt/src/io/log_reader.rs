@@ -381,7 +381,7 @@ impl<R: BufRead> LogReader<R> {
             self.error(line, None, LogErrorKind::Io(e))
         })?;
         if let Some((line, n)) = self.lines.take_nul() {
-            self.warn(WarningKind::TruncatedRow, None, None, nul_message(line, n));
+            self.warn(WarningKind::NulBytes, None, None, nul_message(line, n));
         }
         Ok(more)
     }
