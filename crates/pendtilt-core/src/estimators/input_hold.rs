@@ -42,6 +42,8 @@ struct Gap<T> {
 /// corrections form a small rotation vector in body axes).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GapBridge<T> {
+    /// A reading has come since the start: a gap before it holds nothing read.
+    seen: bool,
     /// The gap being held or averaged after.
     gap: Option<Gap<T>>,
     /// A correction found and not yet taken: (angle \[rad\], age \[s\]).
@@ -58,6 +60,7 @@ impl<T: Real> GapBridge<T> {
     /// No gap yet.
     pub fn new() -> Self {
         Self {
+            seen: false,
             gap: None,
             pending: None,
         }
@@ -89,9 +92,25 @@ impl<T: Real> GapBridge<T> {
         }
     }
 
-    /// A held step of `dt` \[s\]: the rate was missing and `mean` \[rad/s\] stood in for it
-    /// (the recent mean of the readings, [`MISSING_RATE_TAU`]).
-    pub fn held(&mut self, mean: T, dt: T) {
+    /// One sample of the rate: `reading` \[rad/s\] (not finite: missing, and `mean`, the
+    /// recent mean of the readings ([`MISSING_RATE_TAU`]), stood in for it) after a step of
+    /// `dt` \[s\] (`None` on the first sample). A gap counts from the first reading on.
+    pub fn offer(&mut self, reading: T, mean: T, dt: Option<T>) {
+        match dt {
+            Some(dt) if self.seen && reading.is_finite() => self.reading(reading, dt),
+            Some(dt) if self.seen => self.held(mean, dt),
+            _ => {}
+        }
+        self.seen |= reading.is_finite();
+    }
+
+    /// Whether a reading has come since the start.
+    pub fn seen(&self) -> bool {
+        self.seen
+    }
+
+    /// A held step of `dt`: `mean` stood in for the missing rate.
+    fn held(&mut self, mean: T, dt: T) {
         match &mut self.gap {
             Some(g) if g.since == T::zero() => g.length += dt,
             _ => {
@@ -109,9 +128,8 @@ impl<T: Real> GapBridge<T> {
         }
     }
 
-    /// A good reading `g` \[rad/s\] after a step of `dt` \[s\]: averaged after the gap, if
-    /// one was held.
-    pub fn reading(&mut self, g: T, dt: T) {
+    /// A good reading `g` after a step of `dt`: averaged after the gap, if one was held.
+    fn reading(&mut self, g: T, dt: T) {
         let Some(gap) = &mut self.gap else {
             return;
         };
@@ -177,7 +195,6 @@ pub struct InputHold<T> {
     clock: StepClock<T>,
     /// The gyro's recent mean [rad/s] ([`MISSING_RATE_TAU`]); zero before any reading.
     mean_gyro: T,
-    seen_gyro: bool,
     /// What the hold integrated wrong through the last gap, once the readings after it tell.
     bridge: GapBridge<T>,
 }
@@ -194,7 +211,6 @@ impl<T: Real> InputHold<T> {
         Self {
             clock: StepClock::new(),
             mean_gyro: T::zero(),
-            seen_gyro: false,
             bridge: GapBridge::new(),
         }
     }
@@ -206,22 +222,17 @@ impl<T: Real> InputHold<T> {
             return Step::BadTime;
         };
         let mut flags = Flags::empty();
+        let seen = self.bridge.seen();
+        self.bridge.offer(s.gyro, self.mean_gyro, step);
         let gyro = if s.gyro.is_finite() {
             let a = match step {
-                Some(dt) if self.seen_gyro => {
-                    self.bridge.reading(s.gyro, dt);
-                    (dt / T::lit(MISSING_RATE_TAU)).min(T::one())
-                }
+                Some(dt) if seen => (dt / T::lit(MISSING_RATE_TAU)).min(T::one()),
                 _ => T::one(),
             };
             self.mean_gyro = self.mean_gyro + a * (s.gyro - self.mean_gyro);
-            self.seen_gyro = true;
             s.gyro
         } else {
             flags |= Flags::SAMPLE_MISSING;
-            if let (Some(dt), true) = (step, self.seen_gyro) {
-                self.bridge.held(self.mean_gyro, dt);
-            }
             self.mean_gyro
         };
         match step {

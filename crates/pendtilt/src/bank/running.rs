@@ -340,16 +340,15 @@ impl Bank {
         }
         // A gyro that clips heavily: its readings within range are the vibration's
         // troughs, which the gated estimators take as missing.
-        let heavy = self
-            .clip_gate
-            .offer(sample.dt, fs.is_some_and(|f| sample.gyro.abs() >= f));
-        let censored = Sample {
-            gyro: f64::NAN,
-            ..*sample
-        };
+        let gyro_at_scale = fs.is_some_and(|f| sample.gyro.abs() >= f);
+        let heavy = self.clip_gate.offer(sample.dt, gyro_at_scale);
         for (slot, &gated) in self.slots.iter_mut().zip(&self.gated) {
             let e = match slot {
                 Slot::Direct(est) if gated && heavy => {
+                    let censored = Sample {
+                        gyro: f64::NAN,
+                        ..*sample
+                    };
                     let mut e = est.update(&censored);
                     e.flags |= Flags::SATURATED;
                     e
@@ -391,16 +390,13 @@ impl Bank {
         }
         // Every estimator reading a clipped sensor says so, the peers too, whether the
         // clip was found in the log or is at the rig's full scale.
-        let rig = &self.settings.rig;
         let saturated = Inputs {
             phi: false,
-            gyro: clipped.gyro
-                || rig
-                    .gyro
-                    .checked_full_scale()
-                    .is_some_and(|fs| sample.gyro.abs() >= fs),
+            gyro: gyro_at_scale,
             accel: clipped.accel
-                || rig
+                || self
+                    .settings
+                    .rig
                     .accel
                     .checked_full_scale()
                     .is_some_and(|fs| sample.ax.abs() >= fs || sample.ay.abs() >= fs),

@@ -151,8 +151,7 @@ pub struct Imu6<F: ImuFilter> {
     fit: SteadyFit<3>,
     // How long the gyro has read at a clip so far \[s\].
     clipped_for: f64,
-    // Per gyro axis: a reading seen since the start, and the bridge over its last gap.
-    seen: [bool; 3],
+    // Per gyro axis: the bridge over its last gap.
     bridges: [GapBridge<f64>; 3],
     // The gain \[1/s\] for `with_gap_bridge` (None: off).
     bridge_gain: Option<f64>,
@@ -223,7 +222,9 @@ impl<F: ImuFilter> Imu6<F> {
             self.average = None;
             self.filter = Some(f);
             self.mean_rate = gyro_ok.then_some(s.gyro);
-            self.seen = s.gyro.map(f64::is_finite);
+            for (b, g) in self.bridges.iter_mut().zip(s.gyro) {
+                b.offer(g, 0.0, None);
+            }
             self.clock.accept();
             self.last = Attitude {
                 roll,
@@ -252,14 +253,7 @@ impl<F: ImuFilter> Imu6<F> {
         // after it tell: a small rotation vector in body axes (the gap is short), turned in
         // with this step, less what the filter's gain forgot of it since.
         let turn: [f64; 3] = core::array::from_fn(|i| {
-            if s.gyro[i].is_finite() {
-                if self.seen[i] {
-                    self.bridges[i].reading(s.gyro[i], dt);
-                }
-                self.seen[i] = true;
-            } else if self.seen[i] {
-                self.bridges[i].held(m[i], dt);
-            }
+            self.bridges[i].offer(s.gyro[i], m[i], Some(dt));
             let c = self.bridges[i].take(self.bridge_gain.unwrap_or(0.0));
             if self.bridge_gain.is_some() && c.is_finite() {
                 c
@@ -317,7 +311,6 @@ impl<F: ImuFilter> Imu6<F> {
             offset: None,
             fit: SteadyFit::default(),
             clipped_for: 0.0,
-            seen: [false; 3],
             bridges: [GapBridge::new(); 3],
             bridge_gain: None,
         }
