@@ -104,7 +104,7 @@ impl Pair {
 
     /// The factor, the correlation and the RMS of `x` about its mean (its motion); `None`
     /// below 3 pairs or when either does not vary.
-    pub(crate) fn slope(&self) -> Option<(f64, f64, f64)> {
+    fn slope(&self) -> Option<(f64, f64, f64)> {
         if self.n < 3.0 {
             return None;
         }
@@ -115,7 +115,8 @@ impl Pair {
         (vx > 0.0 && vy > 0.0).then(|| (c / vx, c / (vx * vy).sqrt(), vx.sqrt()))
     }
 
-    fn fit(&self) -> Option<Fit> {
+    /// The fit, when `x` moved by at least [`MIN_MOTION`].
+    pub(crate) fn fit(&self) -> Option<Fit> {
         let (factor, correlation, motion) = self.slope()?;
         // Too little motion in the reference: its factor would be noise (a 3 s still log
         // gave theta 1/82.7 of the accelerometer's angle at r > 0.8 without this floor).
@@ -125,6 +126,19 @@ impl Pair {
             samples: self.samples(),
         })
     }
+}
+
+/// Which of [`DEG`], `1 / DEG` and 1 a fitted factor is (within [`FACTOR_TOLERANCE`]),
+/// when its correlation says anything ([`MIN_CORRELATION`]): a column in degrees, one
+/// converted twice (or radians read with --deg), or a right one. The planar check's
+/// comparisons and the 3-D log's (its gyro axes, its truth).
+pub(crate) fn unit_factor(f: &Fit) -> Option<f64> {
+    if f.correlation < MIN_CORRELATION {
+        return None;
+    }
+    let near =
+        |target: f64| f.factor / target < FACTOR_TOLERANCE && target / f.factor < FACTOR_TOLERANCE;
+    [DEG, 1.0 / DEG, 1.0].into_iter().find(|&t| near(t))
 }
 
 /// A fourth-order low-pass: two second-order sections.
@@ -325,20 +339,7 @@ impl UnitCheck {
     /// The factor of comparison `c` when it correlates and is near 1, deg or 1/deg.
     fn verdict(&self, c: Comparison) -> Option<(Fit, f64)> {
         let f = self.fit(c)?;
-        if f.correlation < MIN_CORRELATION {
-            return None;
-        }
-        let k = f.factor;
-        let near = |target: f64| k / target < FACTOR_TOLERANCE && target / k < FACTOR_TOLERANCE;
-        if near(DEG) {
-            Some((f, DEG))
-        } else if near(1.0 / DEG) {
-            Some((f, 1.0 / DEG))
-        } else if near(1.0) {
-            Some((f, 1.0))
-        } else {
-            None
-        }
+        unit_factor(&f).map(|k| (f, k))
     }
 
     /// The columns found in degrees (or converted twice), each with its factor and fix.

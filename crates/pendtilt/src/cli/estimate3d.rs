@@ -551,23 +551,19 @@ impl GyroUnits {
     /// One warning per gyro axis found in deg/s (or converted twice).
     fn findings(&self, file: &str) -> Vec<String> {
         let deg = crate::units::DEG;
-        let tol = crate::units::FACTOR_TOLERANCE;
         let mut out = Vec::new();
         for (i, axis) in self.axes.iter().enumerate() {
             let (gyro, phi) = [("gyro_x", "phi_x"), ("gyro_y", "phi_y")][i];
             let Some(f) = axis.fit(crate::units::Comparison::GyroEncoderRate) else {
                 continue;
             };
-            if f.correlation < crate::units::MIN_CORRELATION {
-                continue;
-            }
-            let near = |target: f64| f.factor / target < tol && target / f.factor < tol;
-            let what = if near(deg) {
+            let unit = crate::units::unit_factor(&f);
+            let what = if unit == Some(deg) {
                 format!(
                     "{:.1}x the encoder's derivative d({phi})/dt: is the gyro in deg/s?",
                     f.factor
                 )
-            } else if near(1.0 / deg) {
+            } else if unit == Some(1.0 / deg) {
                 format!(
                     "1/{:.1} of the encoder's derivative d({phi})/dt: was the gyro converted \
                      to rad/s twice?",
@@ -677,10 +673,6 @@ const TRUTH: [(&str, f64, &str, &str); 2] = [
     ("pitch", std::f64::consts::FRAC_PI_2, "pi/2", "phi_y"),
 ];
 
-/// The encoder must move by this much (RMS, rad: 0.5 deg, the planar unit check's
-/// `units::MIN_MOTION`) for the truth's slope on it to say anything.
-const TRUTH_FIT_MIN_MOTION: f64 = 0.5 * std::f64::consts::PI / 180.0;
-
 impl<'a> RowInput<'a> {
     fn new(setup: &Setup, file: &'a str, header: &'a [String]) -> Self {
         Self {
@@ -759,18 +751,18 @@ impl<'a> RowInput<'a> {
     /// the tilt (roll ~ phi_x, pitch ~ phi_y), so a truth 57x the encoder is in degrees
     /// (and 1/57 of it read with --deg in radians), however small the tilt.
     fn truth_unit(&self) -> Vec<String> {
-        let deg = 180.0 / std::f64::consts::PI;
+        let deg = crate::units::DEG;
         let mut w = Vec::new();
         for (k, (name, _, _, phi)) in TRUTH.iter().enumerate() {
-            let Some((slope, r, motion)) = self.truth_fit[k].slope() else {
+            // The encoder must move (units::MIN_MOTION) for the slope to say anything.
+            let Some(f) = self.truth_fit[k].fit() else {
                 continue;
             };
-            if motion < TRUTH_FIT_MIN_MOTION || r < 0.8 {
-                continue;
-            }
-            let what = if (deg / 1.5..deg * 1.5).contains(&slope) {
+            let (slope, r) = (f.factor, f.correlation);
+            let unit = crate::units::unit_factor(&f);
+            let what = if unit == Some(deg) {
                 format!("{slope:.1}x the encoder's {phi}: is `{name}` in degrees?")
-            } else if (1.0 / (deg * 1.5)..1.5 / deg).contains(&slope) {
+            } else if unit == Some(1.0 / deg) {
                 format!("1/{:.1} of the encoder's {phi}: was `{name}` read in degrees (--deg) but written in radians?", 1.0 / slope)
             } else {
                 continue;
