@@ -12,7 +12,8 @@
 //! Measured with the planar EKF on simulated scooter rides (seeds 1, 3, 4, 5, 20 s, and 6,
 //! 12 s; every gyro reading clamped at the full scale, `[gyro] full_scale` in the rig),
 //! RMS error from the truth over the whole log (`pendtilt estimate --only ekf`'s summary),
-//! without the gate -> with it (the UKF measured the same):
+//! without the gate -> with it (the UKF measured the same at 0.3 rad/s on all five
+//! rides):
 //!
 //! | full scale | readings at it | EKF |
 //! |---|---|---|
