@@ -521,10 +521,6 @@ fn allowed(estimator: &str, fault: &str) -> Allowance {
         ("gyro_clipped", "fusion3d") => never(9.7),
         ("gyro_range", "vqf") => slow(4.0, 0.1),
         ("gyro_range", "fusion3d") => never(0.13),
-        // What the bridge over the gap leaves (the vibration in the gyro's means), which
-        // fusion3d forgets at about 0.085 /s on this ride; the hold alone was 0 here but
-        // not within in 15 of 27 bursts elsewhere (tests/gyro_bursts3d.rs).
-        ("burst_gyro", "fusion3d") => slow(12.0, 0.08),
         ("accel_clipped", "vqf") => slow(8.0, 0.16),
         ("accel_clipped", "mahony3d") => slow(5.5, 0.14),
         _ => Allowance {

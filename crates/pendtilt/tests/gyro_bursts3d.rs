@@ -184,19 +184,19 @@ fn back_after(clean: &[(f64, f64, f64)], bad: &[(f64, f64, f64)], t_end: f64) ->
 /// time after the burst back within 0.05 deg (inclination) of the fault-free run, and the
 /// largest difference from 2 s after it on.
 ///
-/// Each peer holds a missing axis at its 25 ms mean and, once 100 ms of readings have come
-/// after the gap, takes the core's bridge over it (`Imu6::with_gap_bridge`, the rate
-/// through the gap as the line between the means on either side), less what its gain
-/// forgot since (Mahony kp, VQF 1 / tau_acc, fusion3d its gain; Madgwick none). Measured
-/// (gyro_x; all three axes), before the bridge -> with it: Mahony within 2 s in 17; 9 of
-/// 27 (worst 3.83 s; one not within) -> 27; 27 (worst 1.42 s; 1.63 s); VQF 12; 5 (worst
-/// 4.15 s; 3 not within) -> 22; 18 (worst 2.74 s; 2.93 s, at most 0.064; 0.070 deg from
-/// 2 s on); Madgwick 27; 27 both (worst 0.29 s; 0.38 s). fusion3d, whose acceleration
+/// Each peer holds a missing axis at its 25 ms mean and, once `BRIDGE_WINDOW` (0.42 s) of
+/// readings have come after the gap, takes the core's bridge over it
+/// (`Imu6::with_gap_bridge`: the angle through the gap fitted to the readings on either
+/// side, `core::estimators::gap_fit`), less what its gain forgot since (Mahony kp, VQF
+/// 1 / tau_acc, fusion3d its gain; Madgwick none). Measured (gyro_x; all three axes)
+/// within 2 s: with the hold alone, Mahony 17; 9, VQF 12; 5, fusion3d 12; 3; with the line
+/// between the 25 ms means on either side (session 11), Mahony 27; 27, VQF 22; 18, fusion3d
+/// 10; 6; with the fit, Mahony and VQF 27; 27 (at most 0.42 s; 0.47 s: the window), fusion3d
+/// 23; 17, 0.037; 0.051 deg RMS from 2 s on (0.064; 0.070 with the line), at most 0.095;
+/// 0.095. Madgwick 27; 27 throughout (at most 0.29 s; 0.38 s). fusion3d's acceleration
 /// rejection leaves it a gain of about 0.085 /s on this ride (docs/reliability.md section
-/// 8), keeps what the bridge leaves (the vibration in the two means): within 2 s in 12; 3
-/// -> 10; 6, but 0.064; 0.070 deg RMS from 2 s on over the 27 bursts (was 0.107; 0.163),
-/// at most 0.123; 0.114 (was 0.295; 0.294). The assertions hold these figures with a
-/// margin.
+/// 8), and a kick of its angle as small as the fit's residual can grow: see
+/// `fusion3d_keeps_a_kick_of_its_angle`. The assertions hold these figures with a margin.
 ///
 /// `cargo test --release -p pendtilt --test gyro_bursts3d -- --nocapture anywhere` prints
 /// each.
@@ -284,18 +284,70 @@ fn the_3d_peers_after_a_burst_of_100_missing_gyro_readings_anywhere() {
             match name {
                 // Forgets any angle error within ms (measured at most 0.38 s).
                 "madgwick3d" => assert!(worst <= 0.6, "{what}"),
-                // Measured at most 1.42 s; 1.63 s.
-                "mahony3d" => assert!(worst <= 2.0, "{what}"),
-                // Measured 22; 18 of 27 within 2 s, at most 2.74 s; 2.93 s and 0.064;
-                // 0.070 deg from 2 s on.
-                "vqf" => {
-                    assert!(within >= if all_three { 16 } else { 20 }, "{what}");
-                    assert!(worst <= 3.5 && worst_after <= 0.09, "{what}");
+                // Measured at most 0.42 s; 0.42 s and 0.47 s (the bridge's window).
+                "mahony3d" | "vqf" => assert!(worst <= 1.0, "{what}"),
+                // Measured 23; 17 of 27 within 2 s, 0.037; 0.051 deg RMS from 2 s on, at
+                // most 0.095; 0.095 (0.064; 0.070 and 0.123; 0.114 with the line).
+                _ => {
+                    assert!(within >= if all_three { 15 } else { 21 }, "{what}");
+                    assert!(rms_after <= 0.065 && worst_after <= 0.13, "{what}");
                 }
-                // Measured 0.064; 0.070 deg RMS from 2 s on, at most 0.123; 0.114 (was
-                // 0.107; 0.163 and 0.295; 0.294 before the bridge).
-                _ => assert!(rms_after <= 0.085 && worst_after <= 0.16, "{what}"),
             }
         }
     }
+}
+
+/// Why fusion3d misses 2 s after some bursts that Mahony and VQF meet: on this ride its
+/// acceleration rejection leaves it a gain of about 0.085 /s, and which readings it rejects
+/// follows its own estimate, so an angle error does not simply decay: a kick of one gyro_x
+/// reading worth `kick` degrees of roll (the scooter3d ride, seeds 1-3, at 2-10 s) is
+/// carried and can grow. Measured: a 0.01 deg kick is back within 0.05 deg at once in all
+/// 27 (at most 0.017 deg from 2 s on); a 0.03 deg kick (the gap fit's largest residual on
+/// these rides is 0.037 deg) never comes back within 0.05 deg in 2 of 27, and takes 4.9 s
+/// in a third. No bridge that leaves 0.03 deg can hold fusion3d to 2 s everywhere.
+#[test]
+fn fusion3d_keeps_a_kick_of_its_angle() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut missed = [0usize; 2];
+    let mut worst_small = 0.0f64;
+    for seed in [1u64, 2, 3] {
+        let (log, rig, scen) = ride(dir.path(), seed, "14");
+        let clean_out = dir.path().join("clean.csv");
+        estimate_only(&rig, &scen, "fusion3d", &log, &clean_out);
+        let clean = attitude(&clean_out, "fusion3d");
+        let text = std::fs::read_to_string(&log).unwrap();
+        let lines: Vec<Vec<String>> = text
+            .lines()
+            .map(|l| l.split(',').map(String::from).collect())
+            .collect();
+        let gx = lines[0].iter().position(|h| h == "gyro_x").unwrap();
+        for (i, kick) in [0.01f64, 0.03].into_iter().enumerate() {
+            for k0 in (2000usize..=10_000).step_by(1000) {
+                let mut bad = lines.clone();
+                let g: f64 = bad[k0 + 1][gx].parse().unwrap();
+                // One 1 ms reading turned by `kick` degrees more.
+                bad[k0 + 1][gx] = (g + kick.to_radians() / 1e-3).to_string();
+                let path = dir.path().join("kicked.csv");
+                let body: Vec<String> = bad.iter().map(|l| l.join(",")).collect();
+                std::fs::write(&path, body.join("\n") + "\n").unwrap();
+                let out = dir.path().join("kicked_est.csv");
+                estimate_only(&rig, &scen, "fusion3d", &path, &out);
+                let (back, after) =
+                    back_after(&clean, &attitude(&out, "fusion3d"), k0 as f64 * 1e-3);
+                println!("seed {seed} kick {kick} deg at {k0} ms: back after {back:.2} s ({after:.3} deg from 2 s on)");
+                if back > 2.0 {
+                    missed[i] += 1;
+                }
+                if i == 0 {
+                    worst_small = worst_small.max(after);
+                }
+            }
+        }
+    }
+    println!("kicks of 0.01 / 0.03 deg beyond 2 s: {missed:?} of 27 each");
+    // A kick well under the bound is carried, not lost, and stays under it.
+    assert_eq!(missed[0], 0, "{missed:?}");
+    assert!(worst_small > 0.005 && worst_small < 0.04, "{worst_small}");
+    // Three times larger, still under the bound, it is not forgotten in 2 s everywhere.
+    assert!(missed[1] >= 1, "{missed:?}");
 }

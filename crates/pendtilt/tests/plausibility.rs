@@ -444,7 +444,8 @@ fn a_burst_of_100_impossible_cells() {
         for (est, back, worst) in &rec {
             // Every estimator is back within 2 s but Madgwick, which cannot come closer
             // than its resolution (see docs/reliability.md 7b). Mahony was back after
-            // 3.97 s before the gyro's gap was bridged (`InputHold::bridged`), 0.11 s now.
+            // 3.97 s before the gyro's gap was bridged (`InputHold::bridged`), 1.18 s now
+            // (the bridge waits for `BRIDGE_WINDOW`, 0.42 s, of readings after the gap).
             match (name, *est) {
                 (_, "madgwick") => {
                     let bound = madgwick_resolution_deg();
@@ -457,11 +458,13 @@ fn a_burst_of_100_impossible_cells() {
 }
 
 /// 100 missing gyro readings anywhere in a ride (27 gaps: seeds 1, 3, 6, from 2 s to 10 s):
-/// the gyro peers bridge the gap with the line between the gyro's means on either side
-/// (`InputHold::bridged`) and are back within 0.05 deg of the fault-free run within 2 s.
-/// Holding the mean alone left the integrated angle up to 1 deg off, which Mahony forgets
-/// at kp = 0.45 /s: measured before the bridge, Mahony back after up to 5.5 s, beyond 2 s
-/// in most gaps. Figures: `cargo test --release -p pendtilt --test plausibility --
+/// the gyro peers bridge the gap with the angle fitted to the gyro's readings on either
+/// side (`InputHold::bridged`, `core::estimators::gap_fit`) and are back within 0.05 deg
+/// of the fault-free run within 2 s. Holding the mean alone left the integrated angle up
+/// to 1 deg off, which Mahony forgets at kp = 0.45 /s: measured before the bridge, Mahony
+/// back after up to 5.5 s, beyond 2 s in most gaps; with the line between the means on
+/// either side (session 11), within 2 s in 22 of 27, at most 3.74 s; with the fit, 26 of
+/// 27, at most 3.02 s (the complementary filter at most 0.96 s). Figures: `cargo test --release -p pendtilt --test plausibility --
 /// --nocapture anywhere`.
 #[test]
 fn a_burst_of_100_missing_gyro_readings_anywhere_is_bridged() {
@@ -499,10 +502,10 @@ fn a_burst_of_100_missing_gyro_readings_anywhere_is_bridged() {
     let mahony = times("mahony");
     let within = mahony.iter().filter(|b| **b <= 2.0).count();
     assert!(
-        within >= 22,
+        within >= 25,
         "mahony within 2 s in {within} of 27: {mahony:?}"
     );
-    assert!(mahony.iter().all(|b| *b <= 4.0), "{mahony:?}");
+    assert!(mahony.iter().all(|b| *b <= 3.5), "{mahony:?}");
 }
 
 /// A 450 ms gap in the gyro in the middle of a turn (the scooter ride, 12 s, seed 6, from

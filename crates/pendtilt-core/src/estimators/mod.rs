@@ -27,6 +27,7 @@ pub mod complementary;
 pub(crate) mod encoder;
 pub mod equations;
 pub mod front_end;
+pub mod gap_fit;
 pub mod input_hold;
 pub mod pendulum;
 pub mod theta_dd;
