@@ -178,6 +178,49 @@ fn a_duration_of_no_row_is_refused_and_writes_nothing() {
 }
 
 #[test]
+fn a_step_too_long_for_the_pendulum_is_refused_and_writes_nothing() {
+    // `--rate 1` integrated the 2.19 Hz pendulum at 0.5 s steps: phi -25040 rad (planar),
+    // NaN (3-D), exit 0 and no word.
+    let dir = tempfile::tempdir().unwrap();
+    for scenario in ["sine", "scooter3d"] {
+        let log = dir.path().join(format!("{scenario}.csv"));
+        let o = common::pendtilt(&[
+            "simulate",
+            "--scenario",
+            scenario,
+            "--rate",
+            "1",
+            "-o",
+            log.to_str().unwrap(),
+        ]);
+        let e = common::stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{e}");
+        assert!(
+            e.contains(
+                "substeps: an integration step of 5.000e-1 s (1 / (rate 1 Hz x substeps 2)) is \
+                 too long for the pendulum, whose fastest mode is 13.733 rad/s (2.186 Hz)"
+            ) && e.contains("raise substeps to 28 (--substeps 28) or the rate"),
+            "{e}"
+        );
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    // What it names runs.
+    let log = dir.path().join("ok.csv");
+    let o = common::pendtilt(&[
+        "simulate",
+        "--scenario",
+        "sine",
+        "--rate",
+        "1",
+        "--substeps",
+        "28",
+        "-o",
+        log.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::stderr(&o));
+}
+
+#[test]
 fn a_length_in_millimetres_on_the_command_line_is_doubted_like_in_a_rig_file() {
     // `--pivot-offset 50` meant 50 mm: every command reading a rig file warned about it,
     // simulate (which writes that rig file) did not. One check (config::doubt_length)

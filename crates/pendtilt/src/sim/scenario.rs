@@ -303,6 +303,15 @@ impl Scenario {
             ));
         }
         self.pendulum.validate()?;
+        let p = &self.pendulum;
+        super::integrator::check_step(
+            super::integrator::fastest_mode(
+                p.mass * p.gravity * p.length / p.inertia,
+                p.damping / p.inertia,
+            ),
+            self.rate,
+            self.substeps,
+        )?;
         self.motion.validate()?;
         self.vibration.validate(self.node_rate())?;
         self.sensors.validate()

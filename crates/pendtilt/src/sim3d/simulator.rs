@@ -100,6 +100,12 @@ impl<M: BodyMotion> Simulator3d<M> {
                 format!("must be >= 0 s and at most 1e11 rows, got {duration} s"),
             ));
         }
+        let (k, m) = (pend.stiffness(0.0), pend.inertia(0.0));
+        let c = [pend.damping_x, pend.damping_y];
+        let lambda = (0..2)
+            .map(|i| crate::sim::integrator::fastest_mode(k[i] / m[i], c[i] / m[i]))
+            .fold(0.0, f64::max);
+        crate::sim::integrator::check_step(lambda, rate, substeps)?;
         let k0 = motion.kinematics(0.0, pend.gravity);
         let start = JointState::hanging_still(k0.euler[0][0], k0.euler[1][0], k0.w);
         Ok(Self {
