@@ -400,6 +400,35 @@ pub fn doubt_accel_full_scale(key: &str, full_scale: f64) -> Option<String> {
     }
 }
 
+/// Gravity \[m/s^2\] outside this band is doubted ([`doubt_gravity`]): the Earth's
+/// surface gravity is 9.78 to 9.83 m/s^2 (equator to poles), a little less on a mountain.
+pub const PLAUSIBLE_GRAVITY: [f64; 2] = [9.7, 9.9];
+
+/// The one check of a rig's gravity \[m/s^2\] under `key` (`pendulum.gravity`): outside
+/// [`PLAUSIBLE_GRAVITY`] it is far more likely another unit (1 for 1 g left alg2 7.8
+/// deg RMS off instead of 0.86 on a scooter ride, without a word). The sentence names
+/// the key, the value and the fix.
+pub fn doubt_gravity(key: &str, g: f64) -> Option<String> {
+    let [lo, hi] = PLAUSIBLE_GRAVITY;
+    if (lo..=hi).contains(&g) {
+        return None;
+    }
+    let fix = if (0.97..=1.01).contains(&g) {
+        format!("written in g? write {key} = {DEFAULT_GRAVITY}")
+    } else if (970.0..=990.0).contains(&g) {
+        format!("written in cm/s^2? write {key} = {}", plain(g / 100.0))
+    } else if (31.8..=32.3).contains(&g) {
+        format!("written in ft/s^2? write {key} = {}", plain(g * 0.3048))
+    } else {
+        format!("write {key} = {DEFAULT_GRAVITY} (or the local g)")
+    };
+    Some(format!(
+        "{key}: {g} m/s^2 is not the Earth's gravity (9.78 to 9.83 m/s^2), and the estimators \
+         take the pendulum's stiffness and the accelerometer's gravity from it: {fix} (the \
+         file is in m/s^2)"
+    ))
+}
+
 impl LengthDoubt {
     /// Why it is doubted.
     fn why(&self) -> String {
@@ -451,13 +480,17 @@ impl RigConfig {
     /// A full scale in other units is doubted too: `[gyro]` above
     /// [`DOUBTFUL_GYRO_FULL_SCALE`] (deg/s read as rad/s: `full_scale = 500` silently
     /// switched off the clip finder's "below the full scale" check and the plausibility
-    /// bound), `[accel]` outside 2 g to 200 g (written in g or mg).
+    /// bound), `[accel]` outside 2 g to 200 g (written in g or mg); a gravity off the
+    /// Earth's ([`doubt_gravity`]).
     pub fn doubts(&self) -> Vec<String> {
         let mut d: Vec<String> = self
             .length_doubts()
             .iter()
             .map(|d| d.in_file("rig file"))
             .collect();
+        if let PendulumConfig::Physical(p) = &self.pendulum {
+            d.extend(doubt_gravity("pendulum.gravity", p.gravity));
+        }
         d.extend(
             self.gyro
                 .full_scale

@@ -653,3 +653,34 @@ fn full_scales_that_look_like_deg_per_s_g_or_mg_are_doubted_with_the_fix() {
     );
     assert_eq!(d.len(), 3, "{d:?}");
 }
+
+#[test]
+fn a_gravity_off_the_earths_is_doubted_with_the_fix() {
+    // `gravity = 1` (in g) left alg2 7.8 deg RMS off instead of 0.86, without a word.
+    let doubts = |text: &str| RigConfig::from_toml_str(text, "rig.toml").unwrap().doubts();
+    for ok in [
+        "",
+        "[pendulum]\ngravity = 9.78\n",
+        "[pendulum]\ngravity = 9.832\n",
+    ] {
+        assert!(doubts(ok).is_empty(), "{ok}: {:?}", doubts(ok));
+    }
+    let d = doubts("[pendulum]\ngravity = 1.0\n");
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert!(
+        d[0].starts_with(
+            "pendulum.gravity: 1 m/s^2 is not the Earth's gravity (9.78 to 9.83 m/s^2)"
+        ) && d[0].contains("written in g? write pendulum.gravity = 9.80665"),
+        "{d:?}"
+    );
+    let d = doubts("[pendulum]\ngravity = 980.665\n");
+    assert!(
+        d[0].contains("written in cm/s^2? write pendulum.gravity = 9.80665"),
+        "{d:?}"
+    );
+    let d = doubts("[pendulum]\ngravity = 32.174\n");
+    assert!(
+        d[0].contains("written in ft/s^2? write pendulum.gravity = 9.80664"),
+        "{d:?}"
+    );
+}

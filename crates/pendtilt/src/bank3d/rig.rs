@@ -36,6 +36,14 @@ impl Pendulum3dConfig {
         }
     }
 
+    /// Its gravity \[m/s^2\].
+    pub fn gravity(&self) -> f64 {
+        match self {
+            Self::Physical(p) => p.gravity,
+            Self::Normalised(c) => c.gravity,
+        }
+    }
+
     /// Its lengths beyond [`crate::config::DOUBTFUL_LENGTH`] (the check every planar rig
     /// gets, [`crate::config::doubt_length`]): the length l and the pivot offset r12 (or
     /// c g), each named by `table`'s key (`pendulum3d`, a scenario's `rig.pendulum3d`).

@@ -40,7 +40,7 @@ use crate::bank::Inputs;
 use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Clips, Settings3d};
-use crate::config::doubt_gyro_full_scale;
+use crate::config::{doubt_gravity, doubt_gyro_full_scale};
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::plateau::{NewLevel, PlateauWatch, LOOK_AHEAD_ROWS};
 use crate::io::plausibility::{
@@ -212,6 +212,10 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
                     d.in_file("rig file")
                 ));
             }
+            let g = rig.pendulum3d.gravity();
+            if let Some(d) = doubt_gravity("pendulum3d.gravity", g) {
+                opts.notice(&format!("warning: {}: {d}", p.display()));
+            }
             let fs = rig.gyro.full_scale;
             if let Some(d) = fs.and_then(|f| doubt_gyro_full_scale("gyro.full_scale", f)) {
                 opts.notice(&format!("warning: {}: {d}", p.display()));
@@ -232,6 +236,9 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
                 .unwrap_or_default();
             for d in Pendulum3dConfig::Physical(s.rig.pendulum3d).length_doubts("rig.pendulum3d") {
                 opts.notice(&format!("warning: {file}: {}", d.in_file("scenario file")));
+            }
+            if let Some(d) = doubt_gravity("rig.pendulum3d.gravity", s.rig.pendulum3d.gravity) {
+                opts.notice(&format!("warning: {file}: {d}"));
             }
             Settings3d::of_scenario(s)
         }
