@@ -144,10 +144,12 @@ pub enum ConfigErrorKind {
     #[error("TOML syntax error: {0}")]
     Syntax(String),
     /// A key (or table) that the rig file does not have.
-    #[error("unknown key; allowed here: {allowed}")]
+    #[error("unknown key; allowed here: {allowed}{hint}")]
     UnknownKey {
         /// The keys allowed in this table, comma-separated.
         allowed: String,
+        /// What the key says about the file (`; a 3-D rig file's table ...`), or empty.
+        hint: String,
     },
     /// A string that is not one of the allowed choices (e.g. `response = "chebyshev"`).
     #[error("not one of the choices: {0}")]
@@ -1022,10 +1024,21 @@ impl<'a> Parser<'a> {
     ) -> Result<(), ConfigError> {
         if let Err(e) = Self::read_alone(name, toml::Table::new()) {
             // The only error an empty table can give: a name that is not a table's.
+            // A 3-D rig's table: the file, not the key, is the mistake.
+            let hint = if crate::bank3d::rig::TABLES_3D.contains(&name) {
+                format!(
+                    "; [{name}] is a table of a 3-D rig file (MODEL.md 7.6), and a planar rig is \
+                     read here: give a planar rig file ([pendulum], MODEL.md 5), or \
+                     check that the log is the one meant"
+                )
+            } else {
+                String::new()
+            };
             return Err(ConfigError::new(
                 self.at(Some(name_span), Some(name.to_string())),
                 ConfigErrorKind::UnknownKey {
                     allowed: allowed(e.message(), true),
+                    hint,
                 },
             ));
         }
@@ -1061,6 +1074,7 @@ impl<'a> Parser<'a> {
                 self.at(self.key_span(table, key), Some(dotted)),
                 ConfigErrorKind::UnknownKey {
                     allowed: allowed(message, false),
+                    hint: String::new(),
                 },
             );
         } else if message.starts_with("unknown variant") {

@@ -531,7 +531,7 @@ fn dotted_keys_at_top_level_are_read_and_located() {
 fn the_tables_are_listed_once_and_every_use_agrees() {
     // The unknown-table error, reading and writing all come from RigConfig's fields.
     let e = err("[kalmann]\n");
-    let ConfigErrorKind::UnknownKey { allowed } = &*e.kind else {
+    let ConfigErrorKind::UnknownKey { allowed, .. } = &*e.kind else {
         panic!("{e}");
     };
     let listed: Vec<&str> = allowed

@@ -1130,3 +1130,60 @@ fn a_3d_rig_or_scenario_with_gravity_in_g_is_doubted() {
     let o = pendtilt(&["estimate", s(&log), "-p", s(&good), "-o", s(&out)]);
     assert!(!stderr(&o).contains("gravity"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_rig_or_scenario_of_the_other_kind_is_named_as_such() {
+    // Was: `unknown field `accel`, expected one of `pendulum3d`, ...` (a planar rig for a
+    // 3-D log), a TOML parse error at `amplitude` (a planar scenario), and
+    // `pendulum3d: unknown key` (a 3-D rig for a planar log).
+    let dir = tempfile::tempdir().unwrap();
+    let log3 = simulate(dir.path(), "scooter3d", &["--duration", "1"]);
+    let log = simulate(dir.path(), "scooter", &["--duration", "1"]);
+    let f = |n: &str| dir.path().join(n);
+    let out = f("e.csv");
+    let run = |args: &[&str]| {
+        let o = pendtilt(args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        assert!(!out.exists());
+        stderr(&o)
+    };
+    let e = run(&[
+        "estimate",
+        s(&log3),
+        "-p",
+        s(&f("scooter.rig.toml")),
+        "-o",
+        s(&out),
+    ]);
+    assert!(
+        e.contains(
+            "scooter.rig.toml:2:1: [pendulum]: a planar rig file (MODEL.md 5), and this log is \
+             3-D: give a 3-D rig file ([pendulum3d], MODEL.md 7.6)"
+        ),
+        "{e}"
+    );
+    let sc = f("scooter.scenario.toml");
+    let e = run(&["estimate", s(&log3), "--scenario", s(&sc), "-o", s(&out)]);
+    assert!(
+        e.contains(
+            "scooter.scenario.toml: a planar scenario file (scenario = \"scooter\", [pendulum]), \
+             read as a 3-D one"
+        ),
+        "{e}"
+    );
+    let e = run(&[
+        "estimate",
+        s(&log),
+        "-p",
+        s(&f("scooter3d.rig.toml")),
+        "-o",
+        s(&out),
+    ]);
+    assert!(
+        e.contains(
+            "[pendulum3d] is a table of a 3-D rig file (MODEL.md 7.6), and a planar rig is read \
+             here: give a planar rig file ([pendulum], MODEL.md 5)"
+        ),
+        "{e}"
+    );
+}

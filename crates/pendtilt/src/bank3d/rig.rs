@@ -15,6 +15,21 @@ use serde::Deserialize;
 use crate::config::{doubt_length, plain, LengthDoubt};
 use crate::sim3d::{Mounting, Pendulum3d};
 
+/// The tables of a 3-D rig file.
+pub const TABLES_3D: [&str; 4] = ["pendulum3d", "mounting", "ekf3d", "gyro"];
+
+/// The tables only a planar rig file has (MODEL.md 5).
+const TABLES_PLANAR: [&str; 8] = [
+    "pendulum",
+    "kalman",
+    "differentiator",
+    "accel",
+    "alg1",
+    "alg2",
+    "alg3",
+    "ekf",
+];
+
 /// The keys of the normalised form.
 const NORMALISED_KEYS: [&str; 8] = ["a_x", "a_y", "b_x", "b_y", "b_z", "b_ring", "c", "gravity"];
 
@@ -248,6 +263,20 @@ impl Rig3dConfig {
     /// Reads a rig from TOML text; `origin` names it in errors.
     pub fn from_toml_str(text: &str, origin: &str) -> Result<Self, String> {
         let table: toml::Table = toml::from_str(text).map_err(|e| toml_error(origin, text, &e))?;
+        // A planar rig file given for a 3-D log: say so, not "unknown field `accel`".
+        if !table.contains_key("pendulum3d") {
+            if let Some(name) = TABLES_PLANAR.iter().find(|n| table.contains_key(**n)) {
+                let line = text
+                    .lines()
+                    .position(|l| l.trim_start().starts_with(&format!("[{name}]")))
+                    .map_or(String::new(), |i| format!("{}:1:", i + 1));
+                return Err(format!(
+                    "{origin}:{line} [{name}]: a planar rig file (MODEL.md 5), and this log is \
+                     3-D: give a 3-D rig file ([pendulum3d], MODEL.md 7.6), as `pendtilt \
+                     simulate --scenario scooter3d` writes beside its log"
+                ));
+            }
+        }
         let keys: Vec<String> = match table.get("pendulum3d") {
             Some(toml::Value::Table(t)) => t.keys().cloned().collect(),
             _ => Vec::new(),

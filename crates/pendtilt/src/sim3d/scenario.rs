@@ -29,7 +29,7 @@ use super::timefn::{Context, Shape};
 use super::vehicle::{
     Axis, EngineMod, EngineSpec, MotionSpec, Term, Tones, VehicleMotion, Vibration,
 };
-use crate::sim::SimError;
+use crate::sim::{SimError, SCENARIO_NAMES};
 
 /// The names [`Scenario3d::named`] knows.
 pub const SCENARIO3D_NAMES: &[&str] = &[
@@ -198,6 +198,21 @@ impl Scenario3d {
     /// keys allowed, the seed returned); `origin` names the text in errors, which give the
     /// line and column.
     pub fn from_toml(text: &str, origin: &str) -> Result<(Self, Option<u64>), SimError> {
+        // A planar scenario file: say so, not "unknown field `amplitude`".
+        if let Ok(t) = text.parse::<toml::Table>() {
+            let name = t.get("scenario").and_then(|v| v.as_str());
+            if t.contains_key("pendulum") || name.is_some_and(|n| SCENARIO_NAMES.contains(&n)) {
+                return Err(SimError::Config {
+                    origin: origin.into(),
+                    message: format!(
+                        "a planar scenario file (scenario = \"{}\", [pendulum]), read as a 3-D \
+                         one (MODEL.md 7.8): give the scenario file `pendtilt simulate` wrote \
+                         beside the 3-D log (e.g. --scenario scooter3d)",
+                        name.unwrap_or("?")
+                    ),
+                });
+            }
+        }
         let f: ScenarioFile = toml::from_str(text).map_err(|e| SimError::Config {
             origin: origin.into(),
             message: e.to_string(),
