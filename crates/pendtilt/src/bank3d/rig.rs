@@ -13,6 +13,7 @@ use pendtilt_core::spatial::ekf;
 use serde::Deserialize;
 
 use crate::config::{doubt_length, plain, LengthDoubt};
+use crate::sim3d::scenario::check_mounting;
 use crate::sim3d::{Mounting, Pendulum3d};
 
 /// The tables of a 3-D rig file.
@@ -104,6 +105,23 @@ impl Pendulum3dConfig {
             }
         }
     }
+}
+
+/// The accelerometer's position beyond [`crate::config::DOUBTFUL_LENGTH`] from P1 (the
+/// rig's length check: `accel_at = [0, 0, 250]` meant 250 mm, silently), named by
+/// `table`'s key (`mounting`, a scenario's `rig.mounting`). Not `speed_at`: a ship's
+/// speed point may be metres away (ship3d: 9.4 m).
+pub fn mounting_doubts(m: &Mounting, table: &str) -> Vec<LengthDoubt> {
+    let v = m.accel_at;
+    let len = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    doubt_length(
+        &format!("{table}.accel_at"),
+        format!("the accelerometer at {v:?} m ({len:.3} m from P1)"),
+        len,
+        format!("{:?}", v.map(|x| plain(x / 1000.0))),
+    )
+    .into_iter()
+    .collect()
 }
 
 /// A 3-D rig file: the pendulum, where the sensors sit and the spatial filter's settings.
@@ -311,6 +329,7 @@ impl Rig3dConfig {
             f.pendulum3d
                 .validate()
                 .map_err(|e| format!("{origin}: {e}"))?;
+            check_mounting(&f.mounting, "mounting").map_err(|e| format!("{origin}: {e}"))?;
             f.ekf3d.check().map_err(|e| format!("{origin}: {e}"))?;
             check_gyro(&f.gyro).map_err(|e| format!("{origin}: {e}"))?;
             return Ok(Self {
@@ -323,6 +342,7 @@ impl Rig3dConfig {
         let f: File<CardanParams<f64>> =
             toml::from_str(text).map_err(|e| toml_error(origin, text, &e))?;
         check_normalised(&f.pendulum3d).map_err(|e| format!("{origin}: pendulum3d.{e}"))?;
+        check_mounting(&f.mounting, "mounting").map_err(|e| format!("{origin}: {e}"))?;
         f.ekf3d.check().map_err(|e| format!("{origin}: {e}"))?;
         check_gyro(&f.gyro).map_err(|e| format!("{origin}: {e}"))?;
         Ok(Self {

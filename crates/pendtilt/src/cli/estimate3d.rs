@@ -37,7 +37,7 @@ use pendtilt_core::spatial::Attitude;
 
 use super::estimate::Args;
 use crate::bank::Inputs;
-use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
+use crate::bank3d::rig::{mounting_doubts, Pendulum3dConfig, Rig3dConfig};
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Clips, Settings3d};
 use crate::config::{doubt_gravity, doubt_gyro_full_scale};
@@ -205,7 +205,9 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
     let settings = match (opts.params, &scenario) {
         (Some(p), s) => {
             let rig = Rig3dConfig::load(p).map_err(anyhow::Error::msg)?;
-            for d in rig.pendulum3d.length_doubts("pendulum3d") {
+            let mut doubts = rig.pendulum3d.length_doubts("pendulum3d");
+            doubts.extend(mounting_doubts(&rig.mounting, "mounting"));
+            for d in doubts {
                 opts.notice(&format!(
                     "warning: {}: {}",
                     p.display(),
@@ -234,7 +236,10 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
                 .scenario
                 .map(|p| p.display().to_string())
                 .unwrap_or_default();
-            for d in Pendulum3dConfig::Physical(s.rig.pendulum3d).length_doubts("rig.pendulum3d") {
+            let mut doubts =
+                Pendulum3dConfig::Physical(s.rig.pendulum3d).length_doubts("rig.pendulum3d");
+            doubts.extend(mounting_doubts(&s.rig.mounting, "rig.mounting"));
+            for d in doubts {
                 opts.notice(&format!("warning: {file}: {}", d.in_file("scenario file")));
             }
             if let Some(d) = doubt_gravity("rig.pendulum3d.gravity", s.rig.pendulum3d.gravity) {

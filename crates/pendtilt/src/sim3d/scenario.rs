@@ -141,6 +141,7 @@ impl Scenario3d {
             return Err(SimError::invalid("score_from", "must be finite"));
         }
         self.rig.pendulum3d.validate()?;
+        check_mounting(&self.rig.mounting, "rig.mounting")?;
         self.sensors.validate()?;
         VehicleMotion::new(&self.motion, self.rig.mounting.speed_at)?;
         Ok(())
@@ -226,9 +227,27 @@ impl Scenario3d {
             sensors: f.sensors,
             motion: f.motion,
         };
-        s.validate()?;
+        // Name the file: `rate: must be > 0 Hz` alone did not say which.
+        s.validate().map_err(|e| SimError::Config {
+            origin: origin.into(),
+            message: e.to_string(),
+        })?;
         Ok((s, f.seed))
     }
+}
+
+/// Refuses a mounting position that is not finite (`accel_at = [0, 0, nan]` was read
+/// and the accelerometer's lever arm silently dropped); `table` names it in the error.
+pub fn check_mounting(m: &Mounting, table: &str) -> Result<(), SimError> {
+    for (key, v) in [("accel_at", m.accel_at), ("speed_at", m.speed_at)] {
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(SimError::invalid(
+                format!("{table}.{key}"),
+                format!("must be finite [m], got {v:?}"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A scenario file: [`Scenario3d`]'s keys and the name and seed it was made with.
