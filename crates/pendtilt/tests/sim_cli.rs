@@ -221,6 +221,65 @@ fn a_step_too_long_for_the_pendulum_is_refused_and_writes_nothing() {
 }
 
 #[test]
+fn settings_driving_the_pendulum_beyond_physics_write_nothing() {
+    // A broadband vibration of 1e300 m/s^2 wrote phi 5.8e294 rad (planar) and NaN (3-D),
+    // exit 0.
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("v.csv");
+    let o = common::pendtilt(&[
+        "simulate",
+        "--scenario",
+        "scooter",
+        "--duration",
+        "0.1",
+        "--set",
+        "vibration.broadband.rms=[1e300,1e300]",
+        "-o",
+        log.to_str().unwrap(),
+    ]);
+    let e = common::stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("at t = 0.001 s the simulated pendulum angle phi is 5.790357006361599e294 rad")
+            && e.contains("the settings drive the pendulum beyond any physical motion"),
+        "{e}"
+    );
+    let s3 = dir.path().join("s3.csv");
+    let o = common::pendtilt(&[
+        "simulate",
+        "--scenario",
+        "scooter3d",
+        "--duration",
+        "0.01",
+        "-q",
+        "-o",
+        s3.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let text = std::fs::read_to_string(dir.path().join("s3.scenario.toml")).unwrap();
+    let i = text.find("[[motion.broadband]]").unwrap();
+    let j = i + text[i..].find("amp = ").unwrap();
+    let k = j + text[j..].find('\n').unwrap();
+    let huge = dir.path().join("huge.scenario.toml");
+    std::fs::write(&huge, format!("{}amp = 1e300{}", &text[..j], &text[k..])).unwrap();
+    let h3 = dir.path().join("h3.csv");
+    let o = common::pendtilt(&[
+        "simulate",
+        "--config",
+        huge.to_str().unwrap(),
+        "-o",
+        h3.to_str().unwrap(),
+    ]);
+    let e = common::stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("the simulated encoder angle phi_x is NaN rad"),
+        "{e}"
+    );
+    assert!(!log.exists() && !h3.exists());
+}
+
+#[test]
 fn a_length_in_millimetres_on_the_command_line_is_doubted_like_in_a_rig_file() {
     // `--pivot-offset 50` meant 50 mm: every command reading a rig file warned about it,
     // simulate (which writes that rig file) did not. One check (config::doubt_length)

@@ -50,6 +50,15 @@ pub fn fastest_mode(k: f64, c: f64) -> f64 {
     }
 }
 
+/// `x` with 3 decimals, or in exponent form when large (a gravity of 1e300 gave 150 digits).
+fn short(x: f64) -> String {
+    if x.abs() < 1e6 {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
 /// Refuses a step `1 / (rate substeps)` too long for a pendulum whose fastest mode is
 /// `lambda` \[1/s\]: such a run diverged (`--rate 1`: phi -25040 rad, exit 0) or drifted
 /// without a word. The error names the substeps that would do.
@@ -68,11 +77,12 @@ pub fn check_step(lambda: f64, rate: f64, substeps: u32) -> Result<(), super::Si
         "substeps",
         format!(
             "an integration step of {h:.3e} s (1 / (rate {rate} Hz x substeps {substeps})) is \
-             too long for the pendulum, whose fastest mode is {lambda:.3} rad/s ({:.3} Hz): \
-             the integrator would drift or diverge (step x mode {:.2}, at most \
-             {MAX_LAMBDA_STEP}); {fix}",
-            lambda / std::f64::consts::TAU,
-            lambda * h
+             too long for the pendulum, whose fastest mode is {} rad/s ({} Hz): the \
+             integrator would drift or diverge (step x mode {}, at most {MAX_LAMBDA_STEP}); \
+             {fix}",
+            short(lambda),
+            short(lambda / std::f64::consts::TAU),
+            short(lambda * h)
         ),
     ))
 }

@@ -28,6 +28,24 @@ pub fn write_row<W: Write>(w: &mut W, row: &SimRow) -> io::Result<()> {
     w.write_all(b"\n")
 }
 
+/// Refuses a row whose simulated angle `name` = `x` \[rad\] is not finite or beyond
+/// [`pendtilt_core::estimators::PHI_LIMIT`]: settings no integrator step can follow
+/// (`vibration.broadband.rms = [1e300, 1e300]`) wrote phi 5.8e294 rad with exit 0.
+pub fn check_angle(t: f64, name: &str, x: f64) -> io::Result<()> {
+    let limit = pendtilt_core::estimators::PHI_LIMIT;
+    if x.is_finite() && x.abs() <= limit {
+        return Ok(());
+    }
+    Err(io::Error::new(
+        io::ErrorKind::InvalidData,
+        format!(
+            "at t = {t} s the simulated {name} is {x:e} rad (not finite or beyond {limit} \
+             rad): the settings drive the pendulum beyond any physical motion (check the \
+             values given with --set, --config or --rig: their units, their magnitude)"
+        ),
+    ))
+}
+
 /// Rows per chunk handed from the simulating thread to the writing one.
 const CHUNK: usize = 4096;
 
@@ -60,6 +78,8 @@ pub fn write_log<W: Write>(
         // Returning early on a write error drops `rx`, which stops the simulating thread.
         for chunk in rx {
             for row in &chunk {
+                check_angle(row.t, "pendulum angle phi", row.phi)?;
+                check_angle(row.t, "true tilt theta", row.theta)?;
                 write_row(&mut w, row)?;
                 n += 1;
                 if n % 8192 == 0 {

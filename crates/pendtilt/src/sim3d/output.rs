@@ -24,6 +24,14 @@ pub fn write_log<W: Write>(run: Run3d, mut w: W, mut progress: impl FnMut(u64)) 
     writeln!(w, "{}", LogRow3d::COLUMNS.join(","))?;
     let mut n = 0u64;
     for (_, row) in run {
+        for (name, x) in [
+            ("encoder angle phi_x", row.phi[0]),
+            ("encoder angle phi_y", row.phi[1]),
+            ("true roll", row.roll),
+            ("true pitch", row.pitch),
+        ] {
+            crate::sim::output::check_angle(row.t, name, x)?;
+        }
         write_row(&mut w, &row)?;
         n += 1;
         if n % 8192 == 0 {
