@@ -394,3 +394,23 @@ fn a_length_in_millimetres_on_the_command_line_is_doubted_like_in_a_rig_file() {
     );
     assert!(e.is_empty(), "{e}");
 }
+
+#[test]
+fn a_missing_config_file_is_named_once() {
+    // Was: `nope.toml: No such file or directory (os error 2): No such file or directory
+    // (os error 2)` (the io error was both in the message and its source).
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("nope.toml");
+    let log = dir.path().join("x.csv");
+    let o = common::pendtilt(&[
+        "simulate",
+        "--config",
+        cfg.to_str().unwrap(),
+        "-o",
+        log.to_str().unwrap(),
+    ]);
+    let e = common::stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(e.contains("nope.toml: No such file or directory"), "{e}");
+    assert_eq!(e.matches("No such file").count(), 1, "{e}");
+}

@@ -70,12 +70,12 @@ pub enum SimError {
         message: String,
     },
     /// A file that cannot be read or written.
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Io {
         /// The file.
         path: String,
-        /// The error.
-        source: std::io::Error,
+        /// The error (not a `source`: the message holds it, and a chain printed it twice).
+        error: std::io::Error,
     },
 }
 

@@ -436,7 +436,7 @@ pub fn load_config(path: &Path, name: Option<&str>) -> Result<(Scenario, Option<
     let origin = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| SimError::Io {
         path: origin.clone(),
-        source: e,
+        error: e,
     })?;
     let table: toml::Table = toml::from_str(&text).map_err(|e| SimError::Config {
         origin: origin.clone(),
