@@ -433,3 +433,37 @@ fn an_interrupted_run_leaves_no_partial_output_behind() {
     assert_eq!(o.status.code(), Some(128 + libc::SIGHUP), "simulate: {e}");
     assert!(names_in(dir.path()).is_empty(), "simulate: {e}");
 }
+
+#[test]
+fn report_moves_nothing_in_when_a_directory_blocks_one_of_its_files() {
+    // A directory `rep/roll.svg` failed the move half way (files before it moved in) with
+    // the io error printed twice; now refused before the first move.
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("r3.csv");
+    let o = pendtilt(&[
+        "simulate",
+        "--scenario",
+        "scooter3d",
+        "--duration",
+        "1",
+        "-q",
+        "-o",
+        s(&log),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rep = dir.path().join("rep");
+    std::fs::create_dir_all(rep.join("roll.svg")).unwrap();
+    std::fs::write(rep.join("notes.txt"), "mine").unwrap();
+    let o = pendtilt(&["report", s(&log), "--score-from", "0.5", "-o", s(&rep)]);
+    let e = assert_failed(&o);
+    assert!(
+        e.contains("roll.svg is a directory, where this command writes a file of that name")
+            && e.contains("nothing was written into"),
+        "{e}"
+    );
+    assert_eq!(
+        names_in(&rep),
+        ["notes.txt", "roll.svg"].map(String::from).into()
+    );
+    assert_eq!(names_in(dir.path()).len(), 4, "{:?}", names_in(dir.path()));
+}

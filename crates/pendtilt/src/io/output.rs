@@ -68,19 +68,20 @@ pub enum OutputError {
         message: String,
     },
     /// Reading, writing or renaming failed.
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Io {
         /// The file concerned.
         path: String,
-        /// The I/O error.
-        source: io::Error,
+        /// The I/O error (not a `source`: the message holds it, and a chain printed it
+        /// twice).
+        error: io::Error,
     },
 }
 
-fn io_error(path: &Path, source: io::Error) -> OutputError {
+fn io_error(path: &Path, error: io::Error) -> OutputError {
     OutputError::Io {
         path: path.display().to_string(),
-        source,
+        error,
     }
 }
 
@@ -420,7 +421,9 @@ impl OutputDir {
     /// target that the run did not write are left alone.
     ///
     /// # Errors
-    /// [`OutputError::SameFile`] (then nothing was moved) or an I/O error.
+    /// [`OutputError::SameFile`] or [`OutputError::Unusable`] (a file where a staged
+    /// directory goes, or a directory where a staged file goes: then nothing was moved),
+    /// or an I/O error.
     pub fn commit(self, inputs: &[NamedPath]) -> Result<PathBuf, OutputError> {
         let mut files = Vec::new();
         collect_files(self.staging.path(), &mut files)
@@ -431,6 +434,36 @@ impl OutputDir {
             .map(|p| NamedPath::new(&self.option, p))
             .collect();
         check_distinct(inputs, &named)?;
+        // Every move must be possible before the first: a file where a staged directory
+        // goes (`reproduce -o out` with a file `out/scooter`) moved half the run in.
+        for to in &finals {
+            let blocked = to
+                .ancestors()
+                .skip(1)
+                .take_while(|a| a.starts_with(&self.target))
+                .find(|a| std::fs::metadata(a).is_ok_and(|m| !m.is_dir()));
+            let message = match blocked {
+                Some(file) => format!(
+                    "{} is a file, where this command writes the directory {}: move it away \
+                     or give another directory; nothing was written into {}",
+                    file.display(),
+                    file.display(),
+                    self.target.display()
+                ),
+                None if std::fs::metadata(to).is_ok_and(|m| m.is_dir()) => format!(
+                    "{} is a directory, where this command writes a file of that name: move \
+                     it away or give another directory; nothing was written into {}",
+                    to.display(),
+                    self.target.display()
+                ),
+                None => continue,
+            };
+            return Err(OutputError::Unusable {
+                option: self.option.clone(),
+                path: self.target.display().to_string(),
+                message,
+            });
+        }
         for (from, to) in files.iter().zip(&finals) {
             if let Some(dir) = to.parent() {
                 std::fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
@@ -608,6 +641,40 @@ mod tests {
             .file_type()
             .is_symlink());
         assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
+    }
+
+    #[test]
+    fn output_dir_moves_nothing_when_a_file_blocks_a_staged_directory() {
+        // reproduce with a file `out/scooter` moved claims.json, index.html, report.md and
+        // ride3d/ in, then failed on scooter/ (and printed the io error twice).
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("rep");
+        std::fs::create_dir(&target).unwrap();
+        std::fs::write(target.join("sub"), "mine").unwrap();
+        let d = OutputDir::create("-o", &target).unwrap();
+        std::fs::write(d.staging().join("a.txt"), "x").unwrap();
+        std::fs::create_dir(d.staging().join("sub")).unwrap();
+        std::fs::write(d.staging().join("sub/b.txt"), "y").unwrap();
+        let e = d.commit(&[]).unwrap_err().to_string();
+        assert!(
+            e.contains("rep/sub is a file, where this command writes the directory")
+                && e.contains("nothing was written into"),
+            "{e}"
+        );
+        assert!(!target.join("a.txt").exists());
+        assert_eq!(std::fs::read_to_string(target.join("sub")).unwrap(), "mine");
+        // A directory where a staged file goes: refused alike.
+        let d = OutputDir::create("-o", &target).unwrap();
+        std::fs::write(d.staging().join("a.txt"), "x").unwrap();
+        std::fs::write(d.staging().join("z.txt"), "x").unwrap();
+        std::fs::create_dir(target.join("z.txt")).unwrap();
+        let e = d.commit(&[]).unwrap_err().to_string();
+        assert!(
+            e.contains("z.txt is a directory, where this command writes a file"),
+            "{e}"
+        );
+        assert!(!target.join("a.txt").exists());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     }
 
     #[test]
