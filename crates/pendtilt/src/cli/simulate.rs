@@ -6,7 +6,7 @@
 //! `--set KEY=VALUE` assignments, and last `--no-noise`, `--ideal-sensors`, `--no-vibration`.
 
 use std::io::{BufWriter, IsTerminal};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context};
@@ -297,6 +297,39 @@ pub(super) fn at_least_one_row(duration: f64, rate: f64, rows: u64) -> anyhow::R
     Ok(())
 }
 
+/// A log above this many bytes is announced before it is written ([`size_warning`]).
+const LARGE_LOG: f64 = 1e9;
+
+/// The warning for a log of `rows` rows at about `bytes_per_row` (a noisy ride's) into
+/// `target`, when it is above [`LARGE_LOG`]: its size, and whether the file system has
+/// room (`--rate 1e9` started a 100 GB file without a word and ran until the disk was full).
+/// None for standard output or a device, which keep nothing.
+pub(super) fn size_warning(target: &Path, rows: u64, bytes_per_row: f64) -> Option<String> {
+    let bytes = rows as f64 * bytes_per_row;
+    let regular = !crate::io::output::is_stdout(target)
+        && std::fs::metadata(target).map_or(true, |m| m.is_file());
+    if bytes <= LARGE_LOG || !regular {
+        return None;
+    }
+    let dir = crate::io::output::absolute(target)
+        .parent()
+        .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    let room = match crate::io::output::free_bytes(&dir) {
+        Some(free) if (free as f64) < bytes => format!(
+            "; the file system holding it has {:.1} GB free: it may not fit",
+            free as f64 / 1e9
+        ),
+        _ => String::new(),
+    };
+    Some(format!(
+        "warning: {}: {rows} rows of about {bytes_per_row:.0} bytes are about {:.1} GB{room}; \
+         a shorter --duration or a lower --rate writes less (Ctrl-C stops the run and \
+         removes the partial file)",
+        target.display(),
+        bytes / 1e9
+    ))
+}
+
 /// Simulates into the (uncommitted) log; returns the number of rows.
 fn write_outputs(
     scenario: &Scenario,
@@ -305,6 +338,12 @@ fn write_outputs(
     quiet: bool,
 ) -> anyhow::Result<u64> {
     let sim = Simulator::new(scenario, seed)?;
+    // 104 bytes a row on the noisy scooter ride.
+    if let Some(w) = size_warning(log.target(), sim.total_rows(), 104.0) {
+        if !quiet {
+            eprintln!("{w}");
+        }
+    }
     let bar = progress_bar(sim.total_rows(), quiet);
     let n = output::write_log(
         sim,
@@ -459,4 +498,31 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_log_above_a_gigabyte_is_announced_with_its_size_and_the_room() {
+        // `--rate 1e9` began a 100 GB file without a word.
+        let dir = tempfile::tempdir().unwrap();
+        let log = dir.path().join("big.csv");
+        assert_eq!(size_warning(&log, 1_000_000, 104.0), None);
+        let w = size_warning(&log, 2_000_000_000, 104.0).unwrap();
+        assert!(
+            w.contains("big.csv: 2000000000 rows of about 104 bytes are about 208.0 GB")
+                && w.contains("Ctrl-C stops the run and removes the partial file"),
+            "{w}"
+        );
+        let w = size_warning(&log, 1_000_000_000_000_000, 104.0).unwrap();
+        assert!(w.contains("GB free: it may not fit"), "{w}");
+        // Standard output and a device keep nothing.
+        assert_eq!(size_warning(Path::new("-"), 2_000_000_000, 104.0), None);
+        assert_eq!(
+            size_warning(Path::new("/dev/null"), 2_000_000_000, 104.0),
+            None
+        );
+    }
 }

@@ -126,6 +126,12 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario3d, String, u64)> {
 /// Simulates into the (uncommitted) log; returns the number of rows.
 fn write_log(s: &Scenario3d, seed: u64, log: &OutputFile, quiet: bool) -> anyhow::Result<u64> {
     let run = s.run(seed)?;
+    // 228 bytes a row on scooter3d.
+    if let Some(w) = super::simulate::size_warning(log.target(), run.remaining(), 228.0) {
+        if !quiet {
+            eprintln!("{w}");
+        }
+    }
     let bar = progress_bar(run.remaining(), quiet);
     let n = output::write_log(
         run,
