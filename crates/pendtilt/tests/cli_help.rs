@@ -33,6 +33,8 @@ fn no_help_text_has_rustdoc_link_syntax() {
         for flag in ["-h", "--help"] {
             let h = help(&[c, flag]);
             assert!(!h.contains("[`") && !h.contains("`]"), "{c} {flag}:\n{h}");
+            // rustdoc's escaped brackets: `\[s\]` reached `--score-from`'s help.
+            assert!(!h.contains("\\["), "{c} {flag}:\n{h}");
         }
     }
     let h = help(&["--help"]);

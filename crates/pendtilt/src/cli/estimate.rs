@@ -34,7 +34,7 @@ pub struct Args {
     /// there is no --params. Default: none (the filters' default noise figures).
     #[arg(long, value_name = "FILE")]
     pub scenario: Option<PathBuf>,
-    /// 3-D logs: score the inclination error from this long after the first row \[s\].
+    /// 3-D logs: score the inclination error from this long after the first row (s).
     /// Default: the --scenario file's score_from, else 5 s.
     #[arg(long, value_name = "SECONDS")]
     pub score_from: Option<f64>,

@@ -18,10 +18,10 @@ pub struct Args {
     /// sigmoid/, and the 3-D scenarios still3d/, scooter3d/, ship3d/, ride3d/.
     #[arg(long, short = 'o', visible_alias = "out")]
     pub output: PathBuf,
-    /// Length of the scooter test ride \[s\].
+    /// Length of the scooter test ride (s).
     #[arg(long, default_value_t = 60.0)]
     pub duration: f64,
-    /// Length of the separate calibration ride \[s\].
+    /// Length of the separate calibration ride (s).
     #[arg(long, default_value_t = 30.0)]
     pub calibration: f64,
     /// Seed of the test ride (the calibration ride uses seed + 1, the sigmoid seed + 2; the

@@ -44,7 +44,7 @@ pub struct Args {
     /// file says so). Default: no limit.
     #[arg(long, value_name = "SECONDS")]
     pub time_limit: Option<f64>,
-    /// The filters are fitted on at most this much of the log \[s\] (the noise figures
+    /// The filters are fitted on at most this much of the log (s) (the noise figures
     /// use all of it).
     #[arg(long, default_value_t = 60.0, value_name = "SECONDS")]
     pub fit_seconds: f64,
