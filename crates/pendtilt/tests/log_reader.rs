@@ -284,6 +284,30 @@ fn nan_inf_and_empty_cells_are_missing_samples_with_warnings() {
 }
 
 #[test]
+fn a_number_beyond_f64_is_quoted_as_written_not_as_inf() {
+    // Was: column `phi`: `inf`: read as missing (the log held 1e400).
+    let text = "t,phi,gyro\n0,1e400,0.1\n0.001,0.2,-1e400\n0.002,0.3,inf\n";
+    let (records, warnings) = ok(text);
+    assert_eq!(records.len(), 3, "no row dropped");
+    let w: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
+    assert!(
+        w[0].starts_with(
+            "log.csv:2: column `phi`: `1e400` is beyond the largest number, 1.8e308 (inf): read \
+             as missing"
+        ),
+        "{w:?}"
+    );
+    assert!(
+        w[1].contains("`-1e400` is beyond the largest number"),
+        "{w:?}"
+    );
+    assert!(
+        w[2].contains("column `gyro`: `inf`: read as missing"),
+        "{w:?}"
+    );
+}
+
+#[test]
 fn time_repeated_or_backwards_is_kept_and_flagged() {
     let text = "t,phi\n0,0\n0.001,0\n0.001,0\n0.0005,0\n0.002,0\n";
     let (records, warnings) = ok(text);

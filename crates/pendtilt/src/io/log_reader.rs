@@ -634,7 +634,28 @@ impl<R: BufRead> LogReader<R> {
                 WarningKind::NonFinite,
                 Some(column),
                 Some(h),
-                format!("`{raw}`: read as missing, the estimators hold and flag this sample"),
+                format!(
+                    "{}: read as missing, the estimators hold and flag this sample",
+                    {
+                        // `1e400` parses to inf: quote what was written, not `inf`.
+                        let text = String::from_utf8_lossy(&self.lines.bytes()[a..b]);
+                        let word = text
+                            .trim()
+                            .trim_start_matches(['+', '-'])
+                            .to_ascii_lowercase();
+                        if raw.is_nan() || ["inf", "infinity"].contains(&word.as_str()) {
+                            format!("`{raw}`")
+                        } else {
+                            let shown: String = text.trim().chars().take(40).collect();
+                            let more = if text.trim().chars().count() > 40 {
+                                "..."
+                            } else {
+                                ""
+                            };
+                            format!("`{shown}{more}` is beyond the largest number, 1.8e308 ({raw})")
+                        }
+                    }
+                ),
             );
             return Ok(f64::NAN);
         }
