@@ -736,7 +736,7 @@ fn a_3d_log_given_to_a_planar_reader_is_named_never_read_as_planar() {
     let e = stderr(&o);
     assert!(!o.status.success());
     assert!(e.contains("log.csv:1: a 3-D log (MODEL.md 7.6)"), "{e}");
-    assert!(!e.contains("theta"), "{e}");
+    assert!(!e.contains("no usable"), "{e}");
     assert!(!fitted.exists());
     // A 3-D log without gyro_z was read as planar: `accel` alone, exit 0.
     let no_gz = text
@@ -755,13 +755,14 @@ fn a_3d_log_given_to_a_planar_reader_is_named_never_read_as_planar() {
         "{e}"
     );
     assert!(!out.exists());
-    // One axis read as a planar log on purpose still works.
+    // One axis read as a planar log on purpose still works (with the roll plane's
+    // accelerometer axes, session 12).
     let o = pendtilt(&[
         "estimate",
         s(&log),
         "-q",
         "--map",
-        "phi=phi_x,gyro=gyro_x",
+        "phi=phi_x,gyro=gyro_x,ax=ay,ay=az",
         "--only",
         "alg2",
         "-o",
@@ -1243,4 +1244,53 @@ fn a_mounting_not_finite_is_refused_and_one_in_millimetres_doubted() {
         ) && e.contains("write mounting.accel_at = [0.0, 0.0, 0.25]"),
         "{e}"
     );
+}
+
+#[test]
+fn one_axis_of_a_3d_log_read_as_planar_needs_the_roll_planes_accelerometer_axes() {
+    // The hint said `--map phi=...,gyro=...`; followed, the planar ax, ay were the 3-D ax,
+    // ay (the roll axis's plane is the 3-D y, z): `accel` -173 deg, Madgwick -140 deg on
+    // a ride whose roll was -0.6 deg, exit 0; fit ended IMPLAUSIBLE (f_n 0.026 Hz).
+    let dir = tempfile::tempdir().unwrap();
+    let log = simulate(dir.path(), "scooter3d", &["--duration", "20"]);
+    let rig = dir.path().join("f.toml");
+    let o = pendtilt(&[
+        "fit",
+        s(&log),
+        "--map",
+        "phi=phi_x,gyro=gyro_x,theta=roll",
+        "-o",
+        s(&rig),
+    ]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("--map reads one axis of a 3-D log (MODEL.md 7.6) as planar (phi <- phi_x)")
+            && e.contains(
+                "give --map phi=phi_x,gyro=gyro_x,ax=ay,ay=az,theta=roll (MODEL.md 7.4: planar \
+                 x, y = 3-D y, z)"
+            ),
+        "{e}"
+    );
+    assert!(!rig.exists());
+    // The map it gives: the default rig's pendulum, a = 4.364e-2, within 5 %.
+    let o = pendtilt(&[
+        "fit",
+        s(&log),
+        "--map",
+        "phi=phi_x,gyro=gyro_x,ax=ay,ay=az,theta=roll",
+        "-o",
+        s(&rig),
+    ]);
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    let text = std::fs::read_to_string(&rig).unwrap();
+    let a: f64 = text
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("a = "))
+        .and_then(|v| v.split_whitespace().next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((a / 4.364385e-2 - 1.0).abs() < 0.05, "a = {a}\n{text}");
 }

@@ -108,7 +108,7 @@ pub enum LogErrorKind {
         expected: usize,
     },
     /// A 3-D header (complete or not) given to the planar reader.
-    #[error("{what}; to read one axis as a planar log, name its columns with --map phi=...,gyro=... (the header has: {header})")]
+    #[error("{what}; to read its roll axis as a planar log, give --map phi=phi_x,gyro=gyro_x,ax=ay,ay=az,theta=roll (MODEL.md 7.4: planar x, y = 3-D y, z) (the header has: {header})")]
     NotPlanar {
         /// What the header is and what is missing.
         what: String,

@@ -152,8 +152,11 @@ impl<R: BufRead> LogReader<R> {
             .into_iter()
             .filter(|c| self.header.iter().any(|h| h.eq_ignore_ascii_case(c)))
             .collect();
-        if found.is_empty() || planar(Column::Phi) || planar(Column::Gyro) {
+        if found.is_empty() {
             return Ok(());
+        }
+        if planar(Column::Phi) || planar(Column::Gyro) {
+            return self.refuse_3d_accel_axes(statuses, listing);
         }
         if let Some(what) = self.capital_3d() {
             let line = Some(self.lines.line());
@@ -183,6 +186,38 @@ impl<R: BufRead> LogReader<R> {
                 missing.join(", ")
             )
         };
+        let line = Some(self.lines.line());
+        Err(self.error(
+            line,
+            None,
+            LogErrorKind::NotPlanar {
+                what,
+                header: listing.to_string(),
+            },
+        ))
+    }
+
+    /// One axis of a 3-D log read as planar (`--map phi=phi_x,gyro=gyro_x`) with the 3-D
+    /// `ax`, `ay` as the planar ones: the roll axis's plane is the 3-D y, z (MODEL.md 7.4),
+    /// so `accel` gave -173 deg and Madgwick -140 deg on a level ride, exit 0. An error
+    /// with the whole map; `ax=ay,ay=az` given (or a log without `az`) passes.
+    fn refuse_3d_accel_axes(
+        &mut self,
+        statuses: &[ColumnStatus],
+        listing: &str,
+    ) -> Result<(), LogError> {
+        let source = |c: Column| statuses[c.index()].source.as_deref();
+        let has_az = self.header.iter().any(|h| h == "az");
+        if !has_az || (source(Column::Ax) != Some("ax") && source(Column::Ay) != Some("ay")) {
+            return Ok(());
+        }
+        let what = format!(
+            "--map reads one axis of a 3-D log (MODEL.md 7.6) as planar (phi <- {}) with its \
+             `ax`, `ay` as the planar ax, ay; the planar pendulum is the 3-D roll axis, whose \
+             plane is the 3-D y, z: every estimator reading the accelerometer would be \
+             wrong by up to 180 deg",
+            source(Column::Phi).unwrap_or("-")
+        );
         let line = Some(self.lines.line());
         Err(self.error(
             line,
