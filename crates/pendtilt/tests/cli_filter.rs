@@ -400,3 +400,28 @@ fn says_how_many_rows_a_missing_sample_spread_to() {
     let nan_rows = rows.iter().filter(|r| r[1] == "NaN").count();
     assert_eq!(nan_rows, 42);
 }
+
+#[test]
+fn a_log_shorter_than_the_filter_is_said_to_be_all_start_up() {
+    // 3 rows through the 51-tap filter gave the first value back three times, silently.
+    let dir = tempfile::tempdir().unwrap();
+    let (text, ..) = fixture(3, 1000.0);
+    let input = write(dir.path(), "short.csv", &text);
+    let out = dir.path().join("out.csv");
+    let o = run_on("filter", &input, &[], s(&out));
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains(
+            "short.csv: 3 rows, fewer than the filter's 51 taps: every output row is within \
+             its start-up"
+        ),
+        "{err}"
+    );
+    assert_eq!(read_csv(&out).1.len(), 3, "one row per input row");
+    // A log as long as the filter: no warning.
+    let (text, ..) = fixture(51, 1000.0);
+    let input = write(dir.path(), "long.csv", &text);
+    let o = run_on("filter", &input, &[], s(&out));
+    assert!(!stderr(&o).contains("start-up"), "{}", stderr(&o));
+}

@@ -615,6 +615,19 @@ pub fn run(args: Args) -> Result<()> {
         delay / plan.rate_hz * 1e3,
         if plan.shift > 0 { " (compensated)" } else { "" }
     );
+    // A log shorter than the filter is all start-up: 3 rows of the paper's filter gave the
+    // first value back three times, without a word.
+    if (applied.rows as usize) < plan.taps.len() {
+        eprintln!(
+            "warning: {}: {} rows, fewer than the filter's {} taps: every output row is within \
+             its start-up (the history before the first row is the first value held; the \
+             output follows the input only from row {} on): filter a longer log",
+            args.input.display(),
+            applied.rows,
+            plan.taps.len(),
+            plan.taps.len()
+        );
+    }
     for c in applied.columns.iter().filter(|c| c.missing_in > 0) {
         eprintln!(
             "note: column '{}': {} missing or NaN cell(s) made {} output row(s) NaN (each \
