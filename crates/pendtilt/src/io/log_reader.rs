@@ -816,8 +816,9 @@ impl<R: BufRead> LogReader<R> {
                 Some(Column::T),
                 None,
                 format!(
-                    "gap in time: {prev} to {t} s, {:.1} times the nominal step {nominal} s",
-                    dt / nominal
+                    "gap in time: {prev} to {t} s, {:.1} times the nominal step {} s",
+                    dt / nominal,
+                    seconds(nominal)
                 ),
             );
         } else if (dt - nominal).abs() > self.options.jitter_tolerance * nominal {
@@ -825,10 +826,20 @@ impl<R: BufRead> LogReader<R> {
                 WarningKind::TimeJitter,
                 Some(Column::T),
                 None,
-                format!("time step {dt} s against a nominal {nominal} s (jitter)"),
+                format!(
+                    "time step {} s against a nominal {} s (jitter)",
+                    seconds(dt),
+                    seconds(nominal)
+                ),
             );
         }
     }
+}
+
+/// A time step \[s\] as a reader writes it: to the nanosecond, without the rounding noise
+/// of a difference of two stamps (`0.0010000000000000009` is `0.001`).
+fn seconds(x: f64) -> String {
+    format!("{}", (x * 1e9).round() / 1e9)
 }
 
 impl<R: BufRead> Iterator for LogReader<R> {

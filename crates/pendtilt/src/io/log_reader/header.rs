@@ -159,9 +159,7 @@ impl<R: BufRead> LogReader<R> {
             return self.refuse_3d_accel_axes(statuses, listing);
         }
         if let Some(what) = self.capital_3d() {
-            let line = Some(self.lines.line());
-            let header = listing.to_string();
-            return Err(self.error(line, None, LogErrorKind::NotPlanar { what, header }));
+            return Err(self.not_planar(what, listing.to_string()));
         }
         let missing: Vec<String> = crate::io::LOG3D_COLUMNS[..crate::io::LOG3D_REQUIRED]
             .iter()
@@ -186,15 +184,7 @@ impl<R: BufRead> LogReader<R> {
                 missing.join(", ")
             )
         };
-        let line = Some(self.lines.line());
-        Err(self.error(
-            line,
-            None,
-            LogErrorKind::NotPlanar {
-                what,
-                header: listing.to_string(),
-            },
-        ))
+        Err(self.not_planar(what, listing.to_string()))
     }
 
     /// One axis of a 3-D log read as planar (`--map phi=phi_x,gyro=gyro_x`) with the 3-D
@@ -218,15 +208,7 @@ impl<R: BufRead> LogReader<R> {
              wrong by up to 180 deg",
             source(Column::Phi).unwrap_or("-")
         );
-        let line = Some(self.lines.line());
-        Err(self.error(
-            line,
-            None,
-            LogErrorKind::NotPlanar {
-                what,
-                header: listing.to_string(),
-            },
-        ))
+        Err(self.not_planar(what, listing.to_string()))
     }
 
     /// When the header has a 3-D log's columns (MODEL.md 7.6), some of them in other case
@@ -253,11 +235,16 @@ impl<R: BufRead> LogReader<R> {
     }
 
     /// The error for a header without a time column, with a hint at the likely cause.
+    /// The header's error for a log that is not planar: `what` it is, with the header's
+    /// `listing`.
+    fn not_planar(&mut self, what: String, header: String) -> LogError {
+        let line = Some(self.lines.line());
+        self.error(line, None, LogErrorKind::NotPlanar { what, header })
+    }
+
     fn missing_time(&mut self, statuses: &[ColumnStatus], listing: String) -> LogError {
         if let Some(what) = self.capital_3d() {
-            let line = Some(self.lines.line());
-            let header = listing;
-            return self.error(line, None, LogErrorKind::NotPlanar { what, header });
+            return self.not_planar(what, listing);
         }
         let hint = if let Some(s) = &statuses[Column::T.index()].suggestion {
             // Every column named but for case in one --map, not one round per column.
