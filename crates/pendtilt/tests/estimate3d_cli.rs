@@ -463,6 +463,23 @@ fn a_3d_header_with_units_in_its_names_is_named_with_the_fix() {
             && !e.contains("--deg"),
         "{e}"
     );
+    // Behind a logger's comment line the header is on line 2, and so is the sed (it said
+    // `1s/`, which renamed nothing).
+    let commented = format!("# logger 1.2\n{with_truth}");
+    let log = write(dir.path(), "k.csv", &commented);
+    let o = pendtilt(&["estimate", s(&log), "-o", s(&out)]);
+    let e = stderr(&o);
+    assert!(
+        e.contains("k.csv:2: `roll_rad` is `roll`") && e.contains("`sed -i '2s/roll_rad/roll/'"),
+        "{e}"
+    );
+    let sed = std::process::Command::new("sed")
+        .args(["-i", "2s/roll_rad/roll/", s(&log)])
+        .status()
+        .unwrap();
+    assert!(sed.success());
+    let o = pendtilt(&["estimate", s(&log), "-o", s(&out)]);
+    assert!(!stderr(&o).contains("in the name"), "{}", stderr(&o));
     // Plain names: no such words.
     let log = write(dir.path(), "c.csv", &clean);
     let o = pendtilt(&["estimate", s(&log), "-o", s(&out)]);

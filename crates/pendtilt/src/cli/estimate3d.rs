@@ -415,9 +415,10 @@ pub(crate) fn pass(
     let names = bank.names();
     let truth = log.has("roll") && log.has("pitch");
     // A truth named with its unit (`roll_deg`) is not read: say so, with the fix.
-    if let Some(h) = crate::io::unit_named_3d_hint(&["roll", "pitch"], log.header(), &file) {
+    let line = log.header_line();
+    if let Some(h) = crate::io::unit_named_3d_hint(&["roll", "pitch"], log.header(), &file, line) {
         opts.notice(&format!(
-            "warning: {file}:1: {h}; until then no inclination error is scored"
+            "warning: {file}:{line}: {h}; until then no inclination error is scored"
         ));
     }
     if !log.has("speed") {

@@ -436,9 +436,15 @@ fn sed_literal(text: &str) -> String {
 /// `--map`, and `--deg` for every angular column or none): the header names in
 /// `header` that are one of `columns` and an angular unit (`gyro_x[deg/s]`, `roll_deg`,
 /// the planar reader's `unit_named_suggestion` rule), said with the fix: the `sed`
-/// command that renames them in `file`, and `--deg` when a name says degrees. `None`
-/// when there is none.
-pub fn unit_named_3d_hint(columns: &[&str], header: &[String], file: &str) -> Option<String> {
+/// command that renames them in `file` on the header's `line` (1-based: a logger's
+/// comment lines may come before it), and `--deg` when a name says degrees. `None` when
+/// there is none.
+pub fn unit_named_3d_hint(
+    columns: &[&str],
+    header: &[String],
+    file: &str,
+    line: u64,
+) -> Option<String> {
     let found: Vec<(&str, &String)> = columns
         .iter()
         .filter(|c| !header.iter().any(|h| h == *c))
@@ -453,7 +459,7 @@ pub fn unit_named_3d_hint(columns: &[&str], header: &[String], file: &str) -> Op
         .collect();
     let sed: Vec<String> = found
         .iter()
-        .map(|(c, h)| format!("1s/{}/{c}/", sed_literal(h)))
+        .map(|(c, h)| format!("{line}s/{}/{c}/", sed_literal(h)))
         .collect();
     let deg = found
         .iter()

@@ -124,6 +124,11 @@ impl<R: BufRead> Log3dReader<R> {
         &self.header
     }
 
+    /// The header's 1-based line in the file (comment lines may come before it).
+    pub fn header_line(&self) -> u64 {
+        self.header_line
+    }
+
     /// NUL bytes removed from the lines so far (`csv_lines`): the line of the first and
     /// the count, for a warning ([`super::nul_message`]).
     pub fn take_nul(&mut self) -> Option<(u64, u64)> {
@@ -214,9 +219,10 @@ impl<R: BufRead> Log3dReader<R> {
             .collect();
         if !missing.is_empty() {
             let required = &LOG3D_COLUMNS[..LOG3D_REQUIRED];
-            let units = super::unit_named_3d_hint(required, &self.header, &self.file)
-                .map(|h| format!("; {h}"))
-                .unwrap_or_default();
+            let units =
+                super::unit_named_3d_hint(required, &self.header, &self.file, self.header_line)
+                    .map(|h| format!("; {h}"))
+                    .unwrap_or_default();
             let kind = LogErrorKind::MissingColumns {
                 missing: missing.join(", "),
                 header: format!("{}{units}", self.header.join(", ")),

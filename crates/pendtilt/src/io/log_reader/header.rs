@@ -174,7 +174,8 @@ impl<R: BufRead> LogReader<R> {
         } else {
             // A missing one under its name and a unit (`gyro_x[deg/s]`): its fix.
             let required = &crate::io::LOG3D_COLUMNS[..crate::io::LOG3D_REQUIRED];
-            let units = crate::io::unit_named_3d_hint(required, &self.header, &self.file)
+            let line = self.lines.line();
+            let units = crate::io::unit_named_3d_hint(required, &self.header, &self.file, line)
                 .map(|h| format!("; {h}"))
                 .unwrap_or_default();
             format!(
