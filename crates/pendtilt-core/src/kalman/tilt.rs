@@ -143,7 +143,8 @@ impl<T: Real> TiltKalman<T> {
     /// One sample: `dt` seconds after the previous one ([`Sample::dt`]), gyro `gyro` [rad/s], and `(z, r)` angle measurements
     /// [rad, rad^2], each used only if `z` is finite (otherwise flagged
     /// [`Flags::MEASUREMENT_SKIPPED`]). A missing gyro uses the last good one
-    /// ([`Flags::SAMPLE_MISSING`]).
+    /// ([`Flags::SAMPLE_MISSING`]). The filter starts on the usable measurement with the
+    /// least variance `r` (the first of equals).
     pub fn step(&mut self, dt: T, gyro: T, measurements: &[(T, T)]) -> Estimate<T> {
         let c = &self.coefficients;
         let st = &mut self.state;
@@ -167,9 +168,15 @@ impl<T: Real> TiltKalman<T> {
             st.last_gyro
         };
         if !st.started {
-            // x0 = [z0, 0] from the first usable measurement.
-            match measurements.iter().find(|(z, _)| z.is_finite()) {
-                Some(&(z0, _)) => {
+            // x0 = [z0, 0] from the usable measurement with the least variance: kf_fused
+            // started on the accelerometer's first reading, listed first, 10.8 deg off on
+            // the vibrating scooter ride.
+            let usable = measurements.iter().filter(|(z, _)| z.is_finite());
+            match usable.fold(None::<(T, T)>, |best, &(z, r)| match best {
+                Some((_, rb)) if rb <= r => best,
+                _ => Some((z, r)),
+            }) {
+                Some((z0, _)) => {
                     st.kf.x = Vector2::new(z0, T::zero());
                     st.started = true;
                     st.clock.accept();
@@ -410,6 +417,26 @@ mod tests {
         }
         assert!((kf.bias() - 0.05).abs() < 1e-3, "bias {}", kf.bias());
         assert!((kf.angle() - 0.2).abs() < 1e-3);
+    }
+
+    /// kf_fused lists the accelerometer first: the filter starts on the measurement it
+    /// trusts most, whatever the order, and on the first usable one if that is missing.
+    #[test]
+    fn starts_on_the_usable_measurement_with_the_least_variance() {
+        let mut kf = TiltKalman::<f64>::new(KalmanSettings::default());
+        let e = kf.step(0.0, 0.0, &[(0.19, 0.03), (0.02, 0.001)]);
+        assert_eq!(e.theta, 0.02);
+        assert!(e.flags.contains(Flags::INITIALISING));
+        let mut kf = TiltKalman::<f64>::new(KalmanSettings::default());
+        assert_eq!(
+            kf.step(0.0, 0.0, &[(0.19, 0.03), (f64::NAN, 0.001)]).theta,
+            0.19
+        );
+        let mut kf = TiltKalman::<f64>::new(KalmanSettings::default());
+        assert_eq!(
+            kf.step(0.0, 0.0, &[(0.19, 0.001), (0.02, 0.001)]).theta,
+            0.19
+        );
     }
 
     #[test]
