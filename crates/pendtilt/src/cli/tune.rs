@@ -259,8 +259,20 @@ fn header(args: &Args, log: &TuneLog, t: &Tuned) -> Vec<String> {
         )),
         _ => {}
     }
-    if let Some((_, b, a)) = t.accel_fit {
-        h.push(format!("kf_accel {what}: before {b:.5}, after {a:.5}"));
+    match t.accel_fit {
+        Some(a) if a.surrogate => h.push(format!(
+            "kf_accel predicted RMS error above {} Hz (surrogate from the gyro; blind to the \
+             accelerometer's error below it, from the body's own acceleration) [deg]: before \
+             {:.4}, after {:.4}",
+            tune::reference::CORNER_HZ,
+            a.before.to_degrees(),
+            a.after.to_degrees()
+        )),
+        Some(a) => h.push(format!(
+            "kf_accel {what}: before {:.5}, after {:.5}",
+            a.before, a.after
+        )),
+        None => {}
     }
     if let Some(e) = &t.ekf_fit {
         let adopted = match (t.target, t.ekf_band) {

@@ -17,7 +17,8 @@
 //! - [`surrogate`]: the same three against a surrogate of `kf_alg2`'s error built from
 //!   the gyro, a grid over R and q/R before the coordinate search (adopted when the log
 //!   has a gyro: the likelihood takes Algorithm 2's coloured errors as white and trusts
-//!   it too much).
+//!   it too much); and `kf_accel`'s R alone on the accelerometer's surrogate
+//!   ([`surrogate::fit_r`]; by likelihood without a gyro).
 //! - [`ekf`]: the EKF's process noise, the same way, from the measured forcing; with no
 //!   true angle the fit is adopted only if it lowers the process noise
 //!   ([`ekf::only_lowers`]: raising it made the EKF worse on 20 of 25 zoo rides); the
@@ -225,8 +226,8 @@ pub struct Tuned {
     pub kalman_fit: Option<kalman::Fitted>,
     /// The surrogate fit of `kf_alg2` (adopted when present).
     pub kalman_surrogate: Option<surrogate::Fitted>,
-    /// `kf_accel`'s R fit: (R, cost before, cost after).
-    pub accel_fit: Option<(f64, f64, f64)>,
+    /// `kf_accel`'s R fit.
+    pub accel_fit: Option<AccelFit>,
     /// The EKF's fit.
     pub ekf_fit: Option<ekf::EkfFitted>,
     /// The EKF's error against the gyro's integral above 0.2 Hz \[rad\] with the start's
@@ -241,6 +242,21 @@ pub struct Tuned {
     pub stopped_by_time_limit: bool,
 }
 
+/// `kf_accel`'s R fit (`kalman.r_accel`, which `kf_fused` shares).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AccelFit {
+    /// R \[rad^2\].
+    pub r: f64,
+    /// The cost at the start and at the fit: the surrogate's RMS error \[rad\], or the
+    /// mean negative log-likelihood of kf_accel's innovations (or its RMS error against
+    /// the truth) when there is no surrogate.
+    pub before: f64,
+    /// See [`Self::before`].
+    pub after: f64,
+    /// True when fitted on the surrogate ([`surrogate::fit_r`]).
+    pub surrogate: bool,
+}
+
 /// Cost evaluations [`tune`] plans (for a progress bar): the cutoff against the gyro, the
 /// jitter's scale (at most), the Kalman filters' three parameters (likelihood, and surrogate with its grid), `kf_accel`'s R and the
 /// EKF's two, each fit's passes.
@@ -252,7 +268,7 @@ pub fn planned_evaluations() -> u64 {
         + jitter
         + (1 + k * 3 * per)
         + surrogate::EVALUATIONS
-        + (1 + per)
+        + surrogate::EVALUATIONS_R
         + (1 + e * 2 * per)
 }
 
@@ -382,7 +398,7 @@ struct FilterFits {
     ekf: ModelSettings<f64>,
     kalman_fit: Option<kalman::Fitted>,
     kalman_surrogate: Option<surrogate::Fitted>,
-    accel_fit: Option<(f64, f64, f64)>,
+    accel_fit: Option<AccelFit>,
     ekf_fit: Option<ekf::EkfFitted>,
     ekf_band: Option<(f64, f64)>,
 }
@@ -426,10 +442,35 @@ fn fit_filters(
             z: &za,
         };
         let r0 = start.kalman.r_accel;
-        accel_fit = Some(targets::kalman_r(
-            &kalman_s, r0, &data, d.skip, opts, budget,
-        ));
-        kalman_s.r_accel = accel_fit.map_or(kalman_s.r_accel, |a| a.0);
+        let fit = match (opts.target, d.gyro_errors, &sur) {
+            // On the surrogate as kf_alg2's R, with the gyro's errors it drew.
+            (Target::Likelihood, Some(g), Some(k)) => {
+                let g = surrogate::GyroErrors {
+                    bias_walk: k.bias_walk,
+                    ..g
+                };
+                let s = surrogate::Surrogate::new(d.samples, &za, &g);
+                let (r, before, after) = surrogate::fit_r(&kalman_s, r0, &s, d.skip, budget);
+                AccelFit {
+                    r,
+                    before,
+                    after,
+                    surrogate: true,
+                }
+            }
+            _ => {
+                let (r, before, after) =
+                    targets::kalman_r(&kalman_s, r0, &data, d.skip, opts, budget);
+                AccelFit {
+                    r,
+                    before,
+                    after,
+                    surrogate: false,
+                }
+            }
+        };
+        kalman_s.r_accel = fit.r;
+        accel_fit = Some(fit);
     }
     let e = targets::ekf(&ekf_start, d.samples, d.skip, opts, budget);
     // The EKF's error against the gyro's integral above 0.2 Hz with the start and the
@@ -655,7 +696,7 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         &fits.kalman,
         fits.kalman_fit.as_ref(),
         fits.kalman_surrogate.as_ref(),
-        fits.accel_fit,
+        fits.accel_fit.as_ref(),
         &ekf_start,
         fits.ekf_fit.as_ref(),
         fits.ekf_band,

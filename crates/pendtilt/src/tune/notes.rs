@@ -330,7 +330,7 @@ pub(super) fn filters(
     k: &KalmanSettings<f64>,
     kf: Option<&Fitted>,
     sur: Option<&super::surrogate::Fitted>,
-    accel: Option<(f64, f64, f64)>,
+    accel: Option<&super::AccelFit>,
     ekf_start: &ModelSettings<f64>,
     ekf: Option<&EkfFitted>,
     ekf_band: Option<(f64, f64)>,
@@ -346,14 +346,28 @@ pub(super) fn filters(
         .to_string();
     kalman_notes(start, k, kf, sur, &cost, &why, notes);
     match accel {
-        Some((r, b, a)) => note(
+        Some(a) if a.surrogate => note(
             notes,
             "kalman.r_accel",
-            format!("{r:.4e} rad^2"),
+            format!("{:.4e} rad^2", a.r),
+            false,
+            format!(
+                "fitted on a surrogate of kf_accel's error (the accelerometer angle's error above \
+                 {} Hz from the gyro's integral, the gyro's errors drawn as for kf_alg2), \
+                 q_angle and q_bias as above; RMS {:.4} -> {:.4} deg (kf_fused shares it)",
+                super::reference::CORNER_HZ,
+                a.before.to_degrees(),
+                a.after.to_degrees()
+            ),
+        ),
+        Some(a) => note(
+            notes,
+            "kalman.r_accel",
+            format!("{:.4e} rad^2", a.r),
             false,
             format!(
                 "fitted on kf_accel's innovations, q_angle and q_bias as above; {}",
-                cost(b, a)
+                cost(a.before, a.after)
             ),
         ),
         None => note(
