@@ -225,7 +225,13 @@ fn panels_are_drawn_one_above_the_other() {
     let dir = tempfile::tempdir().unwrap();
     let (t, y) = sine_run();
     let big: Vec<f64> = y.iter().map(|v| 100.0 * v).collect();
-    let panels: Vec<Panel> = [("raw", &y), ("Kalman filters", &big), ("peers", &y)]
+    // The peers start late: every panel still spans the same time.
+    let late: Vec<f64> = y
+        .iter()
+        .enumerate()
+        .map(|(k, v)| if k < y.len() / 4 { f64::NAN } else { *v })
+        .collect();
+    let panels: Vec<Panel> = [("raw", &y), ("Kalman filters", &big), ("peers", &late)]
         .into_iter()
         .map(|(title, v)| Panel {
             spec: FigureSpec::new(title, "time [s]", "angle [deg]"),
@@ -244,6 +250,9 @@ fn panels_are_drawn_one_above_the_other() {
     check(&f, 1200, 3 * 420 + 50, "every estimate");
     assert_eq!(f.axes.len(), 3);
     assert!(f.axes[1].y_range.1 > 50.0 && f.axes[0].y_range.1 < 2.0);
+    for a in &f.axes {
+        assert_eq!(a.x_range, (t[0], t[t.len() - 1]), "{}", a.title);
+    }
     let svg = std::fs::read_to_string(&f.svg).unwrap();
     for title in ["raw", "Kalman filters", "peers"] {
         assert!(

@@ -83,7 +83,7 @@ h1{font-size:1.7em;border-bottom:2px solid #444;padding-bottom:.2em}\
 h2{font-size:1.3em;margin-top:1.8em}\
 table{border-collapse:collapse;margin:.6em 0;font-size:.92em}\
 th,td{border:1px solid #bbb;padding:.3em .6em;text-align:right;vertical-align:top}\
-th{background:#eee}td.name,td.text{text-align:left}\
+th{background:#eee}td.name,td.text{text-align:left}td.name{white-space:nowrap}\
 tr:nth-child(even) td{background:#fafafa}\
 .sw{display:inline-block;width:.9em;height:.9em;margin-right:.4em;vertical-align:-.1em;\
 border:1px solid #888}\

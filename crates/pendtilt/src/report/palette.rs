@@ -17,10 +17,15 @@ pub const DEFAULT_COLOURS: &[(&str, RGBColor)] = &[
     ("alg1", RGBColor(31, 119, 180)),
     ("alg2", RGBColor(44, 160, 44)),
     ("alg3", RGBColor(214, 39, 40)),
+    // alg2's variants: a lighter alg2, and a hue of their own
+    ("alg2_offset", RGBColor(152, 223, 138)),
+    ("alg2_dc", RGBColor(90, 60, 160)),
     ("kf_pendulum", RGBColor(196, 156, 148)),
     ("kf_alg1", RGBColor(23, 190, 207)),
     ("kf_alg2", RGBColor(148, 103, 189)),
     ("kf_alg3", RGBColor(227, 119, 194)),
+    // not the fallback's amber, which sat beside kf_accel's orange in one panel
+    ("kf_fused", RGBColor(0, 128, 128)),
     ("ekf", RGBColor(188, 189, 34)),
     ("ukf", RGBColor(0, 90, 50)),
     ("madgwick", RGBColor(120, 0, 120)),
@@ -120,6 +125,47 @@ mod tests {
         let mut q = Palette::empty();
         q.set("alg2", RGBColor(1, 2, 3));
         assert_eq!(q.colour("alg2"), RGBColor(1, 2, 3));
+    }
+
+    /// Every series of one panel of the small multiples (`super::super::families`) has a
+    /// fixed colour at least 80 apart (RGB distance) from the others: kf_fused had the
+    /// fallback's amber, 37 from kf_accel's orange in the Kalman panel.
+    #[test]
+    fn each_panel_s_series_have_fixed_colours_far_apart() {
+        use crate::report::families::group;
+        let bank = [
+            "accel",
+            "pendulum",
+            "alg1",
+            "alg2",
+            "alg2_offset",
+            "alg2_dc",
+            "alg3",
+            "kf_accel",
+            "kf_alg1",
+            "kf_alg2",
+            "kf_alg3",
+            "kf_fused",
+            "ekf",
+            "ukf",
+            "madgwick",
+            "mahony",
+            "complementary",
+        ];
+        let fixed = |n: &str| DEFAULT_COLOURS.iter().find(|(m, _)| *m == n).map(|c| c.1);
+        for (family, names) in group(bank) {
+            for (i, a) in names.iter().enumerate() {
+                let ca = fixed(a).unwrap_or_else(|| panic!("{a} has no fixed colour"));
+                for b in &names[i + 1..] {
+                    let cb = fixed(b).unwrap();
+                    let d = ((ca.0 as f64 - cb.0 as f64).powi(2)
+                        + (ca.1 as f64 - cb.1 as f64).powi(2)
+                        + (ca.2 as f64 - cb.2 as f64).powi(2))
+                    .sqrt();
+                    assert!(d >= 80.0, "{family:?}: {a} and {b} are {d:.0} apart");
+                }
+            }
+        }
     }
 
     #[test]

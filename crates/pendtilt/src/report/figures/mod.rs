@@ -163,6 +163,8 @@ pub struct FigureSpec {
 pub struct AxisInfo {
     /// The panel's title.
     pub title: String,
+    /// The abscissa range drawn.
+    pub x_range: (f64, f64),
     /// The ordinate range drawn.
     pub y_range: (f64, f64),
     /// The points cut at the frame.
@@ -602,6 +604,7 @@ fn write_figure(
             .iter()
             .map(|a| AxisInfo {
                 title: a.spec.title.clone(),
+                x_range: a.ranges.0,
                 y_range: a.ranges.1,
                 beyond: a.beyond,
             })
@@ -653,7 +656,8 @@ pub struct Panel<'a> {
 }
 
 /// Small multiples: the panels stacked top to bottom under one `title`, each `width` x
-/// `panel_height` pixels with its own ordinate range, written as `dir/stem.png` and
+/// `panel_height` pixels with its own ordinate range and one abscissa range for all (the
+/// union of theirs, so that a time lines up down the page), written as `dir/stem.png` and
 /// `.svg`. Errors as [`plot_curves`], for any panel.
 pub fn plot_panels(
     dir: &Path,
@@ -673,7 +677,7 @@ pub fn plot_panels(
     if panels.is_empty() {
         return Err(ReportError::Empty(format!("figure {stem}: panel list")));
     }
-    let axes = panels
+    let mut axes = panels
         .iter()
         .map(|p| {
             let mut spec = p.spec.clone();
@@ -681,6 +685,14 @@ pub fn plot_panels(
             build_axis(stem, &spec, &p.curves, palette)
         })
         .collect::<Result<Vec<_>, _>>()?;
+    // The peers' panel started where their first estimate did, and its ticks fell at
+    // other times than the panels above it.
+    let x = axes.iter().fold((f64::MAX, f64::MIN), |(a, b), ax| {
+        (a.min(ax.ranges.0 .0), b.max(ax.ranges.0 .1))
+    });
+    for ax in axes.iter_mut() {
+        ax.ranges.0 = x;
+    }
     let height = panel_height * panels.len() as u32 + 50;
     write_figure(dir, stem, title, Some(title), (width, height), &axes)
 }
