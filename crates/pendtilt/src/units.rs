@@ -209,7 +209,12 @@ impl UnitCheck {
     /// A check for a log with `inputs` (and a `theta` column if `with_theta`), for the
     /// pendulum of `settings`.
     pub fn new(settings: &BankSettings, inputs: Inputs) -> Self {
-        let f_n = settings.params().natural_frequency_hz();
+        Self::with_natural_frequency(settings.params().natural_frequency_hz(), inputs)
+    }
+
+    /// A check for a log with `inputs`, for a pendulum of natural frequency `f_n` \[Hz\]
+    /// (one axis of a 3-D pendulum: each has its own).
+    pub fn with_natural_frequency(f_n: f64, inputs: Inputs) -> Self {
         let cutoff = if f_n.is_finite() && f_n > 0.0 {
             CUTOFF_TIMES_NATURAL * f_n
         } else {

@@ -201,3 +201,117 @@ fn reader_errors_name_file_line_and_column() {
     let e = Log3dReader::open(&planar).unwrap_err().to_string();
     assert!(e.contains(":1: not a 3-D log: no `phi_x`"), "{e}");
 }
+
+/// A 3-D scenario file of some keys is applied on top of the named scenario, key by key,
+/// as a planar one is (session 13: with `--scenario scooter3d` it was refused as "is a
+/// scenario" with an empty name; with its own `scenario = "ship3d"` as "missing field
+/// `duration`", no file named). A whole file still reruns to the same bytes; a file naming
+/// another scenario than --scenario, or none at all, is a clear error.
+#[test]
+fn a_3d_scenario_file_of_some_keys_overrides_the_named_scenario() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name);
+    std::fs::write(p("part.toml"), "[rig.pendulum3d]\ninertia_xx = 0.0026\n").unwrap();
+    std::fs::write(
+        p("ship.toml"),
+        "scenario = \"ship3d\"\nseed = 4\n[rig.pendulum3d]\ninertia_xx = 0.0026\n",
+    )
+    .unwrap();
+    let base = Scenario3d::named("scooter3d", 1).unwrap();
+    ok(&[
+        "simulate",
+        "--scenario",
+        "scooter3d",
+        "--config",
+        s(&p("part.toml")),
+        "--duration",
+        "0.5",
+        "-q",
+        "-o",
+        s(&p("a.csv")),
+    ]);
+    let text = std::fs::read_to_string(p("a.scenario.toml")).unwrap();
+    let (got, _) = Scenario3d::from_toml(&text, "a.scenario.toml").unwrap();
+    let mut want = base.clone();
+    want.duration = 0.5;
+    want.rig.pendulum3d.inertia_xx = 0.0026;
+    assert_eq!(got, want);
+    // Its own `scenario` key and seed name the base.
+    ok(&[
+        "simulate",
+        "--config",
+        s(&p("ship.toml")),
+        "--duration",
+        "0.5",
+        "-q",
+        "-o",
+        s(&p("b.csv")),
+    ]);
+    let text = std::fs::read_to_string(p("b.scenario.toml")).unwrap();
+    assert!(text.contains("scenario = \"ship3d\"\nseed = 4\n"), "{text}");
+    let (got, _) = Scenario3d::from_toml(&text, "b.scenario.toml").unwrap();
+    let mut want = Scenario3d::named("ship3d", 4).unwrap();
+    want.duration = 0.5;
+    want.rig.pendulum3d.inertia_xx = 0.0026;
+    assert_eq!(got, want);
+    // A whole file reruns to the same bytes.
+    ok(&[
+        "simulate",
+        "--config",
+        s(&p("b.scenario.toml")),
+        "-q",
+        "-o",
+        s(&p("c.csv")),
+    ]);
+    assert_eq!(
+        std::fs::read(p("b.csv")).unwrap(),
+        std::fs::read(p("c.csv")).unwrap()
+    );
+    let err = |args: &[&str]| {
+        let o = pendtilt(args);
+        assert!(!o.status.success());
+        stderr(&o)
+    };
+    let e = err(&[
+        "simulate",
+        "--scenario",
+        "scooter3d",
+        "--config",
+        s(&p("ship.toml")),
+        "-o",
+        s(&p("d.csv")),
+    ]);
+    assert!(
+        e.contains("--scenario scooter3d: the --config file ")
+            && e.contains("ship.toml is a ship3d scenario (its `scenario` key): give one of them"),
+        "{e}"
+    );
+    let e = err(&[
+        "simulate",
+        "--config",
+        s(&p("part.toml")),
+        "-o",
+        s(&p("d.csv")),
+    ]);
+    assert!(
+        e.contains("no base scenario") && e.contains("a 3-D one: still3d, scooter3d"),
+        "{e}"
+    );
+    std::fs::write(p("typo.toml"), "[rig.pendulum3d]\ninertia_x = 0.0026\n").unwrap();
+    let e = err(&[
+        "simulate",
+        "--scenario",
+        "scooter3d",
+        "--config",
+        s(&p("typo.toml")),
+        "-o",
+        s(&p("d.csv")),
+    ]);
+    assert!(
+        e.contains(
+            "typo.toml: `rig.pendulum3d.inertia_x` (line 2, column 1): unknown field `inertia_x`"
+        ),
+        "{e}"
+    );
+    assert!(!p("d.csv").exists());
+}

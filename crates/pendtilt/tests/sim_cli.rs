@@ -147,6 +147,25 @@ fn bad_input_fails_with_a_clear_message() {
         err.contains("bad.toml") && err.contains("motion.frequency"),
         "{err}"
     );
+    // A value of the wrong type, or a misspelt key, is named and placed (session 13: it
+    // said `bad.toml: invalid type: string "abc", expected f64`, no key, no line).
+    for (text, want) in [
+        (
+            "scenario = \"sine\"\n\n[pendulum]\nmass = \"abc\"\n",
+            "bad.toml: `pendulum.mass` (line 4, column 1): invalid type: string \"abc\", expected f64",
+        ),
+        (
+            "scenario = \"sine\"\nduration = 2\n[pendulum]\n  lenght = 0.1\n",
+            "bad.toml: `pendulum.lenght` (line 4, column 3): unknown field `lenght`",
+        ),
+    ] {
+        std::fs::write(&cfg, text).unwrap();
+        let out = pendtilt(&["simulate", "--config", s(&cfg), "-o", s(&log)]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(err.contains(want), "{err}");
+    }
+    assert!(!log.exists());
 }
 
 #[test]

@@ -444,7 +444,7 @@ pub(crate) fn pass(
     }
     let header: Vec<String> = log.header().to_vec();
     let mut row = RowInput::new(setup, &file, &header);
-    let mut gyro_units = GyroUnits::new();
+    let mut gyro_units = GyroUnits::new(&setup.settings.ekf.params);
     let mut gate = StepGate::new();
     let mut scores = vec![Inclination::default(); names.len()];
     let mut quats = vec![None; names.len()];
@@ -534,15 +534,23 @@ struct GyroUnits {
 }
 
 impl GyroUnits {
-    fn new() -> Self {
-        let settings = crate::cli::options::rig_bank_settings(&crate::config::RigConfig::default());
+    /// For the rig's pendulum, each axis below its own natural frequency (the default
+    /// planar rig's, 2.19 Hz, let a 0.49 Hz pendulum's swing into the comparison: a gyro in
+    /// deg/s read as 43x on ship3d's roll and was not found on its pitch).
+    fn new(params: &pendtilt_core::spatial::cardan::CardanParams<f64>) -> Self {
         let inputs = crate::bank::Inputs {
             phi: true,
             gyro: true,
             accel: false,
         };
+        let w = params.natural_frequencies();
         Self {
-            axes: std::array::from_fn(|_| crate::units::UnitCheck::new(&settings, inputs)),
+            axes: std::array::from_fn(|i| {
+                crate::units::UnitCheck::with_natural_frequency(
+                    w[i] / std::f64::consts::TAU,
+                    inputs,
+                )
+            }),
         }
     }
 

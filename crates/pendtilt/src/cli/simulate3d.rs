@@ -67,21 +67,37 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario3d, String, u64)> {
         Some(path) => {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("cannot read --config {}", path.display()))?;
-            let name = text
-                .parse::<toml::Table>()
-                .ok()
-                .and_then(|t| t.get("scenario")?.as_str().map(String::from))
-                .unwrap_or_default();
-            if let Some(n) = &args.scenario {
-                if *n != name {
+            let table = text.parse::<toml::Table>().ok();
+            let file_name = table
+                .as_ref()
+                .and_then(|t| t.get("scenario")?.as_str().map(String::from));
+            let origin = path.display().to_string();
+            if let (Some(n), Some(f)) = (&args.scenario, &file_name) {
+                if n != f {
                     bail!(
-                        "--scenario {n}: the --config file {} is a {name} scenario",
-                        path.display()
+                        "--scenario {n}: the --config file {origin} is a {f} scenario (its \
+                         `scenario` key): give one of them"
                     );
                 }
             }
-            let (s, file_seed) = Scenario3d::from_toml(&text, &path.display().to_string())?;
-            (s, name, args.seed.or(file_seed).unwrap_or(DEFAULT_SEED))
+            // The file's keys on top of the named scenario, key by key as a planar file's:
+            // a file of some keys was read as a whole scenario, and refused (`is a  scenario`
+            // with --scenario; `missing field `duration`` with its own `scenario` key).
+            let Some(name) = args.scenario.clone().or(file_name) else {
+                bail!(
+                    "{origin}: no base scenario: give --scenario NAME or a top-level \
+                     `scenario = \"NAME\"` (a 3-D one: {})",
+                    SCENARIO3D_NAMES.join(", ")
+                );
+            };
+            // The seed draws the base's random parts: the file's, if it has one.
+            let file_seed = table
+                .as_ref()
+                .and_then(|t| t.get("seed")?.as_integer())
+                .and_then(|s| u64::try_from(s).ok());
+            let seed = args.seed.or(file_seed).unwrap_or(DEFAULT_SEED);
+            let (s, _) = Scenario3d::named(&name, seed)?.merged(&text, &origin)?;
+            (s, name, seed)
         }
         None => {
             let name = args.scenario.clone().unwrap_or_default();

@@ -328,21 +328,28 @@ impl Scenario {
         table.remove("scenario");
         let seed = seed_of(&table, origin)?;
         table.remove("seed");
-        Ok((self.merged_table(table, origin)?, seed))
+        Ok((self.merged_from(table, Some(text), origin)?, seed))
     }
 
     fn merged_table(&self, table: toml::Table, origin: &str) -> Result<Self, SimError> {
-        let mut base = toml::Table::try_from(self).map_err(|e| SimError::Config {
+        self.merged_from(table, None, origin)
+    }
+
+    /// [`Self::merged_table`] of the table read from `text`, which places a bad key.
+    fn merged_from(
+        &self,
+        table: toml::Table,
+        text: Option<&str>,
+        origin: &str,
+    ) -> Result<Self, SimError> {
+        let base = toml::Table::try_from(self).map_err(|e| SimError::Config {
             origin: origin.to_string(),
             message: format!("cannot represent the base scenario: {e}"),
         })?;
-        merge(&mut base, table, "");
-        let out: Self = toml::Value::Table(base)
-            .try_into()
-            .map_err(|e: toml::de::Error| SimError::Config {
-                origin: origin.to_string(),
-                message: e.message().to_string(),
-            })?;
+        let out: Self = merge_into(base, table, text).map_err(|message| SimError::Config {
+            origin: origin.to_string(),
+            message,
+        })?;
         out.validate().map_err(|e| SimError::Config {
             origin: origin.to_string(),
             message: e.to_string(),
@@ -402,6 +409,84 @@ fn seed_of(table: &toml::Table, origin: &str) -> Result<Option<u64>, SimError> {
     }
 }
 
+/// `over` merged onto `base` (a scenario as a table, [`merge`]) and read as `T`. A key
+/// that `T` cannot take (a value of the wrong type, a name it does not know) is named, and
+/// placed in `text` (what `over` was read from) by line and column: the error alone said
+/// `invalid type: string "abc", expected f64`, no key, no line.
+pub(crate) fn merge_into<T: serde::de::DeserializeOwned>(
+    base: toml::Table,
+    over: toml::Table,
+    text: Option<&str>,
+) -> Result<T, String> {
+    let read = |over: toml::Table| {
+        let mut m = base.clone();
+        merge(&mut m, over, "");
+        toml::Value::Table(m).try_into::<T>()
+    };
+    let message = match read(over.clone()) {
+        Ok(t) => return Ok(t),
+        Err(e) => e.message().to_string(),
+    };
+    // The key: the first leaf that, merged alone, fails the same way.
+    let mut leaves = Vec::new();
+    leaf_paths(&over, &mut Vec::new(), &mut leaves);
+    for (path, value) in leaves {
+        let single = path.iter().rev().fold(value, |v, k| {
+            let mut t = toml::Table::new();
+            t.insert(k.clone(), v);
+            toml::Value::Table(t)
+        });
+        let toml::Value::Table(single) = single else {
+            continue;
+        };
+        if read(single).is_err_and(|e| e.message() == message) {
+            let at = text
+                .and_then(|t| key_position(t, &path))
+                .map(|(line, col)| format!(" (line {line}, column {col})"))
+                .unwrap_or_default();
+            return Err(format!("`{}`{at}: {message}", path.join(".")));
+        }
+    }
+    Err(message)
+}
+
+/// Every non-table value of `t` with its key path.
+fn leaf_paths(
+    t: &toml::Table,
+    prefix: &mut Vec<String>,
+    out: &mut Vec<(Vec<String>, toml::Value)>,
+) {
+    for (k, v) in t {
+        prefix.push(k.clone());
+        match v {
+            toml::Value::Table(sub) => leaf_paths(sub, prefix, out),
+            v => out.push((prefix.clone(), v.clone())),
+        }
+        prefix.pop();
+    }
+}
+
+/// Line and column (from 1) of the key `path` in the TOML `text`.
+fn key_position(text: &str, path: &[String]) -> Option<(usize, usize)> {
+    let doc = toml::de::DeTable::parse(text).ok()?;
+    let mut table = doc.get_ref();
+    for (i, k) in path.iter().enumerate() {
+        let (key, value) = table.iter().find(|(key, _)| key.get_ref().as_ref() == k)?;
+        if i + 1 == path.len() {
+            let at = key.span().start;
+            let before = &text[..at];
+            let line = before.matches('\n').count() + 1;
+            let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+            return Some((line, col));
+        }
+        match value.get_ref() {
+            toml::de::DeValue::Table(t) => table = t,
+            _ => return None,
+        }
+    }
+    None
+}
+
 /// Deep merge of `over` into `base`: tables merge key by key, anything else replaces.
 /// A `[motion]` with a different `kind` replaces the whole motion table, so that the new
 /// kind starts from its own defaults.
@@ -457,8 +542,9 @@ pub fn load_config(path: &Path, name: Option<&str>) -> Result<(Scenario, Option<
             origin,
             message: format!(
                 "no base scenario: give --scenario NAME or a top-level `scenario = \"NAME\"` \
-                 (one of {})",
-                SCENARIO_NAMES.join(", ")
+                 (one of {}, or a 3-D one: {})",
+                SCENARIO_NAMES.join(", "),
+                crate::sim3d::SCENARIO3D_NAMES.join(", ")
             ),
         });
     };

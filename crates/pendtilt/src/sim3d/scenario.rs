@@ -250,6 +250,35 @@ pub fn check_mounting(m: &Mounting, table: &str) -> Result<(), SimError> {
     Ok(())
 }
 
+impl Scenario3d {
+    /// Applies a scenario TOML (text) of some keys on top of `self`, key by key as a planar
+    /// scenario file is (`[rig.pendulum3d] inertia_xx = 0.0026` alone changes that);
+    /// returns the new scenario and the file's `seed`, if any. The file's `scenario` key is
+    /// the caller's (it names the base). `origin` names the text in errors.
+    pub fn merged(&self, text: &str, origin: &str) -> Result<(Self, Option<u64>), SimError> {
+        let config = |message: String| SimError::Config {
+            origin: origin.into(),
+            message,
+        };
+        let mut over: toml::Table = toml::from_str(text).map_err(|e| config(e.to_string()))?;
+        over.remove("scenario");
+        let seed = match over.remove("seed") {
+            None => None,
+            Some(toml::Value::Integer(s)) if s >= 0 => Some(s as u64),
+            Some(v) => {
+                return Err(config(format!(
+                    "seed: must be a non-negative integer, got {v}"
+                )))
+            }
+        };
+        let base = toml::Table::try_from(self)
+            .map_err(|e| config(format!("cannot represent the base scenario: {e}")))?;
+        let s: Self = crate::sim::scenario::merge_into(base, over, Some(text)).map_err(config)?;
+        s.validate().map_err(|e| config(e.to_string()))?;
+        Ok((s, seed))
+    }
+}
+
 /// A scenario file: [`Scenario3d`]'s keys and the name and seed it was made with.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
