@@ -360,12 +360,13 @@ pub const DOUBTFUL_ACCEL_FULL_SCALE_HIGH: f64 = 200.0 * DEFAULT_GRAVITY;
 /// The one check of a gyro full scale \[rad/s\] under `key` (`gyro.full_scale`): above
 /// [`DOUBTFUL_GYRO_FULL_SCALE`] it is far more likely deg/s read as rad/s (500 for
 /// 500 deg/s: the clip finder and the plausibility bound then never act). The sentence
-/// names the key, the value and the fix (`write gyro.full_scale = 8.73`).
-pub fn doubt_gyro_full_scale(key: &str, full_scale: f64) -> Option<String> {
+/// names the key, the value and the fix (`write gyro.full_scale = 8.73`); `source` the
+/// file it is written in (`rig file`, `scenario file`).
+pub fn doubt_gyro_full_scale(key: &str, full_scale: f64, source: &str) -> Option<String> {
     (full_scale > DOUBTFUL_GYRO_FULL_SCALE).then(|| {
         format!(
             "{key}: {full_scale} rad/s is above {:.1} rad/s (4000 deg/s), more than any MEMS \
-             gyro has: if it was written in deg/s, write {key} = {} (the rig file is in \
+             gyro has: if it was written in deg/s, write {key} = {} (the {source} is in \
              rad/s)",
             DOUBTFUL_GYRO_FULL_SCALE,
             plain(full_scale.to_radians())
@@ -376,13 +377,14 @@ pub fn doubt_gyro_full_scale(key: &str, full_scale: f64) -> Option<String> {
 /// The one check of an accelerometer full scale \[m/s^2\] under `key`
 /// (`accel.full_scale`): below [`DOUBTFUL_ACCEL_FULL_SCALE_LOW`] it is far more likely
 /// written in g (16 for 16 g), above [`DOUBTFUL_ACCEL_FULL_SCALE_HIGH`] in mg. The
-/// sentence names the key, the value and the fix in m/s^2.
-pub fn doubt_accel_full_scale(key: &str, full_scale: f64) -> Option<String> {
+/// sentence names the key, the value and the fix in m/s^2; `source` the file it is
+/// written in.
+pub fn doubt_accel_full_scale(key: &str, full_scale: f64, source: &str) -> Option<String> {
     if full_scale > 0.0 && full_scale < DOUBTFUL_ACCEL_FULL_SCALE_LOW {
         Some(format!(
             "{key}: {full_scale} m/s^2 is below {:.1} m/s^2 (2 g), less than any MEMS \
              accelerometer has: written in g? {full_scale} g is {:.1} m/s^2: write {key} = {} \
-             (the rig file is in m/s^2)",
+             (the {source} is in m/s^2)",
             DOUBTFUL_ACCEL_FULL_SCALE_LOW,
             full_scale * DEFAULT_GRAVITY,
             plain(full_scale * DEFAULT_GRAVITY)
@@ -392,7 +394,7 @@ pub fn doubt_accel_full_scale(key: &str, full_scale: f64) -> Option<String> {
         Some(format!(
             "{key}: {full_scale} m/s^2 is above {:.0} m/s^2 (200 g), more than any IMU \
              accelerometer has: written in mg? {full_scale} mg is {:.1} m/s^2: write {key} = \
-             {} (the rig file is in m/s^2)",
+             {} (the {source} is in m/s^2)",
             DOUBTFUL_ACCEL_FULL_SCALE_HIGH,
             g * DEFAULT_GRAVITY,
             plain(g * DEFAULT_GRAVITY)
@@ -496,12 +498,12 @@ impl RigConfig {
         d.extend(
             self.gyro
                 .full_scale
-                .and_then(|f| doubt_gyro_full_scale("gyro.full_scale", f)),
+                .and_then(|f| doubt_gyro_full_scale("gyro.full_scale", f, "rig file")),
         );
         d.extend(
             self.accel
                 .full_scale
-                .and_then(|f| doubt_accel_full_scale("accel.full_scale", f)),
+                .and_then(|f| doubt_accel_full_scale("accel.full_scale", f, "rig file")),
         );
         d
     }

@@ -433,3 +433,49 @@ fn a_missing_config_file_is_named_once() {
     assert!(e.contains("nope.toml: No such file or directory"), "{e}");
     assert_eq!(e.matches("No such file").count(), 1, "{e}");
 }
+
+/// The sensors' full scales in a scenario file or `--set` get the rig file's unit checks
+/// (session 13: `full_scale = 500`, meant as deg/s, simulated a gyro that never clips, and
+/// `[sensors.accel] full_scale = 16`, meant as g, one that clips at 1.6 g, without a
+/// word). No built-in scenario is doubted.
+#[test]
+fn full_scales_in_another_unit_in_a_scenario_are_doubted() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("x.csv");
+    let cfg = dir.path().join("fs.toml");
+    std::fs::write(
+        &cfg,
+        "scenario = \"scooter\"\n[sensors.accel]\nfull_scale = 16\n",
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        let out = pendtilt(
+            &[
+                &["simulate"][..],
+                args,
+                &["--duration", "0.5", "-o", s(&log)][..],
+            ]
+            .concat(),
+        );
+        assert!(out.status.success());
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let e = run(&["--config", s(&cfg)]);
+    assert!(
+        e.contains("fs.toml: sensors.accel.full_scale: 16 m/s^2 is below 19.6 m/s^2 (2 g)")
+            && e.contains(
+                "write sensors.accel.full_scale = 156.906 (the scenario file is in m/s^2)"
+            ),
+        "{e}"
+    );
+    let e = run(&["--scenario", "sine", "--set", "sensors.gyro.full_scale=500"]);
+    assert!(
+        e.contains("--set sensors.gyro.full_scale=500: sensors.gyro.full_scale: 500 rad/s is above 69.8 rad/s")
+            && e.contains("write sensors.gyro.full_scale = 8.72665"),
+        "{e}"
+    );
+    for name in ["still", "sigmoid", "step", "sine", "chirp", "scooter"] {
+        let e = run(&["--scenario", name]);
+        assert!(!e.contains("warning"), "{name}: {e}");
+    }
+}

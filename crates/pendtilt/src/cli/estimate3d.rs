@@ -219,7 +219,9 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
                 opts.notice(&format!("warning: {}: {d}", p.display()));
             }
             let fs = rig.gyro.full_scale;
-            if let Some(d) = fs.and_then(|f| doubt_gyro_full_scale("gyro.full_scale", f)) {
+            if let Some(d) =
+                fs.and_then(|f| doubt_gyro_full_scale("gyro.full_scale", f, "rig file"))
+            {
                 opts.notice(&format!("warning: {}: {d}", p.display()));
             }
             let mut settings = Settings3d::new(

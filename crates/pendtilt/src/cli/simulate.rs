@@ -188,6 +188,43 @@ pub fn length_doubts(args: &Args, s: &Scenario) -> anyhow::Result<Vec<String>> {
     Ok(out)
 }
 
+/// The sensors' full scales in another unit (a gyro's in deg/s, an accelerometer's in g
+/// or mg: [`crate::config::doubt_gyro_full_scale`], the check every rig file gets), each
+/// worded for where it was set: `--set` or `--config`. A gyro of `full_scale = 500`,
+/// meant as deg/s, simulated a gyro that never clips, without a word.
+pub fn full_scale_doubts(args: &Args, s: &Scenario) -> Vec<String> {
+    let doubts = [
+        (
+            "sensors.gyro.full_scale",
+            s.sensors.gyro.full_scale,
+            crate::config::doubt_gyro_full_scale as fn(&str, f64, &str) -> Option<String>,
+        ),
+        (
+            "sensors.accel.full_scale",
+            s.sensors.accel.full_scale,
+            crate::config::doubt_accel_full_scale,
+        ),
+    ];
+    let mut out = Vec::new();
+    for (key, value, doubt) in doubts {
+        let set = args
+            .settings
+            .set
+            .iter()
+            .rev()
+            .find(|a| a.split('=').next().map(str::trim) == Some(key));
+        let d = match (set, &args.config) {
+            (Some(a), _) => doubt(key, value, "--set value").map(|d| format!("--set {a}: {d}")),
+            (None, Some(c)) => {
+                doubt(key, value, "scenario file").map(|d| format!("{}: {d}", c.display()))
+            }
+            (None, None) => doubt(key, value, "scenario"),
+        };
+        out.extend(d);
+    }
+    out
+}
+
 /// The pendulum's and the timing's overrides.
 fn apply_rig_and_timing(s: &mut Scenario, args: &Args) {
     let o = &args.settings;
@@ -451,6 +488,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let (scenario, seed) = resolve(&args)?;
     if !args.quiet {
         for d in length_doubts(&args, &scenario)? {
+            eprintln!("warning: {d}");
+        }
+        for d in full_scale_doubts(&args, &scenario) {
             eprintln!("warning: {d}");
         }
     }
