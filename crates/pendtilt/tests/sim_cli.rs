@@ -166,6 +166,29 @@ fn bad_input_fails_with_a_clear_message() {
         assert!(err.contains(want), "{err}");
     }
     assert!(!log.exists());
+    // A huge value is quoted as written, not as 300 digits (session 13).
+    for (set, want) in [
+        ("pendulum.mass=1e300", "mass * length^2 = 2.5e297 kg m^2"),
+        (
+            "pendulum.damping=-1e300",
+            "pendulum.damping: must be >= 0, got -1e300",
+        ),
+    ] {
+        let out = pendtilt(&[
+            "simulate",
+            "--scenario",
+            "sine",
+            "--set",
+            set,
+            "-o",
+            s(&log),
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(want) && err.len() < 400,
+            "{err}"
+        );
+    }
 }
 
 #[test]

@@ -198,7 +198,7 @@ fn finite(x: f64, key: &str) -> Result<(), SimError> {
     check(
         x.is_finite(),
         key,
-        format!("must be a finite number, got {x}"),
+        format!("must be a finite number, got {x:?}"),
     )
 }
 
@@ -206,7 +206,7 @@ fn positive(x: f64, key: &str) -> Result<(), SimError> {
     check(
         x.is_finite() && x > 0.0,
         key,
-        format!("must be > 0, got {x}"),
+        format!("must be > 0, got {x:?}"),
     )
 }
 
@@ -214,7 +214,7 @@ fn non_negative(x: f64, key: &str) -> Result<(), SimError> {
     check(
         x.is_finite() && x >= 0.0,
         key,
-        format!("must be >= 0, got {x}"),
+        format!("must be >= 0, got {x:?}"),
     )
 }
 

@@ -105,7 +105,7 @@ impl PendulumTable {
             if x.is_finite() && x > 0.0 {
                 Ok(())
             } else {
-                Err(SimError::invalid(key, format!("must be > 0, got {x}")))
+                Err(SimError::invalid(key, format!("must be > 0, got {x:?}")))
             }
         };
         pos(self.mass, "pendulum.mass")?;
@@ -115,23 +115,25 @@ impl PendulumTable {
         if !(self.damping.is_finite() && self.damping >= 0.0) {
             return Err(SimError::invalid(
                 "pendulum.damping",
-                format!("must be >= 0, got {}", self.damping),
+                format!("must be >= 0, got {:?}", self.damping),
             ));
         }
         if !self.pivot_offset.is_finite() {
             return Err(SimError::invalid(
                 "pendulum.pivot_offset",
-                format!("must be finite, got {}", self.pivot_offset),
+                format!("must be finite, got {:?}", self.pivot_offset),
             ));
         }
         let point_mass = self.mass * self.length * self.length;
         if self.inertia < point_mass * (1.0 - 1e-9) {
             return Err(SimError::invalid(
                 "pendulum.inertia",
+                // Debug prints 1e300 as written, Display as 301 digits.
                 format!(
-                    "{} kg m^2 is below mass * length^2 = {point_mass} kg m^2: the inertia \
+                    "{:?} kg m^2 is below mass * length^2 = {:?} kg m^2: the inertia \
                      about the pivot includes m_p l_p^2 (check the units)",
-                    self.inertia
+                    self.inertia,
+                    crate::config::plain(point_mass)
                 ),
             ));
         }
@@ -278,13 +280,13 @@ impl Scenario {
         if !(self.duration.is_finite() && self.duration >= 0.0) {
             return Err(SimError::invalid(
                 "duration",
-                format!("must be >= 0 s, got {}", self.duration),
+                format!("must be >= 0 s, got {:?}", self.duration),
             ));
         }
         if !(self.rate.is_finite() && self.rate > 0.0) {
             return Err(SimError::invalid(
                 "rate",
-                format!("must be > 0 Hz, got {}", self.rate),
+                format!("must be > 0 Hz, got {:?}", self.rate),
             ));
         }
         if self.duration * self.rate > 1e11 {

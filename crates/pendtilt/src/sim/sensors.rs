@@ -149,14 +149,14 @@ impl Sensors {
             if x.is_finite() && x >= 0.0 {
                 Ok(())
             } else {
-                Err(SimError::invalid(key, format!("must be >= 0, got {x}")))
+                Err(SimError::invalid(key, format!("must be >= 0, got {x:?}")))
             }
         };
         let finite = |x: f64, key: &str| {
             if x.is_finite() {
                 Ok(())
             } else {
-                Err(SimError::invalid(key, format!("must be finite, got {x}")))
+                Err(SimError::invalid(key, format!("must be finite, got {x:?}")))
             }
         };
         if self.encoder.bits > 52 {

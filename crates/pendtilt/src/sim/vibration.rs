@@ -92,7 +92,7 @@ impl Vibration {
             if !(h.frequency.is_finite() && h.frequency >= 0.0) {
                 return Err(SimError::invalid(
                     key("frequency"),
-                    format!("must be >= 0, got {}", h.frequency),
+                    format!("must be >= 0, got {:?}", h.frequency),
                 ));
             }
             if !h.amplitude.is_finite() {
@@ -114,7 +114,7 @@ impl Vibration {
             if !(h.frequency.is_finite() && h.frequency >= 0.0) {
                 return Err(SimError::invalid(
                     key("frequency"),
-                    format!("must be >= 0, got {}", h.frequency),
+                    format!("must be >= 0, got {:?}", h.frequency),
                 ));
             }
             if !h.amplitude.is_finite() || !h.phase.is_finite() {

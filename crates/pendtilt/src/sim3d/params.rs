@@ -121,7 +121,7 @@ impl Pendulum3d {
             if !(v.is_finite() && v > 0.0) {
                 return Err(SimError::invalid(
                     format!("pendulum3d.{key}"),
-                    format!("must be finite and > 0, got {v}"),
+                    format!("must be finite and > 0, got {v:?}"),
                 ));
             }
         }
@@ -134,7 +134,7 @@ impl Pendulum3d {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(SimError::invalid(
                     format!("pendulum3d.{key}"),
-                    format!("must be finite and >= 0, got {v}"),
+                    format!("must be finite and >= 0, got {v:?}"),
                 ));
             }
         }

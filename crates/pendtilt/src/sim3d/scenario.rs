@@ -128,13 +128,13 @@ impl Scenario3d {
         if !(self.duration.is_finite() && self.duration >= 0.0) {
             return Err(SimError::invalid(
                 "duration",
-                format!("must be >= 0 s, got {}", self.duration),
+                format!("must be >= 0 s, got {:?}", self.duration),
             ));
         }
         if !(self.rate.is_finite() && self.rate > 0.0) {
             return Err(SimError::invalid(
                 "rate",
-                format!("must be > 0 Hz, got {}", self.rate),
+                format!("must be > 0 Hz, got {:?}", self.rate),
             ));
         }
         if !self.score_from.is_finite() {

@@ -215,7 +215,7 @@ impl Sensors3d {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(crate::sim::SimError::invalid(
                     format!("sensors.{key}"),
-                    format!("must be finite and >= 0, got {v}"),
+                    format!("must be finite and >= 0, got {v:?}"),
                 ));
             }
         }

@@ -85,7 +85,7 @@ impl<M: BodyMotion> Simulator3d<M> {
         if !(rate.is_finite() && rate > 0.0) {
             return Err(SimError::invalid(
                 "rate",
-                format!("must be > 0 Hz, got {rate}"),
+                format!("must be > 0 Hz, got {rate:?}"),
             ));
         }
         if !(1..=10_000).contains(&substeps) {
@@ -97,7 +97,7 @@ impl<M: BodyMotion> Simulator3d<M> {
         if !(duration.is_finite() && duration >= 0.0 && duration * rate <= 1e11) {
             return Err(SimError::invalid(
                 "duration",
-                format!("must be >= 0 s and at most 1e11 rows, got {duration} s"),
+                format!("must be >= 0 s and at most 1e11 rows, got {duration:?} s"),
             ));
         }
         let (k, m) = (pend.stiffness(0.0), pend.inertia(0.0));

@@ -251,12 +251,12 @@ impl Shape {
         };
         for (k, v) in all {
             if !v.is_finite() {
-                return Err(format!("{}.{k} must be finite, got {v}", self.kind()));
+                return Err(format!("{}.{k} must be finite, got {v:?}", self.kind()));
             }
         }
         for (k, v) in positive {
             if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{}.{k} must be > 0, got {v}", self.kind()));
+                return Err(format!("{}.{k} must be > 0, got {v:?}", self.kind()));
             }
         }
         Ok(())

@@ -291,7 +291,7 @@ fn check_speed_ref(key: &str, r: Option<f64>) -> Result<(), SimError> {
     match r {
         Some(r) if !(r.is_finite() && r > 0.0) => Err(SimError::invalid(
             key,
-            format!("speed_ref must be > 0 m/s, got {r}"),
+            format!("speed_ref must be > 0 m/s, got {r:?}"),
         )),
         _ => Ok(()),
     }
