@@ -502,3 +502,46 @@ fn full_scales_in_another_unit_in_a_scenario_are_doubted() {
         assert!(!e.contains("warning"), "{name}: {e}");
     }
 }
+
+/// A log written to a device or standard output has no "beside": the rig and scenario
+/// files are written only where --rig-out says, and the summary says so (session 13:
+/// `-o /dev/null` wrote `/dev/null.rig.toml` and `/dev/null.scenario.toml` into /dev).
+#[test]
+fn a_log_to_a_device_writes_no_file_beside_it() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["sine", "scooter3d"] {
+        let out = pendtilt(&[
+            "simulate",
+            "--scenario",
+            name,
+            "--duration",
+            "0.2",
+            "-o",
+            "/dev/null",
+        ]);
+        assert!(out.status.success());
+        let e = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            e.contains("rig: none (no file beside standard output or a device: give --rig-out FILE); scenario: none"),
+            "{e}"
+        );
+        assert!(!std::path::Path::new("/dev/null.rig.toml").exists());
+        assert!(!std::path::Path::new("/dev/null.scenario.toml").exists());
+    }
+    let rig = dir.path().join("r.toml");
+    let out = pendtilt(&[
+        "simulate",
+        "--scenario",
+        "sine",
+        "--duration",
+        "0.2",
+        "-o",
+        "/dev/null",
+        "--rig-out",
+        s(&rig),
+    ]);
+    assert!(out.status.success());
+    assert!(std::fs::read_to_string(&rig)
+        .unwrap()
+        .contains("[pendulum]"));
+}

@@ -418,14 +418,14 @@ where
     let Some(log) = args.output.clone() else {
         bail!("give -o LOG.csv");
     };
-    // On standard output the log has no "beside": the rig file is written only when
-    // --rig-out names it, the scenario file not at all.
-    let to_stdout = safe::is_stdout(&log);
+    // On standard output or a device the log has no "beside": the rig file is written
+    // only when --rig-out names it, the scenario file not at all.
+    let no_beside = safe::has_no_beside(&log);
     let rig_path = match &args.rig_out {
         Some(p) => Some(p.clone()),
-        None => (!to_stdout).then(|| output::rig_path_for(&log)),
+        None => (!no_beside).then(|| output::rig_path_for(&log)),
     };
-    let scen_path = (!to_stdout).then(|| output::scenario_path_for(&log));
+    let scen_path = (!no_beside).then(|| output::scenario_path_for(&log));
     let mut outputs = vec![NamedPath::new("-o", &log)];
     outputs.extend(rig_path.as_deref().map(|p| NamedPath::new("--rig-out", p)));
     outputs.extend(
@@ -454,8 +454,18 @@ where
     for f in files {
         f.commit()?;
     }
-    let shown = |p: &Option<PathBuf>| p.as_ref().map_or("-".into(), |p| p.display().to_string());
-    Ok((n, shown(&rig_path), shown(&scen_path)))
+    let shown = |p: &Option<PathBuf>, none: &str| {
+        p.as_ref()
+            .map_or(none.to_string(), |p| p.display().to_string())
+    };
+    Ok((
+        n,
+        shown(
+            &rig_path,
+            "none (no file beside standard output or a device: give --rig-out FILE)",
+        ),
+        shown(&scen_path, "none"),
+    ))
 }
 
 /// The error for a scenario name that is neither planar nor 3-D, listing both.

@@ -109,6 +109,14 @@ pub fn is_stdout(path: &Path) -> bool {
     path.as_os_str() == "-"
 }
 
+/// Whether `path` has no "beside" for the files a command writes next to its output:
+/// standard output, or an existing device or pipe (`/dev/null`, `/dev/stdout`), whose
+/// directory is no place for a user's file (`simulate -o /dev/null` wrote
+/// `/dev/null.rig.toml`).
+pub fn has_no_beside(path: &Path) -> bool {
+    is_stdout(path) || std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
 /// Device and inode of an existing file (following symlinks).
 fn identity(path: &Path) -> Option<(u64, u64)> {
     std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
