@@ -1371,3 +1371,53 @@ fn one_axis_of_a_3d_log_read_as_planar_needs_the_roll_planes_accelerometer_axes(
         .unwrap();
     assert!((a / 4.364385e-2 - 1.0).abs() < 0.05, "a = {a}\n{text}");
 }
+
+/// A 3-D header with a column named twice and one missing names both, and an extra column
+/// is said to be ignored, as the planar reader says it (session 13: `gyro_x` twice was
+/// reported only as "no `gyro_y`", and a column `extra` was dropped without a word).
+#[test]
+fn a_3d_column_named_twice_or_unknown_is_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = simulate(dir.path(), "scooter3d", &["--duration", "0.5"]);
+    let text = std::fs::read_to_string(&log).unwrap();
+    let (head, rows) = text.split_once('\n').unwrap();
+    let dup = write(
+        dir.path(),
+        "dup.csv",
+        &format!("{}\n{rows}", head.replacen("gyro_y", "gyro_x", 1)),
+    );
+    let extra: String = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 0 {
+                format!("{l},extra\n")
+            } else {
+                format!("{l},1\n")
+            }
+        })
+        .collect();
+    let extra = write(dir.path(), "extra.csv", &extra);
+    let out = dir.path().join("est.csv");
+    let o = pendtilt(&["estimate", s(&dup), "-o", s(&out)]);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains(
+            "but no `gyro_y`, and `gyro_x` is fields 4 and 5: is one of them the missing one?"
+        ),
+        "{}",
+        stderr(&o)
+    );
+    let o = pendtilt(&["estimate", s(&extra), "--only", "inv3d", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("note: ")
+            && stderr(&o).contains(
+                "extra.csv:1: ignored, not a column of a 3-D log (MODEL.md 7.6): `extra`"
+            ),
+        "{}",
+        stderr(&o)
+    );
+    let o = pendtilt(&["estimate", s(&log), "--only", "inv3d", "-o", s(&out)]);
+    assert!(!stderr(&o).contains("ignored"), "{}", stderr(&o));
+}

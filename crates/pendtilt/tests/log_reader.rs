@@ -286,9 +286,9 @@ fn nan_inf_and_empty_cells_are_missing_samples_with_warnings() {
 #[test]
 fn a_number_beyond_f64_is_quoted_as_written_not_as_inf() {
     // Was: column `phi`: `inf`: read as missing (the log held 1e400).
-    let text = "t,phi,gyro\n0,1e400,0.1\n0.001,0.2,-1e400\n0.002,0.3,inf\n";
+    let text = "t,phi,gyro\n0,1e400,0.1\n0.001,0.2,-1e400\n0.002,0.3,inf\n0.003,nan,-Infinity\n";
     let (records, warnings) = ok(text);
-    assert_eq!(records.len(), 3, "no row dropped");
+    assert_eq!(records.len(), 4, "no row dropped");
     let w: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
     assert!(
         w[0].starts_with(
@@ -303,6 +303,15 @@ fn a_number_beyond_f64_is_quoted_as_written_not_as_inf() {
     );
     assert!(
         w[2].contains("column `gyro`: `inf`: read as missing"),
+        "{w:?}"
+    );
+    // As written, not as Rust prints them (session 13: `nan` was quoted `NaN`).
+    assert!(
+        w[3].contains("column `phi`: `nan`: read as missing"),
+        "{w:?}"
+    );
+    assert!(
+        w[4].contains("column `gyro`: `-Infinity`: read as missing"),
         "{w:?}"
     );
 }

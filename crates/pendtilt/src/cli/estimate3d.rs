@@ -423,6 +423,24 @@ pub(crate) fn pass(
             "warning: {file}:{line}: {h}; until then no inclination error is scored"
         ));
     }
+    // Said as the planar reader says it (`; ignored: ...`): a column under another name
+    // than MODEL.md 7.6's was dropped without a word.
+    let ignored: Vec<String> = (log.header().iter().enumerate())
+        .filter(|(_, h)| !crate::io::LOG3D_COLUMNS.contains(&h.as_str()))
+        .map(|(i, h)| {
+            if h.is_empty() {
+                format!("(unnamed field {})", i + 1)
+            } else {
+                format!("`{h}`")
+            }
+        })
+        .collect();
+    if !ignored.is_empty() {
+        opts.notice(&format!(
+            "note: {file}:{line}: ignored, not a column of a 3-D log (MODEL.md 7.6): {}",
+            ignored.join(", ")
+        ));
+    }
     if !log.has("speed") {
         // Issue 15: without the speed no estimator knows the vehicle's own acceleration.
         opts.notice(&format!(

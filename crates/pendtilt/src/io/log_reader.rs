@@ -643,15 +643,16 @@ impl<R: BufRead> LogReader<R> {
                             .trim()
                             .trim_start_matches(['+', '-'])
                             .to_ascii_lowercase();
-                        if raw.is_nan() || ["inf", "infinity"].contains(&word.as_str()) {
-                            format!("`{raw}`")
+                        // ... and `nan` as `nan`, not `NaN`.
+                        let shown: String = text.trim().chars().take(40).collect();
+                        let more = if text.trim().chars().count() > 40 {
+                            "..."
                         } else {
-                            let shown: String = text.trim().chars().take(40).collect();
-                            let more = if text.trim().chars().count() > 40 {
-                                "..."
-                            } else {
-                                ""
-                            };
+                            ""
+                        };
+                        if raw.is_nan() || ["inf", "infinity"].contains(&word.as_str()) {
+                            format!("`{shown}{more}`")
+                        } else {
                             format!("`{shown}{more}` is beyond the largest number, 1.8e308 ({raw})")
                         }
                     }

@@ -178,9 +178,29 @@ impl<R: BufRead> LogReader<R> {
             let units = crate::io::unit_named_3d_hint(required, &self.header, &self.file, line)
                 .map(|h| format!("; {h}"))
                 .unwrap_or_default();
+            // A column named twice is most likely the missing one misnamed: say so (the
+            // message named only the missing one, and the header listing hid the twin).
+            let twice: Vec<String> = crate::io::LOG3D_COLUMNS
+                .iter()
+                .filter_map(|c| {
+                    let at: Vec<String> = (self.header.iter().enumerate())
+                        .filter(|(_, h)| h == c)
+                        .map(|(i, _)| (i + 1).to_string())
+                        .collect();
+                    (at.len() > 1).then(|| format!("`{c}` is fields {}", at.join(" and ")))
+                })
+                .collect();
+            let twice = if twice.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    ", and {}: is one of them the missing one?",
+                    twice.join(", ")
+                )
+            };
             format!(
-                "the header has the 3-D columns {} but no {}: a 3-D log (MODEL.md 7.6) needs t, \
-                 phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az{units}",
+                "the header has the 3-D columns {} but no {}{twice}: a 3-D log (MODEL.md 7.6) \
+                 needs t, phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az{units}",
                 found.join(", "),
                 missing.join(", ")
             )
