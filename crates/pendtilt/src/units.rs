@@ -117,10 +117,28 @@ impl Pair {
 
     /// The fit, when `x` moved by at least [`MIN_MOTION`].
     pub(crate) fn fit(&self) -> Option<Fit> {
+        self.fit_above(MIN_MOTION)
+    }
+
+    /// The factor of `y` on `x` from the regression of `x` on `y` (`var y / cov`), when
+    /// `x`'s standard deviation is at least `floor`: the one to use when the noise is in
+    /// `x` (the factor of `y` on `x` is then too small by `r^2`).
+    pub(crate) fn fit_noisy_x_above(&self, floor: f64) -> Option<Fit> {
+        let (slope, correlation, motion) = self.slope()?;
+        // slope = cov / var x, r^2 = cov^2 / (var x var y): var y / cov = slope / r^2.
+        (motion >= floor).then_some(Fit {
+            factor: slope / (correlation * correlation),
+            correlation,
+            samples: self.samples(),
+        })
+    }
+
+    /// The fit, when `x`'s standard deviation is at least `floor` (in `x`'s unit).
+    pub(crate) fn fit_above(&self, floor: f64) -> Option<Fit> {
         let (factor, correlation, motion) = self.slope()?;
         // Too little motion in the reference: its factor would be noise (a 3 s still log
         // gave theta 1/82.7 of the accelerometer's angle at r > 0.8 without this floor).
-        (motion >= MIN_MOTION).then_some(Fit {
+        (motion >= floor).then_some(Fit {
             factor,
             correlation,
             samples: self.samples(),

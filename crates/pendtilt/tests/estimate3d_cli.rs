@@ -1421,3 +1421,46 @@ fn a_3d_column_named_twice_or_unknown_is_said() {
     let o = pendtilt(&["estimate", s(&log), "--only", "inv3d", "-o", s(&out)]);
     assert!(!stderr(&o).contains("ignored"), "{}", stderr(&o));
 }
+
+/// A vehicle log's gyro in deg/s is found from its turns, where the encoders cannot tell
+/// (a car's turns swing its pendulum outward): the yaw rate against the lateral
+/// acceleration over the speed (session 13: ride3d's gyro in deg/s was said only by the
+/// slip warning, which blamed the speed's unit first). Correct logs say nothing.
+#[test]
+fn a_vehicle_gyro_in_deg_per_s_is_found_from_its_turns() {
+    let dir = tempfile::tempdir().unwrap();
+    for seed in ["1", "2"] {
+        let log = simulate(dir.path(), "ride3d", &["--duration", "60", "--seed", seed]);
+        let rig = dir.path().join("ride3d.rig.toml");
+        let deg = write(dir.path(), "zdeg.csv", &gyro_in_degrees(&log));
+        let out = dir.path().join("est.csv");
+        let run = |log: &Path| {
+            let o = pendtilt(&[
+                "estimate",
+                s(log),
+                "-p",
+                s(&rig),
+                "--only",
+                "inv3d",
+                "-o",
+                s(&out),
+            ]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            stderr(&o)
+        };
+        let e = run(&deg);
+        let at = e
+            .find("zdeg.csv: gyro_z is ")
+            .unwrap_or_else(|| panic!("seed {seed}: not found: {e}"));
+        let rest = &e[at + "zdeg.csv: gyro_z is ".len()..];
+        let factor: f64 = rest.split('x').next().unwrap().parse().unwrap();
+        assert!(rest.starts_with(&format!(
+            "{factor:.1}x the yaw rate the turns imply (the lateral acceleration over the speed, a_y / v): is the gyro in deg/s?"
+        )));
+        // 54.4 and 47.6 measured against 57.3: the roll's share of gravity in a_y.
+        assert!(factor > 45.0 && factor < 65.0, "seed {seed}: {factor}");
+        assert!(!e.contains("is it in m/s?"), "{e}");
+        let e = run(&log);
+        assert!(!e.contains("deg/s"), "seed {seed}: {e}");
+    }
+}

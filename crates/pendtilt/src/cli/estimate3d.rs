@@ -551,6 +551,68 @@ pub(crate) fn pass(
 /// tilts of a vehicle); a gyro 57x that is in deg/s, 1/57 of it converted twice.
 struct GyroUnits {
     axes: [crate::units::UnitCheck; 2],
+    /// The yaw rate against the turn, for a vehicle with a speed (see [`TurnCheck`]).
+    turn: TurnCheck,
+}
+
+/// The gyro's unit from a vehicle's turns: in a turn the lateral specific force is the
+/// speed times the yaw rate, `a_y ~ v gyro_z` (MODEL.md 7.7: `a_O = v' d + v d'`, FLU), up to
+/// the roll's share of gravity. Both low-passed at [`TURN_HZ`]; on ride3d (60 s, seed 1)
+/// the fit of `v gyro_z` on `a_y` gives 0.95 at r = 0.94. The encoders cannot tell there:
+/// a car's turns swing its pendulum outward, so d(phi)/dt is not the gyro (a gyro in deg/s
+/// on ride3d was found only by the slip warning, which blamed the speed first).
+struct TurnCheck {
+    lp: [[pendtilt_core::filters::biquad::LowPass2<f64>; 2]; 2],
+    /// Time since the filters started \[s\] (pairs are taken after [`TURN_SETTLE`]).
+    since: f64,
+    pair: crate::units::Pair,
+}
+
+/// The low-pass of [`TurnCheck`] \[Hz\]: the turns, not the vibration or the road.
+const TURN_HZ: f64 = 0.5;
+/// The filters' settling time before pairs are taken \[s\].
+const TURN_SETTLE: f64 = 2.0;
+/// The least standard deviation of the low-passed lateral specific force for the turn
+/// check \[m/s^2\]: ride3d's is 1.18; a ship's (0.07 of v gyro_z) has no turns to tell.
+const TURN_MIN_LATERAL: f64 = 0.3;
+
+impl TurnCheck {
+    fn new() -> Self {
+        let lp = pendtilt_core::filters::biquad::LowPass2::new(TURN_HZ);
+        Self {
+            lp: [[lp; 2]; 2],
+            since: 0.0,
+            pair: Default::default(),
+        }
+    }
+
+    /// One row: `gyro_z` \[as read, times the --deg factor\], `a_y` \[m/s^2\], `speed`.
+    fn add(&mut self, dt: f64, gyro_z: f64, a_y: f64, speed: Option<f64>) {
+        let Some(v) = speed else {
+            return;
+        };
+        let (x, y) = (a_y, v * gyro_z);
+        if !(x.is_finite() && y.is_finite() && dt > 0.0 && dt < 0.1) {
+            return;
+        }
+        let mut out = [x, y];
+        for (o, f) in out.iter_mut().zip(self.lp.iter_mut()) {
+            let first = f[0].update(*o, dt);
+            *o = f[1].update(first, dt);
+        }
+        self.since += dt;
+        if self.since >= TURN_SETTLE {
+            self.pair.add(out[0], out[1]);
+        }
+    }
+
+    /// The factor of `v gyro_z` on `a_y` (1 in rad/s, 57.3 in deg/s), when the log turned.
+    /// The noise is in `a_y` (the roll's share of gravity, the vibration left): the factor
+    /// of the regression of `a_y` on `v gyro_z`, not the other way (ride3d, seeds 1-4, deg/s:
+    /// 50.0, 41.2, 43.1, 48.2 the other way, against 57.3).
+    fn fit(&self) -> Option<crate::units::Fit> {
+        self.pair.fit_noisy_x_above(TURN_MIN_LATERAL)
+    }
 }
 
 impl GyroUnits {
@@ -565,6 +627,7 @@ impl GyroUnits {
         };
         let w = params.natural_frequencies();
         Self {
+            turn: TurnCheck::new(),
             axes: std::array::from_fn(|i| {
                 crate::units::UnitCheck::with_natural_frequency(
                     w[i] / std::f64::consts::TAU,
@@ -587,6 +650,7 @@ impl GyroUnits {
             };
             axis.add(&s, None);
         }
+        self.turn.add(dt, r.gyro[2] * k, r.accel[1], r.speed);
     }
 
     /// One warning per gyro axis found in deg/s (or converted twice).
@@ -620,6 +684,22 @@ impl GyroUnits {
                  below f_n / 4, r = {:.2})",
                 f.samples, f.correlation
             ));
+        }
+        // Said once: what the encoders found, else what the turns say.
+        if out.is_empty() {
+            if let Some(f) = self.turn.fit() {
+                if crate::units::unit_factor(&f) == Some(deg) {
+                    out.push(format!(
+                        "{file}: gyro_z is {:.1}x the yaw rate the turns imply (the lateral \
+                         acceleration over the speed, a_y / v): is the gyro in deg/s? Every \
+                         estimator reading it is wrong by as much: write gyro_x, gyro_y, gyro_z \
+                         in rad/s, or give --deg if every angular column (phi_x, phi_y, gyro_*, \
+                         roll, pitch) is in degrees (least squares over {} rows below {TURN_HZ} \
+                         Hz, r = {:.2})",
+                        f.factor, f.samples, f.correlation
+                    ));
+                }
+            }
         }
         out
     }
