@@ -1006,6 +1006,33 @@ fn a_3d_truth_in_degrees_or_out_of_range_is_said_not_scored_silently() {
     );
 }
 
+/// What `estimate LOG -p RIG --only inv3d` says on standard error (it must succeed); the
+/// estimates go beside the log.
+fn inv3d_stderr(log: &Path, rig: &Path) -> String {
+    let out = log.with_file_name("inv3d_est.csv");
+    let o = pendtilt(&[
+        "estimate",
+        s(log),
+        "-p",
+        s(rig),
+        "--only",
+        "inv3d",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    stderr(&o)
+}
+
+/// The factor printed after `prefix` in `e` (`57.2x ...`), and the text from it on.
+fn factor_after<'a>(e: &'a str, prefix: &str) -> (f64, &'a str) {
+    let at = e
+        .find(prefix)
+        .unwrap_or_else(|| panic!("`{prefix}` not found: {e}"));
+    let rest = &e[at + prefix.len()..];
+    (rest.split('x').next().unwrap().parse().unwrap(), rest)
+}
+
 /// The 3-D log at `log` with its gyro columns in deg/s.
 fn gyro_in_degrees(log: &Path) -> String {
     let text = std::fs::read_to_string(log).unwrap();
@@ -1057,28 +1084,10 @@ fn a_3d_gyro_unit_is_judged_below_the_rigs_own_pendulum_frequency() {
     );
     let rig = dir.path().join("scooter3d.rig.toml");
     let deg = write(dir.path(), "gdeg.csv", &gyro_in_degrees(&log));
-    let out = dir.path().join("est.csv");
-    let run = |log: &Path| {
-        let o = pendtilt(&[
-            "estimate",
-            s(log),
-            "-p",
-            s(&rig),
-            "--only",
-            "inv3d",
-            "-o",
-            s(&out),
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        stderr(&o)
-    };
+    let run = |log: &Path| inv3d_stderr(log, &rig);
     let e = run(&deg);
     for (gyro, phi) in [("gyro_x", "phi_x"), ("gyro_y", "phi_y")] {
-        let at = e
-            .find(&format!("gdeg.csv: {gyro} is "))
-            .unwrap_or_else(|| panic!("{gyro} not found: {e}"));
-        let rest = &e[at + format!("gdeg.csv: {gyro} is ").len()..];
-        let factor: f64 = rest.split('x').next().unwrap().parse().unwrap();
+        let (factor, rest) = factor_after(&e, &format!("gdeg.csv: {gyro} is "));
         assert!(
             rest.contains(&format!(
                 "x the encoder's derivative d({phi})/dt: is the gyro in deg/s?"
@@ -1433,27 +1442,9 @@ fn a_vehicle_gyro_in_deg_per_s_is_found_from_its_turns() {
         let log = simulate(dir.path(), "ride3d", &["--duration", "60", "--seed", seed]);
         let rig = dir.path().join("ride3d.rig.toml");
         let deg = write(dir.path(), "zdeg.csv", &gyro_in_degrees(&log));
-        let out = dir.path().join("est.csv");
-        let run = |log: &Path| {
-            let o = pendtilt(&[
-                "estimate",
-                s(log),
-                "-p",
-                s(&rig),
-                "--only",
-                "inv3d",
-                "-o",
-                s(&out),
-            ]);
-            assert!(o.status.success(), "{}", stderr(&o));
-            stderr(&o)
-        };
+        let run = |log: &Path| inv3d_stderr(log, &rig);
         let e = run(&deg);
-        let at = e
-            .find("zdeg.csv: gyro_z is ")
-            .unwrap_or_else(|| panic!("seed {seed}: not found: {e}"));
-        let rest = &e[at + "zdeg.csv: gyro_z is ".len()..];
-        let factor: f64 = rest.split('x').next().unwrap().parse().unwrap();
+        let (factor, rest) = factor_after(&e, "zdeg.csv: gyro_z is ");
         assert!(rest.starts_with(&format!(
             "{factor:.1}x the yaw rate the turns imply (the lateral acceleration over the speed, a_y / v): is the gyro in deg/s?"
         )));

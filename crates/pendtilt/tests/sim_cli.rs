@@ -457,8 +457,8 @@ fn a_missing_config_file_is_named_once() {
     assert_eq!(e.matches("No such file").count(), 1, "{e}");
 }
 
-/// The sensors' full scales in a scenario file or `--set` get the rig file's unit checks
-/// (session 13: `full_scale = 500`, meant as deg/s, simulated a gyro that never clips, and
+/// The sensors' full scales and gravity in a scenario file or `--set` get the rig file's
+/// unit checks (session 13: `full_scale = 500`, meant as deg/s, simulated a gyro that never clips, and
 /// `[sensors.accel] full_scale = 16`, meant as g, one that clips at 1.6 g, without a
 /// word). No built-in scenario is doubted.
 #[test]
@@ -468,7 +468,7 @@ fn full_scales_in_another_unit_in_a_scenario_are_doubted() {
     let cfg = dir.path().join("fs.toml");
     std::fs::write(
         &cfg,
-        "scenario = \"scooter\"\n[sensors.accel]\nfull_scale = 16\n",
+        "scenario = \"scooter\"\n[sensors.accel]\nfull_scale = 16\n[pendulum]\ngravity = 1.0\n",
     )
     .unwrap();
     let run = |args: &[&str]| {
@@ -488,7 +488,9 @@ fn full_scales_in_another_unit_in_a_scenario_are_doubted() {
         e.contains("fs.toml: sensors.accel.full_scale: 16 m/s^2 is below 19.6 m/s^2 (2 g)")
             && e.contains(
                 "write sensors.accel.full_scale = 156.906 (the scenario file is in m/s^2)"
-            ),
+            )
+            && e.contains("fs.toml: pendulum.gravity: 1 m/s^2 is not the Earth's gravity")
+            && e.contains("written in g? write pendulum.gravity = 9.80665"),
         "{e}"
     );
     let e = run(&["--scenario", "sine", "--set", "sensors.gyro.full_scale=500"]);

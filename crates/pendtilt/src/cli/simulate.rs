@@ -188,8 +188,9 @@ pub fn length_doubts(args: &Args, s: &Scenario) -> anyhow::Result<Vec<String>> {
     Ok(out)
 }
 
-/// The sensors' full scales in another unit (a gyro's in deg/s, an accelerometer's in g
-/// or mg: [`crate::config::doubt_gyro_full_scale`], the check every rig file gets), each
+/// The sensors' full scales and gravity in another unit (a gyro's in deg/s, an
+/// accelerometer's in g or mg, gravity in g: [`crate::config::doubt_gyro_full_scale`], the
+/// checks every rig file gets), each
 /// worded for where it was set: `--set` or `--config`. A gyro of `full_scale = 500`,
 /// meant as deg/s, simulated a gyro that never clips, without a word.
 pub fn full_scale_doubts(args: &Args, s: &Scenario) -> Vec<String> {
@@ -203,6 +204,11 @@ pub fn full_scale_doubts(args: &Args, s: &Scenario) -> Vec<String> {
             "sensors.accel.full_scale",
             s.sensors.accel.full_scale,
             crate::config::doubt_accel_full_scale,
+        ),
+        (
+            "pendulum.gravity",
+            s.pendulum.gravity,
+            |k: &str, g: f64, _: &str| crate::config::doubt_gravity(k, g),
         ),
     ];
     let mut out = Vec::new();

@@ -65,26 +65,8 @@ mod tests {
     /// The 17 outputs of `reproduce` fall into five panels, none with more than six lines.
     #[test]
     fn the_bank_splits_into_five_small_panels() {
-        let names = [
-            "accel",
-            "pendulum",
-            "alg1",
-            "alg2",
-            "alg2_offset",
-            "alg2_dc",
-            "alg3",
-            "kf_accel",
-            "kf_alg1",
-            "kf_alg2",
-            "kf_alg3",
-            "kf_fused",
-            "ekf",
-            "ukf",
-            "madgwick",
-            "mahony",
-            "complementary",
-        ];
-        let g = group(names);
+        let names: Vec<&str> = crate::bank::REGISTRY.iter().map(|e| e.name).collect();
+        let g = group(names.iter().copied());
         let fams: Vec<Family> = g.iter().map(|(f, _)| *f).collect();
         assert_eq!(
             fams,

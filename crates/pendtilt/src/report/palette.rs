@@ -133,27 +133,10 @@ mod tests {
     #[test]
     fn each_panel_s_series_have_fixed_colours_far_apart() {
         use crate::report::families::group;
-        let bank = [
-            "accel",
-            "pendulum",
-            "alg1",
-            "alg2",
-            "alg2_offset",
-            "alg2_dc",
-            "alg3",
-            "kf_accel",
-            "kf_alg1",
-            "kf_alg2",
-            "kf_alg3",
-            "kf_fused",
-            "ekf",
-            "ukf",
-            "madgwick",
-            "mahony",
-            "complementary",
-        ];
+        // Every series of the planar bank, as `reproduce` draws them.
+        let bank: Vec<&str> = crate::bank::REGISTRY.iter().map(|e| e.name).collect();
         let fixed = |n: &str| DEFAULT_COLOURS.iter().find(|(m, _)| *m == n).map(|c| c.1);
-        for (family, names) in group(bank) {
+        for (family, names) in group(bank.iter().copied()) {
             for (i, a) in names.iter().enumerate() {
                 let ca = fixed(a).unwrap_or_else(|| panic!("{a} has no fixed colour"));
                 for b in &names[i + 1..] {
