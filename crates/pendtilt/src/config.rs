@@ -169,7 +169,7 @@ pub enum ConfigErrorKind {
         normalised: String,
     },
     /// A value that no real rig can have.
-    #[error("impossible value {value}: {why}")]
+    #[error("impossible value {}: {why}", shown(*.value))]
     Impossible {
         /// The value as given (or defaulted).
         value: f64,
@@ -337,6 +337,17 @@ pub fn doubt_length(
 /// `x` to six significant digits, written plainly (0.0051, not 0.0050999999999999995).
 pub fn plain(x: f64) -> f64 {
     format!("{x:.5e}").parse().unwrap_or(x)
+}
+
+/// `x` as a refusal quotes it: plainly (`0.5`, `-3`, `250`) between 1e-4 and 1e15, else
+/// in exponent form (`1e300`, `2.5e-9`). `{}` writes an f64 in full: `1e300` as 301 digits.
+pub fn shown(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || !a.is_finite() || (1e-4..1e15).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 /// A gyro full scale above this \[rad/s\] is doubted ([`doubt_gyro_full_scale`]):

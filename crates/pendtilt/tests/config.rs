@@ -241,6 +241,19 @@ fn physically_impossible_values_are_named() {
         "finite",
     );
     impossible("[pendulum]\nb = 0\n", "pendulum.b", Some(2), "> 0");
+    // Quoted compactly, not as 301 digits (session 13).
+    impossible(
+        "[pendulum]\nmass = -1e300\n",
+        "pendulum.mass",
+        Some(2),
+        "impossible value -1e300: mass must be > 0",
+    );
+    impossible(
+        "[pendulum]\nmass = 1e300\nlength = 0.05\ninertia = 0.00013\ndamping = 0.00107\n",
+        "pendulum.inertia",
+        Some(4),
+        "impossible value 0.00013: inertia about the pivot must be >= mass * length^2 = 2.5e297 kg m^2",
+    );
     impossible("[pendulum]\na = -0.1\n", "pendulum.a", Some(2), ">= 0");
     impossible("[kalman]\nr_accel = 0\n", "kalman.r_accel", Some(2), "> 0");
     impossible("[kalman]\nq_bias = -1\n", "kalman.q_bias", Some(2), ">= 0");

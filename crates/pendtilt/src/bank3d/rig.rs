@@ -359,7 +359,8 @@ fn check_gyro(g: &GyroSettings<f64>) -> Result<(), String> {
     match g.full_scale {
         Some(v) if !(v.is_finite() && v > 0.0) => Err(format!(
             "gyro.full_scale: the full scale must be > 0 [rad/s] (leave it out when unknown), \
-             got {v}"
+             got {:?}",
+            v
         )),
         _ => Ok(()),
     }
@@ -375,12 +376,12 @@ fn check_normalised(c: &CardanParams<f64>) -> Result<(), String> {
     ];
     for (k, v) in positive {
         if !(v.is_finite() && v > 0.0) {
-            return Err(format!("{k}: must be finite and > 0, got {v}"));
+            return Err(format!("{k}: must be finite and > 0, got {v:?}"));
         }
     }
     for (k, v) in [("a_x", c.a_x), ("a_y", c.a_y), ("b_ring", c.b_ring)] {
         if !(v.is_finite() && v >= 0.0) {
-            return Err(format!("{k}: must be finite and >= 0, got {v}"));
+            return Err(format!("{k}: must be finite and >= 0, got {v:?}"));
         }
     }
     if c.c.iter().any(|v| !v.is_finite()) {

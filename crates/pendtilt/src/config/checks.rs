@@ -80,7 +80,7 @@ fn check_pendulum(p: &PendulumConfig, issues: &mut Vec<Issue>) {
             let point = p.mass * p.length * p.length;
             if issues.is_empty() && p.inertia < point * (1.0 - 1e-12) {
                 // Six significant digits, written plainly (0.00015, not 0.00015000000000000001).
-                let shown: f64 = format!("{point:.5e}").parse().unwrap_or(point);
+                let shown = super::shown(super::plain(point));
                 issues.push((
                     "pendulum.inertia".to_string(),
                     p.inertia,
