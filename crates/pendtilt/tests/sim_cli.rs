@@ -530,6 +530,30 @@ fn a_log_to_a_device_writes_no_file_beside_it() {
         assert!(!std::path::Path::new("/dev/null.rig.toml").exists());
         assert!(!std::path::Path::new("/dev/null.scenario.toml").exists());
     }
+    // /dev/stdout redirected to a file is a regular file, still no place for side files.
+    let file = std::fs::File::create(dir.path().join("redirected.csv")).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+        .args([
+            "simulate",
+            "--scenario",
+            "sine",
+            "--duration",
+            "0.2",
+            "-o",
+            "/dev/stdout",
+        ])
+        .stdout(file)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!std::path::Path::new("/dev/stdout.rig.toml").exists());
+    assert!(std::fs::read_to_string(dir.path().join("redirected.csv"))
+        .unwrap()
+        .starts_with("t,phi,gyro"));
     let rig = dir.path().join("r.toml");
     let out = pendtilt(&[
         "simulate",

@@ -110,11 +110,14 @@ pub fn is_stdout(path: &Path) -> bool {
 }
 
 /// Whether `path` has no "beside" for the files a command writes next to its output:
-/// standard output, or an existing device or pipe (`/dev/null`, `/dev/stdout`), whose
+/// standard output, or an existing device or pipe, or anything under /dev, whose
 /// directory is no place for a user's file (`simulate -o /dev/null` wrote
 /// `/dev/null.rig.toml`).
 pub fn has_no_beside(path: &Path) -> bool {
-    is_stdout(path) || std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+    // Under /dev too: `-o /dev/stdout > log.csv` reaches a regular file (helper io13).
+    is_stdout(path)
+        || std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+        || absolute(path).starts_with("/dev")
 }
 
 /// Device and inode of an existing file (following symlinks).
