@@ -9,6 +9,8 @@
 //! the gyro's recent mean ([`MISSING_RATE_TAU`], the core's input hold); Mahony's angle
 //! held through the gap is corrected once the gyro is back
 //! ([`InputHold::bridged`](pendtilt_core::estimators::input_hold::InputHold::bridged)).
+//! One missing accelerometer reading is the last one held; a longer gap integrates the
+//! gyro alone.
 //!
 //! A first start is left as the published filters have it (they start at the first
 //! accelerometer angle). A start-up gain ramp for Mahony on a first start (`kp = max(kp,
@@ -96,6 +98,9 @@ pub struct Planar<F> {
     fit: SteadyFit<1>,
     /// After a restart: the offset kept \[rad\].
     kept: Option<f64>,
+    /// The last accelerometer reading, and whether it stands in for a missing one now.
+    last_accel: Option<(f64, f64)>,
+    held: bool,
 }
 
 impl<F: PlanarAhrs> Planar<F> {
@@ -110,6 +115,8 @@ impl<F: PlanarAhrs> Planar<F> {
             elapsed: 0.0,
             fit: SteadyFit::default(),
             kept: None,
+            last_accel: None,
+            held: false,
         }
     }
 
@@ -124,7 +131,25 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
     type Output = Estimate<f64>;
 
     fn update(&mut self, s: &Sample<f64>) -> Estimate<f64> {
-        let accel_ok = s.ax.is_finite() && s.ay.is_finite() && (s.ax != 0.0 || s.ay != 0.0);
+        let read_ok = s.ax.is_finite() && s.ay.is_finite() && (s.ax != 0.0 || s.ay != 0.0);
+        // One missing reading is the last one held: Madgwick's step is the same whenever
+        // the reading stays on the same side of its tilt, so a run that skipped it joins
+        // the fault-free run again, where one step skipped kept it 2 beta dt (0.14 deg)
+        // away for seconds. Longer gaps integrate the gyro alone: Madgwick would race to a
+        // stale reading at 135 deg/s.
+        let (accel_ok, s) = match (read_ok, self.last_accel) {
+            (true, _) => {
+                self.last_accel = Some((s.ax, s.ay));
+                self.held = false;
+                (true, *s)
+            }
+            (false, Some((ax, ay))) if !self.held && self.filter.is_some() => {
+                self.held = true;
+                (true, Sample { ax, ay, ..*s })
+            }
+            _ => (false, *s),
+        };
+        let s = &s;
         let (dt, gyro, mut flags) = match self.input.begin(s) {
             Step::BadTime => {
                 return Estimate {
@@ -196,7 +221,7 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
             if f.update_imu(&g, &a).is_err() {
                 flags |= Flags::MEASUREMENT_SKIPPED;
             }
-            if !restarting && f.gain_mut().is_some() {
+            if !restarting && !self.held && f.gain_mut().is_some() {
                 let mut d = tilt_of(&f.attitude()) - accel_angle(s.ax, s.ay);
                 if d.abs() > core::f64::consts::PI {
                     d = d.sin().atan2(d.cos());
