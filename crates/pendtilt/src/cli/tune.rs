@@ -17,7 +17,8 @@ use pendtilt_core::Sample;
 /// What `tune` tunes the filters against.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum TuneTarget {
-    /// The likelihood of the filters' own innovations: no true angle needed.
+    /// No true angle needed: the filters' own innovations, and for the kf_* filters' Q and
+    /// R (with a gyro) a surrogate of their error built from the gyro.
     Likelihood,
     /// The RMS error against the log's `theta` column (a calibration ride).
     Truth,
@@ -36,8 +37,9 @@ pub struct Args {
     /// Default: the MODEL.md rig.
     #[arg(long, short = 'p')]
     pub params: Option<PathBuf>,
-    /// What the Kalman filters and the EKF are tuned against: `likelihood` (their own
-    /// innovations, no true angle) or `truth` (the log's `theta` column).
+    /// What the Kalman filters and the EKF are tuned against: `likelihood` (no true angle:
+    /// their own innovations, and the gyro's surrogate of the kf_* filters' error) or
+    /// `truth` (the log's `theta` column).
     #[arg(long, value_enum, default_value = "likelihood")]
     pub target: TuneTarget,
     /// Stop the searches after this many seconds and write the best found so far (the
