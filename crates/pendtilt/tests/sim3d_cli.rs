@@ -267,51 +267,34 @@ fn a_3d_scenario_file_of_some_keys_overrides_the_named_scenario() {
         std::fs::read(p("b.csv")).unwrap(),
         std::fs::read(p("c.csv")).unwrap()
     );
-    let err = |args: &[&str]| {
-        let o = pendtilt(args);
-        assert!(!o.status.success());
-        stderr(&o)
-    };
-    let e = err(&[
-        "simulate",
-        "--scenario",
-        "scooter3d",
-        "--config",
-        s(&p("ship.toml")),
-        "-o",
-        s(&p("d.csv")),
-    ]);
-    assert!(
-        e.contains("--scenario scooter3d: the --config file ")
-            && e.contains("ship.toml is a ship3d scenario (its `scenario` key): give one of them"),
-        "{e}"
-    );
-    let e = err(&[
-        "simulate",
-        "--config",
-        s(&p("part.toml")),
-        "-o",
-        s(&p("d.csv")),
-    ]);
-    assert!(
-        e.contains("no base scenario") && e.contains("a 3-D one: still3d, scooter3d"),
-        "{e}"
-    );
     std::fs::write(p("typo.toml"), "[rig.pendulum3d]\ninertia_x = 0.0026\n").unwrap();
-    let e = err(&[
-        "simulate",
-        "--scenario",
-        "scooter3d",
-        "--config",
-        s(&p("typo.toml")),
-        "-o",
-        s(&p("d.csv")),
-    ]);
-    assert!(
-        e.contains(
-            "typo.toml: `rig.pendulum3d.inertia_x` (line 2, column 1): unknown field `inertia_x`"
+    // (the --config file, --scenario if any, what the error says)
+    let refused: [(&str, Option<&str>, &[&str]); 3] = [
+        (
+            "ship.toml",
+            Some("scooter3d"),
+            &[
+                "--scenario scooter3d: the --config file ",
+                "ship.toml is a ship3d scenario (its `scenario` key): give one of them",
+            ],
         ),
-        "{e}"
-    );
+        ("part.toml", None, &["no base scenario", "a 3-D one: still3d, scooter3d"]),
+        (
+            "typo.toml",
+            Some("scooter3d"),
+            &["typo.toml: `rig.pendulum3d.inertia_x` (line 2, column 1): unknown field `inertia_x`"],
+        ),
+    ];
+    for (config, scenario, says) in refused {
+        let (file, out) = (p(config), p("d.csv"));
+        let mut args = vec!["simulate", "--config", s(&file), "-o", s(&out)];
+        if let Some(name) = scenario {
+            args.extend(["--scenario", name]);
+        }
+        let o = pendtilt(&args);
+        assert!(!o.status.success());
+        let e = stderr(&o);
+        assert!(says.iter().all(|w| e.contains(w)), "{config}: {e}");
+    }
     assert!(!p("d.csv").exists());
 }
