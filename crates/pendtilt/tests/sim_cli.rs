@@ -530,6 +530,45 @@ fn a_log_to_a_device_writes_no_file_beside_it() {
         assert!(!std::path::Path::new("/dev/null.rig.toml").exists());
         assert!(!std::path::Path::new("/dev/null.scenario.toml").exists());
     }
+    // A device that fails is not said to keep an earlier file; `report` names a device as
+    // one, not as a file (session 13).
+    let out = pendtilt(&[
+        "simulate",
+        "--scenario",
+        "sine",
+        "--duration",
+        "0.2",
+        "-o",
+        "/dev/full",
+    ]);
+    assert!(!out.status.success());
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        e.contains(
+            "/dev/full was written to directly (a device or pipe): what reached it is incomplete"
+        ) && !e.contains("earlier file"),
+        "{e}"
+    );
+    let log = dir.path().join("l.csv");
+    assert!(pendtilt(&[
+        "simulate",
+        "--scenario",
+        "sine",
+        "--duration",
+        "1",
+        "-q",
+        "-o",
+        s(&log)
+    ])
+    .status
+    .success());
+    let out = pendtilt(&["report", s(&log), "-o", "/dev/null"]);
+    assert!(!out.status.success());
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        e.contains("-o /dev/null: is a device or pipe, not a directory"),
+        "{e}"
+    );
     // /dev/stdout redirected to a file is a regular file, still no place for side files.
     let file = std::fs::File::create(dir.path().join("redirected.csv")).unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_pendtilt"))

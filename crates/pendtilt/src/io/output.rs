@@ -191,6 +191,12 @@ pub fn not_written(path: &Path) -> String {
             "nothing was written into {}; the files already there are unchanged",
             path.display()
         )
+    } else if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+        // A device or pipe has no earlier file: what reached it may be partial.
+        format!(
+            "{} was written to directly (a device or pipe): what reached it is incomplete",
+            path.display()
+        )
     } else if path.exists() {
         format!(
             "{} was not written; the earlier file is unchanged",
@@ -392,10 +398,18 @@ impl OutputDir {
             path: path.display().to_string(),
             message,
         };
-        if std::fs::metadata(path).is_ok_and(|m| !m.is_dir()) {
-            return Err(unusable(
-                "is a file, not a directory: this command writes a directory of files".into(),
-            ));
+        match std::fs::metadata(path) {
+            Ok(m) if !m.is_dir() => {
+                let what = if m.is_file() {
+                    "a file"
+                } else {
+                    "a device or pipe"
+                };
+                return Err(unusable(format!(
+                    "is {what}, not a directory: this command writes a directory of files"
+                )));
+            }
+            _ => {}
         }
         let parent = absolute(path)
             .parent()
