@@ -117,7 +117,14 @@ impl Pair {
 
     /// The fit, when `x` moved by at least [`MIN_MOTION`].
     pub(crate) fn fit(&self) -> Option<Fit> {
-        self.fit_above(MIN_MOTION)
+        let (factor, correlation, motion) = self.slope()?;
+        // Too little motion in the reference: its factor would be noise (a 3 s still log
+        // gave theta 1/82.7 of the accelerometer's angle at r > 0.8 without this floor).
+        (motion >= MIN_MOTION).then_some(Fit {
+            factor,
+            correlation,
+            samples: self.samples(),
+        })
     }
 
     /// The factor of `y` on `x` from the regression of `x` on `y` (`var y / cov`), when
@@ -128,18 +135,6 @@ impl Pair {
         // slope = cov / var x, r^2 = cov^2 / (var x var y): var y / cov = slope / r^2.
         (motion >= floor).then_some(Fit {
             factor: slope / (correlation * correlation),
-            correlation,
-            samples: self.samples(),
-        })
-    }
-
-    /// The fit, when `x`'s standard deviation is at least `floor` (in `x`'s unit).
-    pub(crate) fn fit_above(&self, floor: f64) -> Option<Fit> {
-        let (factor, correlation, motion) = self.slope()?;
-        // Too little motion in the reference: its factor would be noise (a 3 s still log
-        // gave theta 1/82.7 of the accelerometer's angle at r > 0.8 without this floor).
-        (motion >= floor).then_some(Fit {
-            factor,
             correlation,
             samples: self.samples(),
         })
@@ -159,19 +154,20 @@ pub(crate) fn unit_factor(f: &Fit) -> Option<f64> {
     [DEG, 1.0 / DEG, 1.0].into_iter().find(|&t| near(t))
 }
 
-/// A fourth-order low-pass: two second-order sections.
+/// A fourth-order low-pass: two second-order sections (the unit checks' and the 3-D
+/// turn check's, `cli::estimate3d`).
 #[derive(Debug, Clone, Copy)]
-struct Smooth([LowPass2<f64>; 2]);
+pub(crate) struct Smooth([LowPass2<f64>; 2]);
 
 impl Smooth {
-    fn new(hz: f64) -> Self {
+    pub(crate) fn new(hz: f64) -> Self {
         Self([LowPass2::new(hz); 2])
     }
     fn reset(&mut self) {
         self.0[0].reset();
         self.0[1].reset();
     }
-    fn update(&mut self, u: f64, dt: f64) -> f64 {
+    pub(crate) fn update(&mut self, u: f64, dt: f64) -> f64 {
         let v = self.0[0].update(u, dt);
         self.0[1].update(v, dt)
     }

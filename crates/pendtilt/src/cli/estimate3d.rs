@@ -558,11 +558,13 @@ struct GyroUnits {
 /// The gyro's unit from a vehicle's turns: in a turn the lateral specific force is the
 /// speed times the yaw rate, `a_y ~ v gyro_z` (MODEL.md 7.7: `a_O = v' d + v d'`, FLU), up to
 /// the roll's share of gravity. Both low-passed at [`TURN_HZ`]; on ride3d (60 s, seed 1)
-/// the fit of `v gyro_z` on `a_y` gives 0.95 at r = 0.94. The encoders cannot tell there:
+/// with the gyro in deg/s the fit of `v gyro_z` on `a_y` gives 54.4 (0.95 x 57.3) at
+/// r = 0.96. The encoders cannot tell there:
 /// a car's turns swing its pendulum outward, so d(phi)/dt is not the gyro (a gyro in deg/s
 /// on ride3d was found only by the slip warning, which blamed the speed first).
 struct TurnCheck {
-    lp: [[pendtilt_core::filters::biquad::LowPass2<f64>; 2]; 2],
+    /// `a_y` and `v gyro_z`, low-passed.
+    lp: [crate::units::Smooth; 2],
     /// Time since the filters started \[s\] (pairs are taken after [`TURN_SETTLE`]).
     since: f64,
     pair: crate::units::Pair,
@@ -578,9 +580,8 @@ const TURN_MIN_LATERAL: f64 = 0.3;
 
 impl TurnCheck {
     fn new() -> Self {
-        let lp = pendtilt_core::filters::biquad::LowPass2::new(TURN_HZ);
         Self {
-            lp: [[lp; 2]; 2],
+            lp: [crate::units::Smooth::new(TURN_HZ); 2],
             since: 0.0,
             pair: Default::default(),
         }
@@ -595,14 +596,10 @@ impl TurnCheck {
         if !(x.is_finite() && y.is_finite() && dt > 0.0 && dt < 0.1) {
             return;
         }
-        let mut out = [x, y];
-        for (o, f) in out.iter_mut().zip(self.lp.iter_mut()) {
-            let first = f[0].update(*o, dt);
-            *o = f[1].update(first, dt);
-        }
+        let (x, y) = (self.lp[0].update(x, dt), self.lp[1].update(y, dt));
         self.since += dt;
         if self.since >= TURN_SETTLE {
-            self.pair.add(out[0], out[1]);
+            self.pair.add(x, y);
         }
     }
 

@@ -166,11 +166,7 @@ pub fn length_doubts(args: &Args, s: &Scenario) -> anyhow::Result<Vec<String>> {
             "pendulum.length" => ("--length", o.length),
             _ => ("--pivot-offset", o.pivot_offset),
         };
-        let set = o
-            .set
-            .iter()
-            .rev()
-            .find(|a| a.split('=').next().map(str::trim) == Some(d.key.as_str()));
+        let set = last_set(args, &d.key);
         out.push(match (set, given, &o.rig, &args.config) {
             (Some(a), ..) => {
                 d.on_command_line(&format!("--set {a}"), &format!("--set {}={}", d.key, d.fix))
@@ -188,12 +184,17 @@ pub fn length_doubts(args: &Args, s: &Scenario) -> anyhow::Result<Vec<String>> {
     Ok(out)
 }
 
+/// The last `--set` of `key` (the one that took effect), as given.
+fn last_set<'a>(args: &'a Args, key: &str) -> Option<&'a String> {
+    (args.settings.set.iter().rev()).find(|a| a.split('=').next().map(str::trim) == Some(key))
+}
+
 /// The sensors' full scales and gravity in another unit (a gyro's in deg/s, an
 /// accelerometer's in g or mg, gravity in g: [`crate::config::doubt_gyro_full_scale`], the
-/// checks every rig file gets), each
-/// worded for where it was set: `--set` or `--config`. A gyro of `full_scale = 500`,
-/// meant as deg/s, simulated a gyro that never clips, without a word.
-pub fn full_scale_doubts(args: &Args, s: &Scenario) -> Vec<String> {
+/// checks every rig file gets), each worded for where it was set: `--set` or `--config`.
+/// A gyro of `full_scale = 500`, meant as deg/s, simulated a gyro that never clips,
+/// without a word.
+pub fn unit_doubts(args: &Args, s: &Scenario) -> Vec<String> {
     let doubts = [
         (
             "sensors.gyro.full_scale",
@@ -213,12 +214,7 @@ pub fn full_scale_doubts(args: &Args, s: &Scenario) -> Vec<String> {
     ];
     let mut out = Vec::new();
     for (key, value, doubt) in doubts {
-        let set = args
-            .settings
-            .set
-            .iter()
-            .rev()
-            .find(|a| a.split('=').next().map(str::trim) == Some(key));
+        let set = last_set(args, key);
         let d = match (set, &args.config) {
             (Some(a), _) => doubt(key, value, "--set value").map(|d| format!("--set {a}: {d}")),
             (None, Some(c)) => {
@@ -506,7 +502,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         for d in length_doubts(&args, &scenario)? {
             eprintln!("warning: {d}");
         }
-        for d in full_scale_doubts(&args, &scenario) {
+        for d in unit_doubts(&args, &scenario) {
             eprintln!("warning: {d}");
         }
     }

@@ -91,10 +91,10 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario3d, String, u64)> {
                 );
             };
             // The seed draws the base's random parts: the file's, if it has one.
-            let file_seed = table
-                .as_ref()
-                .and_then(|t| t.get("seed")?.as_integer())
-                .and_then(|s| u64::try_from(s).ok());
+            let file_seed = match &table {
+                Some(t) => crate::sim::scenario::seed_of(t, &origin)?,
+                None => None,
+            };
             let seed = args.seed.or(file_seed).unwrap_or(DEFAULT_SEED);
             let (s, _) = Scenario3d::named(&name, seed)?.merged(&text, &origin)?;
             (s, name, seed)

@@ -400,7 +400,7 @@ impl Scenario {
     }
 }
 
-fn seed_of(table: &toml::Table, origin: &str) -> Result<Option<u64>, SimError> {
+pub(crate) fn seed_of(table: &toml::Table, origin: &str) -> Result<Option<u64>, SimError> {
     match table.get("seed") {
         None => Ok(None),
         Some(toml::Value::Integer(s)) if *s >= 0 => Ok(Some(*s as u64)),

@@ -262,15 +262,8 @@ impl Scenario3d {
         };
         let mut over: toml::Table = toml::from_str(text).map_err(|e| config(e.to_string()))?;
         over.remove("scenario");
-        let seed = match over.remove("seed") {
-            None => None,
-            Some(toml::Value::Integer(s)) if s >= 0 => Some(s as u64),
-            Some(v) => {
-                return Err(config(format!(
-                    "seed: must be a non-negative integer, got {v}"
-                )))
-            }
-        };
+        let seed = crate::sim::scenario::seed_of(&over, origin)?;
+        over.remove("seed");
         let base = toml::Table::try_from(self)
             .map_err(|e| config(format!("cannot represent the base scenario: {e}")))?;
         let s: Self = crate::sim::scenario::merge_into(base, over, Some(text)).map_err(config)?;

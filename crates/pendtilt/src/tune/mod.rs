@@ -442,7 +442,7 @@ fn fit_filters(
             z: &za,
         };
         let r0 = start.kalman.r_accel;
-        let fit = match (opts.target, d.gyro_errors, &sur) {
+        let ((r, before, after), surrogate) = match (opts.target, d.gyro_errors, &sur) {
             // On the surrogate as kf_alg2's R, with the gyro's errors it drew.
             (Target::Likelihood, Some(g), Some(k)) => {
                 let g = surrogate::GyroErrors {
@@ -450,27 +450,20 @@ fn fit_filters(
                     ..g
                 };
                 let s = surrogate::Surrogate::new(d.samples, &za, &g);
-                let (r, before, after) = surrogate::fit_r(&kalman_s, r0, &s, d.skip, budget);
-                AccelFit {
-                    r,
-                    before,
-                    after,
-                    surrogate: true,
-                }
+                (surrogate::fit_r(&kalman_s, r0, &s, d.skip, budget), true)
             }
-            _ => {
-                let (r, before, after) =
-                    targets::kalman_r(&kalman_s, r0, &data, d.skip, opts, budget);
-                AccelFit {
-                    r,
-                    before,
-                    after,
-                    surrogate: false,
-                }
-            }
+            _ => (
+                targets::kalman_r(&kalman_s, r0, &data, d.skip, opts, budget),
+                false,
+            ),
         };
-        kalman_s.r_accel = fit.r;
-        accel_fit = Some(fit);
+        kalman_s.r_accel = r;
+        accel_fit = Some(AccelFit {
+            r,
+            before,
+            after,
+            surrogate,
+        });
     }
     let e = targets::ekf(&ekf_start, d.samples, d.skip, opts, budget);
     // The EKF's error against the gyro's integral above 0.2 Hz with the start and the

@@ -286,12 +286,13 @@ pub fn fit(
 }
 
 /// Powers of ten of the start's R on [`fit_r`]'s grid: every half decade within
-/// [`DECADES`].
-const GRID_R_ALONE: [f64; 25] = {
-    let mut g = [0.0; 25];
+/// [`DECADES`], the start itself left out (it is evaluated first).
+const GRID_R_ALONE: [f64; 24] = {
+    let mut g = [0.0; 24];
     let mut i = 0;
-    while i < 25 {
-        g[i] = -DECADES + 0.5 * i as f64;
+    while i < 24 {
+        let k = if i < 12 { i } else { i + 1 };
+        g[i] = -DECADES + 0.5 * k as f64;
         i += 1;
     }
     g
@@ -332,7 +333,7 @@ pub fn fit_r(
         if !budget.tick() {
             break;
         }
-        let r = clamp(r0 * 10f64.powf(lr));
+        let r = r0 * 10f64.powf(lr);
         let c = cost(r);
         if c < best.0 {
             best = (c, r);
