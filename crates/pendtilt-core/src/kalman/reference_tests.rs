@@ -34,17 +34,8 @@ impl Old {
             self.last_gyro
         };
         let Some(tp) = self.t_prev else {
-            // The start of session 13: the least variance's reading, known to its variance.
-            let (z0, r0) = ms
-                .iter()
-                .filter(|m| m.0.is_finite())
-                .fold(None::<(f64, f64)>, |b, &(z, r)| match b {
-                    Some((_, rb)) if rb <= r => b,
-                    _ => Some((z, r)),
-                })
-                .unwrap();
+            let z0 = ms.iter().find(|m| m.0.is_finite()).unwrap().0;
             self.x = Vector2::new(z0, 0.0);
-            self.p[(0, 0)] = self.p[(0, 0)].max(r0);
             self.t_prev = Some(t);
             return z0;
         };

@@ -176,15 +176,8 @@ impl<T: Real> TiltKalman<T> {
                 Some((_, rb)) if rb <= r => best,
                 _ => Some((z, r)),
             }) {
-                Some((z0, r0)) => {
+                Some((z0, _)) => {
                     st.kf.x = Vector2::new(z0, T::zero());
-                    // The start is one reading: it is known only to its variance. With a
-                    // larger R than p0_angle (tuned: 236 rad^2 for the accelerometer) the
-                    // first reading's error (10 deg on the scooter ride) stayed for the
-                    // whole log (kf_accel 5.1 deg RMS); now the first readings are averaged.
-                    if r0 > st.kf.p[(0, 0)] {
-                        st.kf.p[(0, 0)] = r0;
-                    }
                     st.started = true;
                     st.clock.accept();
                     return Estimate {
@@ -313,8 +306,8 @@ mod tests {
             gyro: GyroSettings::default(),
         };
         let mut kf = TiltKalman::<f64>::new(s);
-        // k = 0: x = [0.1, 0], output z0 (its R, 0.01, leaves P = diag(p0) as it is).
-        let e0 = kf.step(0.0, 0.5, &[(0.1, 0.01)]);
+        // k = 0: x = [0.1, 0], output z0.
+        let e0 = kf.step(0.0, 0.5, &[(0.1, 0.03)]);
         assert_eq!(e0.theta, 0.1);
         assert!(e0.flags.contains(Flags::INITIALISING));
         // k = 1: dt = 0.01, u = 0.5, z = 0.12, R = 0.03. By hand:
@@ -443,25 +436,6 @@ mod tests {
         assert_eq!(
             kf.step(0.0, 0.0, &[(0.19, 0.001), (0.02, 0.001)]).theta,
             0.19
-        );
-    }
-
-    /// The start is one reading, known only to its variance: P00 starts at R when R is the
-    /// larger (a tuned kf_accel, R 236 rad^2, kept its first vibrating reading's 10 deg
-    /// error for the whole minute of the scooter ride with P00 = 0.01).
-    #[test]
-    fn the_start_is_known_to_the_larger_of_p0_and_its_variance() {
-        let mut kf = TiltKalman::<f64>::new(KalmanSettings::default());
-        kf.step(0.0, 0.0, &[(0.2, 236.0)]);
-        assert_eq!(kf.filter().p[(0, 0)], 236.0);
-        // With R = P00 the next reading weighs about half: the first readings are averaged.
-        let e = kf.step(0.001, 0.0, &[(0.0, 236.0)]);
-        assert!((e.theta - 0.1).abs() < 1e-3, "{}", e.theta);
-        let mut kf = TiltKalman::<f64>::new(KalmanSettings::default());
-        kf.step(0.0, 0.0, &[(0.2, 0.001)]);
-        assert_eq!(
-            kf.filter().p[(0, 0)],
-            KalmanSettings::<f64>::default().p0_angle
         );
     }
 
