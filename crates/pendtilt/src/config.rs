@@ -21,6 +21,7 @@
 //! q_bias = 0.003        # gyro-bias process noise density [(rad/s)^2/s]; Q = q * dt
 //! r_accel = 0.03        # variance of the accelerometer angle [rad^2]
 //! r_pendulum = 0.001    # variance of a pendulum algorithm's angle [rad^2]
+//! # r_accel_fused = 0.03 # the accelerometer's beside it in kf_fused (default r_accel)
 //! p0_angle = 0.01       # initial angle variance [rad^2]
 //! p0_bias = 0.01        # initial bias variance [(rad/s)^2]
 //!
@@ -777,6 +778,7 @@ fn key_comment(table: &str, key: &str) -> Option<&'static str> {
         ("kalman", "q_bias") => "bias noise density [(rad/s)^2/s], Q = q dt",
         ("kalman", "r_accel") => "accelerometer angle variance [rad^2]",
         ("kalman", "r_pendulum") => "pendulum angle variance [rad^2]",
+        ("kalman", "r_accel_fused") => "kf_fused's accelerometer angle variance [rad^2]",
         ("kalman", "p0_angle") => "initial angle variance [rad^2]",
         ("kalman", "p0_bias") => "initial bias variance [(rad/s)^2]",
         ("differentiator", "response") => "butterworth | bessel | critically_damped",

@@ -533,29 +533,39 @@ fn rms_deg(
     sums.iter().map(|s| (s / n).sqrt().to_degrees()).collect()
 }
 
-/// `kf_accel`'s R is fitted on the surrogate of its error, as `kf_alg2`'s is (session 13).
+/// `kf_accel`'s R is fitted on the surrogate of its error, as `kf_alg2`'s is (session 13),
+/// and `kf_fused`'s accelerometer R on the surrogates of both its measurements (session 14).
 /// The likelihood fit took the accelerometer's vibration as white noise and trusted it
 /// far too much (R 0.07 rad^2 on the quick start's ride): tuned, kf_accel improved
-/// little and kf_fused, which shares R, went from 0.63 deg RMS untuned to 1.47 (tuned on
-/// seed 2, scored on seed 3). Now both improve, on a vibrating ride and on a still one.
+/// little and kf_fused, which shared R, went from 0.63 deg RMS untuned to 1.47 (tuned on
+/// seed 2, scored on seed 3). Now both improve, on a vibrating ride and on a still one,
+/// and on the ride tuned on itself (seed 1, the quick start's): there the surrogate, its
+/// low-pass started on the first reading, never showed the first reading's error (10
+/// deg), R went to 236 rad^2 and kf_accel kept it: 4.85 deg RMS after 2 s against 1.85
+/// untuned (now 1.44).
 #[test]
 fn tuning_improves_kf_accel_and_kf_fused_with_and_without_vibration() {
-    for vibration in [true, false] {
+    for (vibration, tuned_seed, scored_seed) in [(true, 2, 3), (false, 2, 3), (true, 1, 1)] {
         let mut s = Scenario::named("scooter").unwrap();
         s.duration = 60.0;
         if !vibration {
             s.vibration = Default::default();
         }
         let rig = s.rig().unwrap();
-        let tuned_on = simulate(&s, 2).unwrap();
-        let scored_on = simulate(&s, 3).unwrap();
+        let tuned_on = simulate(&s, tuned_seed).unwrap();
+        let scored_on = simulate(&s, scored_seed).unwrap();
         let samples: Vec<Sample<f64>> = tuned_on.iter().map(|r| r.sample()).collect();
         let t = tune(&samples, &Start::from_rig(&rig), &Options::default());
-        let note = t.notes.iter().find(|n| n.key == "kalman.r_accel").unwrap();
-        assert!(
-            note.how.contains("surrogate of kf_accel's error"),
-            "{note:?}"
-        );
+        for (key, how) in [
+            ("kalman.r_accel", "surrogate of kf_accel's error"),
+            (
+                "kalman.r_accel_fused",
+                "surrogates of the accelerometer's and Algorithm 2's",
+            ),
+        ] {
+            let note = t.notes.iter().find(|n| n.key == key).unwrap();
+            assert!(note.how.contains(how), "{note:?}");
+        }
         let tuned = pendtilt::tune::rig_file::tuned_rig(&rig, &t);
         let names = ["kf_accel", "kf_fused", "kf_alg2"];
         let (before, after) = (
@@ -563,18 +573,18 @@ fn tuning_improves_kf_accel_and_kf_fused_with_and_without_vibration() {
             rms_deg(&tuned, &scored_on, &names),
         );
         eprintln!(
-            "vibration {vibration}: R {:.3e} rad^2; kf_accel {:.4} -> {:.4} deg, kf_fused {:.4} -> {:.4}, kf_alg2 {:.4} -> {:.4}",
-            t.kalman.r_accel, before[0], after[0], before[1], after[1], before[2], after[2]
+            "vibration {vibration}, tuned on seed {tuned_seed}, scored on {scored_seed}: R {:.3e}, fused {:.3e} rad^2; kf_accel {:.4} -> {:.4} deg, kf_fused {:.4} -> {:.4}, kf_alg2 {:.4} -> {:.4}",
+            t.kalman.r_accel, t.kalman.r_accel_fused.unwrap(), before[0], after[0], before[1], after[1], before[2], after[2]
         );
         assert!(after[0] < before[0], "kf_accel {before:?} -> {after:?}");
         assert!(
             after[1] < 0.5 * before[1],
             "kf_fused {before:?} -> {after:?}"
         );
-        if vibration {
-            // The pendulum carries kf_fused: 3.0 times kf_alg2 (the likelihood's R left it
-            // at 17 times). Not closer: the R it shares is kf_accel's best, not its own.
-            assert!(after[1] < 4.0 * after[2], "{after:?}");
-        }
+        // kf_fused, its accelerometer R its own, is within 20 % of kf_alg2 (1.15, 1.00 and
+        // 1.03 times): sharing kf_accel's R it was 3.0 times kf_alg2 (17 times with the
+        // likelihood's R), and 3.2 times without vibration with its own R fitted on a
+        // surrogate blind to the body's acceleration (`Surrogate::against`).
+        assert!(after[1] < 1.2 * after[2], "{after:?}");
     }
 }

@@ -33,6 +33,11 @@ pub struct KalmanSettings<T> {
     /// Variance of a pendulum algorithm's angle [rad^2]. Default 0.001: the pendulum is
     /// far less disturbed by vibration than the accelerometer.
     pub r_pendulum: T,
+    /// Variance of the accelerometer angle where `kf_fused` weighs it against a pendulum
+    /// algorithm's [rad^2]. Default `None`: `r_accel`. Apart because the accelerometer's
+    /// error under vibration is coloured, so the R that serves it alone is not the one
+    /// that serves it beside the pendulum: `pendtilt tune` fits each on its own filter.
+    pub r_accel_fused: Option<T>,
     /// Initial angle variance [rad^2]. Default 0.01.
     pub p0_angle: T,
     /// Initial bias variance [(rad/s)^2]. Default 0.01.
@@ -54,6 +59,7 @@ impl<T: Real> Default for KalmanSettings<T> {
             q_bias: T::lit(0.003),
             r_accel: T::lit(0.03),
             r_pendulum: T::lit(0.001),
+            r_accel_fused: None,
             p0_angle: T::lit(0.01),
             p0_bias: T::lit(0.01),
             gyro: GyroSettings::default(),
@@ -301,6 +307,7 @@ mod tests {
             q_bias: 0.003,
             r_accel: 0.03,
             r_pendulum: 0.001,
+            r_accel_fused: None,
             p0_angle: 0.01,
             p0_bias: 0.01,
             gyro: GyroSettings::default(),

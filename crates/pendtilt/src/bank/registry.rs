@@ -77,6 +77,9 @@ fn r_accel(k: &KalmanSettings<f64>) -> f64 {
 fn r_pendulum(k: &KalmanSettings<f64>) -> f64 {
     k.r_pendulum
 }
+fn r_accel_fused(k: &KalmanSettings<f64>) -> f64 {
+    k.r_accel_fused.unwrap_or(k.r_accel)
+}
 
 /// Every estimator, in output column order.
 pub static REGISTRY: &[Entry] = &[
@@ -191,7 +194,7 @@ pub static REGISTRY: &[Entry] = &[
     Entry {
         name: "kf_fused",
         needs: Inputs::ALL,
-        kind: Kind::Kalman(&[("accel", r_accel), ("alg2", r_pendulum)]),
+        kind: Kind::Kalman(&[("accel", r_accel_fused), ("alg2", r_pendulum)]),
         about: "Kalman filter fed by the accelerometer and Algorithm 2 in turn",
         gyro_gated: false,
     },

@@ -263,9 +263,9 @@ fn header(args: &Args, log: &TuneLog, t: &Tuned) -> Vec<String> {
     }
     match t.accel_fit {
         Some(a) if a.surrogate => h.push(format!(
-            "kf_accel predicted RMS error above {} Hz (surrogate from the gyro; blind to the \
-             accelerometer's error below it, from the body's own acceleration) [deg]: before \
-             {:.4}, after {:.4}",
+            "kf_accel predicted RMS error (surrogate from the gyro; the accelerometer's error \
+             below {} Hz, the body's own acceleration, taken as its difference from Algorithm \
+             2) [deg]: before {:.4}, after {:.4}",
             tune::reference::CORNER_HZ,
             a.before.to_degrees(),
             a.after.to_degrees()
@@ -275,6 +275,18 @@ fn header(args: &Args, log: &TuneLog, t: &Tuned) -> Vec<String> {
             a.before, a.after
         )),
         None => {}
+    }
+    if let Some(a) = t.fused_fit {
+        let on = if a.surrogate {
+            "predicted RMS error (surrogates from the gyro)"
+        } else {
+            "RMS error against the truth"
+        };
+        h.push(format!(
+            "kf_fused {on} [deg], its accelerometer R alone fitted: before {:.4}, after {:.4}",
+            a.before.to_degrees(),
+            a.after.to_degrees()
+        ));
     }
     if let Some(e) = &t.ekf_fit {
         let adopted = match (t.target, t.ekf_band) {

@@ -130,6 +130,9 @@ fn check_kalman(k: &KalmanSettings<f64>, issues: &mut Vec<Issue>) {
         k.r_pendulum > 0.0,
         pos,
     );
+    if let Some(r) = k.r_accel_fused {
+        require(issues, "kalman.r_accel_fused", r, r > 0.0, pos);
+    }
     let var = "an initial variance must be >= 0";
     require(
         issues,

@@ -37,54 +37,77 @@ pub fn innovation_pass(
     s: &KalmanSettings<f64>,
     r: f64,
     d: &KalmanData,
+    each: impl FnMut(usize, f64, f64, f64),
+) {
+    pass(s, d.dt, d.gyro, &[(d.z, r)], each);
+}
+
+/// [`innovation_pass`] with several measurements per row, each `(z, r)` used in turn as
+/// `kf_fused` uses them; the filter starts on the usable one with the least `r` (the first
+/// of equals), as [`pendtilt_core::kalman::TiltKalman`] does. `y`, `s_k` are the last
+/// update's of the row.
+pub fn pass(
+    s: &KalmanSettings<f64>,
+    dt: &[f64],
+    gyro: &[f64],
+    zs: &[(&[f64], f64)],
     mut each: impl FnMut(usize, f64, f64, f64),
 ) {
     let (mut th, mut b) = (f64::NAN, 0.0);
     let (mut p00, mut p01, mut p11) = (s.p0_angle, 0.0, s.p0_bias);
     let mut u_last = 0.0;
-    let n = d.dt.len().min(d.gyro.len()).min(d.z.len());
+    let n = zs
+        .iter()
+        .map(|(z, _)| z.len())
+        .fold(dt.len().min(gyro.len()), usize::min);
     for k in 0..n {
-        let u = if d.gyro[k].is_finite() {
-            u_last = d.gyro[k];
-            d.gyro[k]
+        let u = if gyro[k].is_finite() {
+            u_last = gyro[k];
+            gyro[k]
         } else {
             u_last
         };
-        let z = d.z[k];
         if th.is_nan() {
-            if z.is_finite() {
-                th = z;
+            let mut least = f64::INFINITY;
+            for &(z, r) in zs {
+                if z[k].is_finite() && r < least {
+                    (th, least) = (z[k], r);
+                }
             }
             each(k, th, f64::NAN, f64::NAN);
             continue;
         }
-        let dt = d.dt[k];
-        if !(dt.is_finite() && dt >= 0.0) {
+        let h = dt[k];
+        if !(h.is_finite() && h >= 0.0) {
             each(k, th, f64::NAN, f64::NAN);
             continue;
         }
         // Predict: A = [[1, -dt], [0, 1]], B = [dt, 0], Q = diag(q_angle, q_bias) dt.
-        th += dt * (u - b);
-        let a00 = p00 - dt * (2.0 * p01 - dt * p11) + s.q_angle * dt;
-        let a01 = p01 - dt * p11;
+        th += h * (u - b);
+        let a00 = p00 - h * (2.0 * p01 - h * p11) + s.q_angle * h;
+        let a01 = p01 - h * p11;
         p00 = a00;
         p01 = a01;
-        p11 += s.q_bias * dt;
-        if !z.is_finite() {
-            each(k, th, f64::NAN, f64::NAN);
-            continue;
+        p11 += s.q_bias * h;
+        let (mut y_last, mut s_last) = (f64::NAN, f64::NAN);
+        for &(z, r) in zs {
+            let z = z[k];
+            if !z.is_finite() {
+                continue;
+            }
+            let y = z - th;
+            let sk = p00 + r;
+            let (k0, k1) = (p00 / sk, p01 / sk);
+            th += k0 * y;
+            b += k1 * y;
+            // P - v v^T / s with v = P h = (p00, p01).
+            let (v0, v1) = (p00, p01);
+            p00 -= v0 * v0 / sk;
+            p01 -= v0 * v1 / sk;
+            p11 -= v1 * v1 / sk;
+            (y_last, s_last) = (y, sk);
         }
-        let y = z - th;
-        let sk = p00 + r;
-        let (k0, k1) = (p00 / sk, p01 / sk);
-        th += k0 * y;
-        b += k1 * y;
-        // P - v v^T / s with v = P h = (p00, p01).
-        let (v0, v1) = (p00, p01);
-        p00 -= v0 * v0 / sk;
-        p01 -= v0 * v1 / sk;
-        p11 -= v1 * v1 / sk;
-        each(k, th, y, sk);
+        each(k, th, y_last, s_last);
     }
 }
 
@@ -187,6 +210,57 @@ mod tests {
         for k in 0..n {
             let e = kf.step(dt[k], gyro[k], &[(z[k], 3e-3)]);
             assert!((e.theta - mine[k]).abs() < 1e-12, "row {k}");
+        }
+    }
+
+    /// kf_fused's two measurements: the pass starts where the core filter starts (on the
+    /// accelerometer while Algorithm 2 has no angle yet, else on the one of least R) and
+    /// follows it sample by sample, whichever is listed first.
+    #[test]
+    fn pass_with_two_measurements_is_the_core_filter() {
+        let s = KalmanSettings {
+            q_angle: 1e-3,
+            q_bias: 2e-4,
+            ..KalmanSettings::default()
+        };
+        let n = 300;
+        let dt: Vec<f64> = (0..n).map(|k| if k == 0 { 0.0 } else { 0.002 }).collect();
+        let gyro: Vec<f64> = (0..n).map(|k| (k as f64 * 0.05).cos() - 0.02).collect();
+        let za: Vec<f64> = (0..n)
+            .map(|k| 0.3 + (k as f64 * 0.7).sin() * 0.05)
+            .collect();
+        for late in [0, 5] {
+            let zp: Vec<f64> = (0..n)
+                .map(|k| {
+                    if k < late || k % 11 == 4 {
+                        f64::NAN
+                    } else {
+                        0.25 + (k as f64 * 0.013).sin() * 0.1
+                    }
+                })
+                .collect();
+            for (first, second) in [((&za, 0.03), (&zp, 1e-3)), ((&zp, 1e-3), (&za, 0.03))] {
+                let zs = [
+                    (first.0.as_slice(), first.1),
+                    (second.0.as_slice(), second.1),
+                ];
+                let mut mine = Vec::new();
+                pass(&s, &dt, &gyro, &zs, |_, th, _, _| mine.push(th));
+                let start = if late == 0 { zp[0] } else { za[0] };
+                assert_eq!(mine[0], start, "start, Alg 2 from row {late}");
+                let mut kf = TiltKalman::new(s);
+                for k in 0..n {
+                    let e = kf.step(
+                        dt[k],
+                        gyro[k],
+                        &[(first.0[k], first.1), (second.0[k], second.1)],
+                    );
+                    assert!(
+                        (e.theta - mine[k]).abs() < 1e-12,
+                        "row {k}, Alg 2 from row {late}"
+                    );
+                }
+            }
         }
     }
 }

@@ -17,8 +17,11 @@
 //! - [`surrogate`]: the same three against a surrogate of `kf_alg2`'s error built from
 //!   the gyro, a grid over R and q/R before the coordinate search (adopted when the log
 //!   has a gyro: the likelihood takes Algorithm 2's coloured errors as white and trusts
-//!   it too much); and `kf_accel`'s R alone on the accelerometer's surrogate
-//!   ([`surrogate::fit_r`]; by likelihood without a gyro).
+//!   it too much); and the accelerometer's R alone on its surrogate, anchored on
+//!   Algorithm 2 below the corner ([`surrogate::Surrogate::against`]), twice: for
+//!   `kf_accel` (`r_accel`) and beside Algorithm 2 for `kf_fused` (`r_accel_fused`)
+//!   ([`surrogate::fit_r`]; by likelihood without a gyro, `kf_fused` then sharing
+//!   `r_accel`).
 //! - [`ekf`]: the EKF's process noise, the same way, from the measured forcing; with no
 //!   true angle the fit is adopted only if it lowers the process noise
 //!   ([`ekf::only_lowers`]: raising it made the EKF worse on 20 of 25 zoo rides); the
@@ -228,6 +231,8 @@ pub struct Tuned {
     pub kalman_surrogate: Option<surrogate::Fitted>,
     /// `kf_accel`'s R fit.
     pub accel_fit: Option<AccelFit>,
+    /// `kf_fused`'s accelerometer R fit (`kalman.r_accel_fused`).
+    pub fused_fit: Option<AccelFit>,
     /// The EKF's fit.
     pub ekf_fit: Option<ekf::EkfFitted>,
     /// The EKF's error against the gyro's integral above 0.2 Hz \[rad\] with the start's
@@ -242,14 +247,15 @@ pub struct Tuned {
     pub stopped_by_time_limit: bool,
 }
 
-/// `kf_accel`'s R fit (`kalman.r_accel`, which `kf_fused` shares).
+/// An accelerometer R fitted alone: `kf_accel`'s (`kalman.r_accel`) or `kf_fused`'s
+/// (`kalman.r_accel_fused`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AccelFit {
     /// R \[rad^2\].
     pub r: f64,
     /// The cost at the start and at the fit: the surrogate's RMS error \[rad\], or the
-    /// mean negative log-likelihood of kf_accel's innovations (or its RMS error against
-    /// the truth) when there is no surrogate.
+    /// mean negative log-likelihood of kf_accel's innovations (or the filter's RMS error
+    /// against the truth) when there is no surrogate.
     pub before: f64,
     /// See [`Self::before`].
     pub after: f64,
@@ -258,8 +264,8 @@ pub struct AccelFit {
 }
 
 /// Cost evaluations [`tune`] plans (for a progress bar): the cutoff against the gyro, the
-/// jitter's scale (at most), the Kalman filters' three parameters (likelihood, and surrogate with its grid), `kf_accel`'s R and the
-/// EKF's two, each fit's passes.
+/// jitter's scale (at most), the Kalman filters' three parameters (likelihood, and surrogate with its grid), `kf_accel`'s
+/// and `kf_fused`'s accelerometer R and the EKF's two, each fit's passes.
 pub fn planned_evaluations() -> u64 {
     let per = search::EVALS_PER_PARAMETER;
     let (k, e) = (kalman::ROUNDS as u64, ekf::ROUNDS as u64);
@@ -268,7 +274,7 @@ pub fn planned_evaluations() -> u64 {
         + jitter
         + (1 + k * 3 * per)
         + surrogate::EVALUATIONS
-        + surrogate::EVALUATIONS_R
+        + 2 * surrogate::EVALUATIONS_R
         + (1 + e * 2 * per)
 }
 
@@ -399,6 +405,7 @@ struct FilterFits {
     kalman_fit: Option<kalman::Fitted>,
     kalman_surrogate: Option<surrogate::Fitted>,
     accel_fit: Option<AccelFit>,
+    fused_fit: Option<AccelFit>,
     ekf_fit: Option<ekf::EkfFitted>,
     ekf_band: Option<(f64, f64)>,
 }
@@ -432,8 +439,9 @@ fn fit_filters(
     opts: &Options,
     budget: &mut Budget,
 ) -> FilterFits {
-    let (mut kalman_s, f, sur) = fit_kalman(start, differentiator, d, opts, budget);
-    let mut accel_fit = None;
+    let kf = fit_kalman(start, differentiator, d, opts, budget);
+    let mut kalman_s = kf.settings;
+    let (mut accel_fit, mut fused_fit) = (None, None);
     if d.has_accel {
         let za = measurements(&mut Accel::new(start.accel), d.samples);
         let data = kalman::KalmanData {
@@ -442,28 +450,51 @@ fn fit_filters(
             z: &za,
         };
         let r0 = start.kalman.r_accel;
-        let ((r, before, after), surrogate) = match (opts.target, d.gyro_errors, &sur) {
-            // On the surrogate as kf_alg2's R, with the gyro's errors it drew.
-            (Target::Likelihood, Some(g), Some(k)) => {
-                let g = surrogate::GyroErrors {
-                    bias_walk: k.bias_walk,
-                    ..g
-                };
-                let s = surrogate::Surrogate::new(d.samples, &za, &g);
-                (surrogate::fit_r(&kalman_s, r0, &s, d.skip, budget), true)
-            }
-            _ => (
-                targets::kalman_r(&kalman_s, r0, &data, d.skip, opts, budget),
-                false,
-            ),
-        };
-        kalman_s.r_accel = r;
-        accel_fit = Some(AccelFit {
+        let r0_fused = start.kalman.r_accel_fused.unwrap_or(r0);
+        let q = kalman_s;
+        let fit = |(r, before, after), surrogate| AccelFit {
             r,
             before,
             after,
             surrogate,
-        });
+        };
+        match (opts.target, d.gyro_errors, &kf.surrogate_fit, &kf.surrogate) {
+            // On the surrogate as kf_alg2's R, with the gyro's errors it drew, the
+            // accelerometer's error below the corner its difference from Algorithm 2;
+            // kf_fused's on both surrogates together, Algorithm 2's R as fitted.
+            (Target::Likelihood, Some(g), Some(k), Some(sp)) => {
+                let g = surrogate::GyroErrors {
+                    bias_walk: k.bias_walk,
+                    ..g
+                };
+                let sa = surrogate::Surrogate::against(d.samples, &za, &kf.z, &g);
+                let alone = |r| surrogate::rms_of(&q, &[(&sa, r)], d.skip);
+                accel_fit = Some(fit(surrogate::fit_r(r0, alone, budget), true));
+                let fused = |r| surrogate::rms_of(&q, &[(&sa, r), (sp, q.r_pendulum)], d.skip);
+                fused_fit = Some(fit(surrogate::fit_r(r0_fused, fused, budget), true));
+            }
+            (Target::Truth(truth), ..) => {
+                accel_fit = Some(fit(
+                    targets::kalman_r(&q, r0, &data, d.skip, opts, budget),
+                    false,
+                ));
+                let both = [(za.as_slice(), r0_fused), (kf.z.as_slice(), q.r_pendulum)];
+                let fused = targets::kalman_fused_r(&q, &both, &data, truth, d.skip, budget);
+                fused_fit = Some(fit(fused, false));
+            }
+            _ => {
+                accel_fit = Some(fit(
+                    targets::kalman_r(&q, r0, &data, d.skip, opts, budget),
+                    false,
+                ));
+            }
+        }
+        if let Some(a) = &accel_fit {
+            kalman_s.r_accel = a.r;
+        }
+        if let Some(a) = &fused_fit {
+            kalman_s.r_accel_fused = Some(a.r);
+        }
     }
     let e = targets::ekf(&ekf_start, d.samples, d.skip, opts, budget);
     // The EKF's error against the gyro's integral above 0.2 Hz with the start and the
@@ -490,9 +521,10 @@ fn fit_filters(
     FilterFits {
         kalman: kalman_s,
         ekf,
-        kalman_fit: Some(f),
-        kalman_surrogate: sur,
+        kalman_fit: Some(kf.fitted),
+        kalman_surrogate: kf.surrogate_fit,
         accel_fit,
+        fused_fit,
         ekf_band,
         ekf_fit: Some(e),
     }
@@ -507,11 +539,7 @@ fn fit_kalman(
     d: &FitData,
     opts: &Options,
     budget: &mut Budget,
-) -> (
-    KalmanSettings<f64>,
-    kalman::Fitted,
-    Option<surrogate::Fitted>,
-) {
+) -> KalmanFit {
     let mut alg2_s = start.alg2;
     alg2_s.front_end.differentiator = differentiator;
     let z_all = measurements(&mut Alg2::<f64>::new(alg2_s), d.samples);
@@ -556,11 +584,32 @@ fn fit_kalman(
             kalman_s.r_pendulum = r;
             fit.nll_at = kalman::nll(&kalman_s, r / m as f64, &data, d.skip);
             fit.bias_walk = g.bias_walk;
-            Some(fit)
+            Some((fit, s))
         }
         _ => None,
     };
-    (kalman_s, f, sur)
+    let (surrogate_fit, surrogate) = sur.unzip();
+    KalmanFit {
+        settings: kalman_s,
+        fitted: f,
+        surrogate_fit,
+        surrogate,
+        z: z_all,
+    }
+}
+
+/// What [`fit_kalman`] found, with what the accelerometer's fits reuse.
+struct KalmanFit {
+    /// The `kf_*` settings with kf_alg2's Q and R fitted.
+    settings: KalmanSettings<f64>,
+    /// The likelihood (or truth) fit.
+    fitted: kalman::Fitted,
+    /// The surrogate fit (adopted when present).
+    surrogate_fit: Option<surrogate::Fitted>,
+    /// Its surrogate of Algorithm 2's error.
+    surrogate: Option<surrogate::Surrogate>,
+    /// Algorithm 2's angle per row.
+    z: Vec<f64>,
 }
 
 /// Tunes every estimator's settings on `samples` (one log, rows in order), starting from
@@ -680,6 +729,7 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
             kalman_fit: None,
             kalman_surrogate: None,
             accel_fit: None,
+            fused_fit: None,
             ekf_band: None,
             ekf_fit: None,
         },
@@ -690,6 +740,7 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         fits.kalman_fit.as_ref(),
         fits.kalman_surrogate.as_ref(),
         fits.accel_fit.as_ref(),
+        fits.fused_fit.as_ref(),
         &ekf_start,
         fits.ekf_fit.as_ref(),
         fits.ekf_band,
@@ -723,6 +774,7 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         kalman_fit: fits.kalman_fit,
         kalman_surrogate: fits.kalman_surrogate,
         accel_fit: fits.accel_fit,
+        fused_fit: fits.fused_fit,
         ekf_fit: fits.ekf_fit,
         ekf_band: fits.ekf_band,
         notes,

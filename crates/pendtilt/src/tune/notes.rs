@@ -331,6 +331,7 @@ pub(super) fn filters(
     kf: Option<&Fitted>,
     sur: Option<&super::surrogate::Fitted>,
     accel: Option<&super::AccelFit>,
+    fused: Option<&super::AccelFit>,
     ekf_start: &ModelSettings<f64>,
     ekf: Option<&EkfFitted>,
     ekf_band: Option<(f64, f64)>,
@@ -352,9 +353,9 @@ pub(super) fn filters(
             format!("{:.4e} rad^2", a.r),
             false,
             format!(
-                "fitted on a surrogate of kf_accel's error (the accelerometer angle's error above \
-                 {} Hz from the gyro's integral, the gyro's errors drawn as for kf_alg2), \
-                 q_angle and q_bias as above; RMS {:.4} -> {:.4} deg (kf_fused shares it)",
+                "fitted on a surrogate of kf_accel's error (the accelerometer angle's error from \
+                 the gyro's integral above {} Hz and from Algorithm 2 below, the gyro's errors \
+                 drawn as for kf_alg2), q_angle and q_bias as above; RMS {:.4} -> {:.4} deg",
                 super::reference::CORNER_HZ,
                 a.before.to_degrees(),
                 a.after.to_degrees()
@@ -381,6 +382,31 @@ pub(super) fn filters(
                 "no accelerometer in the log: kept the default".into()
             },
         ),
+    }
+    if let Some(a) = fused {
+        let how = if a.surrogate {
+            format!(
+                "kf_fused's accelerometer R, fitted on the surrogates of the accelerometer's and \
+                 Algorithm 2's errors together, q_angle, q_bias and r_pendulum as above; RMS \
+                 {:.4} -> {:.4} deg",
+                a.before.to_degrees(),
+                a.after.to_degrees()
+            )
+        } else {
+            format!(
+                "kf_fused's accelerometer R, fitted on its error against the truth, q_angle, \
+                 q_bias and r_pendulum as above; RMS {:.4} -> {:.4} deg",
+                a.before.to_degrees(),
+                a.after.to_degrees()
+            )
+        };
+        note(
+            notes,
+            "kalman.r_accel_fused",
+            format!("{:.4e} rad^2", a.r),
+            false,
+            how,
+        );
     }
     ekf_notes(ekf_start, ekf, ekf_band, truth, &why, notes);
 }

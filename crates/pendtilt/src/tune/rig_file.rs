@@ -13,6 +13,7 @@ pub fn tuned_rig(rig: &RigConfig, t: &Tuned) -> RigConfig {
     out.kalman.q_bias = t.kalman.q_bias;
     out.kalman.r_pendulum = t.kalman.r_pendulum;
     out.kalman.r_accel = t.kalman.r_accel;
+    out.kalman.r_accel_fused = t.kalman.r_accel_fused;
     out.differentiator = t.differentiator;
     out.alg1.cutoff_times_natural = t.alg1_cutoff.map(|c| c.0);
     out.ekf = EkfConfig::from_settings(&t.ekf);
@@ -137,6 +138,7 @@ mod tests {
             "kalman.q_bias",
             "kalman.r_pendulum",
             "kalman.r_accel",
+            "kalman.r_accel_fused",
             "ekf.process.jerk",
             "ekf.process.pendulum",
             "differentiator.cutoff_hz",

@@ -13,15 +13,16 @@
 //!
 //! Running the filter on that surrogate (true angle 0) gives its error as a function of
 //! its settings; the fit minimises its RMS with the same coordinate search as the
-//! likelihood ([`super::search`]) after a coarse grid ([`fit`]). What it cannot see is the measurement's error below the
-//! corner (taken as none).
+//! likelihood ([`super::search`]) after a coarse grid ([`fit`]). What it cannot see is
+//! Algorithm 2's error below the corner (taken as none); the accelerometer's there is
+//! taken as its difference from Algorithm 2 ([`Surrogate::against`]).
 //!
 //! Why not the likelihood alone: Algorithm 2's errors are coloured (the differentiator's
 //! delay, the pivot offset's term at the motion's own frequency), and a likelihood that
 //! takes them as white trusts the measurement too much. On zoo ride 1 (l12 = 60 mm, a
 //! 1 Hz sine, alg2 10.7 deg RMS) the likelihood fit left kf_alg2 at 3.55 deg where the
 //! oracle grid reached 0.42.
-use super::kalman::{innovation_pass, KalmanData, ROUNDS};
+use super::kalman::{pass, ROUNDS};
 use super::reference::{integral, CORNER_HZ};
 use super::search::{coordinate_log, Budget};
 use pendtilt_core::filters::biquad::LowPass2;
@@ -125,15 +126,29 @@ pub struct Surrogate {
 
 impl Surrogate {
     /// Builds it from the rows `samples`, the measurement `z` per row (NaN: none) and the
-    /// gyro's figures.
+    /// gyro's figures, `z`'s error taken as none below [`CORNER_HZ`].
     pub fn new(samples: &[Sample<f64>], z: &[f64], g: &GyroErrors) -> Self {
-        Self::with_corner(samples, z, g, CORNER_HZ)
+        Self::against(samples, z, z, g)
     }
 
-    /// [`Self::new`] with the high-pass corner `corner` \[Hz\].
-    pub fn with_corner(samples: &[Sample<f64>], z: &[f64], g: &GyroErrors, corner: f64) -> Self {
+    /// [`Self::new`] with `z`'s error below the corner taken as its difference from
+    /// `anchor` there: the error against a tilt that is the gyro's integral above
+    /// [`CORNER_HZ`] and `anchor` below it (a complementary filter of the two). With
+    /// `anchor = z` that is `HP(z - integral)`; the accelerometer's surrogates are anchored
+    /// on Algorithm 2, so that they see the body's own acceleration, which the
+    /// accelerometer reads below the corner and the pendulum's model does not: without it
+    /// kf_fused, its accelerometer R fitted, trusted the accelerometer on a ride without
+    /// vibration and was 3.2 times kf_alg2 (0.080 against 0.025 deg).
+    pub fn against(samples: &[Sample<f64>], z: &[f64], anchor: &[f64], g: &GyroErrors) -> Self {
         let reference = integral(samples, g.bias);
-        let mut lp = LowPass2::new(corner);
+        let mut lp = LowPass2::new(CORNER_HZ);
+        // At rest on the first 1 / corner seconds' mean, not on the first reading: the
+        // surrogate then starts on the log's own start error, which the filter keeps
+        // (x0 = z0) as long as its R and Q say. Started on the first reading it began at 0
+        // and never showed it: tuned on the quick start's ride, kf_accel's R went to 236
+        // rad^2 and the filter kept its first reading, 10 deg off, for the whole minute
+        // (5.08 deg RMS; untuned 1.85).
+        let mut low = start_mean(samples, anchor, &reference, 1.0 / CORNER_HZ);
         let mut started = false;
         let mut rng = ChaCha8Rng::seed_from_u64(0x5eed);
         let mut walk = 0.0;
@@ -142,20 +157,23 @@ impl Surrogate {
             z: Vec::with_capacity(z.len()),
             gyro: Vec::with_capacity(z.len()),
         };
-        for ((s, &zk), r) in samples.iter().zip(z).zip(&reference) {
+        for (((s, &zk), &ak), r) in samples.iter().zip(z).zip(anchor).zip(&reference) {
             let dt = if s.dt.is_finite() && s.dt > 0.0 {
                 s.dt
             } else {
                 0.0
             };
-            let d = zk - r;
-            let e = if d.is_finite() {
-                let h = if started { dt } else { 0.0 };
-                started = true;
-                d - lp.update(d, h)
-            } else {
-                f64::NAN
-            };
+            let d = ak - r;
+            if d.is_finite() {
+                if !started {
+                    lp.update(low, 0.0);
+                    started = true;
+                } else if dt > 0.0 {
+                    low = lp.update(d, dt);
+                }
+            }
+            // NaN only if the anchor has no value at all.
+            let e = zk - (r + low);
             let n: f64 = StandardNormal.sample(&mut rng);
             let w: f64 = StandardNormal.sample(&mut rng);
             walk += g.bias_walk * dt.sqrt() * w;
@@ -168,30 +186,65 @@ impl Surrogate {
     }
 
     /// RMS \[rad\] of the filter's angle (its error: the surrogate's tilt is 0) with
-    /// q_angle, q_bias of `x[0..2]` and R `x[2]`, rows from `skip`.
+    /// q_angle, q_bias of `x[0..2]` and R `x[2]`, rows from `skip` ([`rms_of`]).
     pub fn rms(&self, s: &KalmanSettings<f64>, x: &[f64], skip: usize) -> f64 {
         let at = KalmanSettings {
             q_angle: x[0],
             q_bias: x[1],
             ..*s
         };
-        let d = KalmanData {
-            dt: &self.dt,
-            gyro: &self.gyro,
-            z: &self.z,
-        };
-        let (mut sum, mut n) = (0.0, 0usize);
-        innovation_pass(&at, x[2], &d, |k, th, _, _| {
-            if k >= skip && th.is_finite() {
-                sum += th * th;
-                n += 1;
-            }
-        });
-        if n == 0 {
-            f64::INFINITY
-        } else {
-            (sum / n as f64).sqrt()
+        rms_of(&at, &[(self, x[2])], skip)
+    }
+}
+
+/// RMS \[rad\] of the error of the filter `s` fed by the surrogates `parts` in turn, each
+/// with its R (`kf_fused`: the accelerometer's and Algorithm 2's, drawn with the same gyro
+/// errors; the gyro is taken from the first), rows from `skip`.
+pub fn rms_of(s: &KalmanSettings<f64>, parts: &[(&Surrogate, f64)], skip: usize) -> f64 {
+    let Some(&(lead, _)) = parts.first() else {
+        return f64::INFINITY;
+    };
+    let zs: Vec<(&[f64], f64)> = parts.iter().map(|(p, r)| (p.z.as_slice(), *r)).collect();
+    let (mut sum, mut n) = (0.0, 0usize);
+    pass(s, &lead.dt, &lead.gyro, &zs, |k, th, _, _| {
+        if k >= skip && th.is_finite() {
+            sum += th * th;
+            n += 1;
         }
+    });
+    if n == 0 {
+        f64::INFINITY
+    } else {
+        (sum / n as f64).sqrt()
+    }
+}
+
+/// Mean of `z - reference` over the first `span` seconds from its first finite value
+/// (NaN if there is none).
+fn start_mean(samples: &[Sample<f64>], z: &[f64], reference: &[f64], span: f64) -> f64 {
+    let (mut clock, mut sum, mut n) = (f64::NAN, 0.0, 0usize);
+    for ((s, zk), r) in samples.iter().zip(z).zip(reference) {
+        let d = zk - r;
+        if clock.is_nan() {
+            if !d.is_finite() {
+                continue;
+            }
+            clock = 0.0;
+        } else if s.dt.is_finite() && s.dt > 0.0 {
+            clock += s.dt;
+        }
+        if clock > span {
+            break;
+        }
+        if d.is_finite() {
+            sum += d;
+            n += 1;
+        }
+    }
+    if n == 0 {
+        f64::NAN
+    } else {
+        sum / n as f64
     }
 }
 
@@ -303,26 +356,21 @@ const GRID_R_ALONE: [f64; 24] = {
 pub const EVALUATIONS_R: u64 =
     1 + GRID_R_ALONE.len() as u64 + 1 + super::search::EVALS_PER_PARAMETER;
 
-/// Fits R alone on the surrogate, q_angle and q_bias of `s` kept (`kf_accel`'s R, after
-/// `kf_alg2`'s fit set the Q): a grid over R every half decade within [`DECADES`] of `r0`,
-/// then the golden search within half a decade of the grid's best. Returns `(R, RMS
-/// before, RMS after)` \[rad^2, rad, rad\]; the start if nothing lowered the RMS.
+/// Fits one R on a surrogate's RMS `rms(R)`, the filter's q_angle and q_bias kept
+/// (`kf_accel`'s R and `kf_fused`'s accelerometer R, after `kf_alg2`'s fit set the Q): a
+/// grid over R every half decade within [`DECADES`] of `r0`, then the golden search
+/// within half a decade of the grid's best. Returns `(R, RMS before, RMS after)`
+/// \[rad^2, rad, rad\]; the start if nothing lowered the RMS.
 ///
 /// Why not the likelihood, as before: the accelerometer's error under vibration is
 /// coloured as Algorithm 2's is, and the likelihood trusted it far too much. On the
 /// quick start's scooter ride (60 s, seed 1), tuned, kf_accel was 1.46 deg RMS with
-/// the likelihood's R (0.070 rad^2) and kf_fused, which shares it, went from 0.79 deg
+/// the likelihood's R (0.070 rad^2) and kf_fused, which shared it, went from 0.79 deg
 /// untuned to 1.44.
-pub fn fit_r(
-    s: &KalmanSettings<f64>,
-    r0: f64,
-    sur: &Surrogate,
-    skip: usize,
-    budget: &mut Budget,
-) -> (f64, f64, f64) {
+pub fn fit_r(r0: f64, rms: impl Fn(f64) -> f64, budget: &mut Budget) -> (f64, f64, f64) {
     let span = 10f64.powf(DECADES);
     let clamp = |r: f64| r.clamp(r0 / span, r0 * span);
-    let cost = |r: f64| sur.rms(s, &[s.q_angle, s.q_bias, clamp(r)], skip);
+    let cost = |r: f64| rms(clamp(r));
     let before = if budget.tick() {
         cost(r0)
     } else {

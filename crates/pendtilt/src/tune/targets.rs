@@ -87,6 +87,42 @@ pub(super) fn kalman_r(
     }
 }
 
+/// Fits kf_fused's accelerometer R against `truth`: the R of the first of `zs` (from its
+/// value), the others' R and `s`'s Q kept. `(R, RMS before, RMS after)` \[rad^2, rad, rad\].
+pub(super) fn kalman_fused_r(
+    s: &KalmanSettings<f64>,
+    zs: &[(&[f64], f64)],
+    d: &KalmanData,
+    truth: &[f64],
+    skip: usize,
+    budget: &mut Budget,
+) -> (f64, f64, f64) {
+    let cost = |r: f64| {
+        let mut with: Vec<(&[f64], f64)> = zs.to_vec();
+        with[0].1 = r;
+        let (mut sum, mut n) = (0.0, 0usize);
+        kalman::pass(s, d.dt, d.gyro, &with, |k, th, _, _| {
+            if k >= skip && k < truth.len() && th.is_finite() && truth[k].is_finite() {
+                sum += (th - truth[k]).powi(2);
+                n += 1;
+            }
+        });
+        if n == 0 {
+            f64::INFINITY
+        } else {
+            (sum / n as f64).sqrt()
+        }
+    };
+    let r0 = zs[0].1;
+    let before = cost(r0);
+    let (x, after) = coordinate_log(|x| cost(x[0]), &[r0], 4.0, 1, budget);
+    if after < before {
+        (x[0], before, after)
+    } else {
+        (r0, before, before)
+    }
+}
+
 /// Fits the EKF's densities ([`ekf::fit`] or, against the truth, the same parameters by
 /// RMS error).
 pub(super) fn ekf(
