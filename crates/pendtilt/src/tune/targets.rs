@@ -11,10 +11,17 @@ use pendtilt_core::ekf::{Ekf, ModelSettings};
 use pendtilt_core::kalman::KalmanSettings;
 use pendtilt_core::Sample;
 
-/// RMS error \[rad\] of the angle + bias filter against `truth`, rows from `skip` on.
-fn kalman_rms(s: &KalmanSettings<f64>, r: f64, d: &KalmanData, truth: &[f64], skip: usize) -> f64 {
+/// RMS error \[rad\] against `truth` of the angle + bias filter fed the measurements
+/// `zs` (each with its R) with the steps and gyro of `d`, rows from `skip` on.
+fn kalman_rms(
+    s: &KalmanSettings<f64>,
+    d: &KalmanData,
+    zs: &[(&[f64], f64)],
+    truth: &[f64],
+    skip: usize,
+) -> f64 {
     let (mut sum, mut n) = (0.0, 0usize);
-    kalman::innovation_pass(s, r, d, |k, th, _, _| {
+    kalman::pass(s, d.dt, d.gyro, zs, |k, th, _, _| {
         if k >= skip && k < truth.len() && th.is_finite() && truth[k].is_finite() {
             sum += (th - truth[k]).powi(2);
             n += 1;
@@ -36,7 +43,7 @@ fn kalman_cost(s: &KalmanSettings<f64>, x: &[f64], d: &KalmanData, skip: usize, 
     };
     match t {
         Target::Likelihood => kalman::nll(&at, x[2], d, skip),
-        Target::Truth(th) => kalman_rms(&at, x[2], d, th, skip),
+        Target::Truth(th) => kalman_rms(&at, d, &[(d.z, x[2])], th, skip),
     }
 }
 
@@ -78,13 +85,7 @@ pub(super) fn kalman_r(
     budget: &mut Budget,
 ) -> (f64, f64, f64) {
     let cost = |r: f64| kalman_cost(s, &[s.q_angle, s.q_bias, r], d, skip, &opts.target);
-    let before = cost(r0);
-    let (x, after) = coordinate_log(|x| cost(x[0]), &[r0], 4.0, 1, budget);
-    if after < before {
-        (x[0], before, after)
-    } else {
-        (r0, before, before)
-    }
+    search_r(r0, cost, budget)
 }
 
 /// Fits kf_fused's accelerometer R against `truth`: the R of the first of `zs` (from its
@@ -100,20 +101,14 @@ pub(super) fn kalman_fused_r(
     let cost = |r: f64| {
         let mut with: Vec<(&[f64], f64)> = zs.to_vec();
         with[0].1 = r;
-        let (mut sum, mut n) = (0.0, 0usize);
-        kalman::pass(s, d.dt, d.gyro, &with, |k, th, _, _| {
-            if k >= skip && k < truth.len() && th.is_finite() && truth[k].is_finite() {
-                sum += (th - truth[k]).powi(2);
-                n += 1;
-            }
-        });
-        if n == 0 {
-            f64::INFINITY
-        } else {
-            (sum / n as f64).sqrt()
-        }
+        kalman_rms(s, d, &with, truth, skip)
     };
-    let r0 = zs[0].1;
+    search_r(zs[0].1, cost, budget)
+}
+
+/// One R by the search from `r0` on `cost`: `(R, cost before, cost after)`, `r0` if
+/// nothing lowered it.
+fn search_r(r0: f64, cost: impl Fn(f64) -> f64, budget: &mut Budget) -> (f64, f64, f64) {
     let before = cost(r0);
     let (x, after) = coordinate_log(|x| cost(x[0]), &[r0], 4.0, 1, budget);
     if after < before {
