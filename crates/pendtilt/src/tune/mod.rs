@@ -20,8 +20,8 @@
 //!   it too much); and the accelerometer's R alone on its surrogate, anchored on
 //!   Algorithm 2 below the corner ([`surrogate::Surrogate::against`]), twice: for
 //!   `kf_accel` (`r_accel`) and beside Algorithm 2 for `kf_fused` (`r_accel_fused`)
-//!   ([`surrogate::fit_r`]; by likelihood without a gyro, `kf_fused` then sharing
-//!   `r_accel`).
+//!   ([`surrogate::fit_r`]; without a gyro `r_accel` by likelihood, and `r_accel_fused`
+//!   kept as it started).
 //! - [`ekf`]: the EKF's process noise, the same way, from the measured forcing; with no
 //!   true angle the fit is adopted only if it lowers the process noise
 //!   ([`ekf::only_lowers`]: raising it made the EKF worse on 20 of 25 zoo rides); the
