@@ -141,6 +141,73 @@ impl Pair {
     }
 }
 
+/// Running least squares of `y = a x + b x'' + c`: the encoder's rate `y` on the gyro `x`
+/// and its second derivative `x''`, which takes out the swing that a sensor at a height
+/// `h` above the centre the body rotates about adds to the pendulum. Its specific force
+/// there leans by `-(h / g) theta''` besides the tilt, so `phi ~ theta - (h / g) theta''`
+/// and `phi' ~ gyro - (h / g) gyro''`; on a ship's mast (ship3d, 5 m) the pendulum swings
+/// 1.4x the pitch, and 1.8x its rate (the term grows with the frequency squared).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Lever {
+    n: f64,
+    // Sums of x, x'', y and of their products.
+    s: [f64; 3],
+    p: [[f64; 3]; 3],
+}
+
+/// A [`Lever`] fit: the factor of the gyro on the encoder's rate (`1 / a`), the multiple
+/// correlation, and the height `h = -g b / a` \[m\].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LeverFit {
+    /// Factor, multiple correlation (as [`Fit::correlation`]) and samples.
+    pub fit: Fit,
+    /// The sensor's height above the centre the body rotates about \[m\].
+    pub height: f64,
+}
+
+impl Lever {
+    /// Adds the gyro `x`, its second derivative `x2` and the encoder's rate `y`.
+    pub(crate) fn add(&mut self, x: f64, x2: f64, y: f64) {
+        let v = [x, x2, y];
+        if !v.iter().all(|u| u.is_finite()) {
+            return;
+        }
+        self.n += 1.0;
+        for i in 0..3 {
+            self.s[i] += v[i];
+            for j in 0..3 {
+                self.p[i][j] += v[i] * v[j];
+            }
+        }
+    }
+
+    /// The fit, when the encoder's rate moved by at least [`MIN_MOTION`], with gravity `g`.
+    pub(crate) fn fit(&self, g: f64) -> Option<LeverFit> {
+        if self.n < 4.0 {
+            return None;
+        }
+        let n = self.n;
+        let c = |i: usize, j: usize| self.p[i][j] / n - self.s[i] * self.s[j] / (n * n);
+        let (vxx, vx2, v22, vyy) = (c(0, 0), c(0, 1), c(1, 1), c(2, 2));
+        let (cxy, c2y) = (c(0, 2), c(1, 2));
+        let det = vxx * v22 - vx2 * vx2;
+        if !(det > 0.0 && vyy > 0.0) || vyy.sqrt() < MIN_MOTION {
+            return None;
+        }
+        let a = (v22 * cxy - vx2 * c2y) / det;
+        let b = (vxx * c2y - vx2 * cxy) / det;
+        let r2 = (a * cxy + b * c2y) / vyy;
+        (a != 0.0 && r2.is_finite()).then(|| LeverFit {
+            fit: Fit {
+                factor: 1.0 / a,
+                correlation: r2.clamp(0.0, 1.0).sqrt(),
+                samples: n as u64,
+            },
+            height: -g * b / a,
+        })
+    }
+}
+
 /// Which of [`DEG`], `1 / DEG` and 1 a fitted factor is (within [`FACTOR_TOLERANCE`]),
 /// when its correlation says anything ([`MIN_CORRELATION`]): a column in degrees, one
 /// converted twice (or radians read with --deg), or a right one. The planar check's
@@ -213,6 +280,10 @@ pub struct UnitCheck {
     since_start: f64,
     settle: f64,
     pairs: [Pair; 5],
+    /// The encoder's rate on the gyro and its second derivative ([`Lever`]).
+    lever: Lever,
+    /// The last two low-passed gyro readings, for its second derivative.
+    gyro_before: Option<(f64, f64)>,
     duration: f64,
     /// The first rows after a (re)start, until [`WARM_START`] of them are in: the filters
     /// start at rest on their mean.
@@ -241,6 +312,8 @@ impl UnitCheck {
             since_start: f64::NAN,
             settle: SETTLE_PERIODS / cutoff,
             pairs: [Pair::default(); 5],
+            lever: Lever::default(),
+            gyro_before: None,
             duration: 0.0,
             warm: Vec::new(),
         }
@@ -251,6 +324,7 @@ impl UnitCheck {
             s.reset();
         }
         self.prev = None;
+        self.gyro_before = None;
         self.warm.clear();
     }
 
@@ -320,6 +394,9 @@ impl UnitCheck {
         let gyro = self.smooth[1].update(or0(s.gyro), step);
         let acc = self.smooth[2].update(alpha, step);
         let truth = self.smooth[3].update(or0(th), step);
+        let before = self
+            .gyro_before
+            .replace((self.gyro_before.map_or(gyro, |b| b.1), gyro));
         let Some((last_phi, last_acc)) = self.prev.replace((phi, acc)) else {
             return;
         };
@@ -333,6 +410,11 @@ impl UnitCheck {
         let (p, g, a) = (self.inputs.phi, self.inputs.gyro, self.inputs.accel);
         if p && g {
             self.pairs[Comparison::GyroEncoderRate as usize].add(dphi, gyro);
+            // gyro'' at the previous row, against the rate between it and this one.
+            if let Some((g2, g1)) = before {
+                let curvature = (gyro - 2.0 * g1 + g2) / (step * step);
+                self.lever.add(0.5 * (gyro + g1), curvature, dphi);
+            }
         }
         if p && a {
             self.pairs[Comparison::EncoderAccel as usize].add(acc, phi);
@@ -353,6 +435,12 @@ impl UnitCheck {
     /// The fit of one comparison, if it had samples with motion.
     pub fn fit(&self, c: Comparison) -> Option<Fit> {
         self.pairs[c as usize].fit()
+    }
+
+    /// The gyro against the encoder's rate with the sensor's height above the centre of
+    /// rotation fitted out ([`Lever`]), for gravity `g` \[m/s^2\]; the 3-D check's.
+    pub fn lever_fit(&self, g: f64) -> Option<LeverFit> {
+        self.lever.fit(g)
     }
 
     /// The factor of comparison `c` when it correlates and is near 1, deg or 1/deg.
@@ -532,4 +620,53 @@ pub fn check_settings_against_rate(settings: &BankSettings, dt: f64) -> Result<(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sensor 5 m above the centre its body pitches about (two sines, 5 deg at 0.14 Hz
+    /// and 1 deg at 0.31 Hz, as ship3d's pitch): the pendulum reads `theta - (h / g)
+    /// theta''`. The plain pair takes the gyro for 0.57 of the encoder's rate; the lever
+    /// fit gives 1 (57.3 with the gyro in deg/s) and the height.
+    #[test]
+    fn the_lever_fit_takes_out_the_height_above_the_centre_of_rotation() {
+        let (h, g, dt) = (5.0, 9.80665, 1e-3);
+        let parts = [(5f64.to_radians(), 0.14), (1f64.to_radians(), 0.31)];
+        for scale in [1.0, DEG] {
+            let mut check = UnitCheck::with_natural_frequency(
+                2.19,
+                Inputs {
+                    phi: true,
+                    gyro: true,
+                    accel: false,
+                },
+            );
+            for k in 0..60_000 {
+                let t = k as f64 * dt;
+                let (mut th, mut rate, mut acc) = (0.0, 0.0, 0.0);
+                for (a, f) in parts {
+                    let w = std::f64::consts::TAU * f;
+                    th += a * (w * t).sin();
+                    rate += a * w * (w * t).cos();
+                    acc -= a * w * w * (w * t).sin();
+                }
+                let s = Sample {
+                    dt: if k == 0 { 0.0 } else { dt },
+                    phi: th - h / g * acc,
+                    gyro: scale * rate,
+                    ax: f64::NAN,
+                    ay: f64::NAN,
+                };
+                check.add(&s, None);
+            }
+            let plain = check.fit(Comparison::GyroEncoderRate).unwrap();
+            assert!(plain.factor / scale < 0.7, "{plain:?}");
+            let l = check.lever_fit(g).unwrap();
+            assert!((l.fit.factor / scale - 1.0).abs() < 0.01, "{l:?}");
+            assert!(l.fit.correlation > 0.999, "{l:?}");
+            assert!((l.height - h).abs() < 0.1, "{l:?}");
+        }
+    }
 }

@@ -548,9 +548,15 @@ pub(crate) fn pass(
 /// The gyro's unit found from the physics, per axis, with the planar check
 /// ([`crate::units::UnitCheck`]): below the pendulum's frequency the encoders follow the
 /// tilt, so d(phi_x)/dt ~ gyro_x and d(phi_y)/dt ~ gyro_y (roll and pitch rates, for the
-/// tilts of a vehicle); a gyro 57x that is in deg/s, 1/57 of it converted twice.
+/// tilts of a vehicle); a gyro 57x that is in deg/s, 1/57 of it converted twice. The
+/// sensor's height above the centre the body rotates about is fitted out
+/// ([`crate::units::UnitCheck::lever_fit`]): on ship3d (IMU 5 m above it) the pendulum
+/// swings 1.8x the pitch rate, so a gyro in deg/s read as 34x on pitch and was not found,
+/// and as 45x on roll; with the height fitted (4.8 and 5.0 m) 56.8x and 56.6x.
 struct GyroUnits {
     axes: [crate::units::UnitCheck; 2],
+    /// Gravity \[m/s^2\], for the height.
+    gravity: f64,
     /// The yaw rate against the turn, for a vehicle with a speed (see [`TurnCheck`]).
     turn: TurnCheck,
 }
@@ -625,6 +631,7 @@ impl GyroUnits {
         let w = params.natural_frequencies();
         Self {
             turn: TurnCheck::new(),
+            gravity: params.gravity,
             axes: std::array::from_fn(|i| {
                 crate::units::UnitCheck::with_natural_frequency(
                     w[i] / std::f64::consts::TAU,
@@ -656,8 +663,27 @@ impl GyroUnits {
         let mut out = Vec::new();
         for (i, axis) in self.axes.iter().enumerate() {
             let (gyro, phi) = [("gyro_x", "phi_x"), ("gyro_y", "phi_y")][i];
-            let Some(f) = axis.fit(crate::units::Comparison::GyroEncoderRate) else {
-                continue;
+            // With the height fitted out, else the plain pair (too little curvature).
+            let (f, how) = match axis.lever_fit(self.gravity) {
+                Some(l) => (
+                    l.fit,
+                    format!(
+                        "d({phi})/dt on the gyro and its second derivative, which takes out the \
+                         swing of a sensor {:.1} m above the centre the body rotates about \
+                         (phi ~ theta - (h / g) theta''), over {} rows below f_n / 4, R = {:.2}",
+                        l.height, l.fit.samples, l.fit.correlation
+                    ),
+                ),
+                None => match axis.fit(crate::units::Comparison::GyroEncoderRate) {
+                    Some(f) => (
+                        f,
+                        format!(
+                            "over {} rows below f_n / 4, r = {:.2}",
+                            f.samples, f.correlation
+                        ),
+                    ),
+                    None => continue,
+                },
             };
             let unit = crate::units::unit_factor(&f);
             let what = if unit == Some(deg) {
@@ -677,9 +703,7 @@ impl GyroUnits {
             out.push(format!(
                 "{file}: {gyro} is {what} Every estimator reading it is wrong by as much: \
                  write gyro_x, gyro_y, gyro_z in rad/s, or give --deg if every angular column \
-                 (phi_x, phi_y, gyro_*, roll, pitch) is in degrees (least squares over {} rows \
-                 below f_n / 4, r = {:.2})",
-                f.samples, f.correlation
+                 (phi_x, phi_y, gyro_*, roll, pitch) is in degrees (least squares of {how})"
             ));
         }
         // Said once: what the encoders found, else what the turns say.
