@@ -318,6 +318,8 @@ pub struct LengthDoubt {
     pub what: String,
     /// The value written in metres, if it was meant in millimetres (`0.05`).
     pub fix: String,
+    /// Why so long a length is doubted: the limit \[m\] and what is no longer.
+    pub beyond: (f64, &'static str),
 }
 
 /// The one check of a length \[m\]: a doubt when `|metres|` is beyond
@@ -328,12 +330,31 @@ pub fn doubt_length(
     metres: f64,
     fix: impl std::fmt::Display,
 ) -> Option<LengthDoubt> {
-    (metres.abs() > DOUBTFUL_LENGTH).then(|| LengthDoubt {
+    const WHY: &str = "larger than any vehicle a pendulum sensor rides on but a ship";
+    doubt_length_beyond(key, what, metres, (DOUBTFUL_LENGTH, WHY), fix)
+}
+
+/// [`doubt_length`] with its own limit \[m\] and reason, for a length a ship may take
+/// beyond [`DOUBTFUL_LENGTH`] (3-D `speed_at`: [`DOUBTFUL_SPEED_POINT`]).
+pub fn doubt_length_beyond(
+    key: &str,
+    what: String,
+    metres: f64,
+    beyond: (f64, &'static str),
+    fix: impl std::fmt::Display,
+) -> Option<LengthDoubt> {
+    (metres.abs() > beyond.0).then(|| LengthDoubt {
         key: key.into(),
         what,
         fix: fix.to_string(),
+        beyond,
     })
 }
+
+/// A speed sensor farther than this from the pendulum \[m\] is doubted: half the length
+/// of the largest ships (400 m). ship3d's is 9.4 m; a car's wheel written in millimetres
+/// (say 1200 mm) reads as 1200 m.
+pub const DOUBTFUL_SPEED_POINT: f64 = 200.0;
 
 /// `x` to six significant digits, written plainly (0.0051, not 0.0050999999999999995).
 pub fn plain(x: f64) -> f64 {
@@ -449,9 +470,8 @@ impl LengthDoubt {
     /// Why it is doubted.
     fn why(&self) -> String {
         format!(
-            "{} is beyond {DOUBTFUL_LENGTH} m, larger than any vehicle a pendulum sensor \
-             rides on but a ship",
-            self.what
+            "{} is beyond {} m, {}",
+            self.what, self.beyond.0, self.beyond.1
         )
     }
 

@@ -1363,6 +1363,38 @@ fn a_mounting_not_finite_is_refused_and_one_in_millimetres_doubted() {
         ) && e.contains("write mounting.accel_at = [0.0, 0.0, 0.25]"),
         "{e}"
     );
+    // The speed sensor's position in mm (session 14; was not doubted: a ship's may be
+    // metres away). Beyond 200 m, half the largest ships' length, it is.
+    let r = write(
+        dir.path(),
+        "mms.rig.toml",
+        &rig.replace(
+            "speed_at = [0.0, 0.0, -0.25]",
+            "speed_at = [1200.0, 0.0, -300.0]",
+        ),
+    );
+    let o = pendtilt(&["estimate", s(&log), "-p", s(&r), "-o", s(&out)]);
+    let e = stderr(&o);
+    assert!(
+        e.contains(
+            "mms.rig.toml: mounting.speed_at: the speed sensor at [1200.0, 0.0, -300.0] m \
+             (1236.932 m from P1) is beyond 200 m, farther than a speed sensor can be on any \
+             vehicle"
+        ) && e.contains("write mounting.speed_at = [1.2, 0.0, -0.3]"),
+        "{e}"
+    );
+    // ship3d's, 9.4 m from P1, is not doubted.
+    let ship = simulate(dir.path(), "ship3d", &["--duration", "2"]);
+    let o = pendtilt(&[
+        "estimate",
+        s(&ship),
+        "-p",
+        s(&dir.path().join("ship3d.rig.toml")),
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("speed_at"), "{}", stderr(&o));
 }
 
 #[test]

@@ -12,7 +12,7 @@ use pendtilt_core::spatial::cardan::CardanParams;
 use pendtilt_core::spatial::ekf;
 use serde::Deserialize;
 
-use crate::config::{doubt_length, plain, LengthDoubt};
+use crate::config::{doubt_length, doubt_length_beyond, plain, LengthDoubt, DOUBTFUL_SPEED_POINT};
 use crate::sim3d::scenario::check_mounting;
 use crate::sim3d::{Mounting, Pendulum3d};
 
@@ -108,20 +108,31 @@ impl Pendulum3dConfig {
 }
 
 /// The accelerometer's position beyond [`crate::config::DOUBTFUL_LENGTH`] from P1 (the
-/// rig's length check: `accel_at = [0, 0, 250]` meant 250 mm, silently), named by
-/// `table`'s key (`mounting`, a scenario's `rig.mounting`). Not `speed_at`: a ship's
-/// speed point may be metres away (ship3d: 9.4 m).
+/// rig's length check: `accel_at = [0, 0, 250]` meant 250 mm, silently), and the speed
+/// sensor's beyond [`DOUBTFUL_SPEED_POINT`] (a ship's may be metres away, ship3d's 9.4 m;
+/// `speed_at = [1200, 0, -300]` meant mm), named by `table`'s key (`mounting`, a
+/// scenario's `rig.mounting`).
 pub fn mounting_doubts(m: &Mounting, table: &str) -> Vec<LengthDoubt> {
-    let v = m.accel_at;
-    let len = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-    doubt_length(
+    let len = |v: [f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mm = |v: [f64; 3]| format!("{:?}", v.map(|x| plain(x / 1000.0)));
+    let (a, s) = (m.accel_at, m.speed_at);
+    let accel = doubt_length(
         &format!("{table}.accel_at"),
-        format!("the accelerometer at {v:?} m ({len:.3} m from P1)"),
-        len,
-        format!("{:?}", v.map(|x| plain(x / 1000.0))),
-    )
-    .into_iter()
-    .collect()
+        format!("the accelerometer at {a:?} m ({:.3} m from P1)", len(a)),
+        len(a),
+        mm(a),
+    );
+    let speed = doubt_length_beyond(
+        &format!("{table}.speed_at"),
+        format!("the speed sensor at {s:?} m ({:.3} m from P1)", len(s)),
+        len(s),
+        (
+            DOUBTFUL_SPEED_POINT,
+            "farther than a speed sensor can be on any vehicle (half the largest ships' 400 m)",
+        ),
+        mm(s),
+    );
+    accel.into_iter().chain(speed).collect()
 }
 
 /// A 3-D rig file: the pendulum, where the sensors sit and the spatial filter's settings.
