@@ -346,3 +346,45 @@ fn a_still_log_never_tunes_a_noise_of_zero_and_its_rig_is_no_worse_than_the_defa
         }
     }
 }
+
+/// A log whose gyro is in deg/s is said to be, as `estimate` says it, and the tuned file
+/// records it (session 14: `tune` read it silently and wrote settings fitted to a gyro 57x
+/// too large, most of its readings read as missing beyond the rig's full scale, of which
+/// only the first ten were listed). With `--deg gyro` the warning goes; a correct log has
+/// none.
+#[test]
+fn a_gyro_in_deg_per_s_is_said_and_recorded_in_the_tuned_file() {
+    let f = Fixture::new(5, 12.0, false);
+    let out = f.path("t.toml");
+    let plain = f.tune(&out, &[]);
+    assert!(!plain.contains("NOT TO BE TRUSTED"), "{plain}");
+    assert!(plain.contains("the log: 12000 rows"), "{plain}");
+    let text = std::fs::read_to_string(&f.log).unwrap();
+    let mut deg = String::new();
+    for (k, line) in text.lines().enumerate() {
+        let mut cells: Vec<String> = line.split(',').map(String::from).collect();
+        if k > 0 {
+            cells[2] = format!("{:?}", cells[2].parse::<f64>().unwrap().to_degrees());
+        }
+        deg.push_str(&cells.join(","));
+        deg.push('\n');
+    }
+    std::fs::write(&f.log, deg).unwrap();
+    let o = pendtilt(&["tune", s(&f.log), "-p", s(&f.rig), "-o", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("ride.csv: gyro is ")
+            && e.contains(
+                "x the encoder's derivative d(phi)/dt: is gyro in deg/s? read it with --deg gyro"
+            ),
+        "{e}"
+    );
+    let file = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        file.contains("# NOT TO BE TRUSTED: tuned on a log whose units look wrong: gyro is "),
+        "{file}"
+    );
+    let fixed = f.tune(&out, &["--deg", "gyro"]);
+    assert!(!fixed.contains("NOT TO BE TRUSTED"), "{fixed}");
+}

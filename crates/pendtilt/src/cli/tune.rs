@@ -8,10 +8,12 @@ use std::time::Duration;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::bank::BankSettings;
 use crate::config::RigConfig;
 use crate::io::output::{self, NamedPath};
 use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions, TimeUnit};
 use crate::tune::{self, rig_file, Options, Start, Target, Tuned};
+use crate::units::UnitCheck;
 use pendtilt_core::Sample;
 
 /// What `tune` tunes the filters against.
@@ -86,6 +88,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 struct TuneLog {
     samples: Vec<Sample<f64>>,
     truth: Option<Vec<f64>>,
+    /// The unit check's findings (a gyro in deg/s, ...), as `estimate` says them.
+    units: Vec<crate::units::Finding>,
+    /// The reader's summary line (rows, time span, warnings by kind).
+    summary: String,
 }
 
 /// Reads the whole log (warnings printed unless `--quiet`).
@@ -112,6 +118,13 @@ fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<TuneLog> {
         log.file()
     );
     let has_theta = log.columns().has(Column::Theta);
+    // The physics' unit check, as `estimate` runs it: a gyro in deg/s tuned on silently
+    // gave settings fitted to readings 57x too large (most of them read as missing,
+    // beyond the rig's full scale), and said only the first ten of those.
+    let mut units = UnitCheck::new(
+        &BankSettings::from_rig(rig.clone()),
+        crate::pipeline::inputs_of(&log),
+    );
     let (mut samples, mut truth) = (Vec::new(), Vec::new());
     while let Some(rec) = log.next_record()? {
         if !args.quiet {
@@ -119,12 +132,21 @@ fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<TuneLog> {
                 eprintln!("warning: {w}");
             }
         }
+        units.add(&rec.unchecked, rec.theta);
         samples.push(rec.sample);
         truth.push(rec.theta.unwrap_or(f64::NAN));
+    }
+    let units = units.findings();
+    if !args.quiet {
+        for f in &units {
+            eprintln!("warning: {}: {}", log.file(), f.message);
+        }
     }
     Ok(TuneLog {
         samples,
         truth: has_theta.then_some(truth),
+        units,
+        summary: log.summary().to_string(),
     })
 }
 
@@ -311,6 +333,13 @@ fn header(args: &Args, log: &TuneLog, t: &Tuned) -> Vec<String> {
     }
     if t.kalman_fit.is_none() {
         h.push("the filters were not fitted (see the notes): their noise kept as given".into());
+    }
+    h.push(format!("the log: {}", log.summary));
+    for f in &log.units {
+        h.push(format!(
+            "NOT TO BE TRUSTED: tuned on a log whose units look wrong: {}",
+            f.message
+        ));
     }
     if t.stopped_by_time_limit {
         h.push(format!(
