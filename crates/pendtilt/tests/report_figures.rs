@@ -187,6 +187,57 @@ fn the_y_range_ignores_a_start_up_transient_and_counts_what_it_cuts() {
     assert!(g.axes[0].y_range.1 >= 50.0 && g.beyond_total() == 0);
 }
 
+/// The truth, drawn whole ([`Curve::reference`]), is never cut, start-up or not: a truth
+/// that starts at -3 and settles to the unit sine keeps the axis down to -3, while an
+/// estimate's start-up transient beside it (50 points at 50) is still cut and counted
+/// (session 14: a 10 s 3-D report ranged on its scored last 5 s cut the truth's first
+/// seconds off, 4451 points of pendulum3d's roll panel beyond the axis, the truth's
+/// among them).
+#[test]
+fn the_truth_drawn_whole_is_never_cut_by_the_robust_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let (t, sine) = sine_run();
+    let truth: Vec<f64> = t
+        .iter()
+        .zip(&sine)
+        .map(|(t, y)| if *t < 0.8 { -3.0 } else { *y })
+        .collect();
+    let mut est = sine.clone();
+    for v in est.iter_mut().take(50) {
+        *v = 50.0;
+    }
+    let p = Palette::default();
+    let spec = FigureSpec::new("whole", "time [s]", "angle [deg]");
+    let f = plot_curves(
+        dir.path(),
+        "whole",
+        &spec,
+        &[
+            Curve::line("alg2", &t, &est),
+            Curve::reference("theta", &t, &truth, 1),
+        ],
+        &p,
+    )
+    .unwrap();
+    let (lo, hi) = f.axes[0].y_range;
+    assert!(lo <= -3.0 && hi < 2.0, "{lo} {hi}");
+    let b = f.axes[0].beyond;
+    assert_eq!((b.above, b.below), (50, 0), "{b:?}");
+    // Drawn as a plain line, the truth's start is cut with the transient.
+    let g = plot_curves(
+        dir.path(),
+        "cut",
+        &spec,
+        &[
+            Curve::line("alg2", &t, &est),
+            Curve::line("theta", &t, &truth),
+        ],
+        &p,
+    )
+    .unwrap();
+    assert!(g.axes[0].beyond.below > 0, "{:?}", g.axes[0]);
+}
+
 /// One spike of 1000 in a sine is cut at the frame and reported as one point above; the
 /// sine's own peaks are not cut.
 #[test]

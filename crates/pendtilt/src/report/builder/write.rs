@@ -76,8 +76,8 @@ impl Report {
         captions.push(format!(
             "Every estimate against the true angle (theta, black), one panel per estimator \
              family ({n_fam} panels). Ordinate ranges: 0.5-99.5 % of the data after the \
-             first second, widened by a quarter; points beyond are cut at the frame, marked \
-             red and counted on the panel."
+             first second, widened by a quarter, and the whole true angle; points beyond are \
+             cut at the frame, marked red and counted on the panel."
         ));
         figures.push(errors);
         captions.push(
@@ -306,7 +306,7 @@ fn family_panels(
     let mut angle_panels = Vec::new();
     let mut error_panels = Vec::new();
     for (family, names) in &groups {
-        let mut curves = vec![Curve::line("theta", t, truth)];
+        let mut curves = vec![Curve::reference("theta", t, truth, 2)];
         curves.extend(
             names
                 .iter()

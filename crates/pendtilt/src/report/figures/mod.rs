@@ -69,6 +69,9 @@ pub struct Curve<'a> {
     pub width: u32,
     /// Half-length of a vertical error bar per point (`Points` only), as many as `x`.
     pub y_err: Option<&'a [f64]>,
+    /// Drawn whole: a reference without a start-up (the truth), whose every point the
+    /// robust ordinate range ([`RobustRange`]) covers.
+    pub whole: bool,
 }
 
 impl<'a> Curve<'a> {
@@ -81,6 +84,17 @@ impl<'a> Curve<'a> {
             kind: CurveKind::Line,
             width: 2,
             y_err: None,
+            whole: false,
+        }
+    }
+
+    /// The truth (or another reference) as a line of width `width`, drawn whole
+    /// ([`Self::whole`]).
+    pub fn reference(name: &'a str, x: &'a [f64], y: &'a [f64], width: u32) -> Self {
+        Self {
+            width,
+            whole: true,
+            ..Self::line(name, x, y)
         }
     }
 
@@ -93,6 +107,7 @@ impl<'a> Curve<'a> {
             kind: CurveKind::Points,
             width: 4,
             y_err: None,
+            whole: false,
         }
     }
 }
@@ -700,7 +715,8 @@ pub fn plot_panels(
 /// Angles \[deg\] against time \[s\]: one line per named series, all on the time axis `t`.
 ///
 /// The series are drawn in the order given (put the truth first so the estimates draw on
-/// top of it).
+/// top of it). A series named `theta` or `truth` is the truth, drawn whole
+/// ([`Curve::reference`]).
 pub fn plot_time_series(
     dir: &Path,
     stem: &str,
@@ -710,7 +726,13 @@ pub fn plot_time_series(
     palette: &Palette,
 ) -> Result<FigureFiles, ReportError> {
     let spec = FigureSpec::new(title, "time [s]", "angle [deg]");
-    let curves: Vec<Curve> = series.iter().map(|(n, y)| Curve::line(n, t, y)).collect();
+    let curves: Vec<Curve> = series
+        .iter()
+        .map(|(n, y)| match *n {
+            "theta" | "truth" => Curve::reference(n, t, y, 2),
+            _ => Curve::line(n, t, y),
+        })
+        .collect();
     plot_curves(dir, stem, &spec, &curves, palette)
 }
 

@@ -169,8 +169,10 @@ pub(super) fn percentile(sorted: &[f64], pct: f64) -> f64 {
     sorted[i.min(sorted.len() - 1)]
 }
 
-/// `full` (the data's y extent) narrowed to the robust limits of `r` over the raw curves;
-/// `full` itself when fewer than 20 points follow the start-up.
+/// `full` (the data's y extent) narrowed to the robust limits of `r` over the raw curves,
+/// widened to cover every point of a curve drawn whole ([`Curve::whole`], the truth:
+/// before, a 10 s 3-D report's roll axis, ranged on its last 5 s, cut the truth's first
+/// seconds off at the frame); `full` itself when fewer than 20 points follow the start-up.
 pub(super) fn robust_y(curves: &[Curve], full: (f64, f64), r: &RobustRange) -> (f64, f64) {
     let x_first = curves
         .iter()
@@ -189,7 +191,16 @@ pub(super) fn robust_y(curves: &[Curve], full: (f64, f64), r: &RobustRange) -> (
     ys.sort_by(f64::total_cmp);
     let (lo, hi) = (percentile(&ys, r.lo_pct), percentile(&ys, r.hi_pct));
     let spread = hi - lo;
-    let (a, b) = (lo - r.margin * spread, hi + r.margin * spread);
+    let (mut a, mut b) = (lo - r.margin * spread, hi + r.margin * spread);
+    for y in curves
+        .iter()
+        .filter(|c| c.whole)
+        .flat_map(|c| c.y.iter())
+        .filter(|y| y.is_finite())
+    {
+        a = a.min(*y);
+        b = b.max(*y);
+    }
     (full.0.max(a), full.1.min(b))
 }
 

@@ -55,7 +55,7 @@ impl SpatialReport {
         let scaling = format!(
             "Each panel's ordinate covers 0.5-99.5 % of its points from {from} s after the \
              first row on (the start-up before that is left out of the scaling, not out of \
-             the plot), widened by a quarter"
+             the plot), widened by a quarter, and the whole truth"
         );
         let mut out = Vec::new();
         for angle in [Angle::Roll, Angle::Pitch] {
@@ -115,10 +115,7 @@ impl SpatialReport {
                     // estimate on the truth still shows beside it
                     curves: vec![
                         Curve::line(&e.name, &self.t, v),
-                        Curve {
-                            width: 1,
-                            ..Curve::line("truth", &self.t, &truth)
-                        },
+                        Curve::reference("truth", &self.t, &truth, 1),
                     ],
                 }
             })
