@@ -148,7 +148,7 @@ impl Pair {
 /// and `phi' ~ gyro - (h / g) gyro''`; on a ship's mast (ship3d, 5 m) the pendulum swings
 /// 1.4x the pitch, and 1.8x its rate (the term grows with the frequency squared).
 #[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct Lever {
+pub struct Lever {
     n: f64,
     // Sums of x, x'', y and of their products.
     s: [f64; 3],
