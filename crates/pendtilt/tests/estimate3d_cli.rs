@@ -1063,6 +1063,28 @@ fn gyro_in_degrees(log: &Path) -> String {
     deg
 }
 
+/// Both gyro axes of `gdeg.csv` named as in deg/s against their encoder, each factor within
+/// `tolerance` of 57.3: per axis, its name and the message from the factor on.
+fn gyro_named_in_deg_per_s(e: &str, tolerance: f64) -> Vec<(&'static str, &str)> {
+    [("gyro_x", "phi_x"), ("gyro_y", "phi_y")]
+        .into_iter()
+        .map(|(gyro, phi)| {
+            let (factor, rest) = factor_after(e, &format!("gdeg.csv: {gyro} is "));
+            assert!(
+                rest.contains(&format!(
+                    "x the encoder's derivative d({phi})/dt: is the gyro in deg/s?"
+                )),
+                "{e}"
+            );
+            assert!(
+                (factor / 57.2958 - 1.0).abs() < tolerance,
+                "{gyro}: {factor}"
+            );
+            (gyro, rest)
+        })
+        .collect()
+}
+
 /// The gyro's unit is judged below the rig's own pendulum's frequencies, axis by axis
 /// (session 13). With the default planar rig's band (f_n 2.19 Hz), a 0.49 Hz pendulum's
 /// swing entered the comparison: scooter3d's gyro in deg/s read as 52.2x and 56.0x the
@@ -1086,17 +1108,7 @@ fn a_3d_gyro_unit_is_judged_below_the_rigs_own_pendulum_frequency() {
     let rig = dir.path().join("scooter3d.rig.toml");
     let deg = write(dir.path(), "gdeg.csv", &gyro_in_degrees(&log));
     let run = |log: &Path| inv3d_stderr(log, &rig);
-    let e = run(&deg);
-    for (gyro, phi) in [("gyro_x", "phi_x"), ("gyro_y", "phi_y")] {
-        let (factor, rest) = factor_after(&e, &format!("gdeg.csv: {gyro} is "));
-        assert!(
-            rest.contains(&format!(
-                "x the encoder's derivative d({phi})/dt: is the gyro in deg/s?"
-            )),
-            "{e}"
-        );
-        assert!((factor / 57.2958 - 1.0).abs() < 0.02, "{gyro}: {factor}");
-    }
+    gyro_named_in_deg_per_s(&run(&deg), 0.02);
     let e = run(&log);
     assert!(!e.contains("deg/s"), "{e}");
 }
@@ -1114,16 +1126,8 @@ fn a_3d_gyro_unit_is_judged_with_the_sensors_height_above_the_rotation_fitted_ou
     let rig = dir.path().join("ship3d.rig.toml");
     let deg = write(dir.path(), "gdeg.csv", &gyro_in_degrees(&log));
     let e = inv3d_stderr(&deg, &rig);
-    for (gyro, phi) in [("gyro_x", "phi_x"), ("gyro_y", "phi_y")] {
-        let (factor, rest) = factor_after(&e, &format!("gdeg.csv: {gyro} is "));
-        assert!(
-            rest.contains(&format!(
-                "x the encoder's derivative d({phi})/dt: is the gyro in deg/s?"
-            )),
-            "{e}"
-        );
-        // 56.5x and 57.8x measured.
-        assert!((factor / 57.2958 - 1.0).abs() < 0.03, "{gyro}: {factor}");
+    // 56.5x and 57.8x measured.
+    for (gyro, rest) in gyro_named_in_deg_per_s(&e, 0.03) {
         let at = rest.find("swing of a sensor ").expect(&e) + "swing of a sensor ".len();
         let height: f64 = rest[at..].split(' ').next().unwrap().parse().unwrap();
         // The IMU is 5 m above O (MODEL.md 7, ship3d): 4.7 and 5.1 m found.
