@@ -351,9 +351,9 @@ pub fn doubt_length_beyond(
     })
 }
 
-/// A speed sensor farther than this from the pendulum \[m\] is doubted: half the length
-/// of the largest ships (400 m). ship3d's is 9.4 m; a car's wheel written in millimetres
-/// (say 1200 mm) reads as 1200 m.
+/// A point O (`speed_at`, whose forward speed the log gives) farther than this from the
+/// pendulum \[m\] is doubted: half the length of the largest ships (400 m). ship3d's is
+/// 9.4 m; a car's written in millimetres (say 1200 mm) reads as 1200 m.
 pub const DOUBTFUL_SPEED_POINT: f64 = 200.0;
 
 /// `x` to six significant digits, written plainly (0.0051, not 0.0050999999999999995).

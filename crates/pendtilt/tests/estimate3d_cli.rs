@@ -1367,7 +1367,7 @@ fn a_mounting_not_finite_is_refused_and_one_in_millimetres_doubted() {
         ) && e.contains("write mounting.accel_at = [0.0, 0.0, 0.25]"),
         "{e}"
     );
-    // The speed sensor's position in mm (session 14; was not doubted: a ship's may be
+    // The speed's point O in mm (session 14; was not doubted: a ship's may be
     // metres away). Beyond 200 m, half the largest ships' length, it is.
     let r = write(
         dir.path(),
@@ -1381,9 +1381,9 @@ fn a_mounting_not_finite_is_refused_and_one_in_millimetres_doubted() {
     let e = stderr(&o);
     assert!(
         e.contains(
-            "mms.rig.toml: mounting.speed_at: the speed sensor at [1200.0, 0.0, -300.0] m \
-             (1236.932 m from P1) is beyond 200 m, farther than a speed sensor can be on any \
-             vehicle"
+            "mms.rig.toml: mounting.speed_at: the point O whose forward speed the log gives, at \
+             [1200.0, 0.0, -300.0] m (1236.932 m from P1) is beyond 200 m, farther from the \
+             pendulum than O can be on any vehicle"
         ) && e.contains("write mounting.speed_at = [1.2, 0.0, -0.3]"),
         "{e}"
     );

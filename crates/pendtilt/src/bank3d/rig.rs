@@ -109,7 +109,8 @@ impl Pendulum3dConfig {
 
 /// The accelerometer's position beyond [`crate::config::DOUBTFUL_LENGTH`] from P1 (the
 /// rig's length check: `accel_at = [0, 0, 250]` meant 250 mm, silently), and the speed
-/// sensor's beyond [`DOUBTFUL_SPEED_POINT`] (a ship's may be metres away, ship3d's 9.4 m;
+/// point O's (whose speed the log gives) beyond [`DOUBTFUL_SPEED_POINT`] (a ship's may be
+/// metres away, ship3d's 9.4 m;
 /// `speed_at = [1200, 0, -300]` meant mm), named by `table`'s key (`mounting`, a
 /// scenario's `rig.mounting`).
 pub fn mounting_doubts(m: &Mounting, table: &str) -> Vec<LengthDoubt> {
@@ -124,11 +125,14 @@ pub fn mounting_doubts(m: &Mounting, table: &str) -> Vec<LengthDoubt> {
     );
     let speed = doubt_length_beyond(
         &format!("{table}.speed_at"),
-        format!("the speed sensor at {s:?} m ({:.3} m from P1)", len(s)),
+        format!(
+            "the point O whose forward speed the log gives, at {s:?} m ({:.3} m from P1)",
+            len(s)
+        ),
         len(s),
         (
             DOUBTFUL_SPEED_POINT,
-            "farther than a speed sensor can be on any vehicle (half the largest ships' 400 m)",
+            "farther from the pendulum than O can be on any vehicle (half the largest ships' 400 m)",
         ),
         mm(s),
     );
