@@ -12,7 +12,7 @@ use pendtilt_core::Estimate;
 use crate::bank::{Bank, Inputs, Restart};
 use crate::io::plateau::LOOK_AHEAD_ROWS;
 use crate::io::{Column, EstimatesWriter, LogError, LogReader, LogRecord, LogWarning, WarningKind};
-use crate::units::{check_settings_against_rate, Finding, UnitCheck};
+use crate::units::{check_settings_against_rate, Finding};
 
 /// Which sensors a log's columns provide.
 pub fn inputs_of<R: BufRead>(log: &LogReader<R>) -> Inputs {
@@ -138,7 +138,7 @@ pub fn run<R: BufRead, W: Write>(
     if let Some(e) = error {
         return Err(e.into());
     }
-    pass.finish(bank, out, &mut warn)
+    pass.finish(bank, out, &mut warn, log.unit_findings().to_vec())
 }
 
 /// Rows the reader thread of [`run_parallel`] hands over at a time.
@@ -194,10 +194,11 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
     let mut pass = Pass::new(bank, log);
     let mut clips = ClipFinder::new(log, bank.settings(), LOOK_AHEAD_ROWS);
     let width = bank.names().len();
+    let reader = &mut *log;
     std::thread::scope(|scope| {
         let (tx, rx) = mpsc::sync_channel::<Batch>(2);
         let (recycle, recycled) = mpsc::channel::<Vec<LogRecord>>();
-        scope.spawn(move || read_batches(log, &tx, &recycled));
+        scope.spawn(move || read_batches(reader, &tx, &recycled));
         let (to_writer, rows_in) = mpsc::sync_channel::<Rows>(2);
         let (rows_back, spare_rows) = mpsc::channel::<Rows>();
         let writer = out.map(|w| scope.spawn(move || write_rows(w, rows_in, &rows_back, width)));
@@ -258,7 +259,12 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
         }
         result
     })?;
-    pass.finish(bank, None::<&mut EstimatesWriter<W>>, &mut warn)
+    pass.finish(
+        bank,
+        None::<&mut EstimatesWriter<W>>,
+        &mut warn,
+        log.unit_findings().to_vec(),
+    )
 }
 
 /// The reading thread of [`run_parallel`]: the log in batches of [`BATCH_ROWS`] rows (in
@@ -342,7 +348,6 @@ struct Pass {
     stats: Vec<ErrorStats>,
     est: Vec<Estimate<f64>>,
     rows: u64,
-    units: UnitCheck,
     /// The first positive time steps, until the settings are checked against their median.
     steps: Vec<f64>,
     last_t: f64,
@@ -361,7 +366,6 @@ impl Pass {
             stats: vec![ErrorStats::default(); bank.names().len()],
             est: Vec::with_capacity(bank.names().len()),
             rows: 0,
-            units: UnitCheck::new(bank.settings(), inputs_of(log)),
             steps: Vec::with_capacity(RATE_STEPS),
             last_t: f64::NAN,
             rate_checked: false,
@@ -447,7 +451,6 @@ impl Pass {
                 warn(&w);
             }
         }
-        self.units.add(&rec.unchecked, rec.theta);
         if let (true, Some(th)) = (self.with_theta, rec.theta) {
             for (s, e) in self.stats.iter_mut().zip(&self.est) {
                 s.add(e.theta, th);
@@ -470,6 +473,7 @@ impl Pass {
         bank: &Bank,
         out: Option<&mut EstimatesWriter<W>>,
         warn: &mut impl FnMut(&LogWarning),
+        unit_findings: Vec<Finding>,
     ) -> Result<PassSummary, PassError> {
         self.check_rate(f64::NAN, bank, true)?;
         for w in self.held.drain(..) {
@@ -490,17 +494,6 @@ impl Pass {
                     self.restarts,
                     self.restarts - MAX_RESTART_WARNINGS
                 ),
-            });
-        }
-        let unit_findings = self.units.findings();
-        for f in &unit_findings {
-            warn(&LogWarning {
-                file: self.file.clone(),
-                line: 0,
-                column: None,
-                header: None,
-                kind: WarningKind::UnitMismatch,
-                message: f.message.clone(),
             });
         }
         Ok(PassSummary {

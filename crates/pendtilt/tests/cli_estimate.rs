@@ -574,3 +574,45 @@ fn a_header_in_degrees_read_as_radians_is_named_and_the_unit_check_agrees() {
         .fold(0.0, f64::max);
     assert!(worst < 1e-9, "{worst}");
 }
+
+/// The unit check runs in the log reader, for every command that reads a planar log
+/// (session 14): `fit --target gyro` on a gyro in deg/s "Converged" at its start (cost 17.5
+/// rad/s) and wrote the rig without a word, `report` and `tune` said nothing either; only
+/// `estimate` checked. Each now gives the same warning with the fix, and the summary counts
+/// it; the same log in rad/s says nothing.
+#[test]
+fn every_command_that_reads_a_log_says_a_gyro_in_deg_per_s() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut sc = Scenario::named("scooter").unwrap();
+    sc.duration = 8.0;
+    let rows = simulate(&sc, 3).unwrap();
+    for (name, k) in [("deg.csv", 180.0 / std::f64::consts::PI), ("rad.csv", 1.0)] {
+        let mut text = String::from("t,phi,gyro,ax,ay,theta\n");
+        for r in &rows {
+            text.push_str(&format!(
+                "{:?},{:?},{:?},{:?},{:?},{:?}\n",
+                r.t,
+                r.phi,
+                r.gyro * k,
+                r.ax,
+                r.ay,
+                r.theta
+            ));
+        }
+        let log = dir.path().join(name);
+        std::fs::write(&log, text).unwrap();
+        for (command, extra, out) in [
+            ("estimate", &[][..], "e.csv"),
+            ("fit", &["--target", "gyro"][..], "f.toml"),
+            ("tune", &[][..], "t.toml"),
+            ("report", &[][..], "rep"),
+        ] {
+            let out = dir.path().join(out);
+            let o = common::run_on(command, &log, extra, common::s(&out));
+            let e = common::stderr(&o);
+            let said = e.contains(&format!("warning: {}: gyro is ", log.display()))
+                && e.contains("is gyro in deg/s? read it with --deg gyro");
+            assert_eq!(said, k != 1.0, "{command} on {name}: {e}");
+        }
+    }
+}

@@ -505,6 +505,21 @@ fn full_scales_in_another_unit_in_a_scenario_are_doubted() {
     }
 }
 
+/// `pendtilt simulate --scenario NAME --duration SECONDS -o OUT EXTRA..`.
+fn simulate(name: &str, seconds: &str, out: &str, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "simulate",
+        "--scenario",
+        name,
+        "--duration",
+        seconds,
+        "-o",
+        out,
+    ];
+    args.extend_from_slice(extra);
+    pendtilt(&args)
+}
+
 /// A log written to a device or standard output has no "beside": the rig and scenario
 /// files are written only where --rig-out says, and the summary says so (session 13:
 /// `-o /dev/null` wrote `/dev/null.rig.toml` and `/dev/null.scenario.toml` into /dev).
@@ -512,15 +527,7 @@ fn full_scales_in_another_unit_in_a_scenario_are_doubted() {
 fn a_log_to_a_device_writes_no_file_beside_it() {
     let dir = tempfile::tempdir().unwrap();
     for name in ["sine", "scooter3d"] {
-        let out = pendtilt(&[
-            "simulate",
-            "--scenario",
-            name,
-            "--duration",
-            "0.2",
-            "-o",
-            "/dev/null",
-        ]);
+        let out = simulate(name, "0.2", "/dev/null", &[]);
         assert!(out.status.success());
         let e = String::from_utf8_lossy(&out.stderr);
         assert!(
@@ -532,15 +539,7 @@ fn a_log_to_a_device_writes_no_file_beside_it() {
     }
     // A device that fails is not said to keep an earlier file; `report` names a device as
     // one, not as a file (session 13).
-    let out = pendtilt(&[
-        "simulate",
-        "--scenario",
-        "sine",
-        "--duration",
-        "0.2",
-        "-o",
-        "/dev/full",
-    ]);
+    let out = simulate("sine", "0.2", "/dev/full", &[]);
     assert!(!out.status.success());
     let e = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -550,18 +549,7 @@ fn a_log_to_a_device_writes_no_file_beside_it() {
         "{e}"
     );
     let log = dir.path().join("l.csv");
-    assert!(pendtilt(&[
-        "simulate",
-        "--scenario",
-        "sine",
-        "--duration",
-        "1",
-        "-q",
-        "-o",
-        s(&log)
-    ])
-    .status
-    .success());
+    assert!(simulate("sine", "1", s(&log), &["-q"]).status.success());
     let out = pendtilt(&["report", s(&log), "-o", "/dev/null"]);
     assert!(!out.status.success());
     let e = String::from_utf8_lossy(&out.stderr);
@@ -594,17 +582,7 @@ fn a_log_to_a_device_writes_no_file_beside_it() {
         .unwrap()
         .starts_with("t,phi,gyro"));
     let rig = dir.path().join("r.toml");
-    let out = pendtilt(&[
-        "simulate",
-        "--scenario",
-        "sine",
-        "--duration",
-        "0.2",
-        "-o",
-        "/dev/null",
-        "--rig-out",
-        s(&rig),
-    ]);
+    let out = simulate("sine", "0.2", "/dev/null", &["--rig-out", s(&rig)]);
     assert!(out.status.success());
     assert!(std::fs::read_to_string(&rig)
         .unwrap()

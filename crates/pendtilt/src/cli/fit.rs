@@ -227,9 +227,8 @@ fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<FitLog> {
     let options = ReaderOptions {
         map: args.map.clone(),
         degrees: args.deg.unwrap_or_default(),
-        limits: rig.limits(),
         time_unit: args.time_unit,
-        ..ReaderOptions::default()
+        ..ReaderOptions::for_rig(rig)
     };
     let mut log = LogReader::open(&args.log, options)?;
     if !args.quiet {
@@ -250,6 +249,10 @@ fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<FitLog> {
         truth.push(rec.theta.unwrap_or(f64::NAN));
     }
     if !args.quiet {
+        // The end of the log's warnings: the unit check's.
+        for w in log.drain_warnings() {
+            eprintln!("warning: {w}");
+        }
         eprintln!("read {} samples", samples.len());
     }
     Ok(FitLog {

@@ -73,9 +73,8 @@ impl BankOptions {
         ReaderOptions {
             map: self.map.clone(),
             degrees: self.deg.unwrap_or_default(),
-            limits: rig.limits(),
             time_unit: self.time_unit,
-            ..ReaderOptions::default()
+            ..ReaderOptions::for_rig(rig)
         }
     }
 

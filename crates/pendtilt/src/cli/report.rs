@@ -66,13 +66,14 @@ pub struct Args {
 /// Reads a whole log with a true angle into memory (rows without `theta` get NaN), with
 /// the clips found in it for the sensors whose full scale `settings` does not give
 /// ([`crate::io::plateau`]). Every warning goes through `progress` and is returned too,
-/// for the page.
+/// for the page, with the count of all of them (the reader lists the first ten of a kind
+/// and counts the rest).
 pub fn read_log(
     path: &std::path::Path,
     options: ReaderOptions,
     settings: &crate::bank::BankSettings,
     progress: &dyn Progress,
-) -> anyhow::Result<(Ride, crate::bank::Inputs, Vec<String>)> {
+) -> anyhow::Result<(Ride, crate::bank::Inputs, Vec<String>, usize)> {
     let mut said = Vec::new();
     let mut warn = |w: String| {
         progress.message(&format!("warning: {w}"));
@@ -96,7 +97,7 @@ pub fn read_log(
     };
     progress.stage(&format!("reading {}", log.file()), 0);
     let mut clips = ClipFinder::new(&log, settings, LOOK_AHEAD_ROWS);
-    let mut end = false;
+    let (mut end, mut clip_warnings) = (false, 0usize);
     loop {
         // Past the end only the rows held are left.
         let read = if end { None } else { log.next_record()? };
@@ -109,6 +110,7 @@ pub fn read_log(
             None => clips.pop(),
         };
         for w in clips.drain_warnings() {
+            clip_warnings += 1;
             warn(w.to_string());
         }
         let Some((rec, clipped)) = next else {
@@ -132,7 +134,9 @@ pub fn read_log(
         progress.message(&log.summary().to_string());
     }
     anyhow::ensure!(ride.len() >= 2, "{}: fewer than two data rows", log.file());
-    Ok((ride, inputs, said))
+    // The reader's own count, with what it did not list, and the clips found.
+    let total = log.summary().total_warnings() as usize + clip_warnings;
+    Ok((ride, inputs, said, total))
 }
 
 /// Runs `pendtilt report`: writes every file into a staging directory beside `-o` and
@@ -177,11 +181,10 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
     let options = ReaderOptions {
         map: args.map.clone(),
         degrees: args.deg.unwrap_or_default(),
-        limits: rig.limits(),
         time_unit: args.time_unit,
-        ..ReaderOptions::default()
+        ..ReaderOptions::for_rig(&rig)
     };
-    let (ride, inputs, warnings) = read_log(&args.log, options, &settings, bars)?;
+    let (ride, inputs, warnings, total) = read_log(&args.log, options, &settings, bars)?;
     let extras = if inputs.phi && inputs.gyro {
         vec![alg2_delay_compensated(&settings)]
     } else {
@@ -204,7 +207,7 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
     let label = ride.label.clone();
     let (mut report, _) = standard_report(&title, ride.t, ride.theta, series)
         .with_context(|| format!("{label}: cannot build the report"))?;
-    if let Some(text) = warnings_paragraph(&warnings) {
+    if let Some(text) = warnings_paragraph(&warnings, total) {
         report = report.intro(&text);
     }
     // The paper's claims, on this log's metrics (claim 4's overshoot only on a step).
@@ -237,9 +240,10 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
 /// What the page says of the log's warnings (a clip found, an impossible reading, a gap):
 /// how many, and the first few, so that the figures are not read as those of a clean log
 /// (also at the top of the 3-D page, whose notes list them all).
-pub(crate) fn warnings_paragraph(warnings: &[String]) -> Option<String> {
+/// `total` counts the warnings the reader did not list too (at least `warnings.len()`).
+pub(crate) fn warnings_paragraph(warnings: &[String], total: usize) -> Option<String> {
     const SHOWN: usize = 3;
-    let (first, n) = (warnings.iter().take(SHOWN), warnings.len());
+    let (first, n) = (warnings.iter().take(SHOWN), total.max(warnings.len()));
     if n == 0 {
         return None;
     }
@@ -250,8 +254,10 @@ pub(crate) fn warnings_paragraph(warnings: &[String]) -> Option<String> {
     );
     if n > SHOWN {
         text.push_str(&format!(
-            " | and {} more (all on the command's standard error)",
-            n - SHOWN
+            " | and {} more ({} listed on the command's standard error, every one counted in \
+             its summary)",
+            n - SHOWN,
+            warnings.len()
         ));
     }
     Some(text)

@@ -142,7 +142,7 @@ fn report(args: &Args, opts: &Options3d, dir: &Path) -> anyhow::Result<PathBuf> 
             }
         ));
     let said: Vec<String> = result.warnings.iter().map(|w| w.to_string()).collect();
-    if let Some(text) = super::report::warnings_paragraph(&said) {
+    if let Some(text) = super::report::warnings_paragraph(&said, said.len()) {
         report = report.intro(&text);
     }
     for w in &result.warnings {

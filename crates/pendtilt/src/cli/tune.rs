@@ -8,12 +8,10 @@ use std::time::Duration;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use crate::bank::BankSettings;
 use crate::config::RigConfig;
 use crate::io::output::{self, NamedPath};
 use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions, TimeUnit};
 use crate::tune::{self, rig_file, Options, Start, Target, Tuned};
-use crate::units::UnitCheck;
 use pendtilt_core::Sample;
 
 /// What `tune` tunes the filters against.
@@ -104,9 +102,8 @@ fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<TuneLog> {
     let options = ReaderOptions {
         map: args.map.clone(),
         degrees: args.deg.unwrap_or_default(),
-        limits: rig.limits(),
         time_unit: args.time_unit,
-        ..ReaderOptions::default()
+        ..ReaderOptions::for_rig(rig)
     };
     let mut log = LogReader::open(&args.log, options)?;
     if !args.quiet {
@@ -118,13 +115,6 @@ fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<TuneLog> {
         log.file()
     );
     let has_theta = log.columns().has(Column::Theta);
-    // The physics' unit check, as `estimate` runs it: a gyro in deg/s tuned on silently
-    // gave settings fitted to readings 57x too large (most of them read as missing,
-    // beyond the rig's full scale), and said only the first ten of those.
-    let mut units = UnitCheck::new(
-        &BankSettings::from_rig(rig.clone()),
-        crate::pipeline::inputs_of(&log),
-    );
     let (mut samples, mut truth) = (Vec::new(), Vec::new());
     while let Some(rec) = log.next_record()? {
         if !args.quiet {
@@ -132,16 +122,18 @@ fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<TuneLog> {
                 eprintln!("warning: {w}");
             }
         }
-        units.add(&rec.unchecked, rec.theta);
         samples.push(rec.sample);
         truth.push(rec.theta.unwrap_or(f64::NAN));
     }
-    let units = units.findings();
+    // The end of the log's warnings: the unit check's (a gyro in deg/s tuned on silently
+    // gave settings fitted to readings 57x too large, and said only the first ten of those
+    // beyond the rig's full scale).
     if !args.quiet {
-        for f in &units {
-            eprintln!("warning: {}: {}", log.file(), f.message);
+        for w in log.drain_warnings() {
+            eprintln!("warning: {w}");
         }
     }
+    let units = log.unit_findings().to_vec();
     Ok(TuneLog {
         samples,
         truth: has_theta.then_some(truth),

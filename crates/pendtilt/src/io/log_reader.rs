@@ -29,6 +29,8 @@ use super::csv_lines::CsvLines;
 use super::diagnostics::{LogSummary, LogWarning, WarningKind};
 use super::plausibility::{implausible_step, SensorLimits, TimeUnit};
 use super::split::unquote;
+use crate::bank::Inputs;
+use crate::units::{Finding, UnitCheck};
 
 /// An angle beyond this \[rad\] in a column read as radians looks like degrees (about 200
 /// degrees: a pendulum or a tilt never gets there, a degree value of a few tens does).
@@ -62,6 +64,25 @@ pub struct ReaderOptions {
     /// no sensor rate explains (a log in ms or us) is an error naming the fix; given, the
     /// time is converted and not checked.
     pub time_unit: Option<TimeUnit>,
+    /// The rig's pendulum natural frequency \[Hz\]: given, the unit check from the physics
+    /// ([`crate::units::UnitCheck`]) runs over the whole log, and what it finds (a gyro in
+    /// deg/s, ...) is warned about at the end ([`WarningKind::UnitMismatch`], also
+    /// [`LogReader::unit_findings`]), for every command that reads a log. Default: the
+    /// MODEL.md rig's (2.19 Hz); `None`: not checked.
+    pub natural_frequency: Option<f64>,
+}
+
+impl ReaderOptions {
+    /// The defaults with what the rig tells: its sensors' bounds
+    /// ([`ReaderOptions::limits`]) and its pendulum's natural frequency
+    /// ([`ReaderOptions::natural_frequency`]).
+    pub fn for_rig(rig: &crate::config::RigConfig) -> Self {
+        Self {
+            limits: rig.limits(),
+            natural_frequency: Some(rig.params().natural_frequency_hz()),
+            ..Self::default()
+        }
+    }
 }
 
 impl Default for ReaderOptions {
@@ -75,6 +96,11 @@ impl Default for ReaderOptions {
             max_reported: 10,
             limits: SensorLimits::default(),
             time_unit: None,
+            natural_frequency: Some(
+                crate::config::RigConfig::default()
+                    .params()
+                    .natural_frequency_hz(),
+            ),
         }
     }
 }
@@ -169,6 +195,9 @@ pub struct LogReader<R> {
     rate_checked: bool,
     /// The previous row's time went back by more than [`TIME_BASE_JUMP`].
     went_back: Option<TimeBack>,
+    /// The unit check ([`ReaderOptions::natural_frequency`]) and, at the end, its findings.
+    units: Option<UnitCheck>,
+    unit_findings: Vec<Finding>,
     finished: bool,
 }
 
@@ -304,9 +333,21 @@ impl<R: BufRead> LogReader<R> {
             header_line: 1,
             rate_checked: false,
             went_back: None,
+            units: None,
+            unit_findings: Vec::new(),
             finished: false,
         };
         reader.read_header()?;
+        let has = |c: Column| reader.positions[c.index()].is_some();
+        let inputs = Inputs {
+            phi: has(Column::Phi),
+            gyro: has(Column::Gyro),
+            accel: has(Column::Ax) && has(Column::Ay),
+        };
+        reader.units = reader
+            .options
+            .natural_frequency
+            .map(|f_n| UnitCheck::with_natural_frequency(f_n, inputs));
         Ok(reader)
     }
 
@@ -328,6 +369,12 @@ impl<R: BufRead> LogReader<R> {
     /// Counts over the rows read so far.
     pub fn summary(&self) -> &LogSummary {
         &self.summary
+    }
+
+    /// The unit check's findings, once the log has been read to its end (empty before, and
+    /// without [`ReaderOptions::natural_frequency`]).
+    pub fn unit_findings(&self) -> &[Finding] {
+        &self.unit_findings
     }
 
     /// Takes the warnings queued since the last call, oldest first.
@@ -411,6 +458,7 @@ impl<R: BufRead> LogReader<R> {
             // A short log: its few steps are checked at its end.
             self.check_rate()?;
             self.finished = true;
+            self.tell_units();
             return Ok(None);
         }
         self.split()?;
@@ -441,6 +489,9 @@ impl<R: BufRead> LogReader<R> {
             ax: unchecked[Column::Ax.index()],
             ay: unchecked[Column::Ay.index()],
         };
+        if let Some(u) = &mut self.units {
+            u.add(&unchecked, theta);
+        }
         Ok(Some(LogRecord {
             line: self.lines.line(),
             t,
@@ -449,6 +500,26 @@ impl<R: BufRead> LogReader<R> {
             issues,
             unchecked,
         }))
+    }
+
+    /// The unit check's findings, kept and warned about once, at the end of the log (no
+    /// line: they are about the whole log).
+    fn tell_units(&mut self) {
+        let Some(u) = self.units.take() else {
+            return;
+        };
+        self.unit_findings = u.findings();
+        for f in &self.unit_findings {
+            self.summary.warning_counts[WarningKind::UnitMismatch.index()] += 1;
+            self.pending.push(LogWarning {
+                file: self.file.clone(),
+                line: 0,
+                column: None,
+                header: None,
+                kind: WarningKind::UnitMismatch,
+                message: f.message.clone(),
+            });
+        }
     }
 
     /// A row with more (non-empty) fields than the header is an error; one with fewer is
