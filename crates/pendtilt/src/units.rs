@@ -281,7 +281,7 @@ pub struct UnitCheck {
     settle: f64,
     pairs: [Pair; 5],
     /// The encoder's rate on the gyro and its second derivative ([`Lever`]).
-    lever: Lever,
+    lever: Option<Lever>,
     /// The last two low-passed gyro readings, for its second derivative.
     gyro_before: Option<(f64, f64)>,
     duration: f64,
@@ -312,7 +312,7 @@ impl UnitCheck {
             since_start: f64::NAN,
             settle: SETTLE_PERIODS / cutoff,
             pairs: [Pair::default(); 5],
-            lever: Lever::default(),
+            lever: None,
             gyro_before: None,
             duration: 0.0,
             warm: Vec::new(),
@@ -411,9 +411,9 @@ impl UnitCheck {
         if p && g {
             self.pairs[Comparison::GyroEncoderRate as usize].add(dphi, gyro);
             // gyro'' at the previous row, against the rate between it and this one.
-            if let Some((g2, g1)) = before {
+            if let (Some(lever), Some((g2, g1))) = (&mut self.lever, before) {
                 let curvature = (gyro - 2.0 * g1 + g2) / (step * step);
-                self.lever.add(0.5 * (gyro + g1), curvature, dphi);
+                lever.add(0.5 * (gyro + g1), curvature, dphi);
             }
         }
         if p && a {
@@ -437,10 +437,18 @@ impl UnitCheck {
         self.pairs[c as usize].fit()
     }
 
+    /// This check with the [`Lever`] fit too ([`Self::lever_fit`]; the 3-D check's, off
+    /// in the planar one, which every log reader runs per row).
+    pub fn with_lever(mut self) -> Self {
+        self.lever = Some(Lever::default());
+        self
+    }
+
     /// The gyro against the encoder's rate with the sensor's height above the centre of
-    /// rotation fitted out ([`Lever`]), for gravity `g` \[m/s^2\]; the 3-D check's.
+    /// rotation fitted out ([`Lever`]), for gravity `g` \[m/s^2\]; `None` without
+    /// [`Self::with_lever`] or enough motion.
     pub fn lever_fit(&self, g: f64) -> Option<LeverFit> {
-        self.lever.fit(g)
+        self.lever.as_ref()?.fit(g)
     }
 
     /// The factor of comparison `c` when it correlates and is near 1, deg or 1/deg.
@@ -642,7 +650,8 @@ mod tests {
                     gyro: true,
                     accel: false,
                 },
-            );
+            )
+            .with_lever();
             for k in 0..60_000 {
                 let t = k as f64 * dt;
                 let (mut th, mut rate, mut acc) = (0.0, 0.0, 0.0);

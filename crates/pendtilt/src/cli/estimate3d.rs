@@ -637,6 +637,7 @@ impl GyroUnits {
                     w[i] / std::f64::consts::TAU,
                     inputs,
                 )
+                .with_lever()
             }),
         }
     }
