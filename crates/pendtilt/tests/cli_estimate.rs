@@ -614,5 +614,16 @@ fn every_command_that_reads_a_log_says_a_gyro_in_deg_per_s() {
                 && e.contains("is gyro in deg/s? read it with --deg gyro");
             assert_eq!(said, k != 1.0, "{command} on {name}: {e}");
         }
+        // On the report's page the unit warning leads the few shown.
+        let page = std::fs::read_to_string(dir.path().join("rep/index.html")).unwrap();
+        assert_eq!(
+            page.contains("which the figures below carry: ")
+                && page.contains(&format!(
+                    "which the figures below carry: {}: gyro is ",
+                    log.display()
+                )),
+            k != 1.0,
+            "{page}"
+        );
     }
 }

@@ -130,6 +130,12 @@ pub fn read_log(
     for w in log.drain_warnings() {
         warn(w.to_string());
     }
+    // A column in the wrong unit leads the page's few: it explains the rest (a gyro in
+    // deg/s is also thousands of readings beyond its full scale, listed first).
+    let is_unit = |w: &String| log.unit_findings().iter().any(|f| w.ends_with(&f.message));
+    let (mut first, rest): (Vec<String>, Vec<String>) = said.into_iter().partition(is_unit);
+    first.extend(rest);
+    let said = first;
     if log.summary().total_warnings() > 0 {
         progress.message(&log.summary().to_string());
     }
