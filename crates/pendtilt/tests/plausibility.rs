@@ -651,7 +651,9 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
         // the complementary filter is back after 1.98 s (2.36 s started afresh); Mahony
         // (kp = 0.45 /s) after 7.24 s (10.95 s afresh, from one reading): what its clean
         // run remembers of the accelerometer over the last seconds fades at kp, 0.41 of
-        // it in 2 s. Madgwick: its resolution.
+        // it in 2 s, and no restart can know it (the twins of
+        // `no_restart_meets_2_s_on_both_a_ride_and_its_twins_in_the_gap`). Madgwick: its
+        // resolution.
         match *est {
             "madgwick" => assert!(*worst <= madgwick_resolution_deg(), "{est}: {worst} deg"),
             "mahony" => assert!(
@@ -1147,12 +1149,14 @@ fn restarts_over_six_rides_and_three_gap_positions() {
             .map(|&i| comp_oracle[i])
             .collect::<Vec<_>>()
     );
-    // Unlike Mahony's, the complementary filter's misses are not shown impossible: an oracle
-    // restart (knowing the truth and the next 10 s) is back within 1.6 s in all 18. What a
-    // restart cannot know is the fault-free run's own error at the gap's end (its
-    // accelerometer's error over the gap's last tau). Tried (sessions 12-13), estimating it
-    // from the readings after the gap by their uniform mean, or by their mean mirrored with
-    // weights exp(-t / T), T = 0.5-4 tau: 4 of 18 beyond 2 s in each (at most 2.35-2.79 s).
+    // An oracle restart (knowing the truth and the next 10 s) is back within 1.6 s in all
+    // 18. What a restart cannot know is the fault-free run's own error at the gap's end (its
+    // accelerometer's error over the gap's last tau): a twin of the ride that brakes in the
+    // gap gives the same faulty log and another fault-free run, so no restart meets 2 s on
+    // both (`no_restart_meets_2_s_on_both_a_ride_and_its_twins_in_the_gap`). Tried
+    // (sessions 12-13), estimating it from the readings after the gap by their uniform
+    // mean, or by their mean mirrored with weights exp(-t / T), T = 0.5-4 tau: 4 of 18
+    // beyond 2 s in each (at most 2.35-2.79 s).
     assert!(comp_oracle.iter().all(|t| *t <= 2.0), "{comp_oracle:?}");
     let beyond = mahony_oracle.iter().filter(|t| **t > 2.0).count();
     println!("mahony: an oracle restart is beyond 2 s in {beyond} of 18: {mahony_oracle:.2?}");
@@ -1205,4 +1209,105 @@ fn an_absurd_truth_cell_is_not_scored_and_not_called_degrees() {
     assert_eq!(clean[3], "3000", "{clean:?}");
     let rms = |r: &[String]| r[1].parse::<f64>().unwrap();
     assert!((rms(&bad) - rms(&clean)).abs() < 0.01, "{bad:?} {clean:?}");
+}
+
+/// The gap's text of a log: every sensor cell of rows `k0..k1` empty.
+fn gapped(c: &[[String; 6]], k0: usize, k1: usize) -> String {
+    let mut c = c.to_vec();
+    for row in c.iter_mut().take(k1).skip(k0) {
+        for cell in row.iter_mut().take(5).skip(1) {
+            cell.clear();
+        }
+    }
+    text(&c)
+}
+
+/// Why no restart can bring the accelerometer peers back within 0.05 deg of their
+/// fault-free run 2 s after the issue's 10 s gap (seed 3, 5-15 s), and why the
+/// complementary filter's 1.98 s there is its ride's luck. Two twins of the ride differ
+/// from it only inside the gap, where the gap took every reading away: one brakes gently
+/// over the gap's last 2 s (a horizontal deceleration `1 m/s^2 sin^2`, 0.1 g at its peak,
+/// read by the accelerometer as the specific force it makes in the tilted body axes), one
+/// rides a smooth road over the gap's last 5 s (the accelerometer as the same ride without
+/// vibration gives it). The faulty logs of the three are one log, so any restart gives one
+/// output on all three; but their fault-free runs, which remember what the accelerometer
+/// read at their own rate, stand `D` apart 2 s after the gap, and a restart within 0.05 deg
+/// of two of them needs `D <= 0.1 deg`. Measured D (braking / smooth road): Mahony 0.79 /
+/// 0.46 deg, the complementary filter 0.17 / 0.01, Madgwick 0.02 / 0.01 (its resolution,
+/// 0.27 deg, already rules it out). The same restart is back after 7.24 s on the ride and
+/// 1.35 s on the smooth-road twin (Mahony), 1.98 s and 3.11 s on the braking one (the
+/// complementary filter): which one meets 2 s is decided by readings no restart sees.
+/// The estimators that read the pendulum are compared too, though a braking pendulum
+/// would swing: their D is at most 0.03 deg (kf_accel), and they meet 2 s on every twin.
+/// Figures: `cargo test --release -p pendtilt --test plausibility -- --nocapture twin`.
+#[test]
+fn no_restart_meets_2_s_on_both_a_ride_and_its_twins_in_the_gap() {
+    let (k0, k1) = (5000, 15000);
+    let mut scenario = Scenario::named("scooter").unwrap();
+    scenario.duration = 30.0;
+    let rows = simulate(&scenario, 3).unwrap();
+    let rig = scenario.rig().unwrap();
+    scenario.vibration = Default::default();
+    let smooth = simulate(&scenario, 3).unwrap();
+    let base = cells(&rows);
+    let mut braking = base.clone();
+    let (a, b) = (k1 - 2000, k1);
+    for (k, row) in braking.iter_mut().enumerate().take(b).skip(a) {
+        let s = ((k - a) as f64 / (b - a) as f64 * std::f64::consts::PI).sin();
+        let brake = s * s;
+        let th = rows[k].truth.theta;
+        // A horizontal deceleration, in the body axes of MODEL.md section 1 (x along
+        // the tilted horizontal, y along the tilted vertical).
+        row[3] = format!("{}", rows[k].ax + brake * th.cos());
+        row[4] = format!("{}", rows[k].ay - brake * th.sin());
+    }
+    let mut smooth_road = base.clone();
+    for (k, row) in smooth_road.iter_mut().enumerate().take(k1).skip(k1 - 5000) {
+        row[3] = format!("{}", smooth[k].ax);
+        row[4] = format!("{}", smooth[k].ay);
+    }
+    let g = gapped(&base, k0, k1);
+    for t in [&braking, &smooth_road] {
+        assert_eq!(g, gapped(t, k0, k1), "the faulty logs differ");
+    }
+    let clean = run(&text(&base), &rig);
+    let twins = [run(&text(&braking), &rig), run(&text(&smooth_road), &rig)];
+    let bad = run(&g, &rig);
+    let (at, t_end) = (k1 + 2000, k1 as f64 * 1e-3);
+    let rec = recovery(&clean, &bad, t_end);
+    for (j, name) in clean.names.iter().enumerate() {
+        let mut apart = Vec::new();
+        for (tw, what) in twins.iter().zip(["brakes", "rides a smooth road"]) {
+            let d = (clean.est[at][j].theta - tw.est[at][j].theta)
+                .abs()
+                .to_degrees();
+            let b_twin = recovery(tw, &bad, t_end)[j].1;
+            println!(
+                "  {name:<14} the ride and its twin that {what}: fault-free runs {d:.3} deg \
+                 apart 2 s after the gap; the restart back after {:.2} s on the ride, \
+                 {b_twin:.2} s on the twin",
+                rec[j].1
+            );
+            apart.push((d, b_twin));
+        }
+        let (d, b_twin) = apart
+            .iter()
+            .copied()
+            .fold((0.0, 0.0), |a, x| if x.0 > a.0 { x } else { a });
+        if ["mahony", "complementary"].contains(name) {
+            assert!(d > 2.0 * TOLERANCE_DEG, "{name}: {d} deg");
+            // The restart meets 2 s on at most one of the two.
+            assert!(
+                rec[j].1 > 2.0 || b_twin > 2.0,
+                "{name}: {} s, {b_twin} s",
+                rec[j].1
+            );
+        } else if *name != "madgwick" {
+            // The estimators that meet 2 s: on every twin too.
+            assert!(
+                d < 2.0 * TOLERANCE_DEG && b_twin <= 2.0,
+                "{name}: {d} deg, {b_twin} s"
+            );
+        }
+    }
 }
