@@ -397,6 +397,12 @@ fn without_a_full_scale_the_physical_bound_applies_and_no_degree_hint_fires() {
 /// never shrinks a difference, it swaps two runs' sides by 4 beta dt whenever the
 /// accelerometer angle falls between them (measured: differences of 1e-5 to 5e-4 deg
 /// were still there 10 s later). Against the truth it is as accurate as before.
+///
+/// It is also the twin that proves no bridge or restart can bring Madgwick back within
+/// 0.05 deg after the issue's burst of 100 (`a_burst_of_100_impossible_cells`, this ride,
+/// rows 3000-3099): the changed reading is the burst's first, so the ride and this twin
+/// give one faulty log, yet their fault-free runs stand more than 0.1 deg apart more than
+/// 2 s after the burst, and no output is within 0.05 deg of both there.
 #[test]
 fn madgwick_cannot_come_within_0_05_deg_of_itself() {
     let (rows, rig) = ride("scooter", 14.0, 6);
@@ -416,7 +422,7 @@ fn madgwick_cannot_come_within_0_05_deg_of_itself() {
     for (n, _, worst) in &rec {
         if *n == "madgwick" {
             assert!(
-                *worst > 0.05 && *worst <= madgwick_resolution_deg(),
+                *worst > 2.0 * TOLERANCE_DEG && *worst <= madgwick_resolution_deg(),
                 "{worst}"
             );
         } else {
@@ -1231,11 +1237,12 @@ fn gapped(c: &[[String; 6]], k0: usize, k1: usize) -> String {
 /// rides a smooth road over the gap's last 5 s (the accelerometer as the same ride without
 /// vibration gives it). The faulty logs of the three are one log, so any restart gives one
 /// output on all three; but their fault-free runs, which remember what the accelerometer
-/// read at their own rate, stand `D` apart 2 s after the gap, and a restart within 0.05 deg
-/// of two of them needs `D <= 0.1 deg`. Measured D (braking / smooth road): Mahony 0.79 /
-/// 0.46 deg, the complementary filter 0.17 / 0.01, Madgwick 0.02 / 0.01 (its resolution,
-/// 0.27 deg, already rules it out). The same restart is back after 7.24 s on the ride and
-/// 1.35 s on the smooth-road twin (Mahony), 1.98 s and 3.11 s on the braking one (the
+/// read at their own rate, stand up to `D` apart from 2 s after the gap on, and a restart
+/// within 0.05 deg of two of them there needs `D <= 0.1 deg`. Measured D (braking /
+/// smooth road): Mahony 0.79 / 0.46 deg, the complementary filter 0.17 / 0.01, Madgwick
+/// 0.25 / 0.26 (its resolution: the few millidegrees its runs differ by at the gap's end
+/// become up to 4 beta dt, 0.27 deg). The same restart is back after 7.24 s on the ride
+/// and 1.35 s on the smooth-road twin (Mahony), 1.98 s and 3.11 s on the braking one (the
 /// complementary filter): which one meets 2 s is decided by readings no restart sees.
 /// The estimators that read the pendulum are compared too, though a braking pendulum
 /// would swing: their D is at most 0.03 deg (kf_accel), and they meet 2 s on every twin.
@@ -1278,13 +1285,15 @@ fn no_restart_meets_2_s_on_both_a_ride_and_its_twins_in_the_gap() {
     for (j, name) in clean.names.iter().enumerate() {
         let mut apart = Vec::new();
         for (tw, what) in twins.iter().zip(["brakes", "rides a smooth road"]) {
-            let d = (clean.est[at][j].theta - tw.est[at][j].theta)
-                .abs()
+            // From 2 s after the gap on, the largest difference.
+            let d = (at..rows.len())
+                .map(|k| (clean.est[k][j].theta - tw.est[k][j].theta).abs())
+                .fold(0.0, f64::max)
                 .to_degrees();
             let b_twin = recovery(tw, &bad, t_end)[j].1;
             println!(
                 "  {name:<14} the ride and its twin that {what}: fault-free runs {d:.3} deg \
-                 apart 2 s after the gap; the restart back after {:.2} s on the ride, \
+                 apart from 2 s after the gap on; the restart back after {:.2} s on the ride, \
                  {b_twin:.2} s on the twin",
                 rec[j].1
             );
@@ -1294,7 +1303,7 @@ fn no_restart_meets_2_s_on_both_a_ride_and_its_twins_in_the_gap() {
             .iter()
             .copied()
             .fold((0.0, 0.0), |a, x| if x.0 > a.0 { x } else { a });
-        if ["mahony", "complementary"].contains(name) {
+        if ["mahony", "complementary", "madgwick"].contains(name) {
             assert!(d > 2.0 * TOLERANCE_DEG, "{name}: {d} deg");
             // The restart meets 2 s on at most one of the two.
             assert!(
@@ -1302,7 +1311,7 @@ fn no_restart_meets_2_s_on_both_a_ride_and_its_twins_in_the_gap() {
                 "{name}: {} s, {b_twin} s",
                 rec[j].1
             );
-        } else if *name != "madgwick" {
+        } else {
             // The estimators that meet 2 s: on every twin too.
             assert!(
                 d < 2.0 * TOLERANCE_DEG && b_twin <= 2.0,
