@@ -429,6 +429,17 @@ fn madgwick_cannot_come_within_0_05_deg_of_itself() {
             assert!(*worst <= 0.001, "{n}: {worst}");
         }
     }
+    // As the burst's twin: apart by more than 0.1 deg from 2 s after the burst's end on.
+    let j = clean.names.iter().position(|n| *n == "madgwick").unwrap();
+    let apart = (k + 100 + 2000..rows.len())
+        .map(|i| {
+            (clean.est[i][j].theta - bad.est[i][j].theta)
+                .abs()
+                .to_degrees()
+        })
+        .fold(0.0, f64::max);
+    println!("madgwick: {apart:.3} deg apart from 2 s after the burst's end on");
+    assert!(apart > 2.0 * TOLERANCE_DEG, "{apart}");
     assert_nothing_poisoned(
         "one gyro reading + 10 sd",
         &clean,
