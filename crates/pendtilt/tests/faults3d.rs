@@ -467,8 +467,13 @@ fn truth(csv: &Csv) -> Vec<(f64, f64)> {
 
 /// Simulates the ride into `dir` (ride.csv, ride.rig.toml, ride.scenario.toml).
 fn simulate(dir: &Path) -> PathBuf {
-    let log = dir.join("ride.csv");
-    let o = pendtilt(&[
+    simulate_as(dir, "ride", &[])
+}
+
+/// Simulates the ride with the further `args` into `dir/name.csv`.
+fn simulate_as(dir: &Path, name: &str, args: &[&str]) -> PathBuf {
+    let log = dir.join(format!("{name}.csv"));
+    let mut all = vec![
         "simulate",
         "--scenario",
         "scooter3d",
@@ -479,7 +484,9 @@ fn simulate(dir: &Path) -> PathBuf {
         "-q",
         "-o",
         s(&log),
-    ]);
+    ];
+    all.extend_from_slice(args);
+    let o = pendtilt(&all);
     assert!(o.status.success(), "{}", stderr(&o));
     log
 }
@@ -885,24 +892,7 @@ fn no_restart_meets_2_s_on_both_a_3d_ride_and_its_twins_in_the_gap() {
     let log = simulate(dir.path());
     let ride = Csv::read(&log);
     let end = T_FAULT + 10.0;
-    let smooth = {
-        let p = dir.path().join("smooth.csv");
-        let o = pendtilt(&[
-            "simulate",
-            "--scenario",
-            "scooter3d",
-            "--duration",
-            "30",
-            "--seed",
-            "3",
-            "--no-vibration",
-            "-q",
-            "-o",
-            s(&p),
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        Csv::read(&p)
-    };
+    let smooth = Csv::read(&simulate_as(dir.path(), "smooth", &["--no-vibration"]));
     let accel = ["ax", "ay", "az"].map(|c| ride.col(c));
     let braking = twin(&ride, end - 2.0, end, |row, _| {
         let t: f64 = row[0].parse().unwrap();
