@@ -13,6 +13,12 @@
 //! log without motion (less than [`MIN_MOTION`] in the reference) gives no fit; neither
 //! reports anything.
 //!
+//! **The accelerometer in g or mg read as m/s^2.** Whatever a body does, the specific
+//! force an accelerometer reads is gravity's most of the time: its median magnitude is
+//! within a factor 2 of g on any vehicle, rig or ship. [`AccelMagnitude`] keeps the median
+//! of the readings' magnitude over the whole log (a histogram of its logarithm, no row
+//! kept) and reports one that g (or mg) explains, with the fix (`--accel-unit`).
+//!
 //! **Settings against the rate.** [`check_settings_against_rate`] refuses a cutoff at or
 //! above the log's Nyquist frequency (the digital filter cannot exist there) or a
 //! differentiator cutoff below half the natural frequency (it would remove the pendulum's
@@ -240,6 +246,131 @@ impl Smooth {
     }
 }
 
+/// The accelerometer's median magnitude over gravity within these bounds is in m/s^2:
+/// a body's specific force is gravity's most of the time (the vibrating scooter's median
+/// is 1.03 g; a car's turns and braking, a ship's heave stay well inside).
+pub const ACCEL_MAGNITUDE_BAND: [f64; 2] = [0.5, 2.0];
+/// The least readings for a verdict on the accelerometer's unit.
+pub const MIN_ACCEL_READINGS: u64 = 100;
+/// Bins of the magnitude's log10 per decade, and the decades kept (1e-4 to 1e6 m/s^2).
+const ACCEL_BINS_PER_DECADE: f64 = 100.0;
+const ACCEL_DECADES: [f64; 2] = [-4.0, 6.0];
+
+/// The median magnitude of the accelerometer's readings over a log, against gravity: a
+/// column in g (0.1 of what m/s^2 gives) or mg (102x) is found, named, and given its fix.
+/// The median of a histogram of log10 of the magnitude (1 % bins), so one absurd reading
+/// does not move it and no row is kept.
+#[derive(Debug, Clone)]
+pub struct AccelMagnitude {
+    bins: Vec<u64>,
+    n: u64,
+}
+
+impl Default for AccelMagnitude {
+    fn default() -> Self {
+        let n = ((ACCEL_DECADES[1] - ACCEL_DECADES[0]) * ACCEL_BINS_PER_DECADE) as usize;
+        Self {
+            bins: vec![0; n],
+            n: 0,
+        }
+    }
+}
+
+impl AccelMagnitude {
+    /// One reading's magnitude \[m/s^2 as read, after `--accel-unit`\]; zero, non-finite
+    /// or beyond the histogram is left out (a missing reading, a logger's zero fill).
+    pub fn add(&mut self, magnitude: f64) {
+        if !(magnitude.is_finite() && magnitude > 0.0) {
+            return;
+        }
+        let x = (magnitude.log10() - ACCEL_DECADES[0]) * ACCEL_BINS_PER_DECADE;
+        if x >= 0.0 && (x as usize) < self.bins.len() {
+            self.bins[x as usize] += 1;
+            self.n += 1;
+        }
+    }
+
+    /// The readings counted.
+    pub fn readings(&self) -> u64 {
+        self.n
+    }
+
+    /// The median magnitude \[m/s^2\] (to 1 %), once there are readings.
+    pub fn median(&self) -> Option<f64> {
+        if self.n == 0 {
+            return None;
+        }
+        let mut seen = 0;
+        for (i, c) in self.bins.iter().enumerate() {
+            seen += c;
+            if 2 * seen >= self.n {
+                let log = ACCEL_DECADES[0] + (i as f64 + 0.5) / ACCEL_BINS_PER_DECADE;
+                return Some(10f64.powf(log));
+            }
+        }
+        None
+    }
+
+    /// A finding when the median is not gravity's (outside [`ACCEL_MAGNITUDE_BAND`] of
+    /// [`crate::io::STANDARD_GRAVITY`]), for the accelerometer `columns` read with `given`
+    /// (`--accel-unit`, `None`: m/s^2): the unit that explains it, or the question. `None`
+    /// for a log that is right or has fewer than [`MIN_ACCEL_READINGS`] readings.
+    pub fn finding(
+        &self,
+        columns: &'static str,
+        given: Option<crate::io::AccelUnit>,
+    ) -> Option<Finding> {
+        use crate::io::{AccelUnit, STANDARD_GRAVITY};
+        if self.n < MIN_ACCEL_READINGS {
+            return None;
+        }
+        let median = self.median()?;
+        let ratio = median / STANDARD_GRAVITY;
+        let inside = |r: f64| (ACCEL_MAGNITUDE_BAND[0]..=ACCEL_MAGNITUDE_BAND[1]).contains(&r);
+        if inside(ratio) {
+            return None;
+        }
+        let given = given.unwrap_or(AccelUnit::MetresPerSecondSquared);
+        // The unit the columns are in if the median is gravity's.
+        let raw = median / given.metres_per_second_squared();
+        let unit = AccelUnit::ALL
+            .into_iter()
+            .find(|u| inside(raw * u.metres_per_second_squared() / STANDARD_GRAVITY));
+        let read = if given == AccelUnit::MetresPerSecondSquared {
+            String::new()
+        } else {
+            format!(" (read with --accel-unit {given})")
+        };
+        let fix = match unit {
+            Some(AccelUnit::MetresPerSecondSquared) => {
+                format!("is it already in m/s^2? leave out --accel-unit {given}")
+            }
+            Some(u) => format!("is the accelerometer in {u}? read it with --accel-unit {u}"),
+            None => "is the accelerometer in m/s^2 (MODEL.md section 5)? g and mg are read \
+                     with --accel-unit g or mg"
+                .to_string(),
+        };
+        let message = format!(
+            "{columns}: the specific force's median magnitude is {} m/s^2{read}, where \
+             gravity alone gives {STANDARD_GRAVITY} m/s^2 ({} g): {fix} (median over \
+             {} readings; a body's specific force is gravity's most of the time)",
+            crate::io::plausibility::fmt_sig(median),
+            crate::io::plausibility::fmt_sig(ratio),
+            self.n
+        );
+        Some(Finding {
+            column: columns,
+            comparison: Comparison::AccelGravity,
+            fit: Fit {
+                factor: ratio,
+                correlation: f64::NAN,
+                samples: self.n,
+            },
+            message,
+        })
+    }
+}
+
 /// Which pair a finding comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Comparison {
@@ -253,12 +384,15 @@ pub enum Comparison {
     TruthEncoder,
     /// The true angle against the accelerometer angle.
     TruthAccel,
+    /// The accelerometer's median magnitude against gravity ([`AccelMagnitude`]; its
+    /// [`Fit::factor`] is that ratio, its correlation NaN: no regression).
+    AccelGravity,
 }
 
 /// A column found in degrees (or converted twice).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Finding {
-    /// The column (`phi`, `gyro`, `theta`).
+    /// The column (`phi`, `gyro`, `theta`), or the accelerometer's (`ax, ay`).
     pub column: &'static str,
     /// The pair it was found with.
     pub comparison: Comparison,
@@ -288,6 +422,9 @@ pub struct UnitCheck {
     /// The first rows after a (re)start, until [`WARM_START`] of them are in: the filters
     /// start at rest on their mean.
     warm: Vec<(Sample<f64>, f64)>,
+    /// The accelerometer's magnitude against gravity, and the unit it was read in.
+    accel: AccelMagnitude,
+    accel_unit: Option<crate::io::AccelUnit>,
 }
 
 impl UnitCheck {
@@ -316,7 +453,16 @@ impl UnitCheck {
             gyro_before: None,
             duration: 0.0,
             warm: Vec::new(),
+            accel: AccelMagnitude::default(),
+            accel_unit: None,
         }
+    }
+
+    /// The check of a log whose accelerometer was read with `--accel-unit unit`, so that a
+    /// finding names what was given.
+    pub fn with_accel_unit(mut self, unit: Option<crate::io::AccelUnit>) -> Self {
+        self.accel_unit = unit;
+        self
     }
 
     fn restart(&mut self) {
@@ -330,6 +476,9 @@ impl UnitCheck {
 
     /// Adds one row (`theta`: the true angle, `None` or NaN when absent).
     pub fn add(&mut self, s: &Sample<f64>, theta: Option<f64>) {
+        if self.inputs.accel {
+            self.accel.add(s.ax.hypot(s.ay));
+        }
         let th = theta.unwrap_or(f64::NAN);
         // Readings beyond the sensors' bounds still count here (a gyro in deg/s is beyond
         // a rad/s full scale), unless absurd in any unit.
@@ -434,7 +583,8 @@ impl UnitCheck {
 
     /// The fit of one comparison, if it had samples with motion.
     pub fn fit(&self, c: Comparison) -> Option<Fit> {
-        self.pairs[c as usize].fit()
+        // No pair for the accelerometer's magnitude ([`AccelMagnitude`]).
+        self.pairs.get(c as usize)?.fit()
     }
 
     /// This check with the [`Lever`] fit too ([`Self::lever_fit`]; the 3-D check's, off
@@ -460,11 +610,16 @@ impl UnitCheck {
     /// The columns found in degrees (or converted twice), each with its factor and fix.
     /// Empty for a log that is right, or too short or too still to tell.
     pub fn findings(&self) -> Vec<Finding> {
+        // The accelerometer's unit, from its magnitude (no motion needed).
+        let mut out: Vec<Finding> = self
+            .accel
+            .finding("ax, ay", self.accel_unit)
+            .into_iter()
+            .collect();
         if self.duration < MIN_DURATION {
-            return Vec::new();
+            return out;
         }
         let verdict = |c| self.verdict(c);
-        let mut out = Vec::new();
         // The encoder against the accelerometer (whose unit is fixed).
         let phi = verdict(Comparison::EncoderAccel);
         let phi_deg = matches!(phi, Some((_, k)) if k == DEG);
@@ -541,6 +696,7 @@ fn finding(column: &'static str, comparison: Comparison, fit: Fit, k: f64) -> Fi
         }
         Comparison::GyroAccelRate => "the derivative of the accelerometer's angle",
         Comparison::TruthEncoder => "phi",
+        Comparison::AccelGravity => "gravity",
     };
     let how = format!(
         "least squares over {} rows below f_n / 4, r = {:.2}",
@@ -633,6 +789,101 @@ pub fn check_settings_against_rate(settings: &BankSettings, dt: f64) -> Result<(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::{AccelUnit, STANDARD_GRAVITY};
+
+    /// A vibrating body's specific force: gravity tilted by `tilt` plus a vibration of
+    /// `vib` m/s^2 (a deterministic spread of tones), in `unit`.
+    fn accel_log(n: usize, vib: f64, unit: AccelUnit) -> AccelMagnitude {
+        let mut m = AccelMagnitude::default();
+        for k in 0..n {
+            let t = k as f64 * 1e-3;
+            let tilt = 0.3 * (0.7 * t).sin();
+            let v = vib * ((2.0 * std::f64::consts::PI * 37.0 * t).sin() + (91.0 * t).cos());
+            let (ax, ay) = (
+                STANDARD_GRAVITY * tilt.sin() + v,
+                STANDARD_GRAVITY * tilt.cos() - 0.5 * v,
+            );
+            m.add(ax.hypot(ay) / unit.metres_per_second_squared());
+        }
+        m
+    }
+
+    /// The median magnitude to 1 %; a log in g or mg named with the unit that explains it
+    /// and the fix; a log in m/s^2 quiet, also with strong vibration; m/s^2 read with
+    /// `--accel-unit g` told to leave it out; one absurd reading moves nothing; too few
+    /// readings, no verdict.
+    #[test]
+    fn the_accelerometer_in_g_or_mg_is_found_from_gravity() {
+        let right = accel_log(5000, 3.0, AccelUnit::MetresPerSecondSquared);
+        let med = right.median().unwrap();
+        assert!((med / STANDARD_GRAVITY - 1.0).abs() < 0.1, "{med}");
+        assert!(right.finding("ax, ay", None).is_none());
+        // A hard ride: 8 m/s^2 of vibration on 9.8 of gravity.
+        assert!(accel_log(5000, 8.0, AccelUnit::MetresPerSecondSquared)
+            .finding("ax, ay", None)
+            .is_none());
+        for (unit, ratio) in [(AccelUnit::G, 0.102), (AccelUnit::MilliG, 102.0)] {
+            let f = accel_log(5000, 3.0, unit).finding("ax, ay", None).unwrap();
+            assert_eq!(f.comparison, Comparison::AccelGravity);
+            assert!(
+                (f.fit.factor / ratio - 1.0).abs() < 0.1,
+                "{unit}: {}",
+                f.fit.factor
+            );
+            assert!(
+                f.message
+                    .starts_with("ax, ay: the specific force's median magnitude is")
+                    && f.message.contains(&format!(
+                        "is the accelerometer in {unit}? read it with --accel-unit {unit}"
+                    )),
+                "{}",
+                f.message
+            );
+            // Read with the right unit (the reader scales to m/s^2 before the check): quiet.
+            assert!(accel_log(5000, 3.0, AccelUnit::MetresPerSecondSquared)
+                .finding("ax, ay", Some(unit))
+                .is_none());
+        }
+        // m/s^2 read as g: 9.8x too large.
+        let mut twice = AccelMagnitude::default();
+        for k in 0..500 {
+            twice.add(STANDARD_GRAVITY * STANDARD_GRAVITY * (1.0 + 1e-3 * k as f64));
+        }
+        let f = twice.finding("ax, ay, az", Some(AccelUnit::G)).unwrap();
+        assert!(
+            f.message.contains("(read with --accel-unit g)")
+                && f.message
+                    .contains("is it already in m/s^2? leave out --accel-unit g"),
+            "{}",
+            f.message
+        );
+        // Neither g nor mg explains ft/s^2 (3.28x): the question.
+        let mut feet = AccelMagnitude::default();
+        for _ in 0..500 {
+            feet.add(STANDARD_GRAVITY / 0.3048);
+        }
+        let f = feet.finding("ax, ay", None).unwrap();
+        assert!(
+            f.message.contains("is the accelerometer in m/s^2"),
+            "{}",
+            f.message
+        );
+        // One absurd reading in a right log, zeros and NaN: no finding, the median kept.
+        let mut one = accel_log(5000, 3.0, AccelUnit::MetresPerSecondSquared);
+        one.add(1e300);
+        one.add(1e5);
+        one.add(0.0);
+        one.add(f64::NAN);
+        assert!(one.finding("ax, ay", None).is_none());
+        assert_eq!(one.median(), right.median());
+        // Too few readings to tell.
+        assert!(accel_log(99, 3.0, AccelUnit::G)
+            .finding("ax, ay", None)
+            .is_none());
+        assert!(accel_log(100, 3.0, AccelUnit::G)
+            .finding("ax, ay", None)
+            .is_some());
+    }
 
     /// A sensor 5 m above the centre its body pitches about (two sines, 5 deg at 0.14 Hz
     /// and 1 deg at 0.31 Hz, as ship3d's pitch): the pendulum reads `theta - (h / g)

@@ -15,7 +15,9 @@ use pendtilt::cli::options::rig_bank_settings;
 use pendtilt::config::RigConfig;
 use pendtilt::core::filters::diff::Cutoff;
 use pendtilt::core::{Estimate, Flags};
-use pendtilt::io::{EstimatesWriter, LogReader, LogWarning, ReaderOptions, TimeUnit, WarningKind};
+use pendtilt::io::{
+    AccelUnit, EstimatesWriter, LogReader, LogWarning, ReaderOptions, TimeUnit, WarningKind,
+};
 use pendtilt::pipeline::{self, PassError, PassSummary};
 use pendtilt::sim::{simulate, Scenario, SimRow};
 
@@ -901,6 +903,84 @@ fn degrees_are_found_from_the_physics_with_the_factor_and_correct_logs_are_quiet
             findings(&fixed)
         );
     }
+}
+
+/// `rows` as a log text with the accelerometer divided by `per` \[m/s^2 per unit\].
+fn accel_in(rows: &[SimRow], per: f64) -> String {
+    let mut c = cells(rows);
+    for (row, r) in c.iter_mut().zip(rows) {
+        row[3] = format!("{}", r.ax / per);
+        row[4] = format!("{}", r.ay / per);
+    }
+    text(&c)
+}
+
+/// An accelerometer in g or mg read as m/s^2 (item 3; found as a new user, session 15):
+/// the planar estimators read only its direction, so g changed no estimate and said
+/// nothing, but mg put every reading beyond the full scale (every accelerometer reader
+/// without an estimate, 10 of 103 024 impossible readings listed, no fix). Now the median
+/// magnitude against gravity names the unit and the fix, `--accel-unit`, with which the
+/// estimates are the m/s^2 log's; read with `--accel-unit g` when in m/s^2 it says to leave
+/// it out. Correct logs stay quiet (here and in the two degree tests above, which check
+/// every finding).
+#[test]
+fn an_accelerometer_in_g_or_mg_is_named_from_gravity_and_the_fix_works() {
+    let (rows, rig) = ride("scooter", 10.0, 2);
+    let right = run(&text(&cells(&rows)), &rig);
+    assert!(findings(&right).is_empty(), "{:?}", findings(&right));
+    let with_unit = |log: &str, unit: AccelUnit| {
+        run_with(
+            log,
+            &rig,
+            ReaderOptions {
+                accel_unit: Some(unit),
+                ..ReaderOptions::for_rig(&rig)
+            },
+        )
+    };
+    for unit in [AccelUnit::G, AccelUnit::MilliG] {
+        let log = accel_in(&rows, unit.metres_per_second_squared());
+        let wrong = run(&log, &rig);
+        let f = findings(&wrong);
+        assert_eq!(f.len(), 1, "{unit}: {f:?}");
+        assert_eq!(f[0].0, "ax, ay");
+        assert!(
+            f[0].2.contains(&format!(
+                "is the accelerometer in {unit}? read it with --accel-unit {unit}"
+            )),
+            "{}",
+            f[0].2
+        );
+        println!("{unit}: {}", f[0].2);
+        let fixed = with_unit(&log, unit);
+        assert!(
+            findings(&fixed).is_empty(),
+            "{unit}: {:?}",
+            findings(&fixed)
+        );
+        assert_eq!(fixed.implausible_count, 0);
+        for (k, (a, b)) in right.est.iter().zip(&fixed.est).enumerate() {
+            for (j, (a, b)) in a.iter().zip(b).enumerate() {
+                assert!(
+                    (a.theta - b.theta).abs() <= 1e-9 || (a.theta.is_nan() && b.theta.is_nan()),
+                    "{unit} {} row {k}: {} against {}",
+                    right.names[j],
+                    a.theta,
+                    b.theta
+                );
+            }
+        }
+    }
+    // m/s^2 read as g.
+    let twice = with_unit(&text(&cells(&rows)), AccelUnit::G);
+    let f = findings(&twice);
+    assert!(
+        f.len() == 1
+            && f[0]
+                .2
+                .contains("is it already in m/s^2? leave out --accel-unit g"),
+        "{f:?}"
+    );
 }
 
 /// Short logs (4 s): the gyro in deg/s and `--deg` given on a log in radians are found

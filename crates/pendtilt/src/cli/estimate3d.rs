@@ -36,6 +36,7 @@ use pendtilt_core::{Flags, StepGate};
 use pendtilt_core::spatial::Attitude;
 
 use super::estimate::Args;
+use super::options::LogColumns;
 use crate::bank::Inputs;
 use crate::bank3d::rig::{mounting_doubts, Pendulum3dConfig, Rig3dConfig};
 use crate::bank3d::score::Inclination;
@@ -46,9 +47,7 @@ use crate::io::plateau::{NewLevel, PlateauWatch, LOOK_AHEAD_ROWS};
 use crate::io::plausibility::{
     implausible_step, DEFAULT_ACCEL_LIMIT, DEFAULT_GYRO_LIMIT, FULL_SCALE_ROUNDING,
 };
-use crate::io::{
-    Column3d, ColumnMap, DegreeColumns, Estimates3dWriter, Log3dReader, Log3dRecord, TimeUnit,
-};
+use crate::io::{Column3d, Estimates3dWriter, Log3dReader, Log3dRecord};
 use crate::sim3d::Scenario3d;
 use crate::units::Pair;
 
@@ -116,12 +115,8 @@ pub(crate) struct Options3d<'a> {
     pub scenario: Option<&'a Path>,
     /// `--score-from` \[s\].
     pub score_from: Option<f64>,
-    /// `--map` (refused on a 3-D log).
-    pub map: &'a ColumnMap,
-    /// `--deg`.
-    pub deg: Option<DegreeColumns>,
-    /// `--time-unit`.
-    pub time_unit: Option<TimeUnit>,
+    /// `--map` (refused on a 3-D log), `--deg`, `--time-unit`, `--accel-unit`.
+    pub columns: &'a LogColumns,
     /// `--only`.
     pub only: Option<&'a [String]>,
     /// `--quiet`: no notices.
@@ -137,9 +132,7 @@ impl<'a> Options3d<'a> {
             params: b.params.as_deref(),
             scenario: args.scenario.as_deref(),
             score_from: args.score_from,
-            map: &b.map,
-            deg: b.deg,
-            time_unit: b.time_unit,
+            columns: &b.columns,
             only: b.only.as_deref(),
             quiet: b.quiet,
         }
@@ -177,16 +170,18 @@ pub(crate) struct Setup {
     time_given: bool,
     /// Radians per unit of the angular columns.
     angle_scale: f64,
+    /// `--accel-unit` (`None`: m/s^2).
+    accel_unit: Option<crate::io::AccelUnit>,
 }
 
 /// Reads the rig and scenario files and checks the options.
 pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
-    if !opts.map.is_empty() {
+    if !opts.columns.map.is_empty() {
         bail!(
             "--map: for planar logs only; a 3-D log's columns are read by their MODEL.md 7.6 names"
         );
     }
-    let angle_scale = match opts.deg {
+    let angle_scale = match opts.columns.deg {
         None => 1.0,
         Some(d) if d == crate::io::DegreeColumns::all() => std::f64::consts::PI / 180.0,
         Some(_) => bail!(
@@ -265,9 +260,10 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
     Ok(Setup {
         settings,
         score_from,
-        time_scale: opts.time_unit.map_or(1.0, |u| u.seconds()),
-        time_given: opts.time_unit.is_some(),
+        time_scale: opts.columns.time_unit.map_or(1.0, |u| u.seconds()),
+        time_given: opts.columns.time_unit.is_some(),
         angle_scale,
+        accel_unit: opts.columns.accel_unit,
     })
 }
 
@@ -465,6 +461,10 @@ pub(crate) fn pass(
     let header: Vec<String> = log.header().to_vec();
     let mut row = RowInput::new(setup, &file, &header);
     let mut gyro_units = GyroUnits::new(&setup.settings.ekf.params);
+    let mut accel_unit = crate::units::AccelMagnitude::default();
+    let accel_scale = setup
+        .accel_unit
+        .map_or(1.0, |u| u.metres_per_second_squared());
     let mut gate = StepGate::new();
     let mut scores = vec![Inclination::default(); names.len()];
     let mut quats = vec![None; names.len()];
@@ -485,6 +485,10 @@ pub(crate) fn pass(
                     None => break,
                 },
             };
+            // In m/s^2 from here on (--accel-unit); before the bounds, for the unit check.
+            let mut r = r;
+            r.accel = r.accel.map(|a| a * accel_scale);
+            accel_unit.add(r.accel.iter().map(|a| a * a).sum::<f64>().sqrt());
             row.find_clips(&r);
             ahead.push_back(r);
         }
@@ -528,14 +532,20 @@ pub(crate) fn pass(
             crate::io::nul_message(line, n)
         ));
     }
-    let gyro_found = gyro_units.findings(&file);
-    // A gyro in deg/s makes the speed disagree with everything too: the gyro is the cause.
-    if gyro_found.is_empty() {
+    let mut found = gyro_units.findings(&file);
+    found.extend(
+        accel_unit
+            .finding("ax, ay, az", setup.accel_unit)
+            .map(|f| format!("{file}: {}", f.message)),
+    );
+    // A gyro in deg/s, or an accelerometer in g, makes the speed disagree with everything
+    // too: the unit is the cause.
+    if found.is_empty() {
         if let Some(w) = slip_warning(&file, slip_rows, speed_rows) {
             warnings.push(w);
         }
     }
-    warnings.extend(gyro_found);
+    warnings.extend(found);
     Ok(Pass {
         rows,
         names,
@@ -744,7 +754,7 @@ fn slip_warning(file: &str, slip_rows: u64, speed_rows: u64) -> Option<String> {
             "{file}: wheel slip flagged on {slip_rows} of {speed_rows} rows with a speed \
              ({:.0} %): the `speed` column disagrees with the accelerometer almost \
              everywhere; is it in m/s? (km/h reads 3.6x, mph 2.24x; ekf3d and ukf3d skip it \
-             while they flag slip); a gyro in deg/s does the same",
+             while they flag slip); a gyro in deg/s or an accelerometer in g does the same",
             share * 100.0
         )
     })

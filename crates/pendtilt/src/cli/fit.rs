@@ -8,7 +8,7 @@ use anyhow::Context;
 use crate::config::RigConfig;
 use crate::fit::{self, Algorithm, Cost, FitSettings, Iteration, Method, Target};
 use crate::io::output::{self, NamedPath};
-use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions};
+use crate::io::{Column, LogReader};
 use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::filters::diff::Cutoff;
 use pendtilt_core::supervision::Objective;
@@ -90,18 +90,9 @@ pub struct Args {
     /// through the same low-pass as phi.
     #[arg(long)]
     pub unmatched: bool,
-    /// Other column names, e.g. `phi=enc_angle,gyro=gz`. Default: none, the MODEL.md
-    /// names (t, phi, gyro, ax, ay, theta).
-    #[arg(long, default_value = "", hide_default_value = true)]
-    pub map: ColumnMap,
-    /// Angular columns in degrees: alone, every one; or a list like `phi,theta`. Default:
-    /// none, all in rad and rad/s.
-    #[arg(long, num_args = 0..=1, default_missing_value = "all")]
-    pub deg: Option<DegreeColumns>,
-    /// Unit of the `t` column: s, ms, us or ns. Default: seconds, and a log whose time
-    /// steps no sensor rate explains (10 Hz to 1 MHz) is refused with the unit to give here.
-    #[arg(long, value_name = "UNIT")]
-    pub time_unit: Option<crate::io::TimeUnit>,
+    /// How the log's columns are named and in which units.
+    #[command(flatten)]
+    pub columns: crate::cli::options::LogColumns,
     /// Print nothing but errors.
     #[arg(long, short = 'q')]
     pub quiet: bool,
@@ -224,12 +215,7 @@ struct FitLog {
 
 /// Reads the whole log (warnings printed unless `--quiet`).
 fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<FitLog> {
-    let options = ReaderOptions {
-        map: args.map.clone(),
-        degrees: args.deg.unwrap_or_default(),
-        time_unit: args.time_unit,
-        ..ReaderOptions::for_rig(rig)
-    };
+    let options = args.columns.reader_options(rig);
     let mut log = LogReader::open(&args.log, options)?;
     if !args.quiet {
         eprintln!("{}: {}", log.file(), log.columns());

@@ -11,7 +11,8 @@ pub const INPUT_UNITS: &str = "Input columns (MODEL.md section 5, SI units): t [
 increasing; phi [rad], the pendulum angle relative to the body (encoder); gyro [rad/s], body \
 rate about the tilt axis, CCW positive; ax, ay [m/s^2], accelerometer specific force in body \
 axes; theta [rad], the true tilt (optional, copied to the output). Angles in degrees: --deg; \
-t in ms or us: --time-unit. Other column names: --map. A gyro or accelerometer reading beyond \
+t in ms or us: --time-unit; the accelerometer in g or mg: --accel-unit. Other column names: \
+--map. A gyro or accelerometer reading beyond \
 the rig's [gyro]/[accel] full_scale (without one: 100 rad/s, 500 m/s^2) is read as missing \
 and flagged implausible; one at it is kept and flagged saturated; without a full scale, a \
 clip is found in the readings themselves (one value on several rows in a row, which a noisy \

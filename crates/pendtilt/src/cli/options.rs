@@ -6,16 +6,15 @@ use std::path::PathBuf;
 use crate::bank::{Bank, BankSettings};
 use crate::config::RigConfig;
 use crate::io::{
-    ColumnMap, DegreeColumns, LogReader, LogWarning, ReaderOptions, TimeUnit, WriterOptions,
+    AccelUnit, ColumnMap, DegreeColumns, LogReader, LogWarning, ReaderOptions, TimeUnit,
+    WriterOptions,
 };
 use crate::pipeline;
 
-/// Options common to the commands that run the estimator bank over a log.
+/// How a log's columns are named and in which units: what every command that reads a log
+/// takes (`--map`, `--deg`, `--time-unit`, `--accel-unit`), defined here once.
 #[derive(Debug, Clone, clap::Args)]
-pub struct BankOptions {
-    /// The rig file (TOML). Without it the MODEL.md default rig is used, and said so.
-    #[arg(long, short = 'p')]
-    pub params: Option<PathBuf>,
+pub struct LogColumns {
     /// Other column names, e.g. `phi=enc_angle,gyro=gz`. Default: none, the MODEL.md
     /// names (t, phi, gyro, ax, ay, theta).
     #[arg(long, default_value = "", hide_default_value = true)]
@@ -28,6 +27,36 @@ pub struct BankOptions {
     /// steps no sensor rate explains (10 Hz to 1 MHz) is refused with the unit to give here.
     #[arg(long, value_name = "UNIT")]
     pub time_unit: Option<TimeUnit>,
+    /// Unit of the accelerometer columns (ax, ay; and az on a 3-D log): m/s2, g or mg.
+    /// Default: m/s2, and a log whose specific force is not gravity's in size (its median
+    /// magnitude off 9.81 m/s^2 by more than 2x) is told with the unit to give here.
+    #[arg(long, value_name = "UNIT")]
+    pub accel_unit: Option<AccelUnit>,
+}
+
+impl LogColumns {
+    /// How a planar log is read with these columns and units, and what the rig tells (its
+    /// full scales, its pendulum's frequency: [`ReaderOptions::for_rig`]).
+    pub fn reader_options(&self, rig: &RigConfig) -> ReaderOptions {
+        ReaderOptions {
+            map: self.map.clone(),
+            degrees: self.deg.unwrap_or_default(),
+            time_unit: self.time_unit,
+            accel_unit: self.accel_unit,
+            ..ReaderOptions::for_rig(rig)
+        }
+    }
+}
+
+/// Options common to the commands that run the estimator bank over a log.
+#[derive(Debug, Clone, clap::Args)]
+pub struct BankOptions {
+    /// The rig file (TOML). Without it the MODEL.md default rig is used, and said so.
+    #[arg(long, short = 'p')]
+    pub params: Option<PathBuf>,
+    /// How the log's columns are named and in which units.
+    #[command(flatten)]
+    pub columns: LogColumns,
     /// Write the estimates (and theta) in degrees. Default: rad.
     #[arg(long)]
     pub out_deg: bool,
@@ -67,15 +96,9 @@ impl BankOptions {
         })
     }
 
-    /// How the log is read (`--map`, `--deg`, `--time-unit`, and the rig's full scales,
-    /// beyond which a reading is impossible).
+    /// How the log is read ([`LogColumns::reader_options`]).
     pub fn reader_options(&self, rig: &RigConfig) -> ReaderOptions {
-        ReaderOptions {
-            map: self.map.clone(),
-            degrees: self.deg.unwrap_or_default(),
-            time_unit: self.time_unit,
-            ..ReaderOptions::for_rig(rig)
-        }
+        self.columns.reader_options(rig)
     }
 
     /// How the estimates are written (`--flags`, `--out-deg`).

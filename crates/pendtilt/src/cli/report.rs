@@ -13,7 +13,7 @@ use crate::experiment::standard::standard_report;
 use crate::experiment::Ride;
 use crate::io::output::{self, NamedPath, OutputDir};
 use crate::io::plateau::LOOK_AHEAD_ROWS;
-use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions};
+use crate::io::{Column, LogReader, ReaderOptions};
 use crate::pipeline::{self, ClipFinder};
 use crate::report::markdown::{claims_markdown, metrics_markdown};
 
@@ -34,18 +34,9 @@ pub struct Args {
     /// Files already there that the report does not write are left alone.
     #[arg(long, short = 'o', visible_alias = "out")]
     pub output: PathBuf,
-    /// Other column names, e.g. `phi=enc_angle,gyro=gz,theta=pot`. Default: none, the
-    /// MODEL.md names (t, phi, gyro, ax, ay, theta).
-    #[arg(long, default_value = "", hide_default_value = true)]
-    pub map: ColumnMap,
-    /// Angular columns in degrees: alone, every one (phi, gyro, theta); or a list like
-    /// `phi,theta`. Default: none, all in rad and rad/s.
-    #[arg(long, num_args = 0..=1, default_missing_value = "all")]
-    pub deg: Option<DegreeColumns>,
-    /// Unit of the `t` column: s, ms, us or ns. Default: seconds, and a log whose time
-    /// steps no sensor rate explains (10 Hz to 1 MHz) is refused with the unit to give here.
-    #[arg(long, value_name = "UNIT")]
-    pub time_unit: Option<crate::io::TimeUnit>,
+    /// How the log's columns are named and in which units.
+    #[command(flatten)]
+    pub columns: crate::cli::options::LogColumns,
     /// Title of the report (default: the log's file name).
     #[arg(long)]
     pub title: Option<String>,
@@ -184,12 +175,7 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
         }
     };
     let settings = rig_bank_settings(&rig);
-    let options = ReaderOptions {
-        map: args.map.clone(),
-        degrees: args.deg.unwrap_or_default(),
-        time_unit: args.time_unit,
-        ..ReaderOptions::for_rig(&rig)
-    };
+    let options = args.columns.reader_options(&rig);
     let (ride, inputs, warnings, total) = read_log(&args.log, options, &settings, bars)?;
     let extras = if inputs.phi && inputs.gyro {
         vec![alg2_delay_compensated(&settings)]

@@ -74,9 +74,7 @@ fn options(args: &Args) -> Options3d<'_> {
         params: args.params.as_deref(),
         scenario: args.scenario.as_deref(),
         score_from: args.score_from,
-        map: &args.map,
-        deg: args.deg,
-        time_unit: args.time_unit,
+        columns: &args.columns,
         only: None,
         quiet: args.quiet,
     }

@@ -10,7 +10,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::config::RigConfig;
 use crate::io::output::{self, NamedPath};
-use crate::io::{Column, ColumnMap, DegreeColumns, LogReader, ReaderOptions, TimeUnit};
+use crate::io::{Column, LogReader};
 use crate::tune::{self, rig_file, Options, Start, Target, Tuned};
 use pendtilt_core::Sample;
 
@@ -50,17 +50,9 @@ pub struct Args {
     /// use all of it).
     #[arg(long, default_value_t = 60.0, value_name = "SECONDS")]
     pub fit_seconds: f64,
-    /// Other column names, e.g. `phi=enc_angle,gyro=gz`. Default: none, the MODEL.md
-    /// names (t, phi, gyro, ax, ay, theta).
-    #[arg(long, default_value = "", hide_default_value = true)]
-    pub map: ColumnMap,
-    /// Angular columns in degrees: alone, every one; or a list like `phi,theta`. Default:
-    /// none, all in rad and rad/s.
-    #[arg(long, num_args = 0..=1, default_missing_value = "all")]
-    pub deg: Option<DegreeColumns>,
-    /// Unit of the `t` column: s, ms, us or ns. Default: seconds.
-    #[arg(long, value_name = "UNIT")]
-    pub time_unit: Option<TimeUnit>,
+    /// How the log's columns are named and in which units.
+    #[command(flatten)]
+    pub columns: crate::cli::options::LogColumns,
     /// Print nothing but errors.
     #[arg(long, short = 'q')]
     pub quiet: bool,
@@ -99,12 +91,7 @@ fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<TuneLog> {
         "{}: a 3-D log; `tune` tunes the planar estimators (t, phi, gyro, ax, ay)",
         args.log.display()
     );
-    let options = ReaderOptions {
-        map: args.map.clone(),
-        degrees: args.deg.unwrap_or_default(),
-        time_unit: args.time_unit,
-        ..ReaderOptions::for_rig(rig)
-    };
+    let options = args.columns.reader_options(rig);
     let mut log = LogReader::open(&args.log, options)?;
     if !args.quiet {
         eprintln!("{}: {}", log.file(), log.columns());

@@ -27,7 +27,7 @@ use super::columns::{
 };
 use super::csv_lines::CsvLines;
 use super::diagnostics::{LogSummary, LogWarning, WarningKind};
-use super::plausibility::{implausible_step, SensorLimits, TimeUnit};
+use super::plausibility::{implausible_step, AccelUnit, SensorLimits, TimeUnit};
 use super::split::unquote;
 use crate::bank::Inputs;
 use crate::units::{Finding, UnitCheck};
@@ -64,6 +64,10 @@ pub struct ReaderOptions {
     /// no sensor rate explains (a log in ms or us) is an error naming the fix; given, the
     /// time is converted and not checked.
     pub time_unit: Option<TimeUnit>,
+    /// The unit of `ax`, `ay` (`--accel-unit`). `None` (default): m/s^2; either way, a log
+    /// whose specific force is not gravity's in size is told with the unit that explains
+    /// it ([`crate::units::AccelMagnitude`], with the unit check below).
+    pub accel_unit: Option<AccelUnit>,
     /// The rig's pendulum natural frequency \[Hz\]: given, the unit check from the physics
     /// ([`crate::units::UnitCheck`]) runs over the whole log, and what it finds (a gyro in
     /// deg/s, ...) is warned about at the end ([`WarningKind::UnitMismatch`], also
@@ -96,6 +100,7 @@ impl Default for ReaderOptions {
             max_reported: 10,
             limits: SensorLimits::default(),
             time_unit: None,
+            accel_unit: None,
             natural_frequency: Some(
                 crate::config::RigConfig::default()
                     .params()
@@ -344,10 +349,10 @@ impl<R: BufRead> LogReader<R> {
             gyro: has(Column::Gyro),
             accel: has(Column::Ax) && has(Column::Ay),
         };
-        reader.units = reader
-            .options
-            .natural_frequency
-            .map(|f_n| UnitCheck::with_natural_frequency(f_n, inputs));
+        reader.units = reader.options.natural_frequency.map(|f_n| {
+            UnitCheck::with_natural_frequency(f_n, inputs)
+                .with_accel_unit(reader.options.accel_unit)
+        });
         Ok(reader)
     }
 

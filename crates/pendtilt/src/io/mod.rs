@@ -46,4 +46,4 @@ pub use log_reader::{
     decimal_comma_hint, nul_message, CellRef, LogError, LogErrorKind, LogReader, LogRecord,
     ReaderOptions, RowIssues, ANGLE_LOOKS_LIKE_DEGREES, DECIMAL_COMMA_FIX, RATE_LOOKS_LIKE_DEGREES,
 };
-pub use plausibility::{SensorLimits, TimeUnit};
+pub use plausibility::{AccelUnit, SensorLimits, TimeUnit, STANDARD_GRAVITY};

@@ -17,6 +17,11 @@ impl<R: BufRead> LogReader<R> {
         if let Some(u) = self.options.time_unit {
             self.scale[Column::T.index()] = u.seconds();
         }
+        if let Some(u) = self.options.accel_unit {
+            for c in [Column::Ax, Column::Ay] {
+                self.scale[c.index()] = u.metres_per_second_squared();
+            }
+        }
         for s in &statuses {
             self.positions[s.column.index()] = s.position;
             if s.degrees {
