@@ -619,6 +619,9 @@ impl UnitCheck {
         if self.duration < MIN_DURATION {
             return out;
         }
+        // A column that counts the other way: its pairs fit with the sign reversed (and then
+        // say nothing of its unit until it is read the right way round).
+        out.extend(self.sign_findings());
         let verdict = |c| self.verdict(c);
         // The encoder against the accelerometer (whose unit is fixed).
         let phi = verdict(Comparison::EncoderAccel);
@@ -665,6 +668,141 @@ impl UnitCheck {
                 out.push(finding("theta", Comparison::TruthEncoder, f, k))
             }
             _ => {}
+        }
+        out
+    }
+}
+
+impl UnitCheck {
+    /// A pair that fits well with its sign reversed: `Some(true)`; well as it is:
+    /// `Some(false)`; `None`: no verdict (too little motion, a poor fit, another factor).
+    fn reversed(&self, c: Comparison) -> Option<bool> {
+        let f = self.fit(c)?;
+        let flipped = Fit {
+            factor: -f.factor,
+            correlation: -f.correlation,
+            ..f
+        };
+        match (unit_factor(&f), unit_factor(&flipped)) {
+            (Some(_), _) => Some(false),
+            (None, Some(_)) => Some(true),
+            _ => None,
+        }
+    }
+
+    /// The columns whose signs disagree with the others' (MODEL.md section 1: theta, phi,
+    /// gyro counter-clockwise positive, `(ax, ay) = (g sin theta, g cos theta)` at rest), the
+    /// accelerometer's angle taken as the reference (gravity fixes its sign once ax's is
+    /// right). Measured on the scooter ride: phi, gyro or ax negated gave 12.0, 8.0 (ekf) and
+    /// 3.8 (Mahony) deg RMS with nothing said.
+    fn sign_findings(&self) -> Vec<Finding> {
+        let phi = self.reversed(Comparison::EncoderAccel);
+        let gyro = self.reversed(Comparison::GyroAccelRate);
+        let pair = self.reversed(Comparison::GyroEncoderRate);
+        let truth = self.reversed(Comparison::TruthAccel);
+        let fit = |c| {
+            self.fit(c).unwrap_or(Fit {
+                factor: f64::NAN,
+                correlation: f64::NAN,
+                samples: 0,
+            })
+        };
+        let how = |c: Comparison| {
+            let f = fit(c);
+            format!(
+                "factor {:.2}, r = {:.2}, over {} rows below f_n / 4",
+                f.factor, f.correlation, f.samples
+            )
+        };
+        let sign = "MODEL.md section 1: theta, phi and gyro count counter-clockwise, and \
+                    (ax, ay) = (g sin theta, g cos theta) at rest";
+        let finding = |column: &'static str, c: Comparison, message: String| Finding {
+            column,
+            comparison: c,
+            fit: fit(c),
+            message,
+        };
+        let mut out = Vec::new();
+        match (phi, gyro, pair) {
+            // Both against the accelerometer, and with each other: the true angle, when the
+            // log has it, tells which.
+            (Some(true), Some(true), Some(false)) if truth == Some(true) => out.push(finding(
+                "ax",
+                Comparison::TruthAccel,
+                format!(
+                    "the accelerometer's angle atan2(ax, ay) counts the other way from phi, \
+                     the gyro and theta (theta against it: {}): is ax reversed? read it with \
+                     --negate ax ({sign})",
+                    how(Comparison::TruthAccel)
+                ),
+            )),
+            (Some(true), Some(true), Some(false)) if truth == Some(false) => out.push(finding(
+                "phi, gyro",
+                Comparison::EncoderAccel,
+                format!(
+                    "phi and gyro both count the other way from the accelerometer's angle \
+                     atan2(ax, ay) and from theta ({}): are the encoder and the gyro both \
+                     mounted the other way round? read them with --negate phi,gyro ({sign})",
+                    how(Comparison::EncoderAccel)
+                ),
+            )),
+            (Some(true), Some(true), Some(false)) => out.push(finding(
+                "phi, gyro",
+                Comparison::EncoderAccel,
+                format!(
+                    "phi and gyro both count the other way from the accelerometer's angle \
+                     atan2(ax, ay) ({}; the gyro against its derivative: {}): either ax is \
+                     reversed (read it with --negate ax) or both are (--negate phi,gyro) \
+                     ({sign})",
+                    how(Comparison::EncoderAccel),
+                    how(Comparison::GyroAccelRate)
+                ),
+            )),
+            (Some(true), _, Some(true)) => out.push(finding(
+                "phi",
+                Comparison::EncoderAccel,
+                format!(
+                    "phi counts the other way from the accelerometer's angle atan2(ax, ay) and \
+                     from the gyro ({}): is the encoder mounted the other way round? read it \
+                     with --negate phi ({sign})",
+                    how(Comparison::EncoderAccel)
+                ),
+            )),
+            (_, Some(true), Some(true)) => out.push(finding(
+                "gyro",
+                Comparison::GyroAccelRate,
+                format!(
+                    "gyro counts the other way from the derivative of the accelerometer's \
+                     angle and from the encoder's d(phi)/dt ({}): is the gyro mounted the \
+                     other way round (clockwise positive)? read it with --negate gyro ({sign})",
+                    how(Comparison::GyroAccelRate)
+                ),
+            )),
+            // Without an accelerometer to tell which.
+            (None, None, Some(true)) => out.push(finding(
+                "gyro",
+                Comparison::GyroEncoderRate,
+                format!(
+                    "gyro and the encoder's derivative d(phi)/dt count opposite ways ({}): \
+                     one of them is mounted the other way round; read it with --negate gyro \
+                     or --negate phi ({sign})",
+                    how(Comparison::GyroEncoderRate)
+                ),
+            )),
+            _ => {}
+        }
+        // The true angle against the accelerometer (whose sign the sensors agree with).
+        if truth == Some(true) && phi != Some(true) {
+            out.push(finding(
+                "theta",
+                Comparison::TruthAccel,
+                format!(
+                    "theta counts the other way from the accelerometer's angle atan2(ax, ay) \
+                     ({}): every score against it is wrong; read it with --negate theta \
+                     ({sign})",
+                    how(Comparison::TruthAccel)
+                ),
+            ));
         }
         out
     }

@@ -983,6 +983,89 @@ fn an_accelerometer_in_g_or_mg_is_named_from_gravity_and_the_fix_works() {
     );
 }
 
+/// A sensor that counts the other way from MODEL.md section 1's signs (found as a new user,
+/// session 15): phi, gyro or ax negated on the scooter ride gave 12.0 deg RMS (alg2), 8.0
+/// (ekf) and 3.8 (Mahony) with nothing said. Now the pairs that fit with the sign reversed
+/// name the column, the accelerometer's angle the reference and the true angle, when the
+/// log has it, telling ax from phi and gyro both; `--negate` fixes it, to the bit.
+#[test]
+fn a_column_counting_the_other_way_is_named_and_negate_fixes_it() {
+    let (rows, rig) = ride("scooter", 10.0, 2);
+    let base = cells(&rows);
+    let right = run(&text(&base), &rig);
+    let without_theta = |c: &[[String; 6]]| {
+        let mut t = String::from("t,phi,gyro,ax,ay\n");
+        for r in c {
+            t.push_str(&r[..5].join(","));
+            t.push('\n');
+        }
+        t
+    };
+    for (cols, with_theta, named) in [
+        (&[1][..], true, "phi"),
+        (&[2], true, "gyro"),
+        (&[3], true, "ax"),
+        (&[5], true, "theta"),
+        (&[1, 2], true, "phi, gyro"),
+        (&[1], false, "phi"),
+        (&[2], false, "gyro"),
+        // Without the true angle, ax reversed and phi and gyro both reversed look alike.
+        (&[3], false, "phi, gyro"),
+    ] {
+        let mut c = base.clone();
+        for row in c.iter_mut() {
+            for &i in cols {
+                row[i] = format!("{}", -row[i].parse::<f64>().unwrap());
+            }
+        }
+        let log = if with_theta {
+            text(&c)
+        } else {
+            without_theta(&c)
+        };
+        let case = format!("{cols:?} negated, theta {with_theta}");
+        let wrong = run(&log, &rig);
+        let f = findings(&wrong);
+        assert_eq!(f.len(), 1, "{case}: {f:?}");
+        assert_eq!(f[0].0, named, "{case}: {f:?}");
+        println!("{case}: {}", f[0].2);
+        let list: Vec<&str> = cols
+            .iter()
+            .map(|&i| ["t", "phi", "gyro", "ax", "ay", "theta"][i])
+            .collect();
+        let list = list.join(",");
+        assert!(
+            f[0].2.contains(&format!("--negate {list}")),
+            "{case}: {}",
+            f[0].2
+        );
+        let fixed = run_with(
+            &log,
+            &rig,
+            ReaderOptions {
+                negate: list.parse().unwrap(),
+                ..ReaderOptions::for_rig(&rig)
+            },
+        );
+        assert!(
+            findings(&fixed).is_empty(),
+            "{case}: {:?}",
+            findings(&fixed)
+        );
+        for (k, (a, b)) in right.est.iter().zip(&fixed.est).enumerate() {
+            for (j, (a, b)) in a.iter().zip(b).enumerate() {
+                assert!(
+                    a.theta.to_bits() == b.theta.to_bits(),
+                    "{case}: {} row {k}: {} against {}",
+                    right.names[j],
+                    a.theta,
+                    b.theta
+                );
+            }
+        }
+    }
+}
+
 /// Short logs (4 s): the gyro in deg/s and `--deg` given on a log in radians are found
 /// (session 10: the filters start on the mean of the first 50 ms and are read from one
 /// period of their cutoff on, 1.8 s, where they waited 3.7 s after starting on one reading,

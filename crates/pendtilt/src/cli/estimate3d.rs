@@ -181,6 +181,12 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
             "--map: for planar logs only; a 3-D log's columns are read by their MODEL.md 7.6 names"
         );
     }
+    if opts.columns.negate.is_some() {
+        bail!(
+            "--negate: for planar logs only; a 3-D log's columns follow MODEL.md 7.6's axes \
+             (FLU) and signs"
+        );
+    }
     let angle_scale = match opts.columns.deg {
         None => 1.0,
         Some(d) if d == crate::io::DegreeColumns::all() => std::f64::consts::PI / 180.0,

@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use crate::bank::{Bank, BankSettings};
 use crate::config::RigConfig;
 use crate::io::{
-    AccelUnit, ColumnMap, DegreeColumns, LogReader, LogWarning, ReaderOptions, TimeUnit,
-    WriterOptions,
+    AccelUnit, ColumnMap, DegreeColumns, LogReader, LogWarning, NegatedColumns, ReaderOptions,
+    TimeUnit, WriterOptions,
 };
 use crate::pipeline;
 
@@ -32,6 +32,12 @@ pub struct LogColumns {
     /// magnitude off 9.81 m/s^2 by more than 2x) is told with the unit to give here.
     #[arg(long, value_name = "UNIT")]
     pub accel_unit: Option<AccelUnit>,
+    /// Columns that count the other way from MODEL.md section 1's signs (an encoder or a
+    /// gyro mounted the other way round), negated as read: a list like `phi,gyro`.
+    /// Default: none. A log whose signs disagree with each other is told with the list to
+    /// give here. Planar logs only.
+    #[arg(long, value_name = "COLUMNS")]
+    pub negate: Option<NegatedColumns>,
 }
 
 impl LogColumns {
@@ -43,6 +49,7 @@ impl LogColumns {
             degrees: self.deg.unwrap_or_default(),
             time_unit: self.time_unit,
             accel_unit: self.accel_unit,
+            negate: self.negate.unwrap_or_default(),
             ..ReaderOptions::for_rig(rig)
         }
     }

@@ -99,6 +99,9 @@ pub enum OptionError {
     /// `--deg` names a column that is not an angle or angular rate.
     #[error("`{0}` is not an angle or angular rate; --deg takes phi, gyro, theta (or all)")]
     NotAngular(String),
+    /// `--negate` names the time.
+    #[error("`t` has no sign to reverse; --negate takes phi, gyro, ax, ay, theta")]
+    NegatedTime,
 }
 
 /// Which header name feeds each contract column (`--map phi=enc_angle,gyro=gz`).
@@ -219,6 +222,42 @@ impl FromStr for DegreeColumns {
             d.insert(column)?;
         }
         Ok(d)
+    }
+}
+
+/// Which columns of the log count the other way from MODEL.md section 1's signs
+/// (`--negate`: an encoder or a gyro mounted the other way round, an accelerometer axis
+/// reversed); they are negated as they are read.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NegatedColumns(u8);
+
+impl NegatedColumns {
+    /// No column negated (the default).
+    pub fn none() -> Self {
+        Self(0)
+    }
+
+    /// True when `column` is negated.
+    pub fn contains(self, column: Column) -> bool {
+        self.0 & (1 << column.index()) != 0
+    }
+}
+
+impl FromStr for NegatedColumns {
+    type Err = OptionError;
+
+    /// Parses a comma-separated list such as `phi,gyro`.
+    fn from_str(spec: &str) -> Result<Self, Self::Err> {
+        let mut n = Self::none();
+        for name in spec.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+            let column =
+                Column::from_name(name).ok_or_else(|| OptionError::UnknownColumn(name.into()))?;
+            if column == Column::T {
+                return Err(OptionError::NegatedTime);
+            }
+            n.0 |= 1 << column.index();
+        }
+        Ok(n)
     }
 }
 

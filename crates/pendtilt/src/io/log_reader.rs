@@ -24,6 +24,7 @@ use pendtilt_core::{Sample, StepGate};
 use super::columns::{
     header_unit_warning, shell_word, time_named_suggestion, time_unit_in_name,
     unit_named_suggestion, Column, ColumnMap, ColumnReport, ColumnStatus, DegreeColumns,
+    NegatedColumns,
 };
 use super::csv_lines::CsvLines;
 use super::diagnostics::{LogSummary, LogWarning, WarningKind};
@@ -46,6 +47,8 @@ pub struct ReaderOptions {
     pub map: ColumnMap,
     /// Angular columns given in degrees (`--deg`); converted to radians as read.
     pub degrees: DegreeColumns,
+    /// Columns that count the other way (`--negate`); negated as read.
+    pub negate: NegatedColumns,
     /// Field separator. Default `,`.
     pub delimiter: u8,
     /// A time step longer than this many nominal steps is reported as a gap. Default 3.
@@ -94,6 +97,7 @@ impl Default for ReaderOptions {
         Self {
             map: ColumnMap::new(),
             degrees: DegreeColumns::none(),
+            negate: NegatedColumns::none(),
             delimiter: b',',
             gap_factor: 3.0,
             jitter_tolerance: 0.5,
@@ -745,7 +749,7 @@ impl<R: BufRead> LogReader<R> {
             self.warn(WarningKind::Implausible, Some(column), Some(h), reason);
             return Ok(f64::NAN);
         }
-        if self.scale[column.index()] == 1.0 && !self.degree_warned[column.index()] {
+        if self.scale[column.index()].abs() == 1.0 && !self.degree_warned[column.index()] {
             let limit = match column {
                 Column::Phi | Column::Theta => ANGLE_LOOKS_LIKE_DEGREES,
                 Column::Gyro => RATE_LOOKS_LIKE_DEGREES,

@@ -34,7 +34,7 @@ mod split;
 
 pub use columns::{
     header_unit_warning, unit_in_name, unit_named_3d_hint, Column, ColumnMap, ColumnReport,
-    ColumnStatus, DegreeColumns, NamedUnit, OptionError,
+    ColumnStatus, DegreeColumns, NamedUnit, NegatedColumns, OptionError,
 };
 pub use diagnostics::{LogSummary, LogWarning, WarningKind};
 pub use estimates3d_writer::{Column3d, Estimates3dWriter};

@@ -28,6 +28,12 @@ impl<R: BufRead> LogReader<R> {
                 self.scale[s.column.index()] = std::f64::consts::PI / 180.0;
             }
         }
+        // --negate: the sign, on top of the unit.
+        for c in Column::ALL {
+            if self.options.negate.contains(c) {
+                self.scale[c.index()] = -self.scale[c.index()];
+            }
+        }
         self.report = ColumnReport {
             ignored: self
                 .header
