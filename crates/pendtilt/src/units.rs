@@ -222,9 +222,31 @@ pub(crate) fn unit_factor(f: &Fit) -> Option<f64> {
     if f.correlation < MIN_CORRELATION {
         return None;
     }
-    let near =
-        |target: f64| f.factor / target < FACTOR_TOLERANCE && target / f.factor < FACTOR_TOLERANCE;
+    // A negative factor is a reversed sign, near no unit (a multiple correlation, the
+    // lever fit's, is positive whatever the sign: gyro_x negated read as `-1.0x: is the
+    // gyro in deg/s?`).
+    let near = |target: f64| {
+        f.factor > 0.0
+            && f.factor / target < FACTOR_TOLERANCE
+            && target / f.factor < FACTOR_TOLERANCE
+    };
     [DEG, 1.0 / DEG, 1.0].into_iter().find(|&t| near(t))
+}
+
+/// Whether a fit is of a column that counts the other way: `Some(true)` when the negative
+/// of its factor is a unit ([`unit_factor`], the correlation's size judged: a multiple
+/// correlation has no sign), `Some(false)` when its factor is, `None` when neither.
+pub(crate) fn reversed(f: &Fit) -> Option<bool> {
+    let flipped = Fit {
+        factor: -f.factor,
+        correlation: f.correlation.abs(),
+        ..*f
+    };
+    match (unit_factor(f), unit_factor(&flipped)) {
+        (Some(_), _) => Some(false),
+        (None, Some(_)) => Some(true),
+        _ => None,
+    }
 }
 
 /// A fourth-order low-pass: two second-order sections (the unit checks' and the 3-D
@@ -676,18 +698,8 @@ impl UnitCheck {
 impl UnitCheck {
     /// A pair that fits well with its sign reversed: `Some(true)`; well as it is:
     /// `Some(false)`; `None`: no verdict (too little motion, a poor fit, another factor).
-    fn reversed(&self, c: Comparison) -> Option<bool> {
-        let f = self.fit(c)?;
-        let flipped = Fit {
-            factor: -f.factor,
-            correlation: -f.correlation,
-            ..f
-        };
-        match (unit_factor(&f), unit_factor(&flipped)) {
-            (Some(_), _) => Some(false),
-            (None, Some(_)) => Some(true),
-            _ => None,
-        }
+    pub(crate) fn reversed(&self, c: Comparison) -> Option<bool> {
+        reversed(&self.fit(c)?)
     }
 
     /// The columns whose signs disagree with the others' (MODEL.md section 1: theta, phi,

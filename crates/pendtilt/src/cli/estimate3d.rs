@@ -639,10 +639,12 @@ impl GyroUnits {
     /// planar rig's, 2.19 Hz, let a 0.49 Hz pendulum's swing into the comparison: a gyro in
     /// deg/s read as 43x on ship3d's roll and was not found on its pitch).
     fn new(params: &pendtilt_core::spatial::cardan::CardanParams<f64>) -> Self {
+        // The accelerometer's tilt about each axis stands in for the planar check's angle:
+        // its signs are checked against the encoder and the gyro.
         let inputs = crate::bank::Inputs {
             phi: true,
             gyro: true,
-            accel: false,
+            accel: true,
         };
         let w = params.natural_frequencies();
         Self {
@@ -661,17 +663,65 @@ impl GyroUnits {
     /// One row as written (`k`: the --deg factor), before the plausibility bounds: a gyro
     /// in deg/s is beyond them.
     fn add(&mut self, r: &Log3dRecord, dt: f64, k: f64) {
+        let f = r.accel;
+        // The accelerometer's roll atan2(f_y, f_z) and pitch atan2(-f_x, |f_yz|) (MODEL.md
+        // 7.1) as the planar check's atan2(ax, ay).
+        let tilt = [(f[1], f[2]), (-f[0], f[1].hypot(f[2]))];
         for (i, axis) in self.axes.iter_mut().enumerate() {
             let s = pendtilt_core::Sample {
                 dt,
                 phi: r.phi[i] * k,
                 gyro: r.gyro[i] * k,
-                ax: f64::NAN,
-                ay: f64::NAN,
+                ax: tilt[i].0,
+                ay: tilt[i].1,
             };
             axis.add(&s, None);
         }
         self.turn.add(dt, r.gyro[2] * k, r.accel[1], r.speed);
+    }
+
+    /// A column of axis `i` (0: x, roll; 1: y, pitch) that counts the other way, from the
+    /// signs of the encoder against the accelerometer's tilt, the gyro against the encoder's
+    /// rate (`gyro`, the pair or the lever fit) and against the tilt's rate: which one is
+    /// reversed, with the fix. Measured on scooter3d (30 s, seed 2): gyro_x negated gave
+    /// ekf3d 11.3 deg RMS and the warning `gyro_x is -1.0x ...: is the gyro in deg/s?`;
+    /// phi_x negated, ekf3d 13.3 with the same wrong warning; ay negated, VQF 8.0 and
+    /// nothing said; ax negated, only the wheel-slip warning.
+    fn sign_finding(
+        axis: &crate::units::UnitCheck,
+        i: usize,
+        gyro: &crate::units::Fit,
+    ) -> Option<String> {
+        use crate::units::Comparison;
+        let (g, phi, tilt, a) = [
+            ("gyro_x", "phi_x", "roll atan2(ay, az)", "ay"),
+            ("gyro_y", "phi_y", "pitch atan2(-ax, |(ay, az)|)", "ax"),
+        ][i];
+        let sign = "MODEL.md 7.1-7.2: body axes FLU (x forward, y left, z up), the gyro \
+                    right-handed about them, and a pendulum at rest reads phi_x = roll, \
+                    phi_y = pitch";
+        let by_accel = axis.reversed(Comparison::EncoderAccel);
+        let gyro_accel = axis.reversed(Comparison::GyroAccelRate);
+        Some(match (by_accel, crate::units::reversed(gyro), gyro_accel) {
+            (Some(true), Some(true), _) => format!(
+                "{phi} counts the other way from the accelerometer's {tilt} and from {g}: is \
+                 the encoder's axis reversed? negate {phi} in the log ({sign})"
+            ),
+            (Some(false) | None, Some(true), Some(true)) => format!(
+                "{g} counts the other way from the encoder's d({phi})/dt and from the rate \
+                 of the accelerometer's {tilt}: is the gyro's axis reversed? negate {g} in \
+                 the log ({sign})"
+            ),
+            (Some(true), Some(false), Some(true)) => format!(
+                "the accelerometer's {tilt} counts the other way from {phi} and {g}: is {a} \
+                 reversed? negate {a} in the log ({sign})"
+            ),
+            (None, Some(true), None) => format!(
+                "{g} and the encoder's d({phi})/dt count opposite ways: one of them is \
+                 reversed; negate it in the log ({sign})"
+            ),
+            _ => return None,
+        })
     }
 
     /// One warning per gyro axis found in deg/s (or converted twice).
@@ -702,6 +752,10 @@ impl GyroUnits {
                     None => continue,
                 },
             };
+            if let Some(m) = Self::sign_finding(axis, i, &f) {
+                out.push(format!("{file}: {m} (least squares of {how})"));
+                continue;
+            }
             let unit = crate::units::unit_factor(&f);
             let what = if unit == Some(deg) {
                 format!(
