@@ -1626,18 +1626,30 @@ fn a_3d_accelerometer_in_g_or_mg_is_named_from_gravity_and_the_fix_works() {
     }
 }
 
-/// The 3-D log at `log` with column `name` negated.
-fn negated(log: &Path, name: &str) -> String {
+/// The 3-D log at `log` with the columns `names` negated, and without its true `roll` and
+/// `pitch` unless `truth`.
+fn negated(log: &Path, names: &[&str], truth: bool) -> String {
     let text = std::fs::read_to_string(log).unwrap();
     let mut lines = text.lines();
-    let header = lines.next().unwrap();
-    let i = header.split(',').position(|h| h == name).unwrap();
-    let mut out = format!("{header}\n");
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let keep = |h: &str| truth || (h != "roll" && h != "pitch");
+    let row = |cells: Vec<String>| -> String {
+        let kept: Vec<String> = (header.iter().zip(cells))
+            .filter(|(h, _)| keep(h))
+            .map(|(_, c)| c)
+            .collect();
+        kept.join(",") + "\n"
+    };
+    let mut out = row(header.iter().map(|h| h.to_string()).collect());
     for l in lines {
-        let mut cells: Vec<String> = l.split(',').map(String::from).collect();
-        cells[i] = format!("{}", -cells[i].parse::<f64>().unwrap());
-        out.push_str(&cells.join(","));
-        out.push('\n');
+        let cells = l.split(',').zip(&header).map(|(c, h)| {
+            if names.contains(h) {
+                format!("{}", -c.parse::<f64>().unwrap())
+            } else {
+                c.to_string()
+            }
+        });
+        out.push_str(&row(cells.collect()));
     }
     out
 }
@@ -1668,9 +1680,23 @@ fn a_3d_sensor_axis_counting_the_other_way_is_named() {
         ("ay", "the accelerometer's roll atan2(ay, az) counts the other way from phi_x and gyro_x: is ay reversed? negate ay in the log"),
         ("ax", "the accelerometer's pitch atan2(-ax, |(ay, az)|) counts the other way from phi_y and gyro_y: is ax reversed? negate ax in the log"),
     ] {
-        let wrong = write(dir.path(), "neg.csv", &negated(&log, column));
+        let wrong = write(dir.path(), "neg.csv", &negated(&log, &[column], true));
         let e = inv3d_stderr(&wrong, &rig);
         assert!(e.contains(&format!("neg.csv: {says}")), "{column}: {e}");
         assert!(!e.contains("deg/s?") && !e.contains("is it in m/s?"), "{column}: {e}");
+    }
+    // Two columns reversed look like the third reversed alone: the true angle tells them
+    // apart, and without it the message gives both.
+    for (columns, truth, says) in [
+        (&["gyro_x", "ay"][..], true, "gyro_x and the accelerometer's roll atan2(ay, az) both count the other way from phi_x and from the true roll: is the IMU turned half round? negate gyro_x and ay in the log"),
+        (&["gyro_y", "gyro_x", "ax", "ay"][..], true, "gyro_y and the accelerometer's pitch atan2(-ax, |(ay, az)|) both count the other way from phi_y and from the true pitch"),
+        (&["phi_x", "gyro_x"][..], true, "phi_x and gyro_x both count the other way from the accelerometer's roll atan2(ay, az) and from the true roll: are the encoder and the gyro both reversed? negate phi_x and gyro_x in the log"),
+        (&["phi_x"][..], true, "negate phi_x in the log (MODEL.md"),
+        (&["phi_x"][..], false, "negate phi_x in the log; or, if the IMU is turned half round, negate gyro_x and ay"),
+        (&["ay"][..], false, "negate ay in the log; or, if the encoder and the gyro both are, negate phi_x and gyro_x"),
+    ] {
+        let wrong = write(dir.path(), "neg.csv", &negated(&log, columns, truth));
+        let e = inv3d_stderr(&wrong, &rig);
+        assert!(e.contains(says), "{columns:?}, truth {truth}: {e}");
     }
 }

@@ -667,6 +667,9 @@ impl GyroUnits {
         // The accelerometer's roll atan2(f_y, f_z) and pitch atan2(-f_x, |f_yz|) (MODEL.md
         // 7.1) as the planar check's atan2(ax, ay).
         let tilt = [(f[1], f[2]), (-f[0], f[1].hypot(f[2]))];
+        // The true roll and pitch, when the log has them, tell one reversed column from
+        // the two others both reversed.
+        let truth = [r.roll, r.pitch];
         for (i, axis) in self.axes.iter_mut().enumerate() {
             let s = pendtilt_core::Sample {
                 dt,
@@ -675,7 +678,7 @@ impl GyroUnits {
                 ax: tilt[i].0,
                 ay: tilt[i].1,
             };
-            axis.add(&s, None);
+            axis.add(&s, truth[i]);
         }
         self.turn.add(dt, r.gyro[2] * k, r.accel[1], r.speed);
     }
@@ -683,7 +686,9 @@ impl GyroUnits {
     /// A column of axis `i` (0: x, roll; 1: y, pitch) that counts the other way, from the
     /// signs of the encoder against the accelerometer's tilt, the gyro against the encoder's
     /// rate (`gyro`, the pair or the lever fit) and against the tilt's rate: which one is
-    /// reversed, with the fix. Measured on scooter3d (30 s, seed 2): gyro_x negated gave
+    /// reversed, with the fix. One column against the other two is also the other two
+    /// reversed together (an IMU turned half round reverses the gyro and the accelerometer):
+    /// the true roll or pitch, when logged, decides; without it the message gives both. Measured on scooter3d (30 s, seed 2): gyro_x negated gave
     /// ekf3d 11.3 deg RMS and the warning `gyro_x is -1.0x ...: is the gyro in deg/s?`;
     /// phi_x negated, ekf3d 13.3 with the same wrong warning; ay negated, VQF 8.0 and
     /// nothing said; ax negated, only the wheel-slip warning.
@@ -693,28 +698,58 @@ impl GyroUnits {
         gyro: &crate::units::Fit,
     ) -> Option<String> {
         use crate::units::Comparison;
-        let (g, phi, tilt, a) = [
-            ("gyro_x", "phi_x", "roll atan2(ay, az)", "ay"),
-            ("gyro_y", "phi_y", "pitch atan2(-ax, |(ay, az)|)", "ax"),
+        let (g, phi, tilt, a, name) = [
+            ("gyro_x", "phi_x", "roll atan2(ay, az)", "ay", "roll"),
+            (
+                "gyro_y",
+                "phi_y",
+                "pitch atan2(-ax, |(ay, az)|)",
+                "ax",
+                "pitch",
+            ),
         ][i];
         let sign = "MODEL.md 7.1-7.2: body axes FLU (x forward, y left, z up), the gyro \
                     right-handed about them, and a pendulum at rest reads phi_x = roll, \
                     phi_y = pitch";
         let by_accel = axis.reversed(Comparison::EncoderAccel);
         let gyro_accel = axis.reversed(Comparison::GyroAccelRate);
+        // One column against two, or those two both reversed (an IMU turned half round
+        // about z reverses gyro_x and ay together): the true angle, if logged, decides.
+        let truth_phi = axis.reversed(Comparison::TruthEncoder);
+        let truth_accel = axis.reversed(Comparison::TruthAccel);
         Some(match (by_accel, crate::units::reversed(gyro), gyro_accel) {
+            (Some(true), Some(true), _) if truth_phi == Some(false) => format!(
+                "{g} and the accelerometer's {tilt} both count the other way from {phi} and \
+                 from the true {name}: is the IMU turned half round? negate {g} and {a} in \
+                 the log ({sign})"
+            ),
             (Some(true), Some(true), _) => format!(
                 "{phi} counts the other way from the accelerometer's {tilt} and from {g}: is \
-                 the encoder's axis reversed? negate {phi} in the log ({sign})"
+                 the encoder's axis reversed? negate {phi} in the log{or} ({sign})",
+                or = if truth_phi.is_none() {
+                    format!("; or, if the IMU is turned half round, negate {g} and {a}")
+                } else {
+                    String::new()
+                }
             ),
             (Some(false) | None, Some(true), Some(true)) => format!(
                 "{g} counts the other way from the encoder's d({phi})/dt and from the rate \
                  of the accelerometer's {tilt}: is the gyro's axis reversed? negate {g} in \
                  the log ({sign})"
             ),
+            (Some(true), Some(false), Some(true)) if truth_accel == Some(false) => format!(
+                "{phi} and {g} both count the other way from the accelerometer's {tilt} and \
+                 from the true {name}: are the encoder and the gyro both reversed? negate \
+                 {phi} and {g} in the log ({sign})"
+            ),
             (Some(true), Some(false), Some(true)) => format!(
                 "the accelerometer's {tilt} counts the other way from {phi} and {g}: is {a} \
-                 reversed? negate {a} in the log ({sign})"
+                 reversed? negate {a} in the log{or} ({sign})",
+                or = if truth_accel.is_none() {
+                    format!("; or, if the encoder and the gyro both are, negate {phi} and {g}")
+                } else {
+                    String::new()
+                }
             ),
             (None, Some(true), None) => format!(
                 "{g} and the encoder's d({phi})/dt count opposite ways: one of them is \
