@@ -14,6 +14,7 @@ pub mod fit;
 pub mod io;
 pub mod peers;
 pub mod pipeline;
+pub mod replay;
 pub mod report;
 pub mod sim;
 pub mod sim3d;

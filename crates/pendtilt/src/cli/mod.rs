@@ -7,6 +7,7 @@ pub mod filter;
 pub mod fit;
 pub mod help;
 pub mod options;
+pub mod replay;
 pub mod report;
 pub mod report3d;
 pub mod reproduce;
@@ -38,6 +39,9 @@ pub enum Command {
     Fit(fit::Args),
     /// Metrics, figures and an HTML page for a log with a true angle.
     Report(report::Args),
+    /// Replay a recorded IMU through a virtual pendulum: the 3-D log a pendulum on that
+    /// body would have given (MODEL.md 7.10).
+    Replay(replay::Args),
     /// Redo the paper's experiment and figures on built-in simulated data.
     Reproduce(reproduce::Args),
     /// Estimate from log lines on standard input as they arrive.
@@ -55,6 +59,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Simulate(a) => simulate::run(a),
         Command::Fit(a) => fit::run(a),
         Command::Report(a) => report::run(a),
+        Command::Replay(a) => replay::run(a),
         Command::Reproduce(a) => reproduce::run(a),
         Command::Stream(a) => stream::run(a),
         Command::Tune(a) => tune::run(a),

@@ -27,6 +27,7 @@ mod estimates3d_writer;
 mod estimates_writer;
 mod log3d;
 mod log_reader;
+pub mod mat;
 pub mod output;
 pub mod plateau;
 pub mod plausibility;

@@ -1,0 +1,316 @@
+//! `pendtilt replay IMU_LOG -o LOG`: a virtual pendulum on a recorded IMU (MODEL.md 7.10).
+//! Writes a 3-D log (7.6) that `estimate` and `report` read, and its rig file beside it.
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Context};
+
+use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
+use crate::io::output::{self as safe, NamedPath, OutputFile};
+use crate::io::{AccelUnit, TimeUnit};
+use crate::replay::source::{ImuOptions, IMU_COLUMNS};
+use crate::replay::{replay, Recording, Replay, ReplaySettings, SUBSTEP_TOLERANCE};
+use crate::sim3d::{LogRow3d, Mounting, Pendulum3d, Rig3d};
+
+/// Replay a recorded IMU through a virtual Cardan pendulum and write the 3-D log it
+/// would have given (MODEL.md 7.10): would a pendulum help on this device?
+#[derive(Debug, Clone, clap::Args)]
+pub struct Args {
+    /// The recording: an IMU CSV (t, gyro_x, gyro_y, gyro_z, ax, ay, az; optional truth as
+    /// roll, pitch or qw, qx, qy, qz, world <- body) or a BROAD trial file (MATLAB v5).
+    #[arg(value_name = "IMU_LOG")]
+    pub input: PathBuf,
+    /// The 3-D log to write (MODEL.md 7.6); `-` for standard output (the rig file then
+    /// only with --rig-out).
+    #[arg(short, long, visible_alias = "out", value_name = "LOG.csv")]
+    pub output: PathBuf,
+    /// Rig file whose `[pendulum3d]` is the virtual pendulum (its pivot_offset is r12 from
+    /// the IMU). Default: MODEL.md 7.6's rig (2.19 Hz, zeta 0.30, pivot at the IMU).
+    #[arg(long, value_name = "RIG.toml")]
+    pub params: Option<PathBuf>,
+    /// Where to write the rig TOML (default: beside the log, `LOG.rig.toml`). Its gravity
+    /// is the recording's (the mean |a| at rest).
+    #[arg(long, value_name = "FILE")]
+    pub rig_out: Option<PathBuf>,
+    /// Encoder resolution in bits (0: none).
+    #[arg(long, value_name = "BITS", default_value_t = 14)]
+    pub encoder_bits: u32,
+    /// Encoder white noise, one sigma, in degrees.
+    #[arg(long, value_name = "DEG", default_value_t = 0.01)]
+    pub encoder_noise: f64,
+    /// Mechanical stop of each joint at this angle in degrees: one value for both joints,
+    /// or `X,Y`. Default: none, the pendulum swings freely.
+    #[arg(long, value_name = "DEG[,DEG]")]
+    pub travel: Option<String>,
+    /// Restitution at a stop: the joint rate reverses and scales by this.
+    #[arg(long, value_name = "E", default_value_t = 0.3)]
+    pub restitution: f64,
+    /// RK4 steps per sample interval (at least 4).
+    #[arg(long, value_name = "N", default_value_t = 4)]
+    pub substeps: u32,
+    /// Seed of the encoder noise.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub seed: u64,
+    /// Other column names of an IMU CSV: `t=time,gyro_x=gx,...` (names: t, gyro_x,
+    /// gyro_y, gyro_z, ax, ay, az, roll, pitch, qw, qx, qy, qz).
+    #[arg(long, value_name = "NAME=COLUMN,...")]
+    pub map: Option<String>,
+    /// Columns in degrees: `gyro` (deg/s), `roll,pitch`, or alone for both.
+    #[arg(long, num_args = 0..=1, default_missing_value = "all", value_name = "COLUMNS")]
+    pub deg: Option<String>,
+    /// Unit of the `t` column: s, ms, us or ns.
+    #[arg(long, value_name = "UNIT")]
+    pub time_unit: Option<TimeUnit>,
+    /// Unit of the accelerometer columns: m/s2, g or mg.
+    #[arg(long, value_name = "UNIT")]
+    pub accel_unit: Option<AccelUnit>,
+    /// No summary.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// The IMU CSV options the arguments give.
+fn imu_options(args: &Args) -> anyhow::Result<ImuOptions> {
+    let mut o = ImuOptions {
+        time_scale: args.time_unit.map_or(1.0, |u| u.seconds()),
+        accel_scale: args
+            .accel_unit
+            .map_or(1.0, |u| u.metres_per_second_squared()),
+        ..ImuOptions::default()
+    };
+    if let Some(map) = &args.map {
+        for pair in map.split(',').filter(|p| !p.trim().is_empty()) {
+            let Some((name, source)) = pair.split_once('=') else {
+                bail!("--map {pair}: give NAME=COLUMN, e.g. --map gyro_x=gx");
+            };
+            let name = name.trim();
+            if !IMU_COLUMNS.contains(&name) {
+                bail!(
+                    "--map {pair}: `{name}` is not an IMU column (they are: {})",
+                    IMU_COLUMNS.join(", ")
+                );
+            }
+            o.map.push((name.to_string(), source.trim().to_string()));
+        }
+    }
+    if let Some(deg) = &args.deg {
+        for c in deg.split(',').map(str::trim).filter(|c| !c.is_empty()) {
+            match c {
+                "all" => (o.gyro_deg, o.angles_deg) = (true, true),
+                "gyro" | "gyro_x" | "gyro_y" | "gyro_z" => o.gyro_deg = true,
+                "roll" | "pitch" => o.angles_deg = true,
+                _ => bail!("--deg {c}: the angular columns of an IMU log are gyro, roll and pitch"),
+            }
+        }
+    }
+    Ok(o)
+}
+
+/// Joint stops from `--travel`: one angle or two, in degrees.
+fn travel(arg: &Option<String>) -> anyhow::Result<Option<[f64; 2]>> {
+    let Some(text) = arg else { return Ok(None) };
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--travel {text}: give an angle in degrees, or X,Y"))?;
+    match v[..] {
+        [a] => Ok(Some([a.to_radians(); 2])),
+        [a, b] => Ok(Some([a.to_radians(), b.to_radians()])),
+        _ => bail!("--travel {text}: give one angle in degrees, or X,Y"),
+    }
+}
+
+/// The physical pendulum of a rig's `[pendulum3d]`: a normalised one is given m g l = 1
+/// (unobservable, MODEL.md 7.3: the dynamics are the same).
+fn physical(p: &Pendulum3dConfig) -> Pendulum3d {
+    match *p {
+        Pendulum3dConfig::Physical(p) => p,
+        Pendulum3dConfig::Normalised(c) => Pendulum3d {
+            mass: 1.0,
+            length: 1.0 / c.gravity,
+            inertia_xx: c.b_x,
+            inertia_yy: c.b_y,
+            inertia_zz: c.b_z,
+            ring_inertia: c.b_ring,
+            damping_x: c.a_x,
+            damping_y: c.a_y,
+            pivot_offset: c.c.map(|x| x * c.gravity),
+            gravity: c.gravity,
+        },
+    }
+}
+
+/// Writes the replay's rows as a 7.6 log: the IMU columns, the encoders, the truth when
+/// the recording has one. Shortest round-trip numbers: a wrapped encoder never prints
+/// beyond pi.
+fn write_log<W: Write>(r: &Replay, has_truth: bool, mut w: W) -> std::io::Result<()> {
+    let cols = if has_truth { 11 } else { 9 };
+    let names: Vec<&str> = LogRow3d::COLUMNS
+        .iter()
+        .copied()
+        .filter(|c| *c != "speed")
+        .take(cols)
+        .collect();
+    writeln!(w, "{}", names.join(","))?;
+    let mut buf = ryu::Buffer::new();
+    for row in &r.rows {
+        let v = row.values();
+        let vals = v[..9].iter().chain(v[10..].iter()).take(cols);
+        for (i, x) in vals.enumerate() {
+            if i > 0 {
+                w.write_all(b",")?;
+            }
+            if x.is_finite() {
+                w.write_all(buf.format(*x).as_bytes())?;
+            }
+        }
+        w.write_all(b"\n")?;
+    }
+    w.flush()
+}
+
+/// Runs `pendtilt replay`.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let options = imu_options(&args)?;
+    let rig = args
+        .params
+        .as_deref()
+        .map(Rig3dConfig::load)
+        .transpose()
+        .map_err(anyhow::Error::msg)?;
+    let mut settings = ReplaySettings {
+        encoder_bits: args.encoder_bits,
+        encoder_noise: args.encoder_noise.to_radians(),
+        travel: travel(&args.travel)?,
+        restitution: args.restitution,
+        substeps: args.substeps,
+        seed: args.seed,
+        ..ReplaySettings::default()
+    };
+    if let Some(r) = &rig {
+        settings.pendulum = physical(&r.pendulum3d);
+    }
+    let rec = Recording::open(&args.input, &options)?;
+    let out = replay(&rec, &settings)?;
+
+    let log = args.output.clone();
+    let rig_path = match &args.rig_out {
+        Some(p) => Some(p.clone()),
+        None => (!safe::has_no_beside(&log)).then(|| crate::sim::output::rig_path_for(&log)),
+    };
+    let mut inputs = vec![NamedPath::new("IMU_LOG", &args.input)];
+    if let Some(p) = &args.params {
+        inputs.push(NamedPath::new("--params", p));
+    }
+    let mut outputs = vec![NamedPath::new("-o", &log)];
+    outputs.extend(rig_path.as_deref().map(|p| NamedPath::new("--rig-out", p)));
+    safe::check_distinct(&inputs, &outputs)?;
+    let files = outputs
+        .iter()
+        .map(|o| OutputFile::create(o.option, o.path))
+        .collect::<Result<Vec<_>, _>>()?;
+    let rig_text = Rig3d {
+        pendulum3d: out.pendulum,
+        mounting: rig.map_or(Mounting::default(), |r| r.mounting),
+    }
+    .to_toml_string()?;
+    let rig_text = format!(
+        "# Written by `pendtilt replay` for {}: the virtual pendulum, its gravity the\n\
+         # recording's mean |a| at rest.\n{rig_text}",
+        args.input.display()
+    );
+    (|| -> anyhow::Result<()> {
+        write_log(
+            &out,
+            rec.truth.is_some(),
+            BufWriter::with_capacity(1 << 20, files[0].writer()?),
+        )?;
+        if let Some(f) = files.get(1) {
+            f.write_all(rig_text.as_bytes())?;
+        }
+        Ok(())
+    })()
+    .with_context(|| {
+        let not: Vec<String> = outputs.iter().map(|o| safe::not_written(o.path)).collect();
+        not.join("; ")
+    })?;
+    for f in files {
+        f.commit()?;
+    }
+    if !args.quiet {
+        summary(&args, &rec, &out, rig_path.as_deref(), started);
+    }
+    Ok(())
+}
+
+/// What the replay found, on standard error.
+fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, started: Instant) {
+    let r = &out.report;
+    let n = out.rows.len();
+    let secs = rec.t[n - 1] - rec.t[0];
+    eprintln!(
+        "replayed {n} rows ({secs:.1} s at {:.1} Hz) of {} through the pendulum in {:.2} s; \
+         wrote {} (rig: {})",
+        (n - 1) as f64 / secs,
+        args.input.display(),
+        started.elapsed().as_secs_f64(),
+        args.output.display(),
+        rig.map_or("none: give --rig-out FILE".into(), |p| p
+            .display()
+            .to_string())
+    );
+    match r.rest {
+        Some(rest) => eprintln!(
+            "initial rest: {:.2} s; gyro bias removed ({:.3}, {:.3}, {:.3}) deg/s; gravity \
+             {:.4} m/s^2",
+            rec.t[rest.end.min(n - 1)] - rec.t[0],
+            rest.gyro_bias[0].to_degrees(),
+            rest.gyro_bias[1].to_degrees(),
+            rest.gyro_bias[2].to_degrees(),
+            r.gravity
+        ),
+        None => eprintln!(
+            "warning: {}: no initial rest of {} s or more: the gyro's bias is not removed \
+             (taken as 0) and gravity is {} m/s^2",
+            args.input.display(),
+            crate::replay::drive::MIN_REST_S,
+            r.gravity
+        ),
+    }
+    if r.filled.iter().any(|&k| k > 0) {
+        eprintln!(
+            "warning: {}: {} gyro and {} accelerometer values missing, interpolated across \
+             to drive the pendulum (written empty, as recorded)",
+            args.input.display(),
+            r.filled[0],
+            r.filled[1]
+        );
+    }
+    eprintln!(
+        "largest swing: outer {:.1} deg, inner {:.1} deg{}",
+        r.largest_swing[0].to_degrees(),
+        r.largest_swing[1].to_degrees(),
+        if r.stop_hits.iter().any(|&h| h > 0) {
+            format!(
+                "; stops hit {} and {} times",
+                r.stop_hits[0], r.stop_hits[1]
+            )
+        } else {
+            String::new()
+        }
+    );
+    if r.substep_change > SUBSTEP_TOLERANCE {
+        eprintln!(
+            "warning: the pendulum moved by up to {:.2e} rad when the substeps were doubled \
+             (more than {SUBSTEP_TOLERANCE:e}): give --substeps {}",
+            r.substep_change,
+            4 * args.substeps
+        );
+    }
+    if rec.truth.is_none() {
+        eprintln!("the recording has no truth: the log has no roll and pitch columns");
+    }
+}
