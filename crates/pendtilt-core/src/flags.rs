@@ -31,6 +31,13 @@ bitflags::bitflags! {
         /// it was not used for this sample, the speed was carried by the accelerometer
         /// (ekf3d, ukf3d; issue 15).
         const SLIP = 1 << 8;
+        /// The pendulum left the range where its model holds (near the Cardan joint's lock,
+        /// or a run of readings the model could not explain): its reading was not used and
+        /// the attitude was carried by the gyro (ekf3d, ukf3d).
+        const PENDULUM_UNUSED = 1 << 9;
+        /// The attitude was reset to the gyro and accelerometer's inclination reference:
+        /// the two had parted by more than the guard (ekf3d, ukf3d).
+        const RESET = 1 << 10;
     }
 }
 
@@ -47,7 +54,7 @@ pub struct FlagNames(Flags);
 
 impl core::fmt::Display for FlagNames {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        const NAMES: [(Flags, &str); 9] = [
+        const NAMES: [(Flags, &str); 11] = [
             (Flags::INITIALISING, "initialising"),
             (Flags::ASIN_CLAMPED, "asin_clamped"),
             (Flags::SAMPLE_MISSING, "sample_missing"),
@@ -57,6 +64,8 @@ impl core::fmt::Display for FlagNames {
             (Flags::ENCODER_WRAPPED, "encoder_wrapped"),
             (Flags::IMPLAUSIBLE, "implausible"),
             (Flags::SLIP, "slip"),
+            (Flags::PENDULUM_UNUSED, "pendulum_unused"),
+            (Flags::RESET, "reset"),
         ];
         let mut first = true;
         for (flag, name) in NAMES {

@@ -5,10 +5,14 @@
 //!
 //! ```sh
 //! cargo run --release -p pendtilt --example broad -- BROAD/data_mat [OUT_DIR]
+//!     [--vibration scooter3d] [--only ekf3d,vqf] [--trials 02,10]
 //! ```
 //!
-//! Writes `OUT_DIR/benchmark.csv` (one row per trial and estimator) and
-//! `OUT_DIR/benchmark.md` (the tables); OUT_DIR defaults to `docs/broad`.
+//! Writes `OUT_DIR/benchmark.csv` (one row per trial and estimator), `OUT_DIR/benchmark.md`
+//! (the tables) and `OUT_DIR/benchmark.svg` (each trial's RMS); with `--vibration NAME`,
+//! the replays have that scenario's vibration added (`replay --vibration`) and the files
+//! are `benchmark_NAME.*`. OUT_DIR defaults to `docs/broad`. `--trials` takes a subset;
+//! with `--only` (a quick look) nothing is written.
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -18,7 +22,9 @@ use pendtilt::bank3d::rig::Pendulum3dConfig;
 use pendtilt::bank3d::Settings3d;
 use pendtilt::replay::benchmark::{score, Score, TILT_LIMIT_DEG};
 use pendtilt::replay::source::ImuOptions;
-use pendtilt::replay::{replay, Recording, ReplaySettings};
+use pendtilt::replay::{replay_with, AddedVibration, Recording, ReplaySettings};
+use pendtilt::report::figures::{plot_curves, Curve, FigureSpec};
+use pendtilt::report::palette::Palette;
 use pendtilt::sim3d::Mounting;
 
 /// The reference filters' RMS per trial and filter, from `reference.csv`.
@@ -41,7 +47,17 @@ fn reference(dir: &Path) -> BTreeMap<(String, String), [f64; 4]> {
 }
 
 fn main() -> anyhow::Result<()> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let mut option = |name: &str| -> Option<Vec<String>> {
+        let i = args.iter().position(|a| a == name)?;
+        let v = args.get(i + 1).cloned().unwrap_or_default();
+        args.drain(i..(i + 2).min(args.len()));
+        Some(v.split(',').map(String::from).collect())
+    };
+    let only = option("--only");
+    let trials = option("--trials");
+    let vibration = option("--vibration").map(|v| v.join(","));
+    let quick = only.is_some();
     let Some(data) = args.first().map(PathBuf::from) else {
         anyhow::bail!("usage: broad BROAD/data_mat [OUT_DIR]");
     };
@@ -52,12 +68,18 @@ fn main() -> anyhow::Result<()> {
         .with_context(|| format!("cannot read {}", data.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "mat"))
+        .filter(|p| {
+            let stem = p.file_stem().unwrap_or_default().to_string_lossy();
+            trials
+                .as_ref()
+                .is_none_or(|t| t.iter().any(|t| stem.starts_with(t.as_str())))
+        })
         .collect();
     files.sort();
     let refs = reference(&out_dir);
     let mut csv =
         String::from("trial,estimator,rms_deg,max_deg,rms60_deg,max60_deg,rows,rows60,t_max_s\n");
-    let mut table: Vec<(String, Vec<Score>)> = Vec::new();
+    let mut table: Vec<(String, Vec<Score>, usize)> = Vec::new();
     for f in &files {
         let trial = f
             .file_stem()
@@ -65,10 +87,16 @@ fn main() -> anyhow::Result<()> {
             .to_string_lossy()
             .to_string();
         let rec = Recording::open(f, &ImuOptions::default())?;
-        let r = replay(&rec, &ReplaySettings::default())?;
+        let added = match &vibration {
+            Some(name) => Some(AddedVibration::of_scenario(name, 1)?),
+            None => None,
+        };
+        let r = replay_with(&rec, &ReplaySettings::default(), added.as_ref())?;
+        let clipped = r.report.vibration.map_or(0, |v| v.clipped_rows);
         let params = Pendulum3dConfig::Physical(r.pendulum).params();
         let settings = Settings3d::new(params, Mounting::default(), None);
-        let (scores, _) = score(&rec, &r, &settings, None).map_err(anyhow::Error::msg)?;
+        let (scores, _) =
+            score(&rec, &r, &settings, only.as_deref()).map_err(anyhow::Error::msg)?;
         for s in &scores {
             writeln!(
                 csv,
@@ -93,20 +121,37 @@ fn main() -> anyhow::Result<()> {
         let vqf_ref = refs
             .get(&(trial[..2].to_string(), "vqf".to_string()))
             .map_or(f64::NAN, |v| v[0]);
+        let m = |n: &str| {
+            scores
+                .iter()
+                .find(|s| s.estimator == n)
+                .map_or(f64::NAN, |s| s.max)
+        };
+        if vibration.is_some() {
+            eprint!("[{clipped} rows clipped] ");
+        }
         eprintln!(
-            "{trial}: ekf3d {:.2}, ukf3d {:.2}, vqf {:.2} (reference {:.2}) deg RMS",
+            "{trial:<36} ekf3d {:6.2} ({:5.1}) ukf3d {:6.2} vqf {:5.2} (reference {:.2} ({:.1})) deg RMS (max)",
             e("ekf3d"),
+            m("ekf3d"),
             e("ukf3d"),
             e("vqf"),
-            vqf_ref
+            vqf_ref,
+            refs.get(&(trial[..2].to_string(), "vqf".to_string())).map_or(f64::NAN, |v| v[1]),
         );
-        table.push((trial, scores));
+        table.push((trial, scores, clipped));
+    }
+    if quick {
+        return Ok(());
     }
     std::fs::create_dir_all(&out_dir)?;
-    std::fs::write(out_dir.join("benchmark.csv"), &csv)?;
+    let stem = vibration
+        .as_ref()
+        .map_or("benchmark".to_string(), |v| format!("benchmark_{v}"));
+    std::fs::write(out_dir.join(format!("{stem}.csv")), &csv)?;
     let names: Vec<String> = table
         .first()
-        .map(|(_, s)| s.iter().map(|s| s.estimator.clone()).collect())
+        .map(|(_, s, _)| s.iter().map(|s| s.estimator.clone()).collect())
         .unwrap_or_default();
     let mut md = String::new();
     for (title, pick) in [
@@ -114,9 +159,23 @@ fn main() -> anyhow::Result<()> {
         ("RMS (max) [deg] where the true tilt is under 60 deg", 1),
     ] {
         writeln!(md, "### {title}\n")?;
-        writeln!(md, "| trial | {} | VQF reference |", names.join(" | "))?;
-        writeln!(md, "|---|{}---|", "---|".repeat(names.len()))?;
-        for (trial, scores) in &table {
+        let clip_head = if vibration.is_some() {
+            " rows clipped |"
+        } else {
+            ""
+        };
+        writeln!(
+            md,
+            "| trial |{clip_head} {} | VQF reference |",
+            names.join(" | ")
+        )?;
+        writeln!(
+            md,
+            "|---|{}{}---|",
+            if vibration.is_some() { "---|" } else { "" },
+            "---|".repeat(names.len())
+        )?;
+        for (trial, scores, clipped) in &table {
             let cells: Vec<String> = scores
                 .iter()
                 .map(|s| {
@@ -137,12 +196,67 @@ fn main() -> anyhow::Result<()> {
                 };
                 format!("{rms:.2} ({max:.0})")
             });
-            writeln!(md, "| {} | {} | {rv} |", &trial[..2], cells.join(" | "))?;
+            let clip = if vibration.is_some() {
+                format!(" {clipped} |")
+            } else {
+                String::new()
+            };
+            writeln!(
+                md,
+                "| {} |{clip} {} | {rv} |",
+                &trial[..2],
+                cells.join(" | ")
+            )?;
         }
         writeln!(md)?;
     }
     let _ = TILT_LIMIT_DEG;
-    std::fs::write(out_dir.join("benchmark.md"), &md)?;
-    eprintln!("wrote {}/benchmark.csv and benchmark.md", out_dir.display());
+    std::fs::write(out_dir.join(format!("{stem}.md")), &md)?;
+    // The figure: each trial's RMS, per estimator, beside the reference VQF's.
+    let x: Vec<f64> = table
+        .iter()
+        .map(|(t, _, _)| t[..2].parse().unwrap_or(f64::NAN))
+        .collect();
+    let series: Vec<(String, Vec<f64>)> = ["ekf3d", "ukf3d", "vqf", "accel3d"]
+        .iter()
+        .map(|n| {
+            let y = table
+                .iter()
+                .map(|(_, s, _)| {
+                    s.iter()
+                        .find(|x| x.estimator == *n)
+                        .map_or(f64::NAN, |x| x.rms)
+                })
+                .collect();
+            (n.to_string(), y)
+        })
+        .chain(std::iter::once((
+            "VQF reference (Python package)".to_string(),
+            table
+                .iter()
+                .map(|(t, _, _)| {
+                    refs.get(&(t[..2].to_string(), "vqf".to_string()))
+                        .map_or(f64::NAN, |v| v[0])
+                })
+                .collect(),
+        )))
+        .collect();
+    let curves: Vec<Curve> = series
+        .iter()
+        .map(|(n, y)| Curve::points(n, &x, y))
+        .collect();
+    let what = vibration.as_ref().map_or("as recorded".to_string(), |v| {
+        format!("with {v}'s vibration added")
+    });
+    let mut spec = FigureSpec::new(
+        &format!("BROAD replayed through the pendulum, {what}: inclination error per trial"),
+        "BROAD trial",
+        "RMS inclination error [deg]",
+    );
+    spec.y_range = Some((0.0, 5.0));
+    spec.robust = None;
+    let files = plot_curves(&out_dir, &stem, &spec, &curves, &Palette::default())?;
+    let _ = std::fs::remove_file(files.png);
+    eprintln!("wrote {}/{stem}.csv, .md and .svg", out_dir.display());
     Ok(())
 }

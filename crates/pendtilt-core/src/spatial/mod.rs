@@ -19,11 +19,14 @@
 //! - [`accel`]: `accel3d`, roll and pitch from the accelerometer;
 //! - [`inv`]: `inv3d`, Algorithm 2 in three dimensions (the joint equations solved for
 //!   the tilt);
+//! - [`imu`]: an inclination reference from the gyro and accelerometer alone (after
+//!   VQF), ekf3d's guard;
 //! - [`ekf`]: `ekf3d`/`ukf3d`, the quaternion filter on the engine.
 pub mod accel;
 pub mod attitude;
 pub mod cardan;
 pub mod ekf;
+pub mod imu;
 pub mod inv;
 pub mod mounting;
 pub mod pendulum;

@@ -178,6 +178,13 @@ pub struct Ekf3dConfig {
     pub encoder_jitter: Option<f64>,
     /// [`ekf::Settings::use_accel`].
     pub use_accel: Option<bool>,
+    /// [`pendtilt_core::spatial::ekf::Adaptation::enabled`] of
+    /// [`ekf::Settings::adaptation`].
+    pub adapt: Option<bool>,
+    /// [`ekf::Settings::guard_angle`] \[rad\] (`inf`: no guard).
+    pub guard_angle: Option<f64>,
+    /// [`ekf::Settings::pendulum_range`] \[rad\].
+    pub pendulum_range: Option<f64>,
 }
 
 impl Ekf3dConfig {
@@ -201,6 +208,19 @@ impl Ekf3dConfig {
                     "ekf3d.{key}: {v} must be > 0 (inf takes the gyro as read)"
                 ));
             }
+        }
+        if let Some(v) = self.guard_angle.filter(|v| v.is_nan() || *v <= 0.0) {
+            return Err(format!(
+                "ekf3d.guard_angle: {v} must be > 0 rad (inf: no guard)"
+            ));
+        }
+        if let Some(v) = self
+            .pendulum_range
+            .filter(|v| !(v.is_finite() && *v > 0.0 && *v <= std::f64::consts::FRAC_PI_2))
+        {
+            return Err(format!(
+                "ekf3d.pendulum_range: {v} must be between 0 and pi/2 rad (the Cardan joint locks at pi/2)"
+            ));
         }
         // An exact sensor may say 0 (a speed from a simulation, a jitter-free encoder).
         for (key, v) in [
@@ -242,6 +262,15 @@ impl Ekf3dConfig {
         }
         if let Some(v) = self.use_accel {
             s.use_accel = v;
+        }
+        if let Some(v) = self.adapt {
+            s.adaptation.enabled = v;
+        }
+        if let Some(v) = self.guard_angle {
+            s.guard_angle = v;
+        }
+        if let Some(v) = self.pendulum_range {
+            s.pendulum_range = v;
         }
     }
 }

@@ -10,7 +10,9 @@ use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
 use crate::io::output::{self as safe, NamedPath, OutputFile};
 use crate::io::{AccelUnit, TimeUnit};
 use crate::replay::source::{ImuOptions, IMU_COLUMNS};
-use crate::replay::{replay, Recording, Replay, ReplaySettings, SUBSTEP_TOLERANCE};
+use crate::replay::{
+    replay_with, AddedVibration, Recording, Replay, ReplaySettings, SUBSTEP_TOLERANCE,
+};
 use crate::sim3d::{LogRow3d, Mounting, Pendulum3d, Rig3d};
 
 /// Replay a recorded IMU through a virtual Cardan pendulum and write the 3-D log it
@@ -49,20 +51,32 @@ pub struct Args {
     /// RK4 steps per sample interval (at least 4).
     #[arg(long, value_name = "N", default_value_t = 4)]
     pub substeps: u32,
-    /// Seed of the encoder noise.
+    /// Seed of the encoder noise (and of the --vibration scenario's random tones).
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub seed: u64,
+    /// Add a vehicle's vibration to the recorded motion (MODEL.md 7.10): the scenario's
+    /// engine and road vibration (scooter3d, ride3d, ship3d) and a tone 0.7 Hz below the
+    /// log's rate that an accelerometer without an anti-alias filter folds to 0.7 Hz. The
+    /// pendulum feels all of it; the accelerometer columns are read at the log's times and
+    /// clipped at --accel-full-scale. Default: none, the motion as recorded.
+    #[arg(long, value_name = "SCENARIO")]
+    pub vibration: Option<String>,
+    /// The accelerometer's full scale with --vibration, in m/s^2.
+    #[arg(long, value_name = "M_S2", default_value_t = 2.0 * 9.80665)]
+    pub accel_full_scale: f64,
     /// Other column names of an IMU CSV: `t=time,gyro_x=gx,...` (names: t, gyro_x,
-    /// gyro_y, gyro_z, ax, ay, az, roll, pitch, qw, qx, qy, qz).
+    /// gyro_y, gyro_z, ax, ay, az, roll, pitch, qw, qx, qy, qz). Default: none, those
+    /// names.
     #[arg(long, value_name = "NAME=COLUMN,...")]
     pub map: Option<String>,
-    /// Columns in degrees: `gyro` (deg/s), `roll,pitch`, or alone for both.
+    /// Columns in degrees: `gyro` (deg/s), `roll,pitch`, or alone for both. Default: none,
+    /// rad and rad/s.
     #[arg(long, num_args = 0..=1, default_missing_value = "all", value_name = "COLUMNS")]
     pub deg: Option<String>,
-    /// Unit of the `t` column: s, ms, us or ns.
+    /// Unit of the `t` column: s, ms, us or ns. Default: s.
     #[arg(long, value_name = "UNIT")]
     pub time_unit: Option<TimeUnit>,
-    /// Unit of the accelerometer columns: m/s2, g or mg.
+    /// Unit of the accelerometer columns: m/s2, g or mg. Default: m/s2.
     #[arg(long, value_name = "UNIT")]
     pub accel_unit: Option<AccelUnit>,
     /// No summary.
@@ -193,8 +207,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(r) = &rig {
         settings.pendulum = physical(&r.pendulum3d);
     }
+    let vibration = match &args.vibration {
+        Some(name) => {
+            if !crate::sim3d::SCENARIO3D_NAMES.contains(&name.as_str()) {
+                bail!(
+                    "--vibration {name}: not a 3-D scenario (they are: {})",
+                    crate::sim3d::SCENARIO3D_NAMES.join(", ")
+                );
+            }
+            if !(args.accel_full_scale.is_finite() && args.accel_full_scale > 0.0) {
+                bail!(
+                    "--accel-full-scale {}: must be > 0 m/s^2",
+                    args.accel_full_scale
+                );
+            }
+            let mut v = AddedVibration::of_scenario(name, args.seed)?;
+            v.accel_full_scale = args.accel_full_scale;
+            Some(v)
+        }
+        None => None,
+    };
     let rec = Recording::open(&args.input, &options)?;
-    let out = replay(&rec, &settings)?;
+    let out = replay_with(&rec, &settings, vibration.as_ref())?;
 
     let log = args.output.clone();
     let rig_path = match &args.rig_out {
@@ -308,6 +342,21 @@ fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, start
              (more than {SUBSTEP_TOLERANCE:e}): give --substeps {}",
             r.substep_change,
             4 * args.substeps
+        );
+    }
+    if let (Some(v), Some(name)) = (r.vibration, &args.vibration) {
+        eprintln!(
+            "vibration of {name} added (RMS {:.2}, {:.2}, {:.2} m/s^2 with the tone at {:.1} Hz, \
+             read as {:.1} Hz); the pendulum integrated at {} steps a sample; accelerometer \
+             clipped at {:.1} m/s^2 on {} of {n} rows",
+            v.added_rms[0],
+            v.added_rms[1],
+            v.added_rms[2],
+            v.tone_hz[0],
+            v.tone_hz[1],
+            r.substeps,
+            args.accel_full_scale,
+            v.clipped_rows
         );
     }
     if rec.truth.is_none() {

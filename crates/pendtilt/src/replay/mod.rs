@@ -18,7 +18,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 
 use crate::sim::integrator::{rk4_step, Node};
-use crate::sim3d::{JointState, LogRow3d, Pendulum3d};
+use crate::sim3d::{JointState, LogRow3d, Pendulum3d, Scenario3d, VehicleMotion};
 
 pub mod benchmark;
 pub mod drive;
@@ -62,6 +62,74 @@ impl Default for ReplaySettings {
     }
 }
 
+/// A vehicle's vibration added to a recording (MODEL.md 7.10, `replay --vibration`): the
+/// pendulum is driven by the recorded motion plus the vibration, at 1 kHz or more, and the
+/// accelerometer columns are what a MEMS without an anti-alias filter reads at the log's
+/// times, aliased and clipped. As recorded, the encoders are a function of the IMU's own
+/// readings; with a vibration the pendulum's mechanical filtering before sampling shows.
+#[derive(Debug, Clone)]
+pub struct AddedVibration {
+    /// The scenario whose translational vibration (engine-locked and broadband terms, body
+    /// axes at P1; MODEL.md 7.7, 7.8) is added.
+    pub scenario: String,
+    /// Its motion (only the vibration terms are used).
+    pub motion: VehicleMotion,
+    /// Amplitude per axis of the tone [`Self::alias_offset_hz`] below the log's sampling
+    /// rate \[m/s^2\]: an engine harmonic that a MEMS sampled without an anti-alias filter
+    /// folds down to that offset. Default (3, 3, 2), MODEL.md 7.10.
+    pub alias_tone: [f64; 3],
+    /// How far below the sampling rate the tone lies \[Hz\]. Default 0.7.
+    pub alias_offset_hz: f64,
+    /// The accelerometer's full scale \[m/s^2\]: its readings are clipped there. Default
+    /// 2 g (19.6 m/s^2), a consumer MEMS's.
+    pub accel_full_scale: f64,
+    /// Longest integration step \[s\]: the vibration reaches 200 Hz. Default 0.25 ms.
+    pub max_step: f64,
+}
+
+impl AddedVibration {
+    /// The vibration of the named 3-D scenario (its random tones from `seed`), with MODEL.md
+    /// 7.10's tone and a 2 g accelerometer.
+    pub fn of_scenario(name: &str, seed: u64) -> Result<Self, ReplayError> {
+        let s = Scenario3d::named(name, seed).map_err(|e| ReplayError::Setting(e.to_string()))?;
+        let motion = VehicleMotion::new(&s.motion, s.rig.mounting.speed_at)
+            .map_err(|e| ReplayError::Setting(e.to_string()))?;
+        Ok(Self {
+            scenario: name.to_string(),
+            motion,
+            alias_tone: [3.0, 3.0, 2.0],
+            alias_offset_hz: 0.7,
+            accel_full_scale: 2.0 * 9.80665,
+            max_step: 2.5e-4,
+        })
+    }
+
+    /// The vibration at `t0 + j dt`, j < n, for a log sampled at `fs` Hz: the scenario's and
+    /// the tone \[m/s^2\].
+    fn grid(&self, t0: f64, dt: f64, n: usize, fs: f64) -> Vec<[f64; 3]> {
+        let w = std::f64::consts::TAU * (fs - self.alias_offset_hz);
+        let mut v = self.motion.vibration_grid(t0, dt, n);
+        for (j, x) in v.iter_mut().enumerate() {
+            let s = (w * (t0 + j as f64 * dt)).sin();
+            for (xi, a) in x.iter_mut().zip(self.alias_tone) {
+                *xi += a * s;
+            }
+        }
+        v
+    }
+}
+
+/// What the added vibration did to the accelerometer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VibrationReport {
+    /// The tone's frequency \[Hz\] and where it folds to in the log \[Hz\].
+    pub tone_hz: [f64; 2],
+    /// Rows with an accelerometer axis clipped at the full scale.
+    pub clipped_rows: usize,
+    /// RMS per axis of what was added to the accelerometer's readings \[m/s^2\].
+    pub added_rms: [f64; 3],
+}
+
 /// The largest change of a joint angle when the substeps are doubled that the replay
 /// accepts without a word \[rad\] (MODEL.md 7.10).
 pub const SUBSTEP_TOLERANCE: f64 = 1e-4;
@@ -83,6 +151,10 @@ pub struct ReplayReport {
     pub largest_swing: [f64; 2],
     /// The gyro's zero-phase low-pass cutoff \[Hz\].
     pub cutoff_hz: f64,
+    /// RK4 steps per sample interval used.
+    pub substeps: u32,
+    /// What an added vibration did, when one was added.
+    pub vibration: Option<VibrationReport>,
 }
 
 /// A replay: one 7.6 log row per recorded row, and the report.
@@ -133,6 +205,7 @@ fn integrate(
     start: JointState,
     substeps: u32,
     stops: Option<([f64; 2], f64)>,
+    vib: Option<(&AddedVibration, f64)>,
 ) -> (Vec<JointState>, [u64; 2], [f64; 2]) {
     let t = drive.times();
     let n = t.len();
@@ -140,11 +213,13 @@ fn integrate(
     let mut y = [start.a, start.b, start.a_dot, start.b_dot];
     let mut hits = [0u64; 2];
     let mut swing = [0f64; 2];
-    let rhs = |k: usize, tau: f64, y: [f64; 4]| -> [f64; 4] {
+    let rhs = |k: usize, tau: f64, extra: [f64; 3], y: [f64; 4]| -> [f64; 4] {
         let d = drive.at(k, tau);
-        let [add, bdd] = pend.joint_accelerations(&to_joint(&y), d.w, d.wd, d.f);
+        let f = [d.f[0] + extra[0], d.f[1] + extra[1], d.f[2] + extra[2]];
+        let [add, bdd] = pend.joint_accelerations(&to_joint(&y), d.w, d.wd, f);
         [y[2], y[3], add, bdd]
     };
+    let mut grid = Vec::new();
     for k in 0..n {
         out.push(to_joint(&y));
         swing[0] = swing[0].max(y[0].abs());
@@ -153,15 +228,20 @@ fn integrate(
             break;
         }
         let h = (t[k + 1] - t[k]) / f64::from(substeps);
+        if let Some((v, fs)) = vib {
+            // The vibration at every RK4 node of the interval (start, middle, end of each
+            // step).
+            grid = v.grid(t[k], 0.5 * h, 2 * substeps as usize + 1, fs);
+        }
         for j in 0..substeps {
             let t0 = f64::from(j) * h;
             y = rk4_step(y, h, |node, y| {
-                let tau = match node {
-                    Node::Start => t0,
-                    Node::Mid => t0 + 0.5 * h,
-                    Node::End => t0 + h,
+                let (tau, i) = match node {
+                    Node::Start => (t0, 2 * j as usize),
+                    Node::Mid => (t0 + 0.5 * h, 2 * j as usize + 1),
+                    Node::End => (t0 + h, 2 * j as usize + 2),
                 };
-                rhs(k, tau, y)
+                rhs(k, tau, grid.get(i).copied().unwrap_or([0.0; 3]), y)
             });
             if let Some((travel, e)) = stops {
                 for i in 0..2 {
@@ -268,8 +348,18 @@ impl ReplaySettings {
     }
 }
 
-/// Replays `rec` through the pendulum of `settings` (MODEL.md 7.10).
+/// Replays `rec` through the pendulum of `settings` (MODEL.md 7.10), as recorded.
 pub fn replay(rec: &Recording, settings: &ReplaySettings) -> Result<Replay, ReplayError> {
+    replay_with(rec, settings, None)
+}
+
+/// Replays `rec` through the pendulum of `settings` with a vehicle's vibration added
+/// ([`AddedVibration`]), or as recorded.
+pub fn replay_with(
+    rec: &Recording,
+    settings: &ReplaySettings,
+    vibration: Option<&AddedVibration>,
+) -> Result<Replay, ReplayError> {
     settings.validate()?;
     let n = rec.t.len();
     if n < 2 {
@@ -298,15 +388,48 @@ pub fn replay(rec: &Recording, settings: &ReplaySettings) -> Result<Replay, Repl
     let (roll0, pitch0) = initial_tilt(t, &accel, 0.5);
     let start = JointState::hanging_still(roll0, pitch0, drive.rate(0));
     let stops = settings.travel.map(|tr| (tr, settings.restitution));
-    let (joints, stop_hits, largest_swing) =
-        integrate(&drive, &pend, start, settings.substeps, stops);
-    let (fine, _, _) = integrate(&drive, &pend, start, 2 * settings.substeps, stops);
+    let substeps = match vibration {
+        // 1 kHz or more, fine enough for the vibration's tones.
+        Some(v) => {
+            let longest = (1..n).map(|k| t[k] - t[k - 1]).fold(0.0, f64::max);
+            settings
+                .substeps
+                .max((longest / v.max_step).ceil().min(10_000.0) as u32)
+        }
+        None => settings.substeps,
+    };
+    let vib = vibration.map(|v| (v, fs));
+    let (joints, stop_hits, largest_swing) = integrate(&drive, &pend, start, substeps, stops, vib);
+    let (fine, _, _) = integrate(&drive, &pend, start, 2 * substeps, stops, vib);
     let substep_change = joints
         .iter()
         .zip(&fine)
         .map(|(a, b)| (a.a - b.a).abs().max((a.b - b.b).abs()))
         .fold(0.0, f64::max);
     let mut rng = ChaCha8Rng::seed_from_u64(settings.seed);
+    // The accelerometer: as recorded, or with the vibration read at the log's times and
+    // clipped at the full scale.
+    let mut accel_out = rec.accel.clone();
+    let vibration_report = vibration.map(|v| {
+        let (mut clipped, mut sq) = (0usize, [0.0; 3]);
+        for (k, a) in accel_out.iter_mut().enumerate() {
+            let add = v.grid(t[k], 0.0, 1, fs)[0];
+            let mut clip = false;
+            for i in 0..3 {
+                sq[i] += add[i] * add[i];
+                let x = a[i] + add[i];
+                a[i] = x.clamp(-v.accel_full_scale, v.accel_full_scale);
+                clip |= x.abs() > v.accel_full_scale;
+            }
+            clipped += usize::from(clip);
+        }
+        let tone = fs - v.alias_offset_hz;
+        VibrationReport {
+            tone_hz: [tone, (tone - fs * (tone / fs).round()).abs()],
+            clipped_rows: clipped,
+            added_rms: sq.map(|s| (s / n as f64).sqrt()),
+        }
+    });
     let rows = (0..n)
         .map(|k| {
             let truth = rec.truth.as_ref().map(|r| r[k]);
@@ -314,7 +437,7 @@ pub fn replay(rec: &Recording, settings: &ReplaySettings) -> Result<Replay, Repl
                 t: t[k],
                 phi: read_encoders(&joints[k], settings, &mut rng),
                 gyro: rec.gyro[k],
-                accel: rec.accel[k],
+                accel: accel_out[k],
                 speed: f64::NAN,
                 roll: truth.map_or(f64::NAN, |r| r[0]),
                 pitch: truth.map_or(f64::NAN, |r| r[1]),
@@ -331,6 +454,8 @@ pub fn replay(rec: &Recording, settings: &ReplaySettings) -> Result<Replay, Repl
             stop_hits,
             largest_swing,
             cutoff_hz,
+            substeps,
+            vibration: vibration_report,
         },
         pendulum: pend,
     })

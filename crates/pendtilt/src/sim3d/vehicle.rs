@@ -544,6 +544,32 @@ impl VehicleMotion {
         out
     }
 
+    /// The translational vibration of MODEL.md 7.7 (the engine-locked and sine terms and
+    /// the broadband tones, body axes at P1) at t0 + j dt, j < n \[m/s^2\]: what a replay
+    /// adds to a recorded specific force (MODEL.md 7.10). The body's own motion (its
+    /// angles, speed and heave) is left out, but for the speed that scales the terms that
+    /// follow it.
+    pub fn vibration_grid(&self, t0: f64, dt: f64, n: usize) -> Vec<[f64; 3]> {
+        let sets = self.spec.broadband.len();
+        let grid = self.tone_sums_grid(t0, dt, n);
+        let mut tones = vec![0.0; sets];
+        (0..n)
+            .map(|j| {
+                let t = t0 + j as f64 * dt;
+                for (i, x) in tones.iter_mut().enumerate() {
+                    *x = grid[i * n + j];
+                }
+                let (v, v_int) = self.speed_jet(t);
+                let ctx = Context {
+                    speed: v,
+                    engine: self.engine_jet(t, v, v_int),
+                    lateral_g: ZERO,
+                };
+                self.vibration(t, &ctx, &tones)
+            })
+            .collect()
+    }
+
     /// The kinematics at t with the broadband sums `tones` (one per set).
     fn kinematics_with(&self, t: f64, g: f64, tones: &[f64]) -> BodyKinematics {
         let s = self.state(t, g);

@@ -1,6 +1,6 @@
 //! The streaming spatial estimator around a Gaussian filter of the engine: time steps,
 //! start-up, missing readings, gaps, and the sensors with their innovation gates.
-use super::measurement::{Accelerometer, Encoders, Speed};
+use super::measurement::{Accelerometer, Encoders, RestBias, Speed, UpDirection};
 use super::process::{CardanProcess, Drive};
 use super::settings::Settings;
 use super::slip::{longitudinal_accel, SlipDetector};
@@ -9,6 +9,7 @@ use crate::engine::{substeps, Cov, Gate, GaussianFilter, Measurement, ProcessMod
 use crate::filters::diff::{Response, SmoothingDifferentiator};
 use crate::filters::one_pole::{OnePole, OnePoleGain};
 use crate::spatial::attitude::roll_pitch_from_up;
+use crate::spatial::imu::InclinationReference;
 use crate::spatial::mounting::lever_arm;
 use crate::spatial::travel::PathRate;
 use crate::spatial::{Attitude, SpatialSample};
@@ -65,6 +66,40 @@ const REACQUIRE_AFTER: f64 = 0.05;
 /// of one axis left on scooter3d (0.4-0.5 deg).
 const REACQUIRE_SD: f64 = 0.5 * core::f64::consts::PI / 180.0;
 
+/// Standard deviation \[rad/s\] of the pendulum's joint rates when the joint states start
+/// again after the pendulum left its range: a pendulum that tumbled may still swing at a
+/// few radians a second.
+const JOINT_RATE_SD: f64 = 3.0;
+
+/// Standard deviation \[rad\] of the guard's reference as a measurement of the up
+/// direction while the pendulum is not used: 1 deg, about VQF's RMS on BROAD's hand-held
+/// trials (docs/real-motion.md).
+const REFERENCE_SD: f64 = core::f64::consts::PI / 180.0;
+
+/// The forcing factor ([`super::settings::Adaptation`]) at which the guard's reference
+/// carries roll and pitch beside the pendulum with [`REFERENCE_SD`]; below it, with that
+/// times sqrt(this / factor), and not at all beyond ten times.
+const REFERENCE_FORCING: f64 = 100.0;
+
+/// Standard deviation \[rad/s\] of the gyro's bias read at rest: 0.01 deg/s.
+const REST_BIAS_SD: f64 = 0.01 * core::f64::consts::PI / 180.0;
+
+/// How long after a start \[s\] the forcing's adaptation waits: the start's own transient
+/// (the attitude known to 2 deg) is not the motion's.
+const ADAPT_AFTER_START: f64 = 2.0;
+
+/// `x` wrapped to (-pi, pi].
+fn wrap_pi<T: Real>(x: T) -> T {
+    let tau = T::lit(core::f64::consts::TAU);
+    let pi = T::lit(core::f64::consts::PI);
+    let v = x - tau * ((x + pi) / tau).floor();
+    if v <= -pi {
+        v + tau
+    } else {
+        v
+    }
+}
+
 /// The model-based spatial estimator (`ekf3d` over the EKF, `ukf3d` over the UKF).
 ///
 /// Per sample: predict over `dt` with the gyro (split into steps of at most
@@ -93,6 +128,26 @@ pub struct ModelBased<T: Real, F> {
     // `q` is for a travelling vehicle (with the jerk's noise).
     q_travelling: bool,
     q: Cov<T, N>,
+    // The part of `q` that the pendulum's forcing adds (scaled by `forcing`), per joint:
+    // the angle's, the angle-rate and the rate's variance.
+    q_forcing: [[T; 3]; 2],
+    // The factor on the forcing's variance (Settings::adaptation), >= 1.
+    forcing: T,
+    // The encoders' normalised innovation squared, low-passed (Adaptation::window).
+    nis: Option<T>,
+    // Time since the last encoder reading that was used \[s\] (for the adaptation's step).
+    since_used: T,
+    // The pendulum is out of its range: the joint states start again at the next reading
+    // in range.
+    out_of_range: bool,
+    // The gyro and accelerometer's inclination (Settings::guard_angle), and how long it
+    // has run \[s\].
+    reference: InclinationReference<T>,
+    reference_age: T,
+    // Time since the filter (re)started \[s\].
+    since_start: T,
+    // The gyro was held: the reference takes the filter's inclination on its return.
+    reference_held: bool,
     speed_meas: Speed<T>,
     // The `speed` column has been read since the start: O's speed and rate are states.
     travelling: bool,
@@ -155,6 +210,15 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             q_step: T::zero(),
             q_travelling: false,
             q: Cov::<T, N>::zeros(),
+            q_forcing: [[T::zero(); 3]; 2],
+            forcing: T::one(),
+            nis: None,
+            since_used: T::zero(),
+            out_of_range: false,
+            reference: InclinationReference::new(settings.guard_tau),
+            reference_age: T::zero(),
+            since_start: T::zero(),
+            reference_held: false,
             speed_meas: Speed {
                 r: (settings.speed.noise * settings.speed.noise).max(T::lit(1e-12)),
             },
@@ -468,6 +532,12 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         self.state().map(|x| x.q)
     }
 
+    /// The factor on the pendulum's forcing variance the adaptation has reached (1: the
+    /// floor, [`crate::ekf::Environment::vibration_density`]).
+    pub fn forcing_factor(&self) -> T {
+        self.forcing
+    }
+
     fn hold(&self, flags: Flags) -> Attitude<T> {
         Attitude { flags, ..self.last }
     }
@@ -475,9 +545,16 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// Starts with the pendulum hanging still at the sample's encoder angles.
     fn start(&mut self, s: &SpatialSample<T>) -> Attitude<T> {
         let st = &self.settings;
-        let (roll, pitch) = (s.phi[0], s.phi[1]);
+        // The guard's reference once it has settled (a restart in motion: the pendulum
+        // need not hang still), else the pendulum hanging still.
+        let (roll, pitch) = if self.reference_settled() {
+            let u = self.reference.up();
+            roll_pitch_from_up([u[0], u[1], u[2]])
+        } else {
+            (s.phi[0], s.phi[1])
+        };
         let w = self.gyro.unwrap_or_else(Vector3::zeros);
-        let (a, b) = (-roll, -pitch);
+        let (a, b) = (-s.phi[0], -s.phi[1]);
         let (sa, ca) = a.sin_cos();
         let (sb, cb) = b.sin_cos();
         // Hanging still: the pendulum's rates about its own x and y axes are zero.
@@ -512,6 +589,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         self.since_speed = None;
         self.filter = Some(F::start(x, p));
         self.rejected = 0;
+        self.since_start = T::zero();
         self.clock.accept();
         self.last = Attitude {
             roll,
@@ -528,6 +606,11 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         let (n, h) = substeps(dt, self.settings.max_step);
         if h != self.q_step || self.q_travelling != self.travelling {
             self.q = self.model.q(h);
+            let h2 = h * h;
+            self.q_forcing = self.model.noise.joints.map(|d| {
+                let v = d * d;
+                [v * h2 * h / T::lit(3.0), v * h2 / T::lit(2.0), v * h]
+            });
             if !self.travelling {
                 // O's speed and rate held at zero: no jerk.
                 for k in [V, ACC] {
@@ -541,12 +624,21 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             self.q_travelling = self.travelling;
         }
         let with_extra;
-        // Nothing to add (the usual case: a gyro reading within its range) leaves the cached
-        // noise as it is, uncopied.
-        let q = if extra.iter().all(|e| *e == T::zero()) {
+        // Nothing to add (the usual case: a gyro reading within its range and the forcing
+        // at its floor) leaves the cached noise as it is, uncopied.
+        let forcing = self.forcing;
+        let q = if extra.iter().all(|e| *e == T::zero()) && forcing == T::one() {
             &self.q
         } else {
-            with_extra = add_rate_noise(self.q, &(extra / T::lit(n as f64)));
+            let mut q = self.q;
+            let more = forcing - T::one();
+            for ((angle, rate), f) in [(A, P), (B, R)].into_iter().zip(self.q_forcing) {
+                q[(angle, angle)] += f[0] * more;
+                q[(angle, rate)] += f[1] * more;
+                q[(rate, angle)] += f[1] * more;
+                q[(rate, rate)] += f[2] * more;
+            }
+            with_extra = add_rate_noise(q, &(extra / T::lit(n as f64)));
             &with_extra
         };
         let Some(filter) = self.filter.as_mut() else {
@@ -559,31 +651,42 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         ok
     }
 
-    /// The encoders through their gate, re-acquired after a run of rejections.
-    fn sense_encoders(&mut self, z: &SVector<T, 2>) -> Flags {
-        let st = &self.settings;
+    /// The encoders through their gate. A reading is taken to the turn nearest the joint
+    /// angle the filter predicts (a pendulum that spun past +-180 deg). Beyond
+    /// [`Settings::pendulum_range`], or after [`Settings::reacquire_after`] rejections in a
+    /// row, the pendulum is out of its model: the reading is not used, and the next one in
+    /// range starts the joint states again at the reading, their rates unknown, the
+    /// attitude left as it was ([`Flags::PENDULUM_UNUSED`]). The innovations that pass
+    /// drive the forcing's adaptation ([`super::settings::Adaptation`]).
+    fn sense_encoders(&mut self, z: &SVector<T, 2>, dt: T) -> Flags {
+        let st = self.settings;
         let Some(filter) = self.filter.as_mut() else {
             return Flags::empty();
         };
-        let gate = if self.rejected >= st.reacquire_after.max(1) {
-            // A tilt step of roll by -y_a (pitch by -y_b) moves a by y_a (b by y_b).
-            let y = z - self.encoders.predict(filter.state());
-            let mut v = Error::<T>::zeros();
-            v[ROT] = -y[0];
-            v[A] = y[0];
-            filter.inflate(&v);
-            let mut v = Error::<T>::zeros();
-            v[ROT + 1] = -y[1];
-            v[B] = y[1];
-            filter.inflate(&v);
-            Gate::off()
-        } else {
-            Gate {
-                threshold: st.innovation_gate,
-                floor: T::zero(),
-            }
+        self.since_used += dt;
+        let pred = self.encoders.predict(filter.state());
+        let z = SVector::<T, 2>::from_fn(|i, _| pred[i] + wrap_pi(z[i] - pred[i]));
+        if z[1].abs() > st.pendulum_range {
+            self.out_of_range = true;
+            return Flags::PENDULUM_UNUSED | Flags::MEASUREMENT_SKIPPED;
+        }
+        if self.out_of_range || self.rejected >= st.reacquire_after.max(1) {
+            self.restart_joints(&z);
+            self.out_of_range = false;
+            self.rejected = 0;
+            self.since_used = T::zero();
+            return Flags::PENDULUM_UNUSED;
+        }
+        let p = filter.covariance();
+        let nis = (0..2).fold(T::zero(), |acc, i| {
+            let (k, y) = ([A, B][i], z[i] - pred[i]);
+            acc + y * y / (p[(k, k)] + self.encoders.r)
+        }) * T::lit(0.5);
+        let gate = Gate {
+            threshold: st.innovation_gate,
+            floor: T::zero(),
         };
-        match filter.update(&self.encoders, z, gate) {
+        let flags = match filter.update(&self.encoders, &z, gate) {
             Ok(()) => {
                 self.rejected = 0;
                 Flags::empty()
@@ -593,7 +696,216 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
                 Flags::MEASUREMENT_SKIPPED
             }
             Err(_) => Flags::MEASUREMENT_SKIPPED,
+        };
+        // A reading the gate rejects counts as the gate's size at most: one wrong reading
+        // (a glitch) moves the mean by little, a run of them (a model that no longer
+        // fits) as much as it should.
+        self.adapt(nis.min(st.innovation_gate));
+        flags
+    }
+
+    /// One step of the forcing's adaptation on the encoders' normalised innovation
+    /// squared `nis` (per axis, before the update): its low-pass moves the log of the
+    /// factor at `ln(mean) / rise` while above one, `ln(mean) / fall` below.
+    fn adapt(&mut self, nis: T) {
+        let a = self.settings.adaptation;
+        let dt = core::mem::replace(&mut self.since_used, T::zero());
+        // Not while the gyro is held or its bias kept after a hold, nor while the filter
+        // settles after a start: those innovations are the filter's, not the motion's.
+        let settling = self.since_start < T::lit(ADAPT_AFTER_START) || self.held_bias.is_some();
+        if !a.enabled || settling || !(nis.is_finite() && dt > T::zero()) {
+            return;
         }
+        let k = (dt / a.window).min(T::one());
+        let m = match self.nis {
+            Some(m) => m + k * (nis - m),
+            None => nis,
+        };
+        self.nis = Some(m);
+        let step = if m > a.threshold {
+            (m / a.threshold).ln() * dt / a.rise
+        } else if m < T::one() {
+            m.max(T::lit(1e-6)).ln() * dt / a.fall
+        } else {
+            T::zero()
+        };
+        let step = step.max(T::lit(-1.0)).min(T::one());
+        self.forcing = (self.forcing.ln() + step)
+            .exp()
+            .max(T::one())
+            .min(a.max_factor);
+    }
+
+    /// Starts the joint states again at the reading `z` (a, b), their rates unknown and
+    /// uncorrelated with the rest; the attitude, the bias and O's travel keep their
+    /// estimates and covariance.
+    fn restart_joints(&mut self, z: &SVector<T, 2>) {
+        let Some(f) = self.filter.as_ref() else {
+            return;
+        };
+        let mut x = *f.state();
+        let mut p = *f.covariance();
+        x.joints = Vector4::new(z[0], z[1], T::zero(), T::zero());
+        let joint = |i: usize| (A..=R).contains(&i);
+        for i in 0..N {
+            for j in 0..N {
+                if i != j && (joint(i) || joint(j)) {
+                    p[(i, j)] = T::zero();
+                }
+            }
+        }
+        let rate = T::lit(JOINT_RATE_SD);
+        p[(A, A)] = self.encoders.r;
+        p[(B, B)] = self.encoders.r;
+        p[(P, P)] = rate * rate;
+        p[(R, R)] = rate * rate;
+        self.filter = Some(F::start(x, p));
+    }
+
+    /// The guard: the inclination reference takes the sample (the accelerometer less the
+    /// acceleration the filter knows of: O's travel and the lever arm from O), and when the
+    /// filter's up direction has left the reference's by more than
+    /// [`Settings::guard_angle`], the attitude is turned onto it (the smallest turn: the
+    /// heading kept), its roll and pitch loosened to the guard's angle and uncorrelated,
+    /// and the joint states start again at the encoders' reading.
+    fn guard(&mut self, s: &SpatialSample<T>, dt: T, drive: &Drive<T>, have_phi: bool) -> Flags {
+        let st = self.settings;
+        let Some(f) = self.filter.as_ref() else {
+            return Flags::empty();
+        };
+        if !s.accel.iter().all(|v| v.is_finite()) {
+            return Flags::empty();
+        }
+        let x = *f.state();
+        let w = drive.gyro - x.bias;
+        let acc = Accelerometer {
+            gravity: st.params.gravity,
+            per_speed: drive.centre_accel_per_speed(&w),
+            lever: lever_arm(&w, &drive.angular_accel, &self.accel_from_centre),
+            r: T::one(),
+        };
+        // O's travel only while a `speed` column reads it: a filter that lost its way would
+        // otherwise lead the reference astray with it.
+        let known = if self.travelling {
+            acc.predict(&x) - x.up() * st.params.gravity
+        } else {
+            acc.lever
+        };
+        let z = Vector3::new(s.accel[0], s.accel[1], s.accel[2]) - known;
+        // While the gyro is held the reference cannot follow the body: it waits, then takes
+        // the filter's inclination (the encoders carried it) and guards again from there.
+        if self.held_for > T::zero() {
+            self.reference_held = true;
+            return Flags::empty();
+        }
+        if core::mem::replace(&mut self.reference_held, false) {
+            self.reference.align_up(&x.up());
+        }
+        // The gyro as read: the filter's bias estimate is what the guard guards against.
+        self.reference.update(&drive.gyro, &z, dt);
+        if self.held_bias.is_some() {
+            return Flags::empty();
+        }
+        self.reference_age += dt;
+        // The reference needs a few time constants to settle on its start.
+        if !(self.reference_settled() && have_phi) {
+            return Flags::empty();
+        }
+        let (u, r) = (x.up(), self.reference.up());
+        if u.angle(&r) <= st.guard_angle {
+            return Flags::empty();
+        }
+        let Some(turn) = UnitQuaternion::rotation_between(&r, &u) else {
+            return Flags::empty();
+        };
+        let mut dx = Error::<T>::zeros();
+        dx.fixed_rows_mut::<3>(ROT).copy_from(&turn.scaled_axis());
+        let Some(f) = self.filter.as_mut() else {
+            return Flags::empty();
+        };
+        f.retract(&dx);
+        let x = *f.state();
+        let mut p = *f.covariance();
+        let loose = |i: usize| i == ROT || i == ROT + 1;
+        for i in 0..N {
+            for j in 0..N {
+                if i != j && (loose(i) || loose(j)) {
+                    p[(i, j)] = T::zero();
+                }
+            }
+        }
+        let sd = st.guard_angle;
+        for i in [ROT, ROT + 1] {
+            p[(i, i)] = p[(i, i)].max(sd * sd);
+        }
+        self.filter = Some(F::start(x, p));
+        let z = SVector::<T, 2>::new(-s.phi[0], -s.phi[1]);
+        let pred = self.encoders.predict(&x);
+        let z = SVector::<T, 2>::from_fn(|i, _| pred[i] + wrap_pi(z[i] - pred[i]));
+        self.restart_joints(&z);
+        self.rejected = 0;
+        Flags::RESET
+    }
+
+    /// Whether the guard's reference has run long enough to be trusted (two of its time
+    /// constants).
+    fn reference_settled(&self) -> bool {
+        self.settings.guard_angle.is_finite()
+            && self.reference.is_started()
+            && self.reference_age > self.settings.guard_tau * T::lit(2.0)
+    }
+
+    /// While the pendulum is not used, the guard's reference carries roll and pitch: its up
+    /// direction as a measurement of the attitude, standard deviation
+    /// [`REFERENCE_SD`] (what it keeps to on BROAD's hand-held motion), as VQF would.
+    fn sense_reference(&mut self, unused: bool, dt: T) {
+        if !(self.reference_settled() && dt > T::zero()) {
+            return;
+        }
+        let Some(filter) = self.filter.as_mut() else {
+            return;
+        };
+        let sd = if unused {
+            T::lit(REFERENCE_SD)
+        } else {
+            T::lit(REFERENCE_SD)
+                * (T::lit(REFERENCE_FORCING) / self.forcing)
+                    .sqrt()
+                    .max(T::one())
+        };
+        if sd > T::lit(10.0 * REFERENCE_SD) {
+            return;
+        }
+        // Beside the pendulum, the reference's error is correlated over its time constant:
+        // each sample carries dt / tau of an independent reading's information. Without the
+        // pendulum, it carries roll and pitch alone, as in an IMU filter.
+        let r = if unused {
+            sd * sd
+        } else {
+            sd * sd * self.settings.guard_tau / dt
+        };
+        let up = UpDirection { r };
+        let _ = filter.update(&up, &self.reference.up(), Gate::off());
+    }
+
+    /// While the guard's rest detection says the body rests, the gyro's low-pass is its
+    /// bias on every axis, the vertical one too (which the pendulum cannot see at rest, and
+    /// which hand-held motion would otherwise drive to several deg/s as the model's
+    /// mismatch): a measurement of the bias, standard deviation [`REST_BIAS_SD`], its
+    /// error correlated over the rest filter's time constant.
+    fn sense_rest(&mut self, dt: T) {
+        let on = self.settings.guard_angle.is_finite();
+        if !(on && self.reference.is_resting() && dt > T::zero()) {
+            return;
+        }
+        let Some(filter) = self.filter.as_mut() else {
+            return;
+        };
+        let sd = T::lit(REST_BIAS_SD);
+        let m = RestBias {
+            r: sd * sd * T::lit(crate::spatial::imu::REST_TAU) / dt,
+        };
+        let _ = filter.update(&m, &self.reference.bias(), Gate::off());
     }
 
     fn sense_accel(&mut self, s: &SpatialSample<T>, dt: T, drive: &Drive<T>) -> Flags {
@@ -691,6 +1003,9 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         if self.filter.is_some() && (dt > self.settings.max_gap || coasted) {
             self.keep_bias();
             self.filter = None;
+            // Its attitude is as stale as the filter's: both start again.
+            self.reference.reset();
+            self.reference_age = T::zero();
         }
         if have_phi {
             self.since_phi = Some(T::zero());
@@ -770,6 +1085,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
                 .as_ref()
                 .map_or(T::zero(), |f| f.state().bias[2]),
         };
+        self.since_start += dt;
         let ok = self.predict(dt, &drive, &extra);
         if let Some(f) = self.filter.as_mut() {
             bound_heading(f);
@@ -778,7 +1094,9 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         if have_phi {
             // The joint angles the encoders read (MODEL.md 7.2).
             let z = SVector::<T, 2>::new(-s.phi[0], -s.phi[1]);
-            flags |= self.sense_encoders(&z);
+            let used = self.sense_encoders(&z, dt);
+            flags |= used;
+            self.sense_reference(used.contains(Flags::PENDULUM_UNUSED), dt);
             self.hold_bias();
         } else {
             flags |= Flags::SAMPLE_MISSING;
@@ -787,6 +1105,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         if self.settings.use_accel {
             flags |= self.sense_accel(s, dt, &drive);
         }
+        flags |= self.guard(s, dt, &drive, have_phi);
+        self.sense_rest(dt);
         let finite = self.filter.as_ref().is_some_and(|f| {
             let p = f.covariance();
             crate::engine::ErrorState::is_finite(f.state())
@@ -827,6 +1147,12 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         self.held_bias = None;
         self.since_hold = T::zero();
         self.clip_hold = false;
+        self.forcing = T::one();
+        self.nis = None;
+        self.since_used = T::zero();
+        self.out_of_range = false;
+        self.reference.reset();
+        self.reference_age = T::zero();
     }
 
     /// Forgets everything but the gyro bias (see the type's documentation).

@@ -8,7 +8,12 @@
 //!   body axes, `a_O = v' x_b + w_p x (v x_b)` from the state, `lever` the known rigid-body
 //!   term from O to the accelerometer); the vibration it reads is its noise. Nonlinear in
 //!   the attitude.
-use super::state::{State, A, ACC, B, N, ROT, V};
+//! - [`RestBias`]: the gyro's bias as a body at rest reads it (the guard's rest detection),
+//!   linear in the bias states.
+//! - [`UpDirection`]: the world's up direction in body axes as an inclination reference
+//!   gives it (the guard's, [`crate::spatial::imu`]), a unit vector; nonlinear in the
+//!   attitude and in nothing else.
+use super::state::{State, A, ACC, B, BIAS, N, ROT, V};
 use crate::engine::Measurement;
 use crate::Real;
 use nalgebra::{SMatrix, SVector, Vector2, Vector3};
@@ -120,6 +125,75 @@ impl<T: Real> Measurement<T, State<T>, N, 3> for Accelerometer<T> {
         h.fixed_view_mut::<3, 1>(0, V).copy_from(&self.per_speed);
         h[(0, ACC)] = T::one();
         h
+    }
+
+    #[inline]
+    fn variance(&self) -> SVector<T, 3> {
+        Vector3::new(self.r, self.r, self.r)
+    }
+}
+
+/// The world's up direction in body axes as an inclination reference reads it, `z = u`
+/// (a unit vector), variance `r` [rad^2] per axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UpDirection<T> {
+    /// Variance per axis [rad^2].
+    pub r: T,
+}
+
+impl<T: Real> Measurement<T, State<T>, N, 3> for UpDirection<T> {
+    #[inline]
+    fn predict(&self, x: &State<T>) -> Vector3<T> {
+        x.up()
+    }
+
+    /// `u(q exp d) = u + u x d`: `H = [u]x` on the rotation error, nothing else.
+    #[inline]
+    fn jacobian(&self, x: &State<T>) -> SMatrix<T, 3, N> {
+        let mut h = SMatrix::<T, 3, N>::zeros();
+        h.fixed_view_mut::<3, 3>(0, ROT)
+            .copy_from(&super::process::skew(&x.up()));
+        h
+    }
+
+    #[inline]
+    fn variance(&self) -> SVector<T, 3> {
+        Vector3::new(self.r, self.r, self.r)
+    }
+}
+
+/// The gyro's bias as a body at rest reads it, `z = b` \[rad/s\], variance `r`
+/// \[(rad/s)^2\] per axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RestBias<T> {
+    /// Variance per axis \[(rad/s)^2\].
+    pub r: T,
+}
+
+impl<T: Real> Measurement<T, State<T>, N, 3> for RestBias<T> {
+    const LINEAR: bool = true;
+
+    #[inline]
+    fn predict(&self, x: &State<T>) -> Vector3<T> {
+        x.bias
+    }
+
+    #[inline]
+    fn jacobian(&self, _x: &State<T>) -> SMatrix<T, 3, N> {
+        let mut h = SMatrix::<T, 3, N>::zeros();
+        for k in 0..3 {
+            h[(k, BIAS + k)] = T::one();
+        }
+        h
+    }
+
+    #[inline]
+    fn unit_row(&self, axis: usize) -> Option<&[usize]> {
+        match axis {
+            0 => Some(&[BIAS]),
+            1 => Some(&[BIAS + 1]),
+            _ => Some(&[BIAS + 2]),
+        }
     }
 
     #[inline]

@@ -20,7 +20,7 @@ pub mod slip;
 pub mod state;
 
 pub use estimator::ModelBased;
-pub use settings::{Settings, SpeedSettings};
+pub use settings::{Adaptation, Settings, SpeedSettings};
 
 /// The engine's EKF over the spatial state.
 pub type ExtendedKalman<T> = crate::engine::ExtendedKalman<T, state::State<T>, { state::N }>;

@@ -230,6 +230,67 @@ impl<T: Real> SlipSettings<T> {
     }
 }
 
+/// Online adaptation of the pendulum's forcing to the motion the log shows: one set of
+/// defaults for a standing scooter, a ride, a ship and a hand-held device.
+///
+/// The forcing's density ([`crate::ekf::Environment::vibration_density`]) is the floor; a
+/// factor on its variance follows the encoders' normalised innovations (their squares over
+/// the filter's predicted variance, low-passed over [`Self::window`]): up with
+/// [`Self::rise`] while they are larger than one (the pendulum swings more than the model
+/// expects, as under a hand-held body's accelerations), back with [`Self::fall`] while they
+/// are smaller (covariance matching, Mehra 1972; as in VQF, the gravity reference is then
+/// trusted over seconds, not over the pendulum's period). See docs/real-motion.md for the
+/// measurements.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Adaptation<T> {
+    /// Adapt. Default true.
+    pub enabled: bool,
+    /// Time constant \[s\] of the low-pass of the normalised innovations. Default 0.5 s:
+    /// several of the pendulum's periods (0.46 s at 2.19 Hz), so that one swing's
+    /// innovations are averaged.
+    pub window: T,
+    /// Time \[s\] for the factor to grow by e while the mean normalised innovation is e
+    /// or more. Default 0.2 s: a hand-held body's acceleration lasts about a second.
+    pub rise: T,
+    /// Time \[s\] for the factor to fall by e while the mean normalised innovation is
+    /// 1/e or less. Default 5 s.
+    pub fall: T,
+    /// The mean normalised innovation above which the factor grows (below one it falls;
+    /// between, it stays). Default 2: see [`Adaptation`]'s measurements.
+    pub threshold: T,
+    /// Largest factor on the forcing's variance. Default 1e5 (the density times 316:
+    /// 0.02 -> 6.3 m/s^2/sqrt(Hz)).
+    pub max_factor: T,
+}
+
+impl<T: Real> Default for Adaptation<T> {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            window: T::lit(0.5),
+            rise: T::lit(0.2),
+            fall: T::lit(5.0),
+            threshold: T::lit(2.0),
+            max_factor: T::lit(1e5),
+        }
+    }
+}
+
+impl<T: Real> Adaptation<T> {
+    /// The same settings in another scalar type.
+    pub fn cast<U: Real>(&self) -> Adaptation<U> {
+        let c = |x: T| U::lit(x.to_f64());
+        Adaptation {
+            enabled: self.enabled,
+            window: c(self.window),
+            rise: c(self.rise),
+            fall: c(self.fall),
+            threshold: c(self.threshold),
+            max_factor: c(self.max_factor),
+        }
+    }
+}
+
 /// Settings of the spatial model-based filter.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Settings<T> {
@@ -298,10 +359,31 @@ pub struct Settings<T> {
     /// with one degree of freedom for a consistent filter). Default 50, the planar
     /// filter's (see [`crate::ekf::ModelSettings::innovation_gate`]).
     pub innovation_gate: T,
-    /// Consecutive rejections after which a measurement is re-acquired (the covariance is
-    /// inflated by the innovation, as a tilt step that leaves the pendulum hanging, and
-    /// the reading applied without the gate). Default 200 samples.
+    /// Consecutive rejections after which a measurement is re-acquired: for the encoders,
+    /// the joint states start again at the reading (the attitude is left as it is: a
+    /// pendulum that tumbled says nothing of the tilt); for the speed, its covariance is
+    /// inflated by the innovation and the reading applied without the gate. Default 200
+    /// samples.
     pub reacquire_after: u32,
+    /// The pendulum's forcing adapted to the log. Default on: see [`Adaptation`].
+    pub adaptation: Adaptation<T>,
+    /// The guard \[rad\]: when the filter's up direction and the gyro and accelerometer's
+    /// ([`crate::spatial::imu::InclinationReference`], the accelerometer less O's known
+    /// acceleration) are further apart than this, the filter's attitude is reset to the
+    /// reference's and its joint states start again ([`crate::Flags::RESET`]): the
+    /// pendulum's model no longer held and the filter followed it. Default 5 deg: the
+    /// reference stays within 2-3 deg on BROAD's hand-held motion (docs/real-motion.md),
+    /// and a filter that is right never comes near it. Infinite: no guard, and the
+    /// reference is not used at all (neither while the pendulum is unused nor for the
+    /// gyro's bias at rest).
+    pub guard_angle: T,
+    /// Time constant \[s\] of the guard's low-pass of the specific force. Default 3 s, VQF's
+    /// ([`crate::spatial::imu::DEFAULT_REFERENCE_TAU`]).
+    pub guard_tau: T,
+    /// Largest inner-joint angle |b| \[rad\] at which the encoders are used: beyond it the
+    /// Cardan joint nears its lock (b = 90 deg) and the outer angle says nothing of roll.
+    /// Default 70 deg.
+    pub pendulum_range: T,
 }
 
 impl<T: Real> Default for Settings<T> {
@@ -324,6 +406,10 @@ impl<T: Real> Default for Settings<T> {
             initial_angle: T::lit(2.0f64.to_radians()),
             innovation_gate: T::lit(50.0),
             reacquire_after: 200,
+            adaptation: Adaptation::default(),
+            guard_angle: T::lit(5f64.to_radians()),
+            guard_tau: T::lit(crate::spatial::imu::DEFAULT_REFERENCE_TAU),
+            pendulum_range: T::lit(70f64.to_radians()),
         }
     }
 }
@@ -353,6 +439,10 @@ impl<T: Real> Settings<T> {
             initial_angle: c(self.initial_angle),
             innovation_gate: c(self.innovation_gate),
             reacquire_after: self.reacquire_after,
+            adaptation: self.adaptation.cast(),
+            guard_angle: c(self.guard_angle),
+            guard_tau: c(self.guard_tau),
+            pendulum_range: c(self.pendulum_range),
         }
     }
 

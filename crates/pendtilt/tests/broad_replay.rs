@@ -1,0 +1,160 @@
+//! Real motion: the BROAD excerpt (tests/data/broad, CC-BY 4.0; five trials, 8 s of rest
+//! and 32 s of movement each) replayed through MODEL.md 7.6's pendulum (`replay` at its
+//! defaults), and the 3-D estimators at their defaults scored against the optical truth
+//! from the first movement on (MODEL.md 7.9, 7.10).
+use std::path::PathBuf;
+
+use pendtilt::bank3d::rig::Pendulum3dConfig;
+use pendtilt::bank3d::Settings3d;
+use pendtilt::replay::benchmark::{score, Score};
+use pendtilt::replay::source::ImuOptions;
+use pendtilt::replay::{replay, Recording, Replay, ReplaySettings};
+use pendtilt::sim3d::Mounting;
+
+const TRIALS: [&str; 5] = [
+    "06_undisturbed_fast_rotation_A",
+    "10_undisturbed_slow_translation_A",
+    "16_undisturbed_fast_translation_B",
+    "24_disturbed_tapping_A",
+    "27_disturbed_phone_vibration_B",
+];
+
+fn excerpt(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/broad")
+        .join(format!("{name}.mat"))
+}
+
+fn replayed(name: &str) -> (Recording, Replay) {
+    let rec = Recording::open(excerpt(name), &ImuOptions::default()).unwrap();
+    let r = replay(&rec, &ReplaySettings::default()).unwrap();
+    (rec, r)
+}
+
+fn settings(r: &Replay) -> Settings3d {
+    Settings3d::new(
+        Pendulum3dConfig::Physical(r.pendulum).params(),
+        Mounting::default(),
+        None,
+    )
+}
+
+fn scores(name: &str, s: &Settings3d) -> (Vec<Score>, Vec<Vec<f64>>, Recording, Replay) {
+    let (rec, r) = replayed(name);
+    let only = ["ekf3d", "ukf3d", "vqf"].map(String::from);
+    let (sc, e) = score(&rec, &r, s, Some(&only)).unwrap();
+    (sc, e, rec, r)
+}
+
+fn by<'a>(s: &'a [Score], name: &str) -> &'a Score {
+    s.iter().find(|x| x.estimator == name).unwrap()
+}
+
+/// The excerpt reads as BROAD's trials: 286 Hz, 40 s, the movement marked 8 s in, the
+/// truth from the quaternion, an initial rest with the gyro's bias and gravity.
+#[test]
+fn the_excerpt_reads_as_broad_trials() {
+    for name in TRIALS {
+        let (rec, r) = replayed(name);
+        let n = rec.t.len();
+        let fs = (n - 1) as f64 / rec.t[n - 1];
+        assert!((fs - 285.714).abs() < 0.01, "{name}: {fs} Hz");
+        assert!(
+            (rec.t[n - 1] - 40.0).abs() < 0.01,
+            "{name}: {} s",
+            rec.t[n - 1]
+        );
+        let first = rec.movement.unwrap();
+        assert!((rec.t[first] - 8.0).abs() < 0.01, "{name}");
+        let rest = r.report.rest.unwrap();
+        assert_eq!(rest.end, first, "{name}");
+        assert!(
+            (r.report.gravity - 9.81).abs() < 0.15,
+            "{name}: {}",
+            r.report.gravity
+        );
+        assert!(rest.gyro_bias.iter().all(|b| b.abs() < 0.01), "{name}");
+        // One log row per recorded row; encoders within (-pi, pi].
+        assert_eq!(r.rows.len(), n);
+        assert!(r.rows.iter().all(|x| x
+            .phi
+            .iter()
+            .all(|p| *p > -std::f64::consts::PI && *p <= std::f64::consts::PI)));
+        // At rest the pendulum hangs at the truth's tilt (BROAD's optical frame is aligned
+        // to the IMU within a fraction of a degree).
+        let rest_rows: Vec<_> = r.rows[..first]
+            .iter()
+            .filter(|x| x.roll.is_finite() && x.pitch.is_finite())
+            .collect();
+        assert!(rest_rows.len() > first / 2, "{name}");
+        for x in rest_rows {
+            assert!(
+                (x.phi[0] - x.roll).abs().to_degrees() < 1.0,
+                "{name} at {} s",
+                x.t
+            );
+            assert!(
+                (x.phi[1] - x.pitch).abs().to_degrees() < 1.0,
+                "{name} at {} s",
+                x.t
+            );
+        }
+    }
+}
+
+/// ekf3d and ukf3d never lose the attitude on recorded motion: under 10 deg at every
+/// scored sample of every excerpt (the pendulum tumbles on fast translation and tapping),
+/// within 4x the `vqf` column's RMS and 2.5 deg. Not the target (no worse than VQF): see
+/// docs/real-motion.md for the figures.
+#[test]
+fn ekf3d_never_loses_the_attitude_on_recorded_motion() {
+    for name in TRIALS {
+        let (_, r) = replayed(name);
+        let (sc, _, _, _) = scores(name, &settings(&r));
+        let (e, u, v) = (by(&sc, "ekf3d"), by(&sc, "ukf3d"), by(&sc, "vqf"));
+        eprintln!(
+            "{name}: ekf3d {:.3} ({:.2}), ukf3d {:.3} ({:.2}), vqf {:.3} ({:.2}) deg RMS (max)",
+            e.rms, e.max, u.rms, u.max, v.rms, v.max
+        );
+        for s in [e, u] {
+            assert!(
+                s.max < 10.0,
+                "{name}: {} max {:.2} deg at {} s",
+                s.estimator,
+                s.max,
+                s.t_max
+            );
+            assert!(
+                s.rms < 2.5 && s.rms < 4.0 * v.rms,
+                "{name}: {} {:.3} deg, vqf {:.3}",
+                s.estimator,
+                s.rms,
+                v.rms
+            );
+        }
+        // ukf3d no worse than ekf3d by more than 20 % (the target, 10 %, is not reached:
+        // 17 % worse on the tapping excerpt, 1.15 against 0.98 deg).
+        assert!(
+            u.rms < 1.2 * e.rms + 0.02,
+            "{name}: ukf3d {:.3} ekf3d {:.3}",
+            u.rms,
+            e.rms
+        );
+    }
+}
+
+/// Without the guard and the adaptation (the filter as it was before recorded motion
+/// was tried) ekf3d loses the attitude on the same excerpts: the test above could fail.
+#[test]
+fn without_guard_and_adaptation_ekf3d_loses_the_attitude() {
+    let mut worst = 0.0f64;
+    for name in TRIALS {
+        let (_, r) = replayed(name);
+        let mut s = settings(&r);
+        s.ekf.guard_angle = f64::INFINITY;
+        s.ekf.adaptation.enabled = false;
+        let (sc, _, _, _) = scores(name, &s);
+        worst = worst.max(by(&sc, "ekf3d").max);
+    }
+    assert!(worst > 20.0, "{worst}");
+}
