@@ -217,7 +217,7 @@ fn main() -> anyhow::Result<()> {
         .iter()
         .map(|(t, _, _)| t[..2].parse().unwrap_or(f64::NAN))
         .collect();
-    let series: Vec<(String, Vec<f64>)> = ["ekf3d", "ukf3d", "vqf", "accel3d"]
+    let series: Vec<(String, Vec<f64>)> = ["ekf3d", "ukf3d", "vqf"]
         .iter()
         .map(|n| {
             let y = table
@@ -231,7 +231,11 @@ fn main() -> anyhow::Result<()> {
             (n.to_string(), y)
         })
         .chain(std::iter::once((
-            "VQF reference (Python package)".to_string(),
+            if vibration.is_some() {
+                "VQF reference (Python package), as recorded: no vibration".to_string()
+            } else {
+                "VQF reference (Python package)".to_string()
+            },
             table
                 .iter()
                 .map(|(t, _, _)| {
