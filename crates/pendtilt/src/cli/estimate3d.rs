@@ -1088,7 +1088,7 @@ impl<'a> RowInput<'a> {
         let t = r.t * self.time_scale;
         let k = self.angle_scale;
         let line = r.line;
-        let phi: [f64; 2] = std::array::from_fn(|i| r.phi[i] * k);
+        let phi: [f64; 2] = std::array::from_fn(|i| hair_beyond_pi(r.phi[i] * k));
         let phi = [
             self.plausible(line, "phi_x", phi[0], std::f64::consts::PI, "rad"),
             self.plausible(line, "phi_y", phi[1], std::f64::consts::PI, "rad"),
@@ -1353,4 +1353,42 @@ fn score_table(p: &Pass, score_from: f64) -> String {
     }
     t.pop();
     t
+}
+
+/// How far beyond +-pi \[rad\] an encoder reading is taken for +-pi as a logger rounded
+/// it (`-3.1416` is 7e-6 beyond; `3.142`, 4e-4): such a reading is wrapped into (-pi, pi],
+/// not read as missing.
+const PI_ROUNDING: f64 = 1e-3;
+
+/// An encoder angle a hair beyond +-pi (within [`PI_ROUNDING`]) wrapped into (-pi, pi];
+/// any other value as it is.
+fn hair_beyond_pi(x: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    if x.abs() > PI && x.abs() <= PI + PI_ROUNDING {
+        x - x.signum() * TAU
+    } else {
+        x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// -pi printed to four decimals is wrapped, not dropped; a reading well beyond stays
+    /// beyond (the plausibility check reads it as missing and says so).
+    #[test]
+    fn an_encoder_a_hair_beyond_pi_is_wrapped() {
+        let pi = std::f64::consts::PI;
+        // As a logger prints -pi and pi rounded.
+        let (four, three): (f64, f64) = ("-3.1416".parse().unwrap(), "3.142".parse().unwrap());
+        let w = hair_beyond_pi(four);
+        assert!(w > pi - 1e-4 && w <= pi, "{w}");
+        let w = hair_beyond_pi(three);
+        assert!(w < -pi + 1e-3 && w > -pi, "{w}");
+        assert_eq!(hair_beyond_pi(pi), pi);
+        assert_eq!(hair_beyond_pi(0.5), 0.5);
+        assert_eq!(hair_beyond_pi(pi + 0.1), pi + 0.1);
+        assert!(hair_beyond_pi(f64::NAN).is_nan());
+    }
 }
