@@ -125,6 +125,23 @@ fn an_imu_csv_with_its_own_names_and_a_corrupt_cell() {
         .collect();
     assert!((row[1] - 0.2).abs() < 0.01, "{row:?}");
 
+    // The same log without --accel-unit g: gravity's size at rest says so.
+    let o = pendtilt(&[
+        "replay",
+        s(&imu),
+        "--map",
+        "t=time_ms,gyro_x=gx,gyro_y=gy,gyro_z=gz",
+        "--time-unit",
+        "ms",
+        "--deg",
+        "gyro",
+        "-q",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("give --accel-unit g"), "{}", stderr(&o));
+
     std::fs::write(&imu, text.replacen("\n15,0,", "\n15,0x,", 1)).unwrap();
     let o = pendtilt(&[
         "replay",

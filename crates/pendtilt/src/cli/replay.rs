@@ -274,10 +274,34 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for f in files {
         f.commit()?;
     }
+    if let Some(w) = accel_unit_doubt(&args, out.report.gravity) {
+        eprintln!("{w}");
+    }
     if !args.quiet {
         summary(&args, &rec, &out, rig_path.as_deref(), started);
     }
     Ok(())
+}
+
+/// A warning when the specific force at rest is not gravity's in size (an accelerometer in
+/// g or mg, read as m/s^2), with the option that fixes it.
+fn accel_unit_doubt(args: &Args, gravity: f64) -> Option<String> {
+    let g = crate::io::STANDARD_GRAVITY;
+    if (0.5 * g..=2.0 * g).contains(&gravity) {
+        return None;
+    }
+    let fix = if (0.5..=2.0).contains(&gravity) {
+        "--accel-unit g"
+    } else if (500.0..=2000.0).contains(&gravity) {
+        "--accel-unit mg"
+    } else {
+        "--accel-unit"
+    };
+    Some(format!(
+        "warning: {}: the specific force at rest is {gravity:.4} in the accelerometer's \
+         unit, not gravity's 9.81 m/s^2: give {fix} (the pendulum was driven as read)",
+        args.input.display()
+    ))
 }
 
 /// What the replay found, on standard error.
