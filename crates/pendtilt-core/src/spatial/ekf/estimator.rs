@@ -280,22 +280,12 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         };
         let x = *f.state();
         let mut p = *f.covariance();
-        let loose = |i: usize| i == ROT || i == ROT + 1;
-        for i in 0..N {
-            for j in 0..N {
-                if i != j && (loose(i) || loose(j)) {
-                    p[(i, j)] = T::zero();
-                }
-            }
-        }
         let sd = if self.clip_hold {
             self.settings.initial_angle
         } else {
             T::lit(REACQUIRE_SD)
         };
-        for i in [ROT, ROT + 1] {
-            p[(i, i)] = p[(i, i)].max(sd * sd);
-        }
+        loosen_roll_pitch(&mut p, sd);
         self.filter = Some(F::start(x, p));
     }
 
@@ -746,14 +736,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         let mut x = *f.state();
         let mut p = *f.covariance();
         x.joints = Vector4::new(z[0], z[1], T::zero(), T::zero());
-        let joint = |i: usize| (A..=R).contains(&i);
-        for i in 0..N {
-            for j in 0..N {
-                if i != j && (joint(i) || joint(j)) {
-                    p[(i, j)] = T::zero();
-                }
-            }
-        }
+        uncorrelate(&mut p, |i| (A..=R).contains(&i));
         let rate = T::lit(JOINT_RATE_SD);
         p[(A, A)] = self.encoders.r;
         p[(B, B)] = self.encoders.r;
@@ -826,18 +809,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         f.retract(&dx);
         let x = *f.state();
         let mut p = *f.covariance();
-        let loose = |i: usize| i == ROT || i == ROT + 1;
-        for i in 0..N {
-            for j in 0..N {
-                if i != j && (loose(i) || loose(j)) {
-                    p[(i, j)] = T::zero();
-                }
-            }
-        }
-        let sd = st.guard_angle;
-        for i in [ROT, ROT + 1] {
-            p[(i, i)] = p[(i, i)].max(sd * sd);
-        }
+        loosen_roll_pitch(&mut p, st.guard_angle);
         self.filter = Some(F::start(x, p));
         let z = SVector::<T, 2>::new(-s.phi[0], -s.phi[1]);
         let pred = self.encoders.predict(&x);
@@ -935,6 +907,26 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             Ok(()) => Flags::empty(),
             Err(_) => Flags::MEASUREMENT_SKIPPED,
         }
+    }
+}
+
+/// Zeroes the covariances between the states `apart` picks and all others.
+fn uncorrelate<T: Real>(p: &mut Cov<T, N>, apart: impl Fn(usize) -> bool) {
+    for i in 0..N {
+        for j in 0..N {
+            if i != j && (apart(i) || apart(j)) {
+                p[(i, j)] = T::zero();
+            }
+        }
+    }
+}
+
+/// Roll and pitch made uncorrelated with the rest and their standard deviation raised to
+/// at least `sd` \[rad\] (a re-acquisition, a reset onto the guard's reference).
+fn loosen_roll_pitch<T: Real>(p: &mut Cov<T, N>, sd: T) {
+    uncorrelate(p, |i| i == ROT || i == ROT + 1);
+    for i in [ROT, ROT + 1] {
+        p[(i, i)] = p[(i, i)].max(sd * sd);
     }
 }
 
