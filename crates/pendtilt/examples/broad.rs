@@ -131,10 +131,12 @@ fn main() -> anyhow::Result<()> {
             eprint!("[{clipped} rows clipped] ");
         }
         eprintln!(
-            "{trial:<36} ekf3d {:6.2} ({:5.1}) ukf3d {:6.2} vqf {:5.2} (reference {:.2} ({:.1})) deg RMS (max)",
+            "{trial:<36} ekf3d {:6.2} ({:5.1}) ukf3d {:6.2} imu3d {:6.2} ({:5.1}) vqf {:5.2} (reference {:.2} ({:.1})) deg RMS (max)",
             e("ekf3d"),
             m("ekf3d"),
             e("ukf3d"),
+            e("imu3d"),
+            m("imu3d"),
             e("vqf"),
             vqf_ref,
             refs.get(&(trial[..2].to_string(), "vqf".to_string())).map_or(f64::NAN, |v| v[1]),

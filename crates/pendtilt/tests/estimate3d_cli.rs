@@ -680,7 +680,7 @@ fn beyond_the_restart_gap_there_is_no_estimate_and_the_summary_says_missing() {
     let ests: Vec<usize> = (0..header.len())
         .filter(|&i| header[i].ends_with("_roll") && header[i] != "roll")
         .collect();
-    assert_eq!(ests.len(), 9);
+    assert_eq!(ests.len(), 10);
     for r in &rows {
         if r[t] > 6.502 && r[t] < 8.0 {
             for &i in &ests {

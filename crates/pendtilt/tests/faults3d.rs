@@ -184,7 +184,7 @@ const FAULTS: [Fault; 12] = [
             T_FAULT + 10.0
         },
         warns: "phi_x/phi_y, gyro_x/y/z, ax/ay/az back after a gap of 10.001 s (longer than \
-                the restart gap 0.5 s): 9 estimators",
+                the restart gap 0.5 s): 10 estimators",
         never_warns: &[],
         flag: Some(("sample_missing", |_| true)),
         rig: "",

@@ -92,23 +92,36 @@ impl<T: Real> InclinationReference<T> {
 
     /// One sample: the gyro `gyro` \[rad/s\] (as read: the bias is found at rest) and the
     /// specific force `f` \[m/s^2\], body axes, `dt` after the previous one. The first
-    /// sample starts level on its specific force. Non-finite inputs are skipped.
-    pub fn update(&mut self, gyro: &Vector3<T>, f: &Vector3<T>, dt: T) {
-        if !(gyro.iter().all(|x| x.is_finite()) && f.iter().all(|x| x.is_finite())) {
+    /// sample starts level on its specific force. A non-finite gyro skips the sample; a
+    /// specific force that is `None` or not finite (missing, or clipped at the
+    /// accelerometer's full scale: its direction is then wrong) leaves the low-pass where it
+    /// was while the gyro turns the attitude on.
+    pub fn update(&mut self, gyro: &Vector3<T>, f: Option<&Vector3<T>>, dt: T) {
+        let f = f.filter(|f| f.iter().all(|x| x.is_finite()));
+        if !gyro.iter().all(|x| x.is_finite()) || (!self.started && f.is_none()) {
             return;
         }
-        self.detect_rest(gyro, f, dt);
+        match f {
+            Some(f) => self.detect_rest(gyro, f, dt),
+            // No rest without a reading that says so.
+            None => self.resting = T::zero(),
+        }
         let w = &(gyro - self.bias);
         if !self.started {
-            // The first reading's direction is up: start the correction there.
-            self.acc_q = tilt_to_vertical(&f.normalize());
-            self.started = true;
+            if let Some(f) = f {
+                // The first reading's direction is up: start the correction there.
+                self.acc_q = tilt_to_vertical(&f.normalize());
+                self.started = true;
+            }
         } else if dt > T::zero() {
             let angle = w.norm() * dt;
             if angle > T::zero() {
                 self.gyro_q *= UnitQuaternion::from_scaled_axis(w * dt);
             }
         }
+        let Some(f) = f else {
+            return;
+        };
         // The specific force in the gyro's frame, low-passed there.
         let fi = self.gyro_q * f;
         if self.lp[0] == Vector3::zeros() && self.lp[1] == Vector3::zeros() {
@@ -193,10 +206,10 @@ mod tests {
     fn the_reference_finds_the_up_direction_and_ignores_short_accelerations() {
         let up = Vector3::new(-0.3f64, 0.2, 0.93).normalize();
         let mut r = InclinationReference::new(DEFAULT_REFERENCE_TAU);
-        r.update(&Vector3::zeros(), &(up * 9.81), 0.0);
+        r.update(&Vector3::zeros(), Some(&(up * 9.81)), 0.0);
         assert!((r.up() - up).norm() < 1e-12);
         for _ in 0..1000 {
-            r.update(&Vector3::zeros(), &(up * 9.81), 0.01);
+            r.update(&Vector3::zeros(), Some(&(up * 9.81)), 0.01);
         }
         assert!((r.up() - up).norm() < 1e-9, "{:?}", r.up());
 
@@ -212,7 +225,7 @@ mod tests {
             let w = pitch.inverse() * Vector3::new(0.0, 0.0, 1.0);
             let a_world = Vector3::new(if (t % 1.0) < 0.5 { 3.0 } else { -3.0 }, 0.0, 0.0);
             let f = att.inverse() * (a_world + Vector3::new(0.0, 0.0, 9.81));
-            r.update(&w, &f, if k == 0 { 0.0 } else { dt });
+            r.update(&w, Some(&f), if k == 0 { 0.0 } else { dt });
             // After the start's transient (it began 17 deg off, on an accelerating body).
             if t > 15.0 {
                 let true_up = att.inverse() * Vector3::z();
@@ -220,6 +233,24 @@ mod tests {
             }
         }
         assert!(worst < 1.0, "{worst} deg");
+    }
+
+    /// Without accelerometer readings the gyro still turns the reference: a body turning
+    /// about x at 0.5 rad/s for a second while the accelerometer is missing is found
+    /// turned by 0.5 rad.
+    #[test]
+    fn without_the_accelerometer_the_gyro_carries_the_reference() {
+        let mut r = InclinationReference::new(DEFAULT_REFERENCE_TAU);
+        r.update(&Vector3::zeros(), Some(&Vector3::new(0.0, 0.0, 9.81)), 0.0);
+        for _ in 0..100 {
+            r.update(&Vector3::new(0.5, 0.0, 0.0), None, 0.01);
+        }
+        let roll = r.up()[1].atan2(r.up()[2]);
+        assert!((roll - 0.5).abs() < 1e-9, "{roll}");
+        // Nothing to start on without a reading.
+        let mut r = InclinationReference::<f64>::new(DEFAULT_REFERENCE_TAU);
+        r.update(&Vector3::new(0.5, 0.0, 0.0), None, 0.01);
+        assert!(!r.is_started());
     }
 
     #[test]

@@ -277,6 +277,13 @@ pub static REGISTRY3D: &[Entry3d] = &[
         build: |s| Box::new(Ukf::new(s.ekf)),
     },
     Entry3d {
+        name: "imu3d",
+        about: "ekf3d's filter with the accelerometer in place of the encoders (the ablation)",
+        quaternion: true,
+        reads: IMU,
+        build: |s| Box::new(Ekf::new(s.ekf.imu_only())),
+    },
+    Entry3d {
         name: "vqf",
         about: "VQF 6D (peer, vqf-rs)",
         quaternion: false,

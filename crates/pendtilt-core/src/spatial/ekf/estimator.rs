@@ -532,19 +532,27 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         Attitude { flags, ..self.last }
     }
 
-    /// Starts with the pendulum hanging still at the sample's encoder angles.
+    /// Starts with the pendulum hanging still at the sample's encoder angles (imu3d: at
+    /// the accelerometer's roll and pitch).
     fn start(&mut self, s: &SpatialSample<T>) -> Attitude<T> {
         let st = &self.settings;
+        let phi = if st.use_encoders {
+            s.phi
+        } else {
+            let f = s.accel;
+            let (roll, pitch) = roll_pitch_from_up(f);
+            [roll, pitch]
+        };
         // The guard's reference once it has settled (a restart in motion: the pendulum
         // need not hang still), else the pendulum hanging still.
         let (roll, pitch) = if self.reference_settled() {
             let u = self.reference.up();
             roll_pitch_from_up([u[0], u[1], u[2]])
         } else {
-            (s.phi[0], s.phi[1])
+            (phi[0], phi[1])
         };
         let w = self.gyro.unwrap_or_else(Vector3::zeros);
-        let (a, b) = (-s.phi[0], -s.phi[1]);
+        let (a, b) = (-phi[0], -phi[1]);
         let (sa, ca) = a.sin_cos();
         let (sb, cb) = b.sin_cos();
         // Hanging still: the pendulum's rates about its own x and y axes are zero.
@@ -751,14 +759,18 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// [`Settings::guard_angle`], the attitude is turned onto it (the smallest turn: the
     /// heading kept), its roll and pitch loosened to the guard's angle and uncorrelated,
     /// and the joint states start again at the encoders' reading.
-    fn guard(&mut self, s: &SpatialSample<T>, dt: T, drive: &Drive<T>, have_phi: bool) -> Flags {
+    fn guard(
+        &mut self,
+        s: &SpatialSample<T>,
+        dt: T,
+        drive: &Drive<T>,
+        have_phi: bool,
+        accel_ok: bool,
+    ) -> Flags {
         let st = self.settings;
         let Some(f) = self.filter.as_ref() else {
             return Flags::empty();
         };
-        if !s.accel.iter().all(|v| v.is_finite()) {
-            return Flags::empty();
-        }
         let x = *f.state();
         let w = drive.gyro - x.bias;
         let acc = Accelerometer {
@@ -775,6 +787,8 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             acc.lever
         };
         let z = Vector3::new(s.accel[0], s.accel[1], s.accel[2]) - known;
+        // A missing reading: the gyro carries the reference over it.
+        let z = accel_ok.then_some(z);
         // While the gyro is held the reference cannot follow the body: it waits, then takes
         // the filter's inclination (the encoders carried it) and guards again from there.
         if self.held_for > T::zero() {
@@ -785,7 +799,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             self.reference.align_up(&x.up());
         }
         // The gyro as read: the filter's bias estimate is what the guard guards against.
-        self.reference.update(&drive.gyro, &z, dt);
+        self.reference.update(&drive.gyro, z.as_ref(), dt);
         if self.held_bias.is_some() {
             return Flags::empty();
         }
@@ -811,10 +825,12 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         let mut p = *f.covariance();
         loosen_roll_pitch(&mut p, st.guard_angle);
         self.filter = Some(F::start(x, p));
-        let z = SVector::<T, 2>::new(-s.phi[0], -s.phi[1]);
-        let pred = self.encoders.predict(&x);
-        let z = SVector::<T, 2>::from_fn(|i, _| pred[i] + wrap_pi(z[i] - pred[i]));
-        self.restart_joints(&z);
+        if st.use_encoders {
+            let z = SVector::<T, 2>::new(-s.phi[0], -s.phi[1]);
+            let pred = self.encoders.predict(&x);
+            let z = SVector::<T, 2>::from_fn(|i, _| pred[i] + wrap_pi(z[i] - pred[i]));
+            self.restart_joints(&z);
+        }
         self.rejected = 0;
         Flags::RESET
     }
@@ -880,33 +896,66 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         let _ = filter.update(&m, &self.reference.bias(), Gate::off());
     }
 
-    fn sense_accel(&mut self, s: &SpatialSample<T>, dt: T, drive: &Drive<T>) -> Flags {
-        let st = &self.settings;
+    /// The accelerometer as a measurement of the up direction (and of O's acceleration
+    /// while travelling), through its gate. Its variance is the sensor's white noise over
+    /// the sample and the vibration's; for imu3d, where it replaces the encoders, also the
+    /// body's unmodelled acceleration: the forcing's density over the sample, times the
+    /// adapted factor, whose adaptation its innovations drive as the encoders' do in
+    /// ekf3d. A missing reading (not `accel_ok`) is skipped.
+    fn sense_accel(
+        &mut self,
+        s: &SpatialSample<T>,
+        dt: T,
+        drive: &Drive<T>,
+        accel_ok: bool,
+    ) -> Flags {
+        let st = self.settings;
         let Some(filter) = self.filter.as_mut() else {
             return Flags::empty();
         };
-        if !s.accel.iter().all(|v| v.is_finite()) {
-            return Flags::empty();
+        if !accel_ok {
+            return Flags::MEASUREMENT_SKIPPED;
         }
         let d = st.sensors.accel_density;
         let vib = st.environment.vibration_rms;
+        let h = dt.max(T::lit(1e-6));
+        let motion = if st.use_encoders {
+            T::zero()
+        } else {
+            let q = st.environment.vibration_density;
+            q * q * self.forcing / h
+        };
         // The lever arm from O at the filter's bias-corrected rate.
         let w = drive.gyro - filter.state().bias;
         let acc = Accelerometer {
             gravity: st.params.gravity,
             per_speed: drive.centre_accel_per_speed(&w),
             lever: lever_arm(&w, &drive.angular_accel, &self.accel_from_centre),
-            r: d * d / dt.max(T::lit(1e-6)) + vib * vib,
+            r: d * d / h + vib * vib + motion,
         };
         let z = Vector3::new(s.accel[0], s.accel[1], s.accel[2]);
+        let nis = if st.use_encoders {
+            T::zero()
+        } else {
+            // Per axis, before the update, as the encoders' in ekf3d.
+            let x = filter.state();
+            let (y, hm) = (z - acc.predict(x), acc.jacobian(x));
+            let sv = hm * filter.covariance() * hm.transpose();
+            (0..3).fold(T::zero(), |m, i| m + y[i] * y[i] / (sv[(i, i)] + acc.r)) / T::lit(3.0)
+        };
         let gate = Gate {
             threshold: st.innovation_gate,
             floor: T::zero(),
         };
-        match filter.update(&acc, &z, gate) {
+        let flags = match filter.update(&acc, &z, gate) {
             Ok(()) => Flags::empty(),
             Err(_) => Flags::MEASUREMENT_SKIPPED,
+        };
+        if !st.use_encoders {
+            self.since_used += dt;
+            self.adapt(nis.min(st.innovation_gate));
         }
+        flags
     }
 }
 
@@ -971,7 +1020,13 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             return self.hold(Flags::BAD_TIME_STEP);
         };
         let dt = step.unwrap_or(T::zero());
-        let have_phi = s.phi.iter().all(|v| v.is_finite());
+        // The gravity reference the filter starts on and whose gaps restart it: the
+        // encoders, or for imu3d the accelerometer.
+        let have_phi = if self.settings.use_encoders {
+            s.phi.iter().all(|v| v.is_finite())
+        } else {
+            s.accel.iter().all(|v| v.is_finite())
+        };
         let gyro_ok = s.gyro.iter().all(|v| v.is_finite());
         if gyro_ok {
             let g = Vector3::new(s.gyro[0], s.gyro[1], s.gyro[2]);
@@ -1078,12 +1133,15 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
                 .map_or(T::zero(), |f| f.state().bias[2]),
         };
         self.since_start += dt;
+        let accel_ok = s.accel.iter().all(|v| v.is_finite());
         let ok = self.predict(dt, &drive, &extra);
         if let Some(f) = self.filter.as_mut() {
             bound_heading(f);
         }
         self.clock.accept();
-        if have_phi {
+        if !have_phi {
+            flags |= Flags::SAMPLE_MISSING;
+        } else if self.settings.use_encoders {
             // The joint angles the encoders read (MODEL.md 7.2).
             let z = SVector::<T, 2>::new(-s.phi[0], -s.phi[1]);
             let used = self.sense_encoders(&z, dt);
@@ -1091,13 +1149,15 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             self.sense_reference(used.contains(Flags::PENDULUM_UNUSED), dt);
             self.hold_bias();
         } else {
-            flags |= Flags::SAMPLE_MISSING;
+            flags |= self.sense_accel(s, dt, &drive, accel_ok);
+            self.sense_reference(false, dt);
+            self.hold_bias();
         }
         flags |= self.sense_speed(s, dt, &gyro, &angular_accel);
-        if self.settings.use_accel {
-            flags |= self.sense_accel(s, dt, &drive);
+        if self.settings.use_accel && self.settings.use_encoders {
+            flags |= self.sense_accel(s, dt, &drive, accel_ok);
         }
-        flags |= self.guard(s, dt, &drive, have_phi);
+        flags |= self.guard(s, dt, &drive, have_phi, accel_ok);
         self.sense_rest(dt);
         let finite = self.filter.as_ref().is_some_and(|f| {
             let p = f.covariance();
@@ -1169,6 +1229,51 @@ mod tests {
             accel: [f64::NAN; 3],
             speed: f64::NAN,
         }
+    }
+
+    /// imu3d ([`Settings::imu_only`]) needs no encoders: on a body resting tilted, with no
+    /// encoder reading at all, it starts on the accelerometer and holds its tilt; ekf3d on
+    /// the same samples never starts. A body accelerating along x at 2 m/s^2 for a second
+    /// (12 deg of an accelerometer's tilt) moves it by far less: the adaptation and the
+    /// guard's reference keep to the gyro.
+    #[test]
+    fn imu3d_runs_on_the_accelerometer_alone() {
+        let (roll, pitch) = (0.2f64, -0.1f64);
+        let up = crate::spatial::attitude::up_from_roll_pitch(roll, pitch);
+        let sample = |k: usize, push: f64| {
+            let f = [9.81 * up[0] + push, 9.81 * up[1], 9.81 * up[2]];
+            SpatialSample {
+                dt: if k == 0 { 0.0 } else { 1e-3 },
+                phi: [f64::NAN; 2],
+                gyro: [0.0; 3],
+                accel: f,
+                speed: f64::NAN,
+            }
+        };
+        let mut imu = Ekf::<f64>::new(Settings::default().imu_only());
+        let mut ekf = Ekf::<f64>::new(Settings::default());
+        let mut worst = 0.0f64;
+        for k in 0..20_000 {
+            let push = if (10_000..11_000).contains(&k) {
+                2.0
+            } else {
+                0.0
+            };
+            let a = imu.update(&sample(k, push));
+            let e = ekf.update(&sample(k, push));
+            assert!(e.flags.contains(Flags::INITIALISING), "{k}");
+            if k > 3000 {
+                let err = crate::spatial::attitude::inclination_between(
+                    crate::spatial::attitude::up_from_roll_pitch(a.roll, a.pitch),
+                    up,
+                );
+                worst = worst.max(err.to_degrees());
+            }
+            if k == 9_999 {
+                assert!((a.roll - roll).abs() < 1e-3 && (a.pitch - pitch).abs() < 1e-3);
+            }
+        }
+        assert!(worst < 3.0, "{worst} deg");
     }
 
     /// A gyro axis at its full scale is flagged saturated and loosens the attitude about

@@ -345,6 +345,11 @@ pub struct Settings<T> {
     /// Use the accelerometer as a further measurement of the up direction. Default false:
     /// it reads the vibration unfiltered (as in the planar filter).
     pub use_accel: bool,
+    /// Use the encoders. Default true. False gives `imu3d`, the ablation: the same filter
+    /// (motion model, bias states, adaptation, guard) with the accelerometer in place of
+    /// the encoders as its gravity reference ([`Self::imu_only`]), which tells what the
+    /// pendulum itself adds.
+    pub use_encoders: bool,
     /// Longest integration step \[s\]; longer sample intervals are split. Default 5 ms.
     pub max_step: T,
     /// Longest gap \[s\] bridged by prediction, between rows or between encoder readings;
@@ -401,6 +406,7 @@ impl<T: Real> Default for Settings<T> {
             encoder_jitter: T::lit(DEFAULT_ENCODER_JITTER_DEG.to_radians()),
             slip: SlipSettings::default(),
             use_accel: false,
+            use_encoders: true,
             max_step: T::lit(0.005),
             max_gap: T::lit(0.05),
             initial_angle: T::lit(2.0f64.to_radians()),
@@ -434,6 +440,7 @@ impl<T: Real> Settings<T> {
             encoder_jitter: c(self.encoder_jitter),
             slip: self.slip.cast(),
             use_accel: self.use_accel,
+            use_encoders: self.use_encoders,
             max_step: c(self.max_step),
             max_gap: c(self.max_gap),
             initial_angle: c(self.initial_angle),
@@ -443,6 +450,16 @@ impl<T: Real> Settings<T> {
             guard_angle: c(self.guard_angle),
             guard_tau: c(self.guard_tau),
             pendulum_range: c(self.pendulum_range),
+        }
+    }
+
+    /// These settings as `imu3d`'s: the accelerometer in place of the encoders
+    /// ([`Self::use_encoders`]), everything else as it is.
+    pub fn imu_only(self) -> Self {
+        Self {
+            use_encoders: false,
+            use_accel: true,
+            ..self
         }
     }
 
