@@ -13,6 +13,11 @@
 //! the replays have that scenario's vibration added (`replay --vibration`) and the files
 //! are `benchmark_NAME.*`. OUT_DIR defaults to `docs/broad`. `--trials` takes a subset;
 //! with `--only` (a quick look) nothing is written.
+//!
+//! As recorded, it also checks the peers against the reference filters and writes
+//! `OUT_DIR/peers_check.csv`: the `vqf` column's RMS beside the reference VQF's, and
+//! Madgwick and Mahony run through the same wrapper at the `ahrs` Python package's default
+//! gains (the columns `madgwick3d` and `mahony3d` have pendtilt's) beside the reference's.
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -20,7 +25,8 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use pendtilt::bank3d::rig::Pendulum3dConfig;
 use pendtilt::bank3d::Settings3d;
-use pendtilt::replay::benchmark::{score, Score, TILT_LIMIT_DEG};
+use pendtilt::peers::spatial::{madgwick3d, mahony3d, AHRS_PY_MADGWICK_BETA, AHRS_PY_MAHONY_GAINS};
+use pendtilt::replay::benchmark::{score, score_one, Score, TILT_LIMIT_DEG};
 use pendtilt::replay::source::ImuOptions;
 use pendtilt::replay::{replay_with, AddedVibration, Recording, ReplaySettings};
 use pendtilt::report::figures::{plot_curves, Curve, FigureSpec};
@@ -80,6 +86,8 @@ fn main() -> anyhow::Result<()> {
     let mut csv =
         String::from("trial,estimator,rms_deg,max_deg,rms60_deg,max60_deg,rows,rows60,t_max_s\n");
     let mut table: Vec<(String, Vec<Score>, usize)> = Vec::new();
+    let mut check = String::from("trial,filter,rms_deg,reference_rms_deg,difference_deg\n");
+    let mut worst: BTreeMap<&str, (f64, String)> = BTreeMap::new();
     for f in &files {
         let trial = f
             .file_stem()
@@ -127,6 +135,34 @@ fn main() -> anyhow::Result<()> {
                 .find(|s| s.estimator == n)
                 .map_or(f64::NAN, |s| s.max)
         };
+        if vibration.is_none() {
+            // The peers against the reference filters, at the reference's parameters.
+            let mut madgwick = madgwick3d(AHRS_PY_MADGWICK_BETA);
+            let mut mahony = mahony3d(AHRS_PY_MAHONY_GAINS[0], AHRS_PY_MAHONY_GAINS[1]);
+            let ours = [
+                ("vqf", e("vqf")),
+                (
+                    "madgwick",
+                    score_one(&rec, &r, "madgwick", &mut madgwick).0.rms,
+                ),
+                ("mahony", score_one(&rec, &r, "mahony", &mut mahony).0.rms),
+            ];
+            for (name, rms) in ours {
+                let reference = refs
+                    .get(&(trial[..2].to_string(), name.to_string()))
+                    .map_or(f64::NAN, |v| v[0]);
+                let d = rms - reference;
+                writeln!(
+                    check,
+                    "{},{name},{rms:.4},{reference:.4},{d:.4}",
+                    &trial[..2]
+                )?;
+                let w = worst.entry(name).or_insert((0.0, String::new()));
+                if d.is_finite() && d.abs() >= w.0.abs() {
+                    *w = (d, trial[..2].to_string());
+                }
+            }
+        }
         if vibration.is_some() {
             eprint!("[{clipped} rows clipped] ");
         }
@@ -143,8 +179,18 @@ fn main() -> anyhow::Result<()> {
         );
         table.push((trial, scores, clipped));
     }
+    for (name, (d, trial)) in &worst {
+        eprintln!(
+            "{name}: largest |RMS - reference RMS| {:.4} deg (trial {trial})",
+            d.abs()
+        );
+    }
     if quick {
         return Ok(());
+    }
+    if vibration.is_none() {
+        std::fs::create_dir_all(&out_dir)?;
+        std::fs::write(out_dir.join("peers_check.csv"), &check)?;
     }
     std::fs::create_dir_all(&out_dir)?;
     let stem = vibration

@@ -2,6 +2,7 @@
 //! error from the first movement on, over the whole movement and where the true tilt stays
 //! under [`TILT_LIMIT_DEG`] (the stretches the pendulum's range covers).
 use pendtilt_core::spatial::attitude::inclination_error;
+use pendtilt_core::spatial::SpatialEstimator;
 use pendtilt_core::StepGate;
 
 use super::{Recording, Replay};
@@ -81,49 +82,80 @@ pub fn score(
             });
         }
     }
+    let scores = names
+        .iter()
+        .zip(&errors)
+        .map(|(name, e)| summarise(name, e, &scored, replay))
+        .collect();
+    Ok((scores, errors))
+}
+
+/// Runs one estimator, built by the caller, over the replay's log and scores it against
+/// the truth as [`score`] scores the bank's (the same rows, the same error); also returns
+/// its inclination error per row \[deg\] (NaN where not scored). No gap watch: for a log
+/// without gaps, such as a BROAD trial, it gives what the bank gives.
+pub fn score_one(
+    rec: &Recording,
+    replay: &Replay,
+    name: &str,
+    estimator: &mut dyn SpatialEstimator<f64>,
+) -> (Score, Vec<f64>) {
+    let scored = scored_rows(rec, replay);
+    let mut gate = StepGate::<f64>::new();
+    let errors: Vec<f64> = replay
+        .rows
+        .iter()
+        .zip(&scored)
+        .map(|(row, &keep)| {
+            let a = estimator.update(&row.sample(gate.step(row.t)));
+            if keep {
+                inclination_error(a.roll, a.pitch, row.roll, row.pitch).to_degrees()
+            } else {
+                f64::NAN
+            }
+        })
+        .collect();
+    (summarise(name, &errors, &scored, replay), errors)
+}
+
+/// The scores of one estimator's errors `e` \[deg\] over the `scored` rows.
+fn summarise(name: &str, e: &[f64], scored: &[bool], replay: &Replay) -> Score {
     let low: Vec<bool> = replay
         .rows
         .iter()
         .map(|r| tilt(r.roll, r.pitch).to_degrees() < TILT_LIMIT_DEG)
         .collect();
-    let scores = names
-        .iter()
-        .zip(&errors)
-        .map(|(name, e)| {
-            let stats = |keep: &dyn Fn(usize) -> bool| {
-                let (mut s2, mut max, mut n, mut t_max) = (0.0, 0.0f64, 0usize, f64::NAN);
-                for (k, &x) in e.iter().enumerate() {
-                    if !scored[k] || !keep(k) {
-                        continue;
-                    }
-                    // A non-finite estimate makes RMS and max infinite (MODEL.md 7.9).
-                    let x = if x.is_finite() { x } else { f64::INFINITY };
-                    s2 += x * x;
-                    if x > max || t_max.is_nan() {
-                        max = x;
-                        t_max = replay.rows[k].t;
-                    }
-                    n += 1;
-                }
-                (
-                    (s2 / n as f64).sqrt(),
-                    if n > 0 { max } else { f64::NAN },
-                    n,
-                    t_max,
-                )
-            };
-            let (rms, max, n, t_max) = stats(&|_| true);
-            let (rms_low_tilt, max_low_tilt, n_low, _) = stats(&|k| low[k]);
-            Score {
-                estimator: name.to_string(),
-                rms,
-                max,
-                rms_low_tilt,
-                max_low_tilt,
-                rows: [n, n_low],
-                t_max,
+    let stats = |keep: &dyn Fn(usize) -> bool| {
+        let (mut s2, mut max, mut n, mut t_max) = (0.0, 0.0f64, 0usize, f64::NAN);
+        for (k, &x) in e.iter().enumerate() {
+            if !scored[k] || !keep(k) {
+                continue;
             }
-        })
-        .collect();
-    Ok((scores, errors))
+            // A non-finite estimate makes RMS and max infinite (MODEL.md 7.9).
+            let x = if x.is_finite() { x } else { f64::INFINITY };
+            s2 += x * x;
+            if x > max || t_max.is_nan() {
+                max = x;
+                t_max = replay.rows[k].t;
+            }
+            n += 1;
+        }
+        (
+            (s2 / n as f64).sqrt(),
+            if n > 0 { max } else { f64::NAN },
+            n,
+            t_max,
+        )
+    };
+    let (rms, max, n, t_max) = stats(&|_| true);
+    let (rms_low_tilt, max_low_tilt, n_low, _) = stats(&|k| low[k]);
+    Score {
+        estimator: name.to_string(),
+        rms,
+        max,
+        rms_low_tilt,
+        max_low_tilt,
+        rows: [n, n_low],
+        t_max,
+    }
 }
