@@ -530,6 +530,12 @@ fn allowed(estimator: &str, fault: &str) -> Allowance {
         ("gyro_range", "fusion3d") => never(0.13),
         ("accel_clipped", "vqf") => slow(8.0, 0.16),
         ("accel_clipped", "mahony3d") => slow(5.5, 0.14),
+        // imu3d, the pendulum left out: as the peers, it forgets a fault only at its
+        // accelerometer's rate, which its adaptation lowers on a vehicle.
+        ("gap_10s", "imu3d") => never(1.3),
+        ("burst_gyro", "imu3d") => slow(33.0, 0.16),
+        ("gyro_clipped", "imu3d") => never(0.43),
+        ("accel_clipped", "imu3d") => slow(6.5, 0.13),
         _ => Allowance {
             recovery: 2.0,
             after_2s: BOUND_DEG,
@@ -543,6 +549,9 @@ fn allowed(estimator: &str, fault: &str) -> Allowance {
 fn truth_allowed(estimator: &str, fault: &str) -> Option<f64> {
     match (fault, estimator) {
         ("gap_10s", "vqf") => Some(0.95),
+        ("gap_10s", "imu3d") => Some(0.45),
+        ("burst_gyro", "imu3d") => Some(0.31),
+        ("gyro_clipped", "imu3d") => Some(0.29),
         _ => None,
     }
 }

@@ -355,7 +355,8 @@ pub struct Settings<T> {
     /// Longest gap \[s\] bridged by prediction, between rows or between encoder readings;
     /// after a longer one the filter starts again on the next reading. Default 50 ms (as
     /// the planar filter's, and for the same reason: the prediction cannot follow the
-    /// body's motion for long without the pendulum).
+    /// body's motion for long without the pendulum). Without the encoders (imu3d) the
+    /// gyro bridges missing accelerometer readings, and only a gap of both restarts.
     pub max_gap: T,
     /// Initial standard deviation of roll and pitch around the first encoder angles
     /// \[rad\]. Default 2 deg (the pendulum is taken as hanging still on the first sample).
