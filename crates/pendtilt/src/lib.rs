@@ -7,6 +7,7 @@ pub use pendtilt_core as core;
 
 pub mod bank;
 pub mod bank3d;
+pub mod catalogue;
 pub mod cli;
 pub mod config;
 pub mod experiment;
@@ -16,6 +17,7 @@ pub mod peers;
 pub mod pipeline;
 pub mod replay;
 pub mod report;
+pub mod sensors;
 pub mod sim;
 pub mod sim3d;
 pub mod tune;

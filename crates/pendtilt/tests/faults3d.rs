@@ -608,7 +608,7 @@ fn every_3d_estimator_survives_gaps_glitches_saturation_and_time_glitches() {
         for e in REGISTRY3D {
             if let Some((flag, reads)) = fault.flag {
                 let got = &run.est[e.name][first].2;
-                if reads(&e.reads) && !got.contains(flag) {
+                if reads(&e.reads()) && !got.contains(flag) {
                     failures.push(format!(
                         "{} {}: flags `{got}`, not {flag}",
                         fault.name, e.name

@@ -299,7 +299,7 @@ fn one_impossible_cell_per_sensor_is_missing_for_every_estimator_flagged_and_tol
         let mut settings_needs = Vec::new();
         for e in pendtilt::bank::REGISTRY {
             if let Some(j) = bad.names.iter().position(|n| *n == e.name) {
-                settings_needs.push((j, e.needs));
+                settings_needs.push((j, e.needs()));
             }
         }
         for (j, needs) in settings_needs {
@@ -739,7 +739,7 @@ fn a_gap_shorter_than_the_restart_gap_is_bridged_not_restarted() {
     // Only the estimators reading the gyro restarted: accel and pendulum did not.
     let n_gyro = pendtilt::bank::REGISTRY
         .iter()
-        .filter(|e| r.names.contains(&e.name) && e.needs.gyro)
+        .filter(|e| r.names.contains(&e.name) && e.needs().gyro)
         .count();
     // alg1 shares its front end with alg2, so it restarts with it.
     assert!(

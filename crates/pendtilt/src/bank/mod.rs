@@ -1,10 +1,11 @@
 //! The estimator bank: every estimator `pendtilt estimate` can run, built from the rig
 //! settings and the columns a log has, run side by side one sample at a time.
 //!
-//! Each entry of [`REGISTRY`] names an output column, the inputs it needs, and how to
-//! build it; Kalman outputs name the estimators whose angles they take as measurements.
-//! Adding an estimator is adding an entry. An entry whose inputs the log lacks is skipped
-//! and reported ([`Bank::skipped`]), never a failure.
+//! Each entry of [`REGISTRY`] names an output column and how to build it (the inputs it
+//! needs and its description are its row of [`crate::catalogue`]); Kalman outputs name
+//! the estimators whose angles they take as measurements. Adding an estimator is a
+//! catalogue row and an entry here. An entry whose inputs the log lacks is skipped and
+//! reported ([`Bank::skipped`]), never a failure.
 //!
 //! A configurable estimator is, beside its core module: a field of
 //! [`RigConfig`](crate::config::RigConfig) whose type is its core settings (its `[table]`
@@ -13,16 +14,15 @@
 //! it from [`BankSettings::rig`]. A table whose keys are not its settings' fields one for
 //! one adds a serde `with` module in `config/tables.rs`.
 //!
-//! Files: `inputs.rs` the sensor sets ([`Inputs`]); `settings.rs` the settings built
+//! Files: `settings.rs` the settings built
 //! from a rig ([`BankSettings`]); `registry.rs` the table of estimators ([`REGISTRY`],
 //! [`build_alone`]); `running.rs` the running bank ([`Bank`]).
 
-mod inputs;
 mod registry;
 mod running;
 mod settings;
 
-pub use inputs::Inputs;
+pub use crate::sensors::Inputs;
 pub use registry::{
     build_alone, BoxedEstimator, Entry, InversionSpec, KalmanSource, Kind, RSelector, REGISTRY,
 };

@@ -1,5 +1,5 @@
 //! The registry ([`REGISTRY`]): every estimator the bank knows, by output column, with
-//! the sensors it needs and how it is built from [`BankSettings`]; and
+//! how it is built from [`BankSettings`] (what it reads: [`crate::catalogue`]); and
 //! [`build_alone`], one entry's estimator on its own.
 use pendtilt_core::ekf::{Ekf, Ukf};
 use pendtilt_core::estimators::accel::Accel;
@@ -12,6 +12,7 @@ use pendtilt_core::kalman::KalmanSettings;
 use pendtilt_core::{Estimate, Estimator, Flags, PlanarEstimator, Sample};
 
 use super::{BankSettings, Inputs};
+use crate::catalogue::{self, Listing};
 use crate::peers::{self, ahrs_planar};
 
 /// A boxed streaming estimator over `f64`.
@@ -39,37 +40,18 @@ pub enum Kind {
     Kalman(&'static [KalmanSource]),
 }
 
-/// One estimator the bank knows.
+/// One estimator the bank knows: its name and how it is built (what it reads and what it
+/// is: its row of the catalogue, [`Entry::listing`]).
 pub struct Entry {
-    /// Output column name (MODEL.md section 5).
+    /// Output column name (MODEL.md section 5), its catalogue row's.
     pub name: &'static str,
-    /// The sensors it needs.
-    pub needs: Inputs,
     /// How it is built.
     pub kind: Kind,
-    /// One line for `--help` and reports.
-    pub about: &'static str,
     /// Whether it takes the gyro as missing while the gyro clips heavily
     /// ([`pendtilt_core::estimators::clip_gate`]): the model-based filters, which the
     /// biased readings within range would pull off most.
     pub gyro_gated: bool,
 }
-
-const PHI: Inputs = Inputs {
-    phi: true,
-    gyro: false,
-    accel: false,
-};
-const PHI_GYRO: Inputs = Inputs {
-    phi: true,
-    gyro: true,
-    accel: false,
-};
-const ACCEL_GYRO: Inputs = Inputs {
-    phi: false,
-    gyro: true,
-    accel: true,
-};
 
 fn r_accel(k: &KalmanSettings<f64>) -> f64 {
     k.r_accel
@@ -81,29 +63,37 @@ fn r_accel_fused(k: &KalmanSettings<f64>) -> f64 {
     k.r_accel_fused.unwrap_or(k.r_accel)
 }
 
-/// Every estimator, in output column order.
+impl Entry {
+    /// Its row of the catalogue.
+    pub fn listing(&self) -> &'static Listing {
+        catalogue::expect(self.name)
+    }
+
+    /// The sensors it needs.
+    pub fn needs(&self) -> Inputs {
+        self.listing().reads
+    }
+
+    /// One line on what it is, for `--help` and reports.
+    pub fn about(&self) -> &'static str {
+        self.listing().about
+    }
+}
+
+/// Every estimator, in output column order (the catalogue's planar rows').
 pub static REGISTRY: &[Entry] = &[
     Entry {
         name: "accel",
-        needs: Inputs {
-            phi: false,
-            gyro: false,
-            accel: true,
-        },
         kind: Kind::Direct(|s| Box::new(Accel::new(s.rig.accel))),
-        about: "accelerometer, Eq (1)",
         gyro_gated: false,
     },
     Entry {
         name: "pendulum",
-        needs: PHI,
         kind: Kind::Direct(|_| Box::new(Pendulum::new(PendulumSettings {}))),
-        about: "raw pendulum angle",
         gyro_gated: false,
     },
     Entry {
         name: "alg1",
-        needs: PHI,
         kind: Kind::Inversion(|s| {
             // Algorithm 1 does not read theta'': take Algorithm 2's source so that they
             // can share a front end.
@@ -114,22 +104,18 @@ pub static REGISTRY: &[Entry] = &[
             };
             (fe, a.equation())
         }),
-        about: "Algorithm 1, Eq (20)",
         gyro_gated: false,
     },
     Entry {
         name: "alg2",
-        needs: PHI_GYRO,
         kind: Kind::Inversion(|s| {
             let a = s.rig.alg2_settings();
             (a.front_end, a.equation())
         }),
-        about: "Algorithm 2, Eqs (21)-(22)",
         gyro_gated: false,
     },
     Entry {
         name: "alg2_offset",
-        needs: PHI_GYRO,
         kind: Kind::Inversion(|s| {
             let a = Alg2Settings {
                 pivot_offset: true,
@@ -137,12 +123,10 @@ pub static REGISTRY: &[Entry] = &[
             };
             (a.front_end, a.equation())
         }),
-        about: "Algorithm 2 with the pivot-offset term (not in the paper)",
         gyro_gated: false,
     },
     Entry {
         name: "alg2_dc",
-        needs: PHI_GYRO,
         kind: Kind::Inversion(|s| {
             let a = Alg2Settings {
                 delay_compensation: true,
@@ -150,57 +134,43 @@ pub static REGISTRY: &[Entry] = &[
             };
             (a.front_end, a.equation())
         }),
-        about: "Algorithm 2 with the differentiator's delay removed by the gyro (not in the paper)",
         gyro_gated: false,
     },
     Entry {
         name: "alg3",
-        needs: PHI_GYRO,
         kind: Kind::Inversion(|s| {
             let a = s.rig.alg3_settings();
             (a.front_end, Equation::Alg3(a.gains))
         }),
-        about: "Algorithm 3's Eq (30) with the configured K, L, M, N",
         gyro_gated: false,
     },
     Entry {
         name: "kf_accel",
-        needs: ACCEL_GYRO,
         kind: Kind::Kalman(&[("accel", r_accel)]),
-        about: "Kalman filter fed by the accelerometer (the classic filter)",
         gyro_gated: false,
     },
     Entry {
         name: "kf_alg1",
-        needs: PHI_GYRO,
         kind: Kind::Kalman(&[("alg1", r_pendulum)]),
-        about: "Kalman filter fed by Algorithm 1",
         gyro_gated: false,
     },
     Entry {
         name: "kf_alg2",
-        needs: PHI_GYRO,
         kind: Kind::Kalman(&[("alg2", r_pendulum)]),
-        about: "Kalman filter fed by Algorithm 2",
         gyro_gated: false,
     },
     Entry {
         name: "kf_alg3",
-        needs: PHI_GYRO,
         kind: Kind::Kalman(&[("alg3", r_pendulum)]),
-        about: "Kalman filter fed by Algorithm 3",
         gyro_gated: false,
     },
     Entry {
         name: "kf_fused",
-        needs: Inputs::ALL,
         kind: Kind::Kalman(&[("accel", r_accel_fused), ("alg2", r_pendulum)]),
-        about: "Kalman filter fed by the accelerometer and Algorithm 2 in turn",
         gyro_gated: false,
     },
     Entry {
         name: "ekf",
-        needs: PHI_GYRO,
         kind: Kind::Direct(|s| {
             Box::new(Ekf::new(s.rig.ekf.apply(peers::model_settings(
                 &s.params(),
@@ -208,12 +178,10 @@ pub static REGISTRY: &[Entry] = &[
                 &s.peers,
             ))))
         }),
-        about: "EKF on the pendulum's own dynamics with l12 (the paper's future work)",
         gyro_gated: true,
     },
     Entry {
         name: "ukf",
-        needs: PHI_GYRO,
         kind: Kind::Direct(|s| {
             Box::new(Ukf::new(s.rig.ekf.apply(peers::model_settings(
                 &s.params(),
@@ -221,28 +189,21 @@ pub static REGISTRY: &[Entry] = &[
                 &s.peers,
             ))))
         }),
-        about: "UKF on the same model",
         gyro_gated: true,
     },
     Entry {
         name: "madgwick",
-        needs: ACCEL_GYRO,
         kind: Kind::Direct(|s| Box::new(ahrs_planar::madgwick(s.peers.madgwick_beta))),
-        about: "Madgwick (ahrs crate), planar use, gain from a search on the scooter ride",
         gyro_gated: false,
     },
     Entry {
         name: "mahony",
-        needs: ACCEL_GYRO,
         kind: Kind::Direct(|s| Box::new(ahrs_planar::mahony(s.peers.mahony[0], s.peers.mahony[1]))),
-        about: "Mahony (ahrs crate), planar use, gains from a search on the scooter ride",
         gyro_gated: false,
     },
     Entry {
         name: "complementary",
-        needs: ACCEL_GYRO,
         kind: Kind::Direct(|s| Box::new(Complementary::new(s.peers.complementary))),
-        about: "complementary filter of gyro and accelerometer",
         gyro_gated: false,
     },
 ];

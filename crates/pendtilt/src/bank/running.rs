@@ -6,8 +6,8 @@ use pendtilt_core::kalman::tilt::UNUSABLE;
 use pendtilt_core::kalman::TiltKalman;
 use pendtilt_core::{Estimate, Flags, Sample};
 
-use super::inputs::union;
 use super::{BankSettings, BoxedEstimator, Inputs, Kind, REGISTRY};
+use crate::sensors::union;
 
 enum Slot {
     Direct(BoxedEstimator),
@@ -90,7 +90,9 @@ impl Bank {
             for n in only {
                 if !REGISTRY.iter().any(|e| e.name == n.trim()) {
                     let known: Vec<_> = REGISTRY.iter().map(|e| e.name).collect();
-                    let hint = if crate::bank3d::REGISTRY3D.iter().any(|e| e.name == n.trim()) {
+                    let spatial = crate::catalogue::listing(n.trim())
+                        .is_some_and(|l| l.model == crate::catalogue::Model::Spatial);
+                    let hint = if spatial {
                         "; it is a 3-D estimator, and this log is planar".to_string()
                     } else if let Some(e) = REGISTRY
                         .iter()
@@ -134,10 +136,10 @@ impl Bank {
             if !wanted(e.name) {
                 continue;
             }
-            if !inputs.covers(e.needs) {
+            if !inputs.covers(e.needs()) {
                 bank.skipped.push(Skipped {
                     name: e.name,
-                    lacking: inputs.lacking(e.needs),
+                    lacking: inputs.lacking(e.needs()),
                 });
                 continue;
             }
@@ -148,9 +150,9 @@ impl Bank {
                     if let Some(Slot::Shared(front)) = bank.slots.last_mut() {
                         if *front.settings() == fe && front.push(eq) {
                             bank.names.push(e.name);
-                            bank.needs.push(e.needs);
+                            bank.needs.push(e.needs());
                             if let Some(n) = bank.slot_needs.last_mut() {
-                                *n = union(*n, e.needs);
+                                *n = union(*n, e.needs());
                             }
                             continue;
                         }
@@ -184,9 +186,9 @@ impl Bank {
                 }
             };
             bank.names.push(e.name);
-            bank.needs.push(e.needs);
+            bank.needs.push(e.needs());
             bank.slots.push(slot);
-            bank.slot_needs.push(e.needs);
+            bank.slot_needs.push(e.needs());
             bank.gated.push(e.gyro_gated);
         }
         Ok(bank)

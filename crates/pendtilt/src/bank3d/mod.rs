@@ -2,9 +2,11 @@
 //! 3-D log (MODEL.md 7.6), built from the rig and the sensors, run side by side one
 //! [`SpatialSample`] at a time.
 //!
-//! [`REGISTRY3D`] is the one list of names and constructors: the bank, `--only` and the
-//! list of valid names in its error all come from it. Adding a 3-D estimator is adding an
-//! entry (and, if it has an attitude quaternion, implementing [`Runner3d::quaternion`]).
+//! [`REGISTRY3D`] is the list of constructors, one per 3-D row of the catalogue
+//! ([`crate::catalogue`], which gives each one's name, sensors and description): the bank,
+//! `--only` and the list of valid names in its error all come from it. Adding a 3-D
+//! estimator is a catalogue row and an entry here (and, if it has an attitude quaternion,
+//! implementing [`Runner3d::quaternion`]).
 //!
 //! A sensor missing for longer than [`Bank3d::restart_gap`] (default the planar bank's
 //! [`RESTART_GAP`]) restarts the estimators that read it ([`Entry3d::reads`]) at its next
@@ -21,12 +23,14 @@ use pendtilt_core::spatial::pendulum::{Pendulum, PendulumSettings};
 use pendtilt_core::spatial::{Attitude, Mounting, SpatialSample};
 use pendtilt_core::{Estimator, Flags};
 
-use crate::bank::{Inputs, RESTART_GAP};
+use crate::bank::RESTART_GAP;
+use crate::catalogue::{self, Listing};
 use crate::peers::fusion::FusionSettings;
 use crate::peers::spatial::{
     fusion3d, madgwick3d, mahony3d, vqf, Imu6, ImuFilter, MADGWICK3D_BETA, MAHONY3D_GAINS,
     VQF_TAU_ACC,
 };
+use crate::sensors::Inputs;
 use crate::sim3d::Sensors3d;
 use gaps::{GapWatch, Restart3d};
 
@@ -199,39 +203,11 @@ with_quaternion!(Ekf<f64>, Ukf<f64>);
 pub struct Entry3d {
     /// Its name, the prefix of its output columns.
     pub name: &'static str,
-    /// One line on what it is.
-    pub about: &'static str,
     /// Whether it gives an attitude quaternion (`--quaternion` columns).
     pub quaternion: bool,
-    /// The sensors it reads (`phi`: phi_x, phi_y; `gyro`: gyro_x..z; `accel`: ax..az): a
-    /// long gap of one of them restarts it, an implausible reading flags it.
-    pub reads: Inputs,
     /// Builds it.
     pub build: fn(&Settings3d) -> Box<dyn Runner3d>,
 }
-
-const PHI: Inputs = Inputs {
-    phi: true,
-    gyro: false,
-    accel: false,
-};
-const ACCEL: Inputs = Inputs {
-    phi: false,
-    gyro: false,
-    accel: true,
-};
-// ekf3d and ukf3d read the accelerometer too, but only as an optional, gated measurement:
-// its gaps do not restart them.
-const PHI_GYRO: Inputs = Inputs {
-    phi: true,
-    gyro: true,
-    accel: false,
-};
-const IMU: Inputs = Inputs {
-    phi: false,
-    gyro: true,
-    accel: true,
-};
 
 /// The rig's gyro full scale, for the peers' `saturated` flag (ekf3d, ukf3d and inv3d's
 /// front end read it from their settings).
@@ -239,69 +215,69 @@ fn full_scale(s: &Settings3d) -> Option<f64> {
     s.ekf.gyro.checked_full_scale()
 }
 
-/// Every 3-D estimator, in output column order.
+impl Entry3d {
+    /// Its row of the catalogue.
+    pub fn listing(&self) -> &'static Listing {
+        catalogue::expect(self.name)
+    }
+
+    /// The sensors it reads (`phi`: phi_x, phi_y; `gyro`: gyro_x..z; `accel`: ax..az): a
+    /// long gap of one of them restarts it, an implausible reading flags it.
+    pub fn reads(&self) -> Inputs {
+        self.listing().reads
+    }
+
+    /// One line on what it is.
+    pub fn about(&self) -> &'static str {
+        self.listing().about
+    }
+}
+
+/// Every 3-D estimator, in output column order (the catalogue's 3-D rows').
 pub static REGISTRY3D: &[Entry3d] = &[
     Entry3d {
         name: "pendulum3d",
-        about: "raw encoder angles: roll = phi_x, pitch = phi_y",
         quaternion: false,
-        reads: PHI,
         build: |_| Box::new(Pendulum::<f64>::new(PendulumSettings {})),
     },
     Entry3d {
         name: "accel3d",
-        about: "roll and pitch of the accelerometer",
         quaternion: false,
-        reads: ACCEL,
         build: |s| Box::new(Accel::new(s.accel)),
     },
     Entry3d {
         name: "inv3d",
-        about: "Algorithm 2 in three dimensions",
         quaternion: false,
-        reads: PHI_GYRO,
         build: |s| Box::new(Inv3d::<f64>::new(s.inv3d())),
     },
     Entry3d {
         name: "ekf3d",
-        about: "quaternion EKF with the pendulum's equations of motion",
         quaternion: true,
-        reads: PHI_GYRO,
         build: |s| Box::new(Ekf::new(s.ekf)),
     },
     Entry3d {
         name: "ukf3d",
-        about: "the same model on the UKF",
         quaternion: true,
-        reads: PHI_GYRO,
         build: |s| Box::new(Ukf::new(s.ekf)),
     },
     Entry3d {
         name: "imu3d",
-        about: "ekf3d's filter with the accelerometer in place of the encoders (the ablation)",
         quaternion: true,
-        reads: IMU,
         build: |s| Box::new(Ekf::new(s.ekf.imu_only())),
     },
     Entry3d {
         name: "vqf",
-        about: "VQF 6D (peer, vqf-rs)",
         quaternion: false,
-        reads: IMU,
         build: |s| Box::new(vqf(VQF_TAU_ACC).with_gyro_full_scale(full_scale(s))),
     },
     Entry3d {
         name: "madgwick3d",
-        about: "Madgwick IMU filter (peer, ahrs)",
         quaternion: false,
-        reads: IMU,
         build: |s| Box::new(madgwick3d(MADGWICK3D_BETA).with_gyro_full_scale(full_scale(s))),
     },
     Entry3d {
         name: "mahony3d",
-        about: "Mahony IMU filter (peer, ahrs)",
         quaternion: false,
-        reads: IMU,
         build: |s| {
             Box::new(
                 mahony3d(MAHONY3D_GAINS[0], MAHONY3D_GAINS[1]).with_gyro_full_scale(full_scale(s)),
@@ -310,9 +286,7 @@ pub static REGISTRY3D: &[Entry3d] = &[
     },
     Entry3d {
         name: "fusion3d",
-        about: "Fusion-style complementary filter with acceleration rejection (peer)",
         quaternion: false,
-        reads: IMU,
         build: |s| {
             Box::new(fusion3d(FusionSettings::default()).with_gyro_full_scale(full_scale(s)))
         },
@@ -410,7 +384,7 @@ impl Bank3d {
         if let Some(r) = self.gaps.observe(s, clipped, self.restart_gap) {
             let mut n = 0;
             for (e, run) in self.entries.iter().zip(&mut self.runners) {
-                if e.reads.intersects(r.sensors) {
+                if e.reads().intersects(r.sensors) {
                     run.resume();
                     n += 1;
                 }
@@ -433,7 +407,7 @@ impl Bank3d {
         let stale = self.gaps.stale();
         if !stale.is_empty() {
             for (o, e) in self.out.iter_mut().zip(&self.entries) {
-                if e.reads.intersects(stale) {
+                if e.reads().intersects(stale) {
                     o.roll = f64::NAN;
                     o.pitch = f64::NAN;
                     o.flags |= Flags::SAMPLE_MISSING;
@@ -461,7 +435,7 @@ impl Bank3d {
             return;
         }
         for (o, e) in self.out.iter_mut().zip(&self.entries) {
-            if e.reads.intersects(sensors) {
+            if e.reads().intersects(sensors) {
                 o.flags |= flag;
             }
         }

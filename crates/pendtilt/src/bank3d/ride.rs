@@ -3,6 +3,7 @@
 use pendtilt_core::spatial::SpatialSample;
 
 use super::{Bank3d, Settings3d, REGISTRY3D};
+use crate::catalogue::Family;
 use crate::report::spatial::{Ride, RollPitch};
 
 /// The estimator that uses the speed.
@@ -16,12 +17,12 @@ pub const HOW: &str = "the same ekf3d, same settings and samples, with the speed
     (NaN, as a log without a `speed` column gives it): it then takes the vehicle as not \
     accelerating, as every IMU filter does";
 
-/// The peers: the IMU filters of [`REGISTRY3D`] (they read the gyro and the accelerometer,
-/// not the pendulum).
+/// The peers: the 3-D estimators of the catalogue's peer family (IMU filters from
+/// elsewhere; imu3d, ekf3d's own filter on the accelerometer, is not one).
 pub fn peers() -> Vec<String> {
     REGISTRY3D
         .iter()
-        .filter(|e| e.reads.gyro && e.reads.accel && !e.reads.phi)
+        .filter(|e| e.listing().family == Family::Peers)
         .map(|e| e.name.to_string())
         .collect()
 }

@@ -28,12 +28,12 @@ pub fn estimator_list() -> String {
          skipped, and said so; --only picks some):\n",
     );
     for e in REGISTRY {
-        let needs = Inputs::default().lacking(e.needs).join(", ");
+        let needs = Inputs::default().lacking(e.needs()).join(", ");
         s.push_str(&format!(
             "  {:width$}  needs {:22} {}\n",
             e.name,
             needs,
-            e.about,
+            e.about(),
             width = width
         ));
     }
@@ -64,7 +64,7 @@ pub fn estimator3d_list() -> String {
         s.push_str(&format!(
             "  {:width$} {q}  {}\n",
             e.name,
-            e.about,
+            e.about(),
             width = width
         ));
     }
@@ -204,7 +204,7 @@ mod tests {
         let list = estimator_list();
         for e in REGISTRY {
             assert!(list.contains(&format!("  {}", e.name)), "{list}");
-            assert!(list.contains(e.about), "{list}");
+            assert!(list.contains(e.about()), "{list}");
         }
         assert!(list.contains("needs phi, gyro"), "{list}");
         assert!(list.contains("needs ax/ay"), "{list}");

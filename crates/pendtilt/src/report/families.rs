@@ -1,48 +1,8 @@
 //! Estimator families: which panel of the small-multiple figures a series belongs to, so
-//! that no panel carries more than a handful of lines.
+//! that no panel carries more than a handful of lines (each estimator's family is in the
+//! catalogue, [`crate::catalogue`]).
 
-/// A family of estimators, in the order the panels are drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Family {
-    /// The accelerometer's tilt (Eq 1) and the raw pendulum reading.
-    Raw,
-    /// The paper's Algorithms 1-3 (Eqs 20, 21, 30) and their variants (`alg2_*`).
-    Paper,
-    /// The Kalman filters (`kf_*`).
-    Kalman,
-    /// The model-based filters (EKF, UKF on the pendulum dynamics).
-    ModelBased,
-    /// Other attitude filters (Madgwick, Mahony, complementary).
-    Peers,
-    /// Anything else.
-    Other,
-}
-
-impl Family {
-    /// The family of a series name.
-    pub fn of(name: &str) -> Family {
-        match name {
-            "accel" | "pendulum" => Family::Raw,
-            "ekf" | "ukf" => Family::ModelBased,
-            "madgwick" | "mahony" | "complementary" => Family::Peers,
-            n if n.starts_with("kf_") => Family::Kalman,
-            n if n.starts_with("alg") => Family::Paper,
-            _ => Family::Other,
-        }
-    }
-
-    /// The panel title.
-    pub fn label(self) -> &'static str {
-        match self {
-            Family::Raw => "raw: accelerometer (Eq 1) and pendulum",
-            Family::Paper => "the paper's algorithms (Eqs 20, 21, 30) and variants",
-            Family::Kalman => "Kalman filters",
-            Family::ModelBased => "model-based (EKF, UKF)",
-            Family::Peers => "peers (Madgwick, Mahony, complementary)",
-            Family::Other => "other",
-        }
-    }
-}
+pub use crate::catalogue::Family;
 
 /// `names` grouped by family, families in panel order, names in their given order.
 pub fn group<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<(Family, Vec<&'a str>)> {

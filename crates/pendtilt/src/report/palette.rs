@@ -3,44 +3,18 @@ use std::collections::BTreeMap;
 
 use plotters::style::RGBColor;
 
-/// The built-in name → colour map (names as in the estimates CSV).
-///
-/// Truth is black; the accelerometer grey and the Kalman filter fed by it orange; the
-/// pendulum family blue/green/red; other filters in their own hues; the 3-D estimators
-/// each their own.
-pub const DEFAULT_COLOURS: &[(&str, RGBColor)] = &[
-    ("theta", RGBColor(0, 0, 0)),
-    ("truth", RGBColor(0, 0, 0)),
-    ("accel", RGBColor(150, 150, 150)),
-    ("kf_accel", RGBColor(255, 127, 14)),
-    ("pendulum", RGBColor(140, 86, 75)),
-    ("alg1", RGBColor(31, 119, 180)),
-    ("alg2", RGBColor(44, 160, 44)),
-    ("alg3", RGBColor(214, 39, 40)),
-    // alg2's variants: a lighter alg2, and a hue of their own
-    ("alg2_offset", RGBColor(152, 223, 138)),
-    ("alg2_dc", RGBColor(90, 60, 160)),
-    ("kf_pendulum", RGBColor(196, 156, 148)),
-    ("kf_alg1", RGBColor(23, 190, 207)),
-    ("kf_alg2", RGBColor(148, 103, 189)),
-    ("kf_alg3", RGBColor(227, 119, 194)),
-    // not the fallback's amber, which sat beside kf_accel's orange in one panel
-    ("kf_fused", RGBColor(0, 128, 128)),
-    ("ekf", RGBColor(188, 189, 34)),
-    ("ukf", RGBColor(0, 90, 50)),
-    ("madgwick", RGBColor(120, 0, 120)),
-    ("mahony", RGBColor(0, 60, 140)),
-    ("complementary", RGBColor(160, 90, 0)),
-    // the 3-D estimators (a hash could give two of them one colour)
-    ("pendulum3d", RGBColor(160, 100, 60)),
-    ("accel3d", RGBColor(130, 130, 130)),
-    ("inv3d", RGBColor(50, 170, 80)),
-    ("ekf3d", RGBColor(200, 30, 30)),
-    ("ukf3d", RGBColor(20, 170, 190)),
-    ("vqf", RGBColor(240, 140, 0)),
-    ("madgwick3d", RGBColor(130, 20, 140)),
-    ("mahony3d", RGBColor(40, 90, 200)),
-];
+/// The series that are not estimators: the truth, black under both its names. The
+/// estimators' colours are in the catalogue ([`crate::catalogue::Listing::colour`]).
+const TRUTH_COLOURS: &[(&str, RGBColor)] =
+    &[("theta", RGBColor(0, 0, 0)), ("truth", RGBColor(0, 0, 0))];
+
+/// The built-in name → colour map: the truth's and every catalogued estimator's.
+pub fn default_colours() -> Vec<(&'static str, RGBColor)> {
+    let estimators = crate::catalogue::CATALOGUE
+        .iter()
+        .map(|l| (l.name, RGBColor(l.colour[0], l.colour[1], l.colour[2])));
+    TRUTH_COLOURS.iter().copied().chain(estimators).collect()
+}
 
 /// Colours for names not in the map, picked by a stable hash of the name.
 const FALLBACK: &[RGBColor] = &[
@@ -63,9 +37,9 @@ pub struct Palette {
 impl Default for Palette {
     fn default() -> Self {
         Self {
-            colours: DEFAULT_COLOURS
-                .iter()
-                .map(|(n, c)| (n.to_string(), *c))
+            colours: default_colours()
+                .into_iter()
+                .map(|(n, c)| (n.to_string(), c))
                 .collect(),
         }
     }
@@ -135,7 +109,8 @@ mod tests {
         use crate::report::families::group;
         // Every series of the planar bank, as `reproduce` draws them.
         let bank: Vec<&str> = crate::bank::REGISTRY.iter().map(|e| e.name).collect();
-        let fixed = |n: &str| DEFAULT_COLOURS.iter().find(|(m, _)| *m == n).map(|c| c.1);
+        let all = default_colours();
+        let fixed = |n: &str| all.iter().find(|(m, _)| *m == n).map(|c| c.1);
         for (family, names) in group(bank.iter().copied()) {
             for (i, a) in names.iter().enumerate() {
                 let ca = fixed(a).unwrap_or_else(|| panic!("{a} has no fixed colour"));
@@ -153,8 +128,9 @@ mod tests {
 
     #[test]
     fn built_in_names_are_distinct_except_truth_aliases() {
-        for (i, (n1, c1)) in DEFAULT_COLOURS.iter().enumerate() {
-            for (n2, c2) in &DEFAULT_COLOURS[i + 1..] {
+        let all = default_colours();
+        for (i, (n1, c1)) in all.iter().enumerate() {
+            for (n2, c2) in &all[i + 1..] {
                 if !(*n1 == "theta" && *n2 == "truth") {
                     assert_ne!(c1, c2, "{n1} and {n2} share a colour");
                 }

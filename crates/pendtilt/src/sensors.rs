@@ -1,5 +1,7 @@
-//! The sensor sets ([`Inputs`]): which of phi, gyro and ax/ay a log provides or an
-//! estimator reads.
+//! The sensor sets ([`Inputs`]): which of the encoders, the gyro and the accelerometer a
+//! log provides or an estimator reads, planar (`phi`, `gyro`, `ax/ay`) and 3-D (`phi_x/y`,
+//! `gyro_x/y/z`, `ax/ay/az`) alike. The ground floor: the catalogue of estimators, the
+//! banks and the reader all use it.
 
 /// The sensors a log provides.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -19,6 +21,30 @@ impl Inputs {
         gyro: true,
         accel: true,
     };
+    /// The encoders alone.
+    pub const PHI: Inputs = Inputs {
+        phi: true,
+        gyro: false,
+        accel: false,
+    };
+    /// The accelerometer alone.
+    pub const ACCEL: Inputs = Inputs {
+        phi: false,
+        gyro: false,
+        accel: true,
+    };
+    /// The encoders and the gyro.
+    pub const PHI_GYRO: Inputs = Inputs {
+        phi: true,
+        gyro: true,
+        accel: false,
+    };
+    /// The gyro and the accelerometer: an IMU.
+    pub const IMU: Inputs = Inputs {
+        phi: false,
+        gyro: true,
+        accel: true,
+    };
 
     /// True when the two sets share a sensor.
     pub fn intersects(self, other: Inputs) -> bool {
@@ -35,7 +61,8 @@ impl Inputs {
         Inputs::default().lacking(self)
     }
 
-    pub(super) fn covers(self, need: Inputs) -> bool {
+    /// True when this set has every sensor of `need`.
+    pub fn covers(self, need: Inputs) -> bool {
         (self.phi || !need.phi) && (self.gyro || !need.gyro) && (self.accel || !need.accel)
     }
 
@@ -56,7 +83,7 @@ impl Inputs {
 }
 
 /// The sensors in either set.
-pub(super) fn union(a: Inputs, b: Inputs) -> Inputs {
+pub fn union(a: Inputs, b: Inputs) -> Inputs {
     Inputs {
         phi: a.phi || b.phi,
         gyro: a.gyro || b.gyro,
