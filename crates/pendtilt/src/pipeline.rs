@@ -517,8 +517,8 @@ pub enum PassError {
     #[error(transparent)]
     Read(#[from] LogError),
     /// The output could not be written.
-    #[error("cannot write the estimates: {0}")]
-    Write(std::io::Error),
+    #[error("cannot write the estimates")]
+    Write(#[source] std::io::Error),
     /// A setting cannot work at the log's rate (a cutoff above Nyquist).
     #[error("{0}")]
     Settings(String),

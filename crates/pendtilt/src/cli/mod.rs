@@ -11,14 +11,24 @@ pub mod replay;
 pub mod report;
 pub mod report3d;
 pub mod reproduce;
+pub mod shell;
 pub mod simulate;
 pub mod simulate3d;
 pub mod stream;
 pub mod tune;
 
+/// The version and the commit it was built from (`build.rs`; "unknown" outside a git
+/// checkout), for `--version` and bug reports.
+pub const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (",
+    env!("PENDTILT_COMMIT"),
+    ")"
+);
+
 /// Tilt estimation with a pendulum as the sensor.
 #[derive(Debug, Parser)]
-#[command(name = "pendtilt", version, about, long_about = None)]
+#[command(name = "pendtilt", version = VERSION, about, long_about = None)]
 pub struct Cli {
     /// What to do.
     #[command(subcommand)]
@@ -49,6 +59,10 @@ pub enum Command {
     /// Tune every estimator's settings from a log (no true angle needed) and write a rig
     /// file that `estimate` reads.
     Tune(tune::Args),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions(shell::CompletionsArgs),
+    /// Write the man pages.
+    Man(shell::ManArgs),
 }
 
 /// Runs one parsed command line.
@@ -63,5 +77,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Reproduce(a) => reproduce::run(a),
         Command::Stream(a) => stream::run(a),
         Command::Tune(a) => tune::run(a),
+        Command::Completions(a) => shell::completions(a),
+        Command::Man(a) => shell::man(a),
     }
 }
