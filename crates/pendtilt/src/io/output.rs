@@ -262,6 +262,14 @@ impl OutputFile {
             if m.is_dir() {
                 return Err(unusable("is a directory; give a file name".into()));
             }
+            // A file its owner made read-only is kept: the rename would replace it anyway.
+            if m.is_file() && m.permissions().readonly() {
+                return Err(unusable(
+                    "is read-only, so it is not replaced; make it writable (chmod u+w) or \
+                     choose another path"
+                        .into(),
+                ));
+            }
             if !m.is_file() {
                 let file = std::fs::OpenOptions::new()
                     .write(true)
@@ -398,6 +406,13 @@ impl OutputDir {
             path: path.display().to_string(),
             message,
         };
+        if is_stdout(path) {
+            return Err(unusable(
+                "this command writes a directory of files, which standard output cannot \
+                 take; give a directory"
+                    .into(),
+            ));
+        }
         match std::fs::metadata(path) {
             Ok(m) if !m.is_dir() => {
                 let what = if m.is_file() {
@@ -653,6 +668,36 @@ mod tests {
             NamedPath::new("--rig-out", &fresh),
         ];
         assert!(check_distinct(&[], &twice).is_err());
+    }
+
+    #[test]
+    fn a_read_only_output_is_refused_and_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("kept.csv");
+        std::fs::write(&p, "earlier").unwrap();
+        std::fs::set_permissions(&p, Permissions::from_mode(0o444)).unwrap();
+        let e = OutputFile::create("-o", &p).err().unwrap().to_string();
+        assert!(
+            e.contains("kept.csv: is read-only, so it is not replaced"),
+            "{e}"
+        );
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "earlier");
+        assert_eq!(
+            std::fs::metadata(&p).unwrap().permissions().mode() & 0o777,
+            0o444
+        );
+        let e = write_atomic("-o", &p, b"new").unwrap_err().to_string();
+        assert!(e.contains("read-only"), "{e}");
+    }
+
+    #[test]
+    fn a_directory_output_refuses_standard_output() {
+        let e = OutputDir::create("-o", Path::new("-"))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("-o -: this command writes a directory"), "{e}");
+        assert!(!Path::new("-").exists());
     }
 
     #[test]
