@@ -57,6 +57,8 @@ pub struct Bank {
     stale: Inputs,
     restart: Option<Restart>,
     skipped: Vec<Skipped>,
+    /// Outputs not asked for by `only` but read by one that was: (output, reader).
+    pulled: Vec<(&'static str, &'static str)>,
     measurements: Vec<(f64, f64)>,
     blank: Estimate<f64>,
     /// The gyro full scale the estimators were last given (the rig's, or a clip's level).
@@ -110,7 +112,20 @@ impl Bank {
             }
         }
         // `--only "alg2, kf_alg2"`: the space after the comma is not part of a name.
-        let wanted = |name: &str| only.is_none_or(|o| o.iter().any(|n| n.trim() == name));
+        let asked = |name: &str| only.is_none_or(|o| o.iter().any(|n| n.trim() == name));
+        // A Kalman output asked for brings the outputs it reads (their columns are written
+        // too: hidden outputs would complicate the one-row contract).
+        let mut pulled: Vec<(&'static str, &'static str)> = Vec::new();
+        for e in REGISTRY.iter().filter(|e| asked(e.name)) {
+            if let Kind::Kalman(sources) = &e.kind {
+                for (src, _) in sources.iter() {
+                    if !asked(src) && !pulled.iter().any(|(p, _)| p == src) {
+                        pulled.push((src, e.name));
+                    }
+                }
+            }
+        }
+        let wanted = |name: &str| asked(name) || pulled.iter().any(|(p, _)| *p == name);
         let mut bank = Bank {
             names: Vec::new(),
             needs: Vec::new(),
@@ -123,6 +138,7 @@ impl Bank {
             stale: Inputs::default(),
             restart: None,
             skipped: Vec::new(),
+            pulled: pulled.clone(),
             measurements: Vec::with_capacity(4),
             blank: Estimate {
                 theta: f64::NAN,
@@ -132,7 +148,7 @@ impl Bank {
             gated: Vec::new(),
             clip_gate: ClipGate::new(),
         };
-        for e in REGISTRY {
+        'entries: for e in REGISTRY {
             if !wanted(e.name) {
                 continue;
             }
@@ -166,16 +182,14 @@ impl Bank {
                     let kalman = settings.rig.kalman_settings();
                     let mut idx = Vec::new();
                     for (src, r) in sources.iter() {
-                        // A source not otherwise requested is added (hidden outputs
-                        // would complicate the one-row contract; an extra column is clear).
-                        let i = match bank.names.iter().position(|n| n == src) {
-                            Some(i) => i,
-                            None => {
-                                return Err(format!(
-                                    "`{}` needs `{src}`: request it too (or drop --only)",
-                                    e.name
-                                ))
-                            }
+                        // Its sources come first in the registry and were pulled in: a
+                        // source is missing only when the log lacks its inputs.
+                        let Some(i) = bank.names.iter().position(|n| n == src) else {
+                            bank.skipped.push(Skipped {
+                                name: e.name,
+                                lacking: inputs.lacking(e.needs()),
+                            });
+                            continue 'entries;
                         };
                         idx.push((i, r(&kalman)));
                     }
@@ -202,6 +216,12 @@ impl Bank {
     /// The estimators not run, with the sensors they lacked.
     pub fn skipped(&self) -> &[Skipped] {
         &self.skipped
+    }
+
+    /// The outputs `only` did not name but that an output it named reads, each with the
+    /// first reader: `(alg2, kf_alg2)` for `--only kf_alg2`.
+    pub fn pulled_in(&self) -> &[(&'static str, &'static str)] {
+        &self.pulled
     }
 
     /// The settings the bank was built from.
@@ -489,10 +509,48 @@ mod tests {
         assert!(Bank::new(&s, Inputs::ALL, Some(&only))
             .unwrap_err()
             .contains("alg9"));
+    }
+
+    /// `--only kf_alg2` runs alg2 too (it used to fail, "needs alg2: request it too"), and
+    /// says so; the Kalman output equals the one the whole bank gives.
+    #[test]
+    fn a_kalman_output_pulls_in_the_outputs_it_reads() {
+        let s = BankSettings::from_params(PendulumParams::default());
         let only = vec!["kf_alg2".to_string()];
-        assert!(Bank::new(&s, Inputs::ALL, Some(&only))
-            .unwrap_err()
-            .contains("alg2"));
+        let mut b = Bank::new(&s, Inputs::ALL, Some(&only)).unwrap();
+        assert_eq!(b.names(), ["alg2", "kf_alg2"]);
+        assert_eq!(b.pulled_in(), [("alg2", "kf_alg2")]);
+        let only = vec!["kf_fused".to_string(), "alg2".to_string()];
+        let fused = Bank::new(&s, Inputs::ALL, Some(&only)).unwrap();
+        assert_eq!(fused.names(), ["accel", "alg2", "kf_fused"]);
+        assert_eq!(fused.pulled_in(), [("accel", "kf_fused")]);
+        let mut all = Bank::new(&s, Inputs::ALL, None).unwrap();
+        assert!(all.pulled_in().is_empty());
+        let k = all.names().iter().position(|n| *n == "kf_alg2").unwrap();
+        let (mut one, mut every) = (Vec::new(), Vec::new());
+        for i in 0..2000 {
+            let t = i as f64 * 1e-3;
+            let x = Sample {
+                dt: 1e-3,
+                phi: 0.1 * (3.0 * t).sin(),
+                gyro: 0.3 * (3.0 * t).cos(),
+                ax: 0.98 * (3.0 * t).sin(),
+                ay: 9.8,
+            };
+            b.update(&x, &mut one);
+            all.update(&x, &mut every);
+            assert_eq!(one[1].theta.to_bits(), every[k].theta.to_bits(), "row {i}");
+        }
+        // Without the pendulum, kf_alg2 is skipped as alg2 is, not an error.
+        let imu = Inputs {
+            phi: false,
+            ..Inputs::ALL
+        };
+        let only = vec!["kf_alg2".to_string()];
+        let b = Bank::new(&s, imu, Some(&only)).unwrap();
+        assert!(b.names().is_empty());
+        let sk: Vec<_> = b.skipped().iter().map(|s| s.name).collect();
+        assert_eq!(sk, ["alg2", "kf_alg2"]);
     }
 
     #[test]

@@ -126,6 +126,11 @@ impl BankOptions {
             self.only.as_deref(),
         )
         .map_err(anyhow::Error::msg)?;
+        for (name, reader) in bank.pulled_in() {
+            self.notice(&format!(
+                "note: {reader} reads {name}: {name} runs too (its column is written)"
+            ));
+        }
         for s in bank.skipped() {
             self.notice(&format!(
                 "skipped {}: the log has no {}",
