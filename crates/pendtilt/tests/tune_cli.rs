@@ -149,7 +149,7 @@ fn tune_writes_a_commented_rig_that_estimate_reads_and_that_beats_the_defaults()
     // Against the truth: the tuned rig beats the defaults for the inversions and the
     // Kalman filter on them (measured in the zoo: 1.36 -> 0.023 deg kf_alg2, 0.89 -> 0.27
     // alg1, 1.33 -> 0.69 alg2). The EKF is not asserted: its self-tuned sensor figures
-    // made it worse on this ride (0.0092 -> 0.0106 deg; README "Self-tuning").
+    // made it worse on this ride (0.0092 -> 0.0106 deg; docs/fitting-and-tuning.md, "Self-tuning").
     let d = f.estimate_rms(&f.rig);
     let t = f.estimate_rms(&tuned);
     eprintln!("defaults {d:?}\ntuned    {t:?}");
