@@ -29,7 +29,7 @@ bitflags::bitflags! {
         const IMPLAUSIBLE = 1 << 7;
         /// The wheel-speed reading disagreed with the accelerometer (wheel spin or lock):
         /// it was not used for this sample, the speed was carried by the accelerometer
-        /// (ekf3d, ukf3d; issue 15).
+        /// (ekf3d, ukf3d).
         const SLIP = 1 << 8;
         /// The pendulum left the range where its model holds (near the Cardan joint's lock,
         /// or a run of readings the model could not explain): its reading was not used and

@@ -2,7 +2,7 @@
 //! scenario), read, estimated by every estimator and written, as the command does it.
 //!
 //! `cargo bench -p pendtilt --bench estimate`. The log is generated once per run into a
-//! temporary directory. Peak memory is measured on the command itself (README).
+//! temporary directory. Peak memory is measured on the command itself (docs/performance.md, "Speed").
 use criterion::{criterion_group, criterion_main, Criterion};
 use pendtilt::bank::{Bank, BankSettings};
 use pendtilt::io::{EstimatesWriter, LogReader, ReaderOptions, WriterOptions};

@@ -1,4 +1,4 @@
-//! Self-tuning speed (issue 12's target: `tune` on a 120 s, 1 kHz log in under 10 s): the
+//! Self-tuning speed (the target: `tune` on a 120 s, 1 kHz log in under 10 s): the
 //! whole of [`pendtilt::tune::tune`] on the simulated scooter ride of 120 s (the likelihood
 //! fits use its first 60 s, [`pendtilt::tune::Options::fit_seconds`]) and of 20 s.
 //!

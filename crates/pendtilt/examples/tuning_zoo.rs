@@ -1,4 +1,4 @@
-//! The zoo of unseen rigs (issue 12): seeded simulated rides with random rigs, sensors,
+//! The zoo of unseen rigs: seeded simulated rides with random rigs, sensors,
 //! vibration and motions ([`pendtilt::tune::zoo`]); for each, the RMS error of ekf,
 //! kf_alg2, alg1 and alg2 at the defaults, self-tuned (no true angle) and tuned by a
 //! brute-force grid against the true angle (the oracle); then the median and worst ratios

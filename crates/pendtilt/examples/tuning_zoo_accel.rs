@@ -1,4 +1,4 @@
-//! The accelerometer's Kalman filters on the zoo of unseen rigs (session 14): for each
+//! The accelerometer's Kalman filters on the zoo of unseen rigs: for each
 //! seeded ride of [`pendtilt::tune::zoo`], the RMS error after 2 s of `kf_accel`,
 //! `kf_fused` and `kf_alg2` as `estimate` builds them from the rig file, at the defaults and
 //! self-tuned (no true angle); then per filter the median and worst of tuned / defaults,

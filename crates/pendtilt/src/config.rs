@@ -291,7 +291,7 @@ pub struct Alg1Table {
     pub settings: Alg1Settings<f64>,
     /// Algorithm 1's differentiator cutoff as a multiple of the natural frequency, in
     /// place of `[differentiator]`'s (the response stays that table's). Default none: the
-    /// shared cutoff. `pendtilt tune` sets it: measured on issue 12's zoo, Algorithm 1
+    /// shared cutoff. `pendtilt tune` sets it: measured on the zoo of unseen rigs, Algorithm 1
     /// (phi and phi'' only) and Algorithm 2 (with the gyro) want cutoffs far apart on a
     /// slow pendulum (ride 12, f_n 0.5 Hz: alg1 best at 1.34 f_n, alg2 at 10 f_n), and
     /// one cutoff for both, chosen for both together, was worse than either's default.

@@ -575,8 +575,8 @@ fn a_header_in_degrees_read_as_radians_is_named_and_the_unit_check_agrees() {
     assert!(worst < 1e-9, "{worst}");
 }
 
-/// The unit check runs in the log reader, for every command that reads a planar log
-/// (session 14): `fit --target gyro` on a gyro in deg/s "Converged" at its start (cost 17.5
+/// The unit check runs in the log reader, for every command that reads a planar log.
+/// Earlier, `fit --target gyro` on a gyro in deg/s "Converged" at its start (cost 17.5
 /// rad/s) and wrote the rig without a word, `report` and `tune` said nothing either; only
 /// `estimate` checked. Each now gives the same warning with the fix, and the summary counts
 /// it; the same log in rad/s says nothing.

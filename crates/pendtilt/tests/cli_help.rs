@@ -1,4 +1,4 @@
-//! The command line is consistent (issue 11, item 6): one spelling of the output option
+//! The command line is consistent: one spelling of the output option
 //! (`-o/--output`, `--out` as an alias) on every subcommand that writes a file, every
 //! default in `--help`, the estimator names and the input units in `estimate --help`, and
 //! no rustdoc link syntax in any help text.

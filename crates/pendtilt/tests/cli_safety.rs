@@ -1,4 +1,4 @@
-//! No command destroys its inputs (issue 11, item 1): every subcommand refuses an output
+//! No command destroys its inputs: every subcommand refuses an output
 //! that is one of its inputs (same name, symlink, hard link), a run that fails half way
 //! leaves an earlier output byte for byte, and a header-only log leaves no file behind.
 use std::collections::BTreeSet;

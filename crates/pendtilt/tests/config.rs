@@ -241,7 +241,7 @@ fn physically_impossible_values_are_named() {
         "finite",
     );
     impossible("[pendulum]\nb = 0\n", "pendulum.b", Some(2), "> 0");
-    // Quoted compactly, not as 301 digits (session 13).
+    // Quoted compactly, not as 301 digits.
     impossible(
         "[pendulum]\nmass = -1e300\n",
         "pendulum.mass",

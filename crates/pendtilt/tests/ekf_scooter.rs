@@ -1,4 +1,4 @@
-//! Issue 7's accuracy targets on the simulated scooter ride (vibration on, l12 = 0.2 m):
+//! The accuracy targets on the simulated scooter ride (vibration on, l12 = 0.2 m):
 //! the EKF's RMS error at most half the best of alg1-alg3, below kf_alg2's, at most a
 //! fifth of the best peer's, with a lag no worse than alg2's. Prints the table with
 //! `cargo test --release -p pendtilt --test ekf_scooter -- --nocapture`.

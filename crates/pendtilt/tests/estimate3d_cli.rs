@@ -1,4 +1,4 @@
-//! `pendtilt estimate` on 3-D logs (issue 14 item 4): simulate -> estimate end to end, the
+//! `pendtilt estimate` on 3-D logs: simulate -> estimate end to end, the
 //! columns and rows of MODEL.md 7.6, the inclination error (7.9) against the simulator's
 //! truth computed here from the written CSV, and the errors on bad input.
 use std::path::{Path, PathBuf};
@@ -65,7 +65,7 @@ fn rms(e: &[f64]) -> f64 {
     (e.iter().map(|x| x * x).sum::<f64>() / e.len() as f64).sqrt()
 }
 
-/// still3d (noise-free steps, 6 s): ekf3d within issue 14's 0.01 deg RMS from 0.5 s (the
+/// still3d (noise-free steps, 6 s): ekf3d within the target 0.01 deg RMS from 0.5 s (the
 /// scenario's score_from), and the printed table agrees with the written estimates.
 #[test]
 fn still3d_ekf3d_is_within_a_hundredth_of_a_degree() {
@@ -486,7 +486,7 @@ fn a_3d_header_with_units_in_its_names_is_named_with_the_fix() {
     assert!(!stderr(&o).contains("in the name"), "{}", stderr(&o));
 }
 
-/// Issue 15: a log without a `speed` column is estimated as before, with a note that the
+/// A log without a `speed` column is estimated as before, with a note that the
 /// vehicle's own accelerations will bias the estimates; a log with one gets no such note.
 #[test]
 fn a_log_without_speed_says_turns_and_braking_will_bias_it() {
@@ -599,7 +599,7 @@ fn printed(stdout: &str, name: &str) -> (f64, f64) {
 }
 
 /// A rig file's `[ekf3d]` table reaches the filter. On the whole ride3d (seed 1, 120 s)
-/// the defaults give 0.174 deg RMS, 0.71 max (inclination; issue 15's 0.3 / 1 deg, here on
+/// the defaults give 0.174 deg RMS, 0.71 max (inclination; the target 0.3 / 1 deg, here on
 /// the inclination, which bounds roll and pitch alike); the former low-pass of the path's
 /// turn rate, `path_turn_hz = 2`, lags the turns: 0.25 RMS, 0.79 max.
 #[test]
@@ -773,7 +773,7 @@ fn a_3d_log_given_to_a_planar_reader_is_named_never_read_as_planar() {
     );
     assert!(!out.exists());
     // One axis read as a planar log on purpose still works (with the roll plane's
-    // accelerometer axes, session 12).
+    // accelerometer axes).
     let o = pendtilt(&[
         "estimate",
         s(&log),
@@ -855,7 +855,7 @@ fn a_3d_line_the_file_ends_in_has_its_cut_cell_missing() {
 }
 
 /// A 3-D log saved with a UTF-8 byte-order mark (Excel's "CSV UTF-8"), CRLF line ends and
-/// a comment line reads as the plain log does, byte for byte (session 11: with the mark the
+/// a comment line reads as the plain log does, byte for byte (earlier: with the mark the
 /// header's first name was read as `\u{feff}t`, the log taken for planar and refused by
 /// `estimate` and `report` as "a 3-D log, and this command reads planar logs").
 #[test]
@@ -879,7 +879,7 @@ fn a_3d_log_with_a_byte_order_mark_reads_as_without() {
 
 /// Two 3-D logs joined without a second header: an error on the row that runs on from
 /// the earlier time, naming the line, and the commands it gives split the log into two
-/// that `estimate` reads (session 11: exit 0, no word, the second half's rows held and
+/// that `estimate` reads (earlier: exit 0, no word, the second half's rows held and
 /// flagged `bad_time_step`, inv3d 5.4 deg RMS on scooter3d where it has 0.72).
 #[test]
 fn two_3d_logs_joined_are_refused_with_the_commands_that_split_them() {
@@ -923,7 +923,7 @@ fn two_3d_logs_joined_are_refused_with_the_commands_that_split_them() {
 }
 
 /// The truth of a 3-D log in degrees, or one absurd truth cell, is said with its place,
-/// never scored silently (session 11: scooter3d with roll and pitch in degrees printed
+/// never scored silently (earlier: scooter3d with roll and pitch in degrees printed
 /// inv3d 100.5 deg RMS and nothing else; one roll cell 1e6 moved inv3d's max from 1.31 to
 /// 18.25 deg, without a word). A cell beyond the angle's range (roll: pi, pitch: pi/2) is
 /// read as missing, not scored; a truth 57x the encoder it follows is named as degrees even
@@ -1085,11 +1085,11 @@ fn gyro_named_in_deg_per_s(e: &str, tolerance: f64) -> Vec<(&'static str, &str)>
         .collect()
 }
 
-/// The gyro's unit is judged below the rig's own pendulum's frequencies, axis by axis
-/// (session 13). With the default planar rig's band (f_n 2.19 Hz), a 0.49 Hz pendulum's
+/// The gyro's unit is judged below the rig's own pendulum's frequencies, axis by axis.
+/// With the default planar rig's band (f_n 2.19 Hz), a 0.49 Hz pendulum's
 /// swing entered the comparison: scooter3d's gyro in deg/s read as 52.2x and 56.0x the
 /// encoders' derivatives, ship3d's as 43.2x on roll and was not found on pitch (found
-/// since session 14 with the sensor's height fitted out, next test).
+/// now with the sensor's height fitted out, next test).
 #[test]
 fn a_3d_gyro_unit_is_judged_below_the_rigs_own_pendulum_frequency() {
     let dir = tempfile::tempdir().unwrap();
@@ -1116,7 +1116,7 @@ fn a_3d_gyro_unit_is_judged_below_the_rigs_own_pendulum_frequency() {
 /// On a ship the IMU rides high above the centre the hull rolls and pitches about (ship3d:
 /// 5 m), and the specific force there leans by `-(h / g) theta''` besides the tilt: the
 /// pendulum swings 1.4x the pitch and 1.8x its rate. The gyro's unit is judged with that
-/// height fitted out (session 14, `units::Lever`): a gyro in deg/s is named on both axes
+/// height fitted out (`units::Lever`): a gyro in deg/s is named on both axes
 /// with its factor and the height found. Without it pitch read 34x and was not named
 /// (beyond 1.5x of 57.3), roll 45x. The correct log says nothing.
 #[test]
@@ -1139,7 +1139,7 @@ fn a_3d_gyro_unit_is_judged_with_the_sensors_height_above_the_rotation_fitted_ou
 
 /// A 3-D log's gyro in deg/s is named from the physics (d(phi_x)/dt ~ gyro_x, d(phi_y)/dt ~
 /// gyro_y below the pendulum's frequency), and the slip warning it used to set off alone,
-/// which blamed the speed's unit, is left out (session 11: scooter3d with the gyro in deg/s
+/// which blamed the speed's unit, is left out (earlier: scooter3d with the gyro in deg/s
 /// gave inv3d 47 deg RMS and only `wheel slip flagged on 97 % of the rows ...; is it in
 /// m/s?`). Correct logs say nothing.
 #[test]
@@ -1171,7 +1171,7 @@ fn a_3d_gyro_in_deg_per_s_is_named_not_blamed_on_the_speed() {
 
 /// A missing cell and a repeated time stamp in a 3-D log are said with their line, as the
 /// planar reader says them; a burst lists the first three and counts the rest, apart from
-/// the other warnings (session 11: the rows were flagged, and nothing was said).
+/// the other warnings (earlier: the rows were flagged, and nothing was said).
 #[test]
 fn missing_cells_and_repeated_times_in_a_3d_log_are_said() {
     let dir = tempfile::tempdir().unwrap();
@@ -1367,7 +1367,7 @@ fn a_mounting_not_finite_is_refused_and_one_in_millimetres_doubted() {
         ) && e.contains("write mounting.accel_at = [0.0, 0.0, 0.25]"),
         "{e}"
     );
-    // The speed's point O in mm (session 14; was not doubted: a ship's may be
+    // The speed's point O in mm (it was not doubted: a ship's may be
     // metres away). Beyond 200 m, half the largest ships' length, it is.
     let r = write(
         dir.path(),
@@ -1451,7 +1451,7 @@ fn one_axis_of_a_3d_log_read_as_planar_needs_the_roll_planes_accelerometer_axes(
 }
 
 /// A 3-D header with a column named twice and one missing names both, and an extra column
-/// is said to be ignored, as the planar reader says it (session 13: `gyro_x` twice was
+/// is said to be ignored, as the planar reader says it (earlier: `gyro_x` twice was
 /// reported only as "no `gyro_y`", and a column `extra` was dropped without a word).
 #[test]
 fn a_3d_column_named_twice_or_unknown_is_said() {
@@ -1502,7 +1502,7 @@ fn a_3d_column_named_twice_or_unknown_is_said() {
 
 /// A vehicle log's gyro in deg/s is found from its turns, where the encoders cannot tell
 /// (a car's turns swing its pendulum outward): the yaw rate against the lateral
-/// acceleration over the speed (session 13: ride3d's gyro in deg/s was said only by the
+/// acceleration over the speed (earlier: ride3d's gyro in deg/s was said only by the
 /// slip warning, which blamed the speed's unit first). Correct logs say nothing.
 #[test]
 fn a_vehicle_gyro_in_deg_per_s_is_found_from_its_turns() {
@@ -1654,7 +1654,7 @@ fn negated(log: &Path, names: &[&str], truth: bool) -> String {
     out
 }
 
-/// A 3-D sensor axis that counts the other way (found as a new user, session 15): on
+/// A 3-D sensor axis that counts the other way (found as a new user): on
 /// scooter3d (30 s, seed 2) gyro_x negated gave ekf3d 11.3 deg RMS and the warning
 /// `gyro_x is -1.0x the encoder's derivative ...: is the gyro in deg/s?` (a negative factor
 /// passed as 57.3); phi_x negated, 13.3 deg with the same wrong warning; ay negated, VQF 8.0

@@ -1,4 +1,4 @@
-//! f32 against f64 (issue 6, item 6): on a simulated scooter ride, every estimator run in
+//! f32 against f64: on a simulated scooter ride, every estimator run in
 //! `f32` stays within 0.01 deg RMS of the same estimator in `f64`.
 //!
 //! The estimators take the step `dt`, never an absolute stamp: a [`StepGate`] turns the

@@ -1,4 +1,4 @@
-//! Reliability (issue 6, items 1 and 2).
+//! Reliability.
 //!
 //! Item 1, end to end: every bad-file case of docs/bad-input.md through `pendtilt estimate`:
 //! the exit code is never 101 (a panic), an accepted file gives exactly one output row per

@@ -1,4 +1,4 @@
-//! Sensor faults and bad readings on 3-D logs (issue 14: every 3-D estimator survives the
+//! Sensor faults and bad readings on 3-D logs (every 3-D estimator survives the
 //! bad-input and fault tests the planar ones pass; docs/reliability.md section 8).
 //!
 //! One simulated `scooter3d` ride (seed 3, 30 s, 1 kHz) is written by `pendtilt simulate`;
@@ -164,7 +164,7 @@ fn one_row(c: &mut Csv, column: &str, f: impl Fn(f64) -> String) -> f64 {
     next
 }
 
-/// How many rows a burst of bad cells lasts (issue 11 item 2: "a burst of 100").
+/// How many rows a burst of bad cells lasts ("a burst of 100").
 const BURST: usize = 100;
 
 /// `BURST` consecutive rows of `column` written as `value`, from `T_FAULT`.

@@ -207,7 +207,7 @@ fn k_quartiles(trace: &[(f64, Alg3Gains<f64>)], t0: f64, t1: f64, k_ref: f64) ->
 ///
 /// Measured: K / a quartiles 1.29 / 1.38 / 1.43 over 30-60 s, K / 2a 1.23 / 1.26 / 1.29
 /// over 90-120 s. The defaults stay bounded and follow the doubling (median ratio 1.82)
-/// but K settles 25-40 % high, so they do NOT meet issue 4's "within 10 %"; the tuned
+/// but K settles 25-40 % high, so they do NOT meet the target "within 10 %"; the tuned
 /// settings of the tests above (1.7 f_n, mean square, refit every 250) do. Without the
 /// trust region (`max_step` = inf) the same run sent K to -5 and +14 times a.
 #[test]
@@ -256,7 +256,7 @@ fn default_settings_stay_bounded_from_50_percent_off_and_follow_a_damping_step()
     );
 }
 
-/// Issue 4 item 2, sample-time drift: the rig's true sample interval drifts from 1 ms
+/// Sample-time drift: the rig's true sample interval drifts from 1 ms
 /// (1 kHz) to 1.25 ms (800 Hz) over 60 s while the log's time stamps keep claiming 1 ms
 /// (a clock that drifts against the stamps). The estimator's derivatives are then scaled
 /// by the interval ratio r = 1.25 (phi', G_d by r, phi'' by r^2); the supervisor can absorb

@@ -1,4 +1,4 @@
-//! Fuzzing every estimator's `update` (issue 6, item 4) with proptest, in f32 and f64.
+//! Fuzzing every estimator's `update` with proptest, in f32 and f64.
 //!
 //! Inputs are sequences of samples whose every field may be an ordinary value, zero, a
 //! subnormal, a huge value, an infinity or NaN, and whose time may go forwards by a normal

@@ -1,4 +1,4 @@
-//! Guards refactors (issue 13): the SHA-256 of `estimate`'s output (every estimator, f64,
+//! Guards refactors: the SHA-256 of `estimate`'s output (every estimator, f64,
 //! with flags) on a fixed set of simulated logs, and of `reproduce`'s metrics JSON, must
 //! equal the digests recorded in `tests/golden/sha256.txt`.
 //!

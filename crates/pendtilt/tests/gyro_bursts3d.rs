@@ -1,4 +1,4 @@
-//! Issue 11 item 2 on the 3-D model-based filters: 100 missing readings of one gyro axis
+//! Gyro bursts on the 3-D model-based filters: 100 missing readings of one gyro axis
 //! (an impossible 1e6 rad/s, read as missing) on the scooter3d ride, seeds 1, 3 and 5, each
 //! axis, from 8, 12 and 16 s: 27 bursts. ekf3d and ukf3d bridge the missing axis by its
 //! low-passed rate (the axes read stay as read), keep their gyro bias for `BIAS_HOLD` (2 s)
@@ -190,7 +190,7 @@ fn back_after(clean: &[(f64, f64, f64)], bad: &[(f64, f64, f64)], t_end: f64) ->
 /// side, `core::estimators::gap_fit`), less what its gain forgot since (Mahony kp, VQF
 /// 1 / tau_acc, fusion3d its gain; Madgwick none). Measured (gyro_x; all three axes)
 /// within 2 s: with the hold alone, Mahony 17; 9, VQF 12; 5, fusion3d 12; 3; with the line
-/// between the 25 ms means on either side (session 11), Mahony 27; 27, VQF 22; 18, fusion3d
+/// between the 25 ms means on either side, Mahony 27; 27, VQF 22; 18, fusion3d
 /// 10; 6; with the fit, Mahony and VQF 27; 27 (at most 0.42 s; 0.47 s: the window), fusion3d
 /// 23; 17, 0.037; 0.051 deg RMS from 2 s on (0.064; 0.070 with the line), at most 0.095;
 /// 0.095. Madgwick 27; 27 throughout (at most 0.29 s; 0.38 s). fusion3d's acceleration

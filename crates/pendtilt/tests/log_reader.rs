@@ -1,4 +1,4 @@
-//! The sensor-log reader on good and bad files (issue 6 item 1): each case gives an
+//! The sensor-log reader on good and bad files: each case gives an
 //! error naming file, line and column, or a kept (flagged / NaN) sample with a warning;
 //! never a panic, never a dropped row. The cases and outcomes are tabled in
 //! docs/bad-input.md.
@@ -112,7 +112,7 @@ fn missing_time_column_is_an_error_with_a_hint() {
 
     let e = fails("t;phi;gyro\n0;1;2\n", ReaderOptions::default());
     assert!(e.to_string().contains("separated by `;`"), "{e}");
-    // The fix, not only the question (session 10: the CLI has no delimiter option).
+    // The fix, not only the question (earlier: the CLI has no delimiter option).
     assert!(
         e.to_string().contains(
             "the log must be comma-separated: convert it with `tr ';' ',' < log.csv > \
@@ -305,7 +305,7 @@ fn a_number_beyond_f64_is_quoted_as_written_not_as_inf() {
         w[2].contains("column `gyro`: `inf`: read as missing"),
         "{w:?}"
     );
-    // As written, not as Rust prints them (session 13: `nan` was quoted `NaN`).
+    // As written, not as Rust prints them (earlier: `nan` was quoted `NaN`).
     assert!(
         w[3].contains("column `phi`: `nan`: read as missing"),
         "{w:?}"
@@ -451,7 +451,7 @@ fn truncated_last_line_is_kept_with_missing_cells() {
         .starts_with("log.csv:3: 2 fields, the header has 3"));
     assert!(!warnings[0].to_string().contains("cut short"));
     // The input ends in the line (a log cut while written): its last cell may be cut short
-    // (`0.1` of `0.1234`), so it reads as missing too (session 10: it was read as 0.1).
+    // (`0.1` of `0.1234`), so it reads as missing too (earlier: it was read as 0.1).
     let (records, warnings) = ok("t,phi,gyro\n0,0.1,0.2\n0.001,0.1");
     assert_eq!(records.len(), 2);
     let last = &records[1];
@@ -898,7 +898,7 @@ fn a_missing_column_whose_name_carries_a_unit_is_suggested_with_the_unit_option(
 
 /// Two logs joined without a second header (or a logger whose clock restarted): the time
 /// goes back by more than the restart gap and runs on from there. The estimators, which
-/// refuse a time before the last one they took, would hold every later row (session 11: a
+/// refuse a time before the last one they took, would hold every later row (earlier: a
 /// 12 s ride made of two 6 s halves ran with exit 0, the second half's 6000 rows held and
 /// flagged, alg2 4.68 deg RMS against 0.70, and one warning about "the sample"). Now an
 /// error on the row that runs on, naming the line to split at with the commands; a step
@@ -947,7 +947,7 @@ fn time_that_goes_back_and_runs_on_is_two_logs_an_error_naming_the_split() {
 
 /// A units line under the header and a logger's marker of a missing reading (`NA`, `-`,
 /// `null`, ...) are still errors (nothing is guessed), but say what the text likely is
-/// and what to do, in the planar and the 3-D reader (session 11: `not a number: `s`` and
+/// and what to do, in the planar and the 3-D reader (earlier: `not a number: `s`` and
 /// `not a number: `NA`` alone). A units line made a comment, as said, reads.
 #[test]
 fn a_units_line_or_a_missing_marker_says_what_to_do() {
@@ -1002,7 +1002,7 @@ fn a_units_line_or_a_missing_marker_says_what_to_do() {
 }
 
 /// A header in capitals: the planar hint gives the whole `--map` at once, and following
-/// it reads the log; a 3-D header in capitals is named as one (session 11: `did you mean
+/// it reads the log; a 3-D header in capitals is named as one (earlier: `did you mean
 /// `T`? (--map t=T)`, one column per round; on a 3-D log in capitals that hint led to
 /// `--map t=T,ax=AX,ay=AY`, which ran the planar `accel` on the 3-D axes, exit 0).
 #[test]
@@ -1045,7 +1045,7 @@ fn a_header_in_capitals_gets_one_whole_map_and_a_3d_one_is_named() {
 
 /// NUL bytes (an SD-card logger's preallocated space it never wrote, a write cut by a
 /// power loss) are removed and said once, by line and count, never printed: a line of them
-/// alone is blank, a line they end is cut (session 11: 4096 NULs after the last line gave
+/// alone is blank, a line they end is cut (earlier: 4096 NULs after the last line gave
 /// one more row, all missing with t NaN, and a warning that printed the 4096 NULs).
 #[test]
 fn nul_padding_after_the_last_line_is_no_row_and_is_said_without_the_bytes() {
@@ -1103,7 +1103,7 @@ fn nul_padding_after_the_last_line_is_no_row_and_is_said_without_the_bytes() {
 }
 
 /// A header with a trailing comma (every row too) reads as without it, and the report of
-/// the columns names the empty field instead of an empty name (session 11: `ignored: `).
+/// the columns names the empty field instead of an empty name (earlier: `ignored: `).
 #[test]
 fn a_trailing_comma_on_every_line_names_its_unnamed_field() {
     let text = "t,phi,\n0,0.1,\n0.001,0.2,\n";

@@ -1,4 +1,4 @@
-//! Clips found in a planar log's readings (issue 11, no silent wrong results): a gyro or an
+//! Clips found in a planar log's readings (no silent wrong results): a gyro or an
 //! accelerometer that clips at a full scale the rig does not give, through the binary
 //! (`estimate`, `stream`). The clip is warned once per level with its line and column, the
 //! rows at it are flagged `saturated` by every estimator reading that sensor, and the

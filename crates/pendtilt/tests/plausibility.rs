@@ -1,4 +1,4 @@
-//! Issue 11, items 2 and 3: plausibility at the edge and unit checks.
+//! Plausibility at the edge and unit checks.
 //!
 //! Item 2: an impossible reading (beyond the rig's full scale, or absurd) is missing for
 //! every estimator, flagged `implausible` on the estimators that read it, reported once
@@ -495,7 +495,7 @@ fn a_burst_of_100_impossible_cells() {
 /// of the fault-free run within 2 s. Holding the mean alone left the integrated angle up
 /// to 1 deg off, which Mahony forgets at kp = 0.45 /s: measured before the bridge, Mahony
 /// back after up to 5.5 s, beyond 2 s in most gaps; with the line between the means on
-/// either side (session 11), within 2 s in 22 of 27, at most 3.74 s; with the fit, 26 of
+/// either side, within 2 s in 22 of 27, at most 3.74 s; with the fit, 26 of
 /// 27, at most 3.02 s (the complementary filter at most 0.96 s). Figures: `cargo test --release -p pendtilt --test plausibility --
 /// --nocapture anywhere`.
 #[test]
@@ -542,7 +542,7 @@ fn a_burst_of_100_missing_gyro_readings_anywhere_is_bridged() {
 
 /// One missing accelerometer reading anywhere (27 positions, seeds 1, 3, 6): every
 /// estimator is back within 0.05 deg of the fault-free run within 2 s. Madgwick holds the
-/// last reading for one sample (session 13): it skipped the correction, and its normalised
+/// last reading for one sample: it skipped the correction, and its normalised
 /// step left it 2 beta dt (0.14 deg) from the fault-free run for 5.5 s on the issue's cell.
 #[test]
 fn one_missing_accelerometer_reading_anywhere_leaves_no_estimator_off() {
@@ -572,7 +572,7 @@ fn one_missing_accelerometer_reading_anywhere_leaves_no_estimator_off() {
 /// A 450 ms gap in the gyro in the middle of a turn (the scooter ride, 12 s, seed 6, from
 /// 8.2 s, where the body turns at 0.5 rad/s): the EKF and UKF coast on the gyro's 25 ms
 /// mean and the pendulum. With theta' loosened by three vibration sigmas
-/// (`MISSING_RATE_SIGMAS` before session 11) the encoder's readings, swung by the pivot's
+/// (`MISSING_RATE_SIGMAS` before) the encoder's readings, swung by the pivot's
 /// unknown translation, turned theta 5.7 deg off the truth; now 1.8 deg at most (the
 /// fault-free run 0.10 over the same second).
 #[test]
@@ -915,7 +915,7 @@ fn accel_in(rows: &[SimRow], per: f64) -> String {
     text(&c)
 }
 
-/// An accelerometer in g or mg read as m/s^2 (item 3; found as a new user, session 15):
+/// An accelerometer in g or mg read as m/s^2 (item 3; found as a new user):
 /// the planar estimators read only its direction, so g changed no estimate and said
 /// nothing, but mg put every reading beyond the full scale (every accelerometer reader
 /// without an estimate, 10 of 103 024 impossible readings listed, no fix). Now the median
@@ -983,8 +983,8 @@ fn an_accelerometer_in_g_or_mg_is_named_from_gravity_and_the_fix_works() {
     );
 }
 
-/// A sensor that counts the other way from MODEL.md section 1's signs (found as a new user,
-/// session 15): phi, gyro or ax negated on the scooter ride gave 12.0 deg RMS (alg2), 8.0
+/// A sensor that counts the other way from MODEL.md section 1's signs (found as a new
+/// user): phi, gyro or ax negated on the scooter ride gave 12.0 deg RMS (alg2), 8.0
 /// (ekf) and 3.8 (Mahony) with nothing said. Now the pairs that fit with the sign reversed
 /// name the column, the accelerometer's angle the reference and the true angle, when the
 /// log has it, telling ax from phi and gyro both; `--negate` fixes it, to the bit.
@@ -1067,7 +1067,7 @@ fn a_column_counting_the_other_way_is_named_and_negate_fixes_it() {
 }
 
 /// Short logs (4 s): the gyro in deg/s and `--deg` given on a log in radians are found
-/// (session 10: the filters start on the mean of the first 50 ms and are read from one
+/// (now the filters start on the mean of the first 50 ms and are read from one
 /// period of their cutoff on, 1.8 s, where they waited 3.7 s after starting on one reading,
 /// and none of these was said), and the correct logs stay quiet, a still one included (a
 /// reference moving less than 0.5 deg gives no fit).
@@ -1334,7 +1334,7 @@ fn restarts_over_six_rides_and_three_gap_positions() {
     // accelerometer's error over the gap's last tau): a twin of the ride that brakes in the
     // gap gives the same faulty log and another fault-free run, so no restart meets 2 s on
     // both (`no_restart_meets_2_s_on_both_a_ride_and_its_twins_in_the_gap`). Tried
-    // (sessions 12-13), estimating it from the readings after the gap by their uniform
+    // earlier, estimating it from the readings after the gap by their uniform
     // mean, or by their mean mirrored with weights exp(-t / T), T = 0.5-4 tau: 4 of 18
     // beyond 2 s in each (at most 2.35-2.79 s).
     assert!(comp_oracle.iter().all(|t| *t <= 2.0), "{comp_oracle:?}");
@@ -1346,7 +1346,7 @@ fn restarts_over_six_rides_and_three_gap_positions() {
 }
 
 /// One absurd cell in the truth column (`theta` 1e6) is read as missing, said with its
-/// line, and left out of the score (session 11: it was scored, every estimator's RMS
+/// line, and left out of the score (earlier: it was scored, every estimator's RMS
 /// printed as 523036 deg on the 12 s ride, with the hint "looks like degrees; read it
 /// with --deg theta", which would have made every other truth cell wrong).
 #[test]

@@ -1,4 +1,4 @@
-//! `pendtilt report` on 3-D logs (issue 14 item 4): the report has every estimator of the
+//! `pendtilt report` on 3-D logs: the report has every estimator of the
 //! 3-D registry, its RMS and max agree with what `estimate` prints on the same log, the
 //! figures and pages are written, and bad input stops with the file and place.
 use std::path::{Path, PathBuf};

@@ -190,7 +190,7 @@ fn the_y_range_ignores_a_start_up_transient_and_counts_what_it_cuts() {
 /// The truth, drawn whole ([`Curve::reference`]), is never cut, start-up or not: a truth
 /// that starts at -3 and settles to the unit sine keeps the axis down to -3, while an
 /// estimate's start-up transient beside it (50 points at 50) is still cut and counted
-/// (session 14: a 10 s 3-D report ranged on its scored last 5 s cut the truth's first
+/// (earlier: a 10 s 3-D report ranged on its scored last 5 s cut the truth's first
 /// seconds off, 4451 points of pendulum3d's roll panel beyond the axis, the truth's
 /// among them).
 #[test]

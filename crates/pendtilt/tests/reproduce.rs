@@ -182,7 +182,7 @@ fn reproduce_end_to_end_on_a_short_ride() {
 }
 
 /// The 3-D part of the run above: one report per scenario with every estimator of the
-/// registry and its figures, the table on the top page, still3d within issue 14's target,
+/// registry and its figures, the table on the top page, still3d within its target,
 /// and scooter3d's numbers equal to `simulate` + `estimate` on the same scenario and seed.
 fn spatial_part(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome, top: &str, md: &str) {
     let registry: Vec<&str> = REGISTRY3D.iter().map(|e| e.name).collect();

@@ -1,4 +1,4 @@
-//! Issue 15 item 2 on its scenarios (seed 1): ekf3d's wheel-slip detection on
+//! Wheel slip on its scenarios (seed 1): ekf3d's wheel-slip detection on
 //! `ride3d_slip` (a wheel locking when braking at 61.8 s, one spinning when pulling away at
 //! 83.5 s), its absence on plain `ride3d`, and ekf3d on `ride3d_yawbias`. Runs cut to the
 //! stretches needed (87 s for the slips); `estimate --flags` writes `slip`. Run with `-- --nocapture` for the figures
@@ -118,7 +118,7 @@ fn slip_is_flagged_within_100_ms_and_the_speed_dropped() {
         );
         assert!(first >= iv[0] && first <= iv[0] + 0.1, "{name}: {first}");
         assert!(last >= iv[1] - 0.2, "{name} ended early: {last}");
-        // Issue 15: no error above 1 deg during the slip.
+        // The target: no error above 1 deg during the slip.
         assert!(with <= 1.0, "{name}: {with} (plain ride3d {none})");
         // Without the detector: the lock 1.8 deg (the wheel's reading falls as fast as
         // a hard stop, which the filter takes for braking; 3.6 before the forcing's

@@ -1,4 +1,4 @@
-//! `report` for a ride (issue 15 item 4): the phases found from the log against MODEL.md
+//! `report` for a ride: the phases found from the log against MODEL.md
 //! 7.8's `ride3d` timeline (speed steps and turns), none on vehicles that do not drive,
 //! and the ride section of `report`: both runs of ekf3d (with and without the speed) per
 //! phase, the compensated one far better in the turns and the braking, the files written.
@@ -171,7 +171,7 @@ fn report_on_a_ride_sets_ekf3d_beside_itself_without_the_speed() {
     // 0.3-0.45 g turns and 0.43 g braking tilt the specific force by 13-24 deg: without
     // the speed the filter follows part of it; with it, it does not (RMS over the phase
     // at least 5 times smaller; the largest error at least halved: today's ekf3d still has
-    // a few degrees' spikes on some seeds, issue 15's 1 deg target is not met yet)
+    // a few degrees' spikes on some seeds, the 1 deg target is not met yet)
     for name in ["turning", "braking"] {
         let p = phase(ride, name);
         let (c, u) = (run(p, "ekf3d"), run(p, "ekf3d without speed"));

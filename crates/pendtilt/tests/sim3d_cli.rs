@@ -203,7 +203,7 @@ fn reader_errors_name_file_line_and_column() {
 }
 
 /// A 3-D scenario file of some keys is applied on top of the named scenario, key by key,
-/// as a planar one is (session 13: with `--scenario scooter3d` it was refused as "is a
+/// as a planar one is (earlier: with `--scenario scooter3d` it was refused as "is a
 /// scenario" with an empty name; with its own `scenario = "ship3d"` as "missing field
 /// `duration`", no file named). A whole file still reruns to the same bytes; a file naming
 /// another scenario than --scenario, or none at all, is a clear error.

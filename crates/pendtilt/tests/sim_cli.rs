@@ -147,7 +147,7 @@ fn bad_input_fails_with_a_clear_message() {
         err.contains("bad.toml") && err.contains("motion.frequency"),
         "{err}"
     );
-    // A value of the wrong type, or a misspelt key, is named and placed (session 13: it
+    // A value of the wrong type, or a misspelt key, is named and placed (earlier: it
     // said `bad.toml: invalid type: string "abc", expected f64`, no key, no line).
     for (text, want) in [
         (
@@ -166,7 +166,7 @@ fn bad_input_fails_with_a_clear_message() {
         assert!(err.contains(want), "{err}");
     }
     assert!(!log.exists());
-    // A huge value is quoted as written, not as 300 digits (session 13).
+    // A huge value is quoted as written, not as 300 digits.
     for (set, want) in [
         ("pendulum.mass=1e300", "mass * length^2 = 2.5e297 kg m^2"),
         (
@@ -458,7 +458,7 @@ fn a_missing_config_file_is_named_once() {
 }
 
 /// The sensors' full scales and gravity in a scenario file or `--set` get the rig file's
-/// unit checks (session 13: `full_scale = 500`, meant as deg/s, simulated a gyro that never clips, and
+/// unit checks (earlier: `full_scale = 500`, meant as deg/s, simulated a gyro that never clips, and
 /// `[sensors.accel] full_scale = 16`, meant as g, one that clips at 1.6 g, without a
 /// word). No built-in scenario is doubted.
 #[test]
@@ -521,7 +521,7 @@ fn simulate(name: &str, seconds: &str, out: &str, extra: &[&str]) -> std::proces
 }
 
 /// A log written to a device or standard output has no "beside": the rig and scenario
-/// files are written only where --rig-out says, and the summary says so (session 13:
+/// files are written only where --rig-out says, and the summary says so (earlier:
 /// `-o /dev/null` wrote `/dev/null.rig.toml` and `/dev/null.scenario.toml` into /dev).
 #[test]
 fn a_log_to_a_device_writes_no_file_beside_it() {
@@ -538,7 +538,7 @@ fn a_log_to_a_device_writes_no_file_beside_it() {
         assert!(!std::path::Path::new("/dev/null.scenario.toml").exists());
     }
     // A device that fails is not said to keep an earlier file; `report` names a device as
-    // one, not as a file (session 13).
+    // one, not as a file.
     let out = simulate("sine", "0.2", "/dev/full", &[]);
     assert!(!out.status.success());
     let e = String::from_utf8_lossy(&out.stderr);

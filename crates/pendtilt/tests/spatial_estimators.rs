@@ -1,4 +1,4 @@
-//! The spatial estimators (issue 14 item 2) against the 3-D simulator's truth: a body that
+//! The spatial estimators against the 3-D simulator's truth: a body that
 //! rolls, pitches and yaws at once, with linear and angular vibration and noisy sensors
 //! (MODEL.md 7.8's "noisy" grade). Scored by the inclination error of MODEL.md 7.9.
 use pendtilt::bank3d::score::Inclination;
@@ -95,7 +95,7 @@ fn score(rows: &[LogRow3d], e: &mut dyn SpatialEstimator<f64>, from: f64) -> (f6
 /// The filter told the sensors' grade and the environment: this motion's vibration is at
 /// 40 and 80 Hz, none near the pendulum's 2.19 Hz, so the density that forces the
 /// pendulum is small (the default, 0.02, is the scooter's broadband vibration; on this log
-/// it gives 0.10 deg RMS against 0.031 deg: choosing it from the log is issue 12's).
+/// it gives 0.10 deg RMS against 0.031 deg: choosing it from the log is `pendtilt tune`'s).
 fn settings() -> Settings<f64> {
     let mut s = Settings::default();
     s.environment.vibration_density = 0.005;
@@ -252,7 +252,7 @@ fn missing_readings_are_flagged_bridged_or_restarted() {
     );
 }
 
-/// Issue 14's comparison on this log: each 3-D peer and ekf3d tuned by the same search
+/// The comparison on this log: each 3-D peer and ekf3d tuned by the same search
 /// (20 golden steps of one setting on a log scale, scored by the inclination RMS against
 /// the truth: the peers' main gain, ekf3d's vibration density), and ekf3d at least 5
 /// times better than the best of them.
@@ -326,7 +326,7 @@ fn state_sizes_in_f32() {
     assert!(sizes[3].1 <= 2560, "{sizes:?}");
 }
 
-/// Issue 14 item 5: a whole 2-hour log at 1 kHz in f32 against f64 (closed-form readings:
+/// A whole 2-hour log at 1 kHz in f32 against f64 (closed-form readings:
 /// a slow two-axis tilt with yaw, the pendulum lagging it, 40 Hz vibration; physics is not
 /// the point here, precision is): every 3-D estimator stays within 0.01 deg (inclination)
 /// of f64 over the last minute.

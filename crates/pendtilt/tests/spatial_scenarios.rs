@@ -1,4 +1,4 @@
-//! Issue 14's targets on the named 3-D scenarios of MODEL.md 7.8 (shortened to 40 s to keep
+//! The targets on the named 3-D scenarios of MODEL.md 7.8 (shortened to 40 s to keep
 //! the suite quick; seeds fixed): ekf3d against the 3-D peers, each tuned by the same
 //! search, scored by the inclination error (MODEL.md 7.9) from the scenario's `score_from`.
 //! Run with `-- --nocapture` for the table (`cargo test --release -p pendtilt --test
@@ -212,13 +212,13 @@ fn ship3d_ekf3d_against_the_fairly_tuned_peers() {
     assert!(ekf.0 <= best && t.1 < best / 3.0, "{t:?} {ekf:?} vs {best}");
 }
 
-/// Issue 15 item 1: on ride3d (MODEL.md 7.8; braking at 4.2 m/s^2, turns at 0.28-0.50
+/// On ride3d (MODEL.md 7.8; braking at 4.2 m/s^2, turns at 0.28-0.50
 /// rad/s, speed scale 1.01) ekf3d uses the `speed` column for O's acceleration
 /// (`v' x_b + w_p x v x_b`) and the lever arm from `[mounting] speed_at`. Without the
 /// speed it reads the vehicle's accelerations as tilt, as every peer does.
 /// Measured (seed 1, 120 s, inclination): with the speed 0.174 deg RMS (max 0.71) at its
 /// defaults; without it 7.2 (max 32); VQF tuned 4.2 (max 7.68, so ekf3d is 10.8x better in
-/// max: issue 15 asks 10x against the best tuned peer). The other seeds and the variants:
+/// max: the target is 10x against the best tuned peer). The other seeds and the variants:
 /// `ride3d_on_three_seeds_and_with_a_yaw_rate_bias`.
 #[test]
 fn ride3d_ekf3d_with_the_speed() {
@@ -235,7 +235,7 @@ fn ride3d_ekf3d_with_the_speed() {
         .collect();
     let without = score(&blind, &mut Ekf::new(settings(&s)), from);
     let vqf_tuned = golden_log(|t| score(&blind, &mut vqf(t), from).0, 0.05, 100.0, 20);
-    // VQF's max error at its RMS-tuned gain (issue 15: the compensated ekf3d 10x better).
+    // VQF's max error at its RMS-tuned gain (the compensated ekf3d 10x better).
     let vqf_max = score(&blind, &mut vqf(vqf_tuned.0), from).1;
     println!(
         "ride3d ekf3d with the speed {:.3} / {:.3} deg (tuned {:.3}); without {:.3} / {:.3}; \
@@ -271,12 +271,12 @@ fn roll_pitch(rows: &[LogRow3d], e: &mut dyn SpatialEstimator<f64>, from: f64) -
     [(sr / n).sqrt(), (sp / n).sqrt(), max]
 }
 
-/// Issue 15's bounds (roll and pitch 0.3 deg RMS, 1 deg max) at ekf3d's defaults on ride3d
+/// The bounds (roll and pitch 0.3 deg RMS, 1 deg max) at ekf3d's defaults on ride3d
 /// with seeds 2 and 3 (seed 1 above), and on ride3d_yawbias (+0.5 deg/s on the gyro's z)
 /// with seeds 1-3; ukf3d within 0.02 deg (RMS inclination) of ekf3d on ride3d seed 2.
 /// Measured (roll / pitch RMS, max, deg): ride3d seed 2 0.140 / 0.093, 0.64; seed 3
 /// 0.121 / 0.207, 0.49; yawbias 0.121 / 0.080, 0.45; 0.129 / 0.092, 0.69; 0.125 / 0.207,
-/// 0.49 (session 7, with the speed differentiated rather than a state: 0.167 / 0.133, 0.98;
+/// 0.49 (with the speed differentiated rather than a state: 0.167 / 0.133, 0.98;
 /// 0.149 / 0.254, 0.67; ...). Before the z bias's Jacobian was the specific force's alone
 /// and the path's pitch rate was cut at 0.5 Hz, seeds 2 and 3 gave 0.365 / 0.231, 1.51 and
 /// 0.280 / 0.354, 0.94. ukf3d on seed 2: 0.166 against ekf3d's 0.168 (0.44 before its

@@ -1,4 +1,4 @@
-//! `pendtilt stream` (issue 6, item 3): log lines fed slowly through a pipe; every estimate
+//! `pendtilt stream`: log lines fed slowly through a pipe; every estimate
 //! line must come out before the next input line is sent.
 //!
 //! No timing is assumed beyond a generous per-line timeout (10 s): the test waits for each
@@ -204,7 +204,7 @@ fn missing_and_wrapped_samples_stream_flagged() {
 #[test]
 fn a_line_the_input_ends_in_streams_with_its_cut_cell_missing() {
     // The producer stopped in the middle of a line: `0.004,-0.02` was `0.004,-0.0215,...`.
-    // Its row still comes out, the cut `phi` missing and flagged (session 10: it was read
+    // Its row still comes out, the cut `phi` missing and flagged (earlier: it was read
     // as -0.02 and the pendulum estimate moved to it).
     let mut text = String::from("t,phi,gyro,ax,ay\n");
     for k in 0..4 {

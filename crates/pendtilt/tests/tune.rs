@@ -1,4 +1,4 @@
-//! Self-tuning (issue 12): each noise estimator against the simulator's known noise
+//! Self-tuning: each noise estimator against the simulator's known noise
 //! figures, the likelihood fit against a linear model with known Q and R, repeatability,
 //! and logs too short or too still to identify a value.
 use pendtilt::core::kalman::KalmanSettings;
@@ -533,8 +533,8 @@ fn rms_deg(
     sums.iter().map(|s| (s / n).sqrt().to_degrees()).collect()
 }
 
-/// `kf_accel`'s R is fitted on the surrogate of its error, as `kf_alg2`'s is (session 13),
-/// and `kf_fused`'s accelerometer R on the surrogates of both its measurements (session 14).
+/// `kf_accel`'s R is fitted on the surrogate of its error, as `kf_alg2`'s is,
+/// and `kf_fused`'s accelerometer R on the surrogates of both its measurements.
 /// The likelihood fit took the accelerometer's vibration as white noise and trusted it
 /// far too much (R 0.07 rad^2 on the quick start's ride): tuned, kf_accel improved
 /// little and kf_fused, which shared R, went from 0.63 deg RMS untuned to 1.47 (tuned on

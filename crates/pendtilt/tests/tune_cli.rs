@@ -1,4 +1,4 @@
-//! `pendtilt tune` end to end (issue 12): a log with no true angle in, a rig file out that
+//! `pendtilt tune` end to end: a log with no true angle in, a rig file out that
 //! `pendtilt estimate` reads as it is and that beats the defaults against the simulator's
 //! truth on a rig the project never saw; the inputs are never overwritten; the time limit
 //! stops it early and it says so.
@@ -149,7 +149,7 @@ fn tune_writes_a_commented_rig_that_estimate_reads_and_that_beats_the_defaults()
     // Against the truth: the tuned rig beats the defaults for the inversions and the
     // Kalman filter on them (measured in the zoo: 1.36 -> 0.023 deg kf_alg2, 0.89 -> 0.27
     // alg1, 1.33 -> 0.69 alg2). The EKF is not asserted: its self-tuned sensor figures
-    // made it worse on this ride (0.0092 -> 0.0106 deg; README "Self-tuning").
+    // made it worse on this ride (0.0092 -> 0.0106 deg; docs/fitting-and-tuning.md, "Self-tuning").
     let d = f.estimate_rms(&f.rig);
     let t = f.estimate_rms(&tuned);
     eprintln!("defaults {d:?}\ntuned    {t:?}");
@@ -348,7 +348,7 @@ fn a_still_log_never_tunes_a_noise_of_zero_and_its_rig_is_no_worse_than_the_defa
 }
 
 /// A log whose gyro is in deg/s is said to be, as `estimate` says it, and the tuned file
-/// records it (session 14: `tune` read it silently and wrote settings fitted to a gyro 57x
+/// records it (earlier: `tune` read it silently and wrote settings fitted to a gyro 57x
 /// too large, most of its readings read as missing beyond the rig's full scale, of which
 /// only the first ten were listed). With `--deg gyro` the warning goes; a correct log has
 /// none.

@@ -16,8 +16,8 @@ pub const SLOW_RATE_TAU: f64 = 0.025;
 
 /// How uncertain theta' is when the gyro goes missing, in units of
 /// [`ModelSettings::gyro_vibration`] (standard deviation): theta' is then the 25 ms mean
-/// ([`SLOW_RATE_TAU`]), which leaves a sixth of the vibration and lags the manoeuvres. 3
-/// (session 10) let the encoder's readings, which the unknown translation of the pivot
+/// ([`SLOW_RATE_TAU`]), which leaves a sixth of the vibration and lags the manoeuvres. 3 (the
+/// earlier value) let the encoder's readings, which the unknown translation of the pivot
 /// swings, turn theta: a 450 ms gyro gap in a turn of the scooter ride (seed 6, from
 /// 8.2 s) put the EKF 5.7 deg off, 0.45 deg RMS over the ride; with 1, 0.21 deg RMS and
 /// no excursion beyond the start's. Over 27 bursts of 100 missing readings (seeds 1, 3,

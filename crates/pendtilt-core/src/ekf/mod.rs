@@ -45,7 +45,7 @@
 //! | complementary (tau 0.75 s) | 0.806 | 0.522 | 29.0 |
 //!
 //! Command: `cargo test --release -p pendtilt --test ekf_scooter -- --nocapture`
-//! (the test asserts issue 7's targets: EKF at most half the best of alg1-3, below
+//! (the test asserts the targets: EKF at most half the best of alg1-3, below
 //! kf_alg2, at most a fifth of the best peer, lag no worse than alg2's). Per-sample cost:
 //! `cargo bench -p pendtilt --bench peers` (EKF beside Madgwick from `ahrs`).
 pub mod estimator;

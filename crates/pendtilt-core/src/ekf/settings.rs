@@ -179,7 +179,7 @@ pub struct ModelSettings<T> {
     /// with white noise of the vibration's density near its natural frequency, but an
     /// engine's tone far above it still moves the pendulum by a few hundredths of a degree,
     /// which a fine encoder reads and the filter, trusting it, takes for tilt. Measured on
-    /// issue 12's zoo (ride 11: 16-bit encoder, 26 Hz engine at 2.4 m/s^2, sensor figures
+    /// the zoo of unseen rigs (ride 11: 16-bit encoder, 26 Hz engine at 2.4 m/s^2, sensor figures
     /// and process noise as self-tuned): 0 -> 0.03 deg took the EKF from 0.0131 to
     /// 0.0045 deg RMS. Default 0: the default 12-bit encoder's rounding (0.025 deg RMS)
     /// already stands for it, and `pendtilt tune` measures it from the encoder's spectrum.

@@ -17,7 +17,7 @@
 //! acceleration: `|f| = g`), and the world's up direction in body axes is
 //! `u = Rx(a) Ry(b) v`, less the pivot's lever-arm terms `wd x r12 + w x (w x r12)` when it
 //! sits off the IMU point. A travelling vehicle's known acceleration (the `speed` column,
-//! issue 15: [`super::travel`]) is the pivot's too: `u = f / g - (a_O + wd x r + w x (w x
+//! [`super::travel`]) is the pivot's too: `u = f / g - (a_O + wd x r + w x (w x
 //! r)) / g` with `r` the pivot from O (`[mounting] speed_at`), which without a speed and
 //! with O at the IMU point is the lever arm above. On a pure roll this is exactly the planar Eq (21),
 //! `theta = phi + asin(a phi' + b (phi'' - theta''))`: `v_y` is the asin's argument (test

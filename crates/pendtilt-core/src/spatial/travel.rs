@@ -1,4 +1,4 @@
-//! A travelling vehicle's known acceleration (issue 15): the forward speed of the point O
+//! A travelling vehicle's known acceleration: the forward speed of the point O
 //! (`[mounting] speed_at`, the `speed` column) and the gyro give O's acceleration in body
 //! axes, `a_O = v' x_b + w_p x (v x_b)`: the longitudinal part from the speed's smoothed
 //! derivative, the centripetal part from the rate `w_p` at which the path turns and pitches

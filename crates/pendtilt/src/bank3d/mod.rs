@@ -1,4 +1,4 @@
-//! The 3-D estimator bank (issue 14 item 4): every estimator `pendtilt estimate` runs on a
+//! The 3-D estimator bank: every estimator `pendtilt estimate` runs on a
 //! 3-D log (MODEL.md 7.6), built from the rig and the sensors, run side by side one
 //! [`SpatialSample`] at a time.
 //!

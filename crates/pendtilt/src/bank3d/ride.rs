@@ -1,4 +1,4 @@
-//! What a ride report runs besides the bank (issue 15 item 4): the filter that uses the
+//! What a ride report runs besides the bank: the filter that uses the
 //! `speed` column, once more without it, and which estimators are the peers.
 use pendtilt_core::spatial::SpatialSample;
 

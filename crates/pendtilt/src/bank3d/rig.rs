@@ -156,7 +156,7 @@ pub struct Rig3dConfig {
 /// `[ekf3d]`: the settings of `ekf3d` and `ukf3d` a rig may set, each optional and each
 /// the field of [`ekf::Settings`] of the same name (documented there, with its default).
 /// A travelling vehicle may want a larger `vibration_density` than the standing
-/// scooter's default: see the README's "3-D" section.
+/// scooter's default: see docs/spatial.md, "The 3-D estimators (library)".
 #[derive(Debug, Clone, Copy, PartialEq, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Ekf3dConfig {

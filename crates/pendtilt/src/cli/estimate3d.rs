@@ -1,4 +1,4 @@
-//! The 3-D branch of `pendtilt estimate` (MODEL.md 7.6, issue 14 item 4): a log with the
+//! The 3-D branch of `pendtilt estimate` (MODEL.md 7.6): a log with the
 //! columns t, phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az (speed, roll, pitch
 //! optional) through the 3-D bank ([`crate::bank3d::REGISTRY3D`]).
 //!
@@ -444,7 +444,7 @@ pub(crate) fn pass(
         ));
     }
     if !log.has("speed") {
-        // Issue 15: without the speed no estimator knows the vehicle's own acceleration.
+        // Without the speed no estimator knows the vehicle's own acceleration.
         opts.notice(&format!(
             "note: {file} has no `speed` column: ekf3d and ukf3d take the vehicle as not \
              accelerating, so braking, pulling away and turns bias them (and every peer)"

@@ -25,7 +25,7 @@ pub const DEFAULT_SEED: u64 = 1;
 pub struct Args {
     /// Base scenario: still, sigmoid, step, sine, chirp or scooter (MODEL.md section 6), or
     /// a 3-D one: still3d, scooter3d, ship3d, ride3d (MODEL.md 7.8), or ride3d's variants
-    /// ride3d_yawbias and ride3d_slip (issue 15). No default: give it or --config.
+    /// ride3d_yawbias and ride3d_slip. No default: give it or --config.
     #[arg(long, value_name = "NAME")]
     pub scenario: Option<String>,
     /// Scenario TOML overriding the base key by key (`pendtilt simulate --print-scenario`

@@ -336,7 +336,7 @@ fn spatial_intro(rides: &[spatial::SpatialRide], outputs: &[SpatialOutput]) -> S
         })
         .collect();
     format!(
-        "The 3-D part (MODEL.md section 7, issue 14): the two-axis pendulum on a Cardan joint \
+        "The 3-D part (MODEL.md section 7): the two-axis pendulum on a Cardan joint \
          with a 3-axis gyro and accelerometer, on the scenarios {} of MODEL.md 7.8 \
          (`Scenario3d::named`; a run shorter than its scenario is the scenario's first part, \
          cut to keep this run short: each report says). Every estimator of the 3-D registry runs with the scenario's rig and \

@@ -1,4 +1,4 @@
-//! The 3-D part of `reproduce` (issue 14 item 4): MODEL.md 7.8's scenarios simulated with
+//! The 3-D part of `reproduce`: MODEL.md 7.8's scenarios simulated with
 //! fixed seeds ([`Scenario3d::named`]), every estimator of the 3-D registry
 //! ([`crate::bank3d::REGISTRY3D`], so a new entry appears here by itself) with the
 //! scenario's rig and sensor figures (as `pendtilt estimate --scenario` takes them), one

@@ -27,7 +27,7 @@
 //! target and alg3). The output error is not biased by vibration: on a chirp with the full `scooter` vibration it recovers a
 //! and b within 2 % where Eq (23) is 4-6 % off; on the 60 s `scooter` ride b within 8-13 %
 //! where Eq (23) is 53-57 % low, and within 1 % when the simulation is driven by the
-//! accelerometer ([`output::OutputSettings::accel`]) (README, parameter fitting).
+//! accelerometer ([`output::OutputSettings::accel`]) (docs/fitting-and-tuning.md, "Parameter fitting").
 //!
 //! Fitting is fast because the kinematics are cached: see [`problem`]. The live
 //! counterparts (sliding window Newton, RLS) are in [`pendtilt_core::supervision`].

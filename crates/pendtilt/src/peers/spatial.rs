@@ -1,4 +1,4 @@
-//! The 3-D peers (issue 14 item 3): the IMU filters a user would run instead of a
+//! The 3-D peers: the IMU filters a user would run instead of a
 //! pendulum, on the same spatial samples, as [`SpatialEstimator`]s: VQF (the `vqf-rs`
 //! port of Laidig and Seel's reference implementation, 6D: gyro + accelerometer),
 //! Madgwick's and Mahony's filters (the `ahrs` crate's IMU updates), and a Fusion-style
@@ -547,7 +547,7 @@ impl<F: ImuFilter> Estimator for Imu6<F> {
 pub const CLIP_RESTART_AFTER: f64 = 0.05;
 
 /// Madgwick's gain (`beta` [rad/s]) in 3-D: the planar search's value until the 3-D search
-/// (issue 14's fair tuning) replaces it.
+/// (the fair tuning) replaces it.
 pub const MADGWICK3D_BETA: f64 = super::ahrs_planar::MADGWICK_BETA;
 /// Mahony's gains (`kp` [1/s], `ki` [1/s^2]) in 3-D, likewise.
 pub const MAHONY3D_GAINS: [f64; 2] = super::ahrs_planar::MAHONY_GAINS;

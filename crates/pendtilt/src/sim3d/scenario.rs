@@ -1,5 +1,5 @@
 //! The named 3-D scenarios of MODEL.md 7.8 (`still3d`, `scooter3d`, `ship3d`, `ride3d`),
-//! issue 15's variants of `ride3d`, the rig file of 7.6 (`[pendulum3d]`, `[mounting]`) and
+//! the variants of `ride3d`, the rig file of 7.6 (`[pendulum3d]`, `[mounting]`) and
 //! the scenario file.
 //!
 //! `ride3d` itself carries a 1 % speed-scale error (`sensors.speed_scale = 1.01`, a tyre

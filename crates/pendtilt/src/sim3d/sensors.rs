@@ -1,7 +1,7 @@
 //! The 3-axis sensor models of MODEL.md 7.5 and the log row of 7.6 (the `speed` column reads
 //! the vehicle's forward speed of 7.7, 0 for a body that does not travel).
 //!
-//! Wheel slip (issue 15): [`SpeedFault`] stretches where the `speed` reading departs from
+//! Wheel slip: [`SpeedFault`] stretches where the `speed` reading departs from
 //! the true speed (a spinning wheel reads above it, a locked one drops towards 0), listed
 //! in [`Sensors3d::speed_faults`] so that the scenario file records them.
 //!

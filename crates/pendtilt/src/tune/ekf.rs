@@ -188,7 +188,7 @@ impl EkfFitted {
 
 /// True when `fitted` lowers (or keeps) both fitted densities of `start` and changes one:
 /// the only likelihood fits [`super::tune`] adopts without a true angle. Measured on
-/// issue 12's zoo (40 rides, the start's pendulum forcing measured by
+/// the zoo of unseen rigs (40 rides, the start's pendulum forcing measured by
 /// [`super::forcing`]): of the 25 fits that raised the tilt-jerk or the pendulum-forcing
 /// density, 20 made the EKF worse, up to 7.8 times (ride 19, forcing 9600 times the
 /// measured upper bound), 4 better; of the 15 that lowered both, 10 made it better (ride

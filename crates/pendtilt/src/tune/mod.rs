@@ -1,5 +1,5 @@
-//! Self-tuning: every estimator's settings from the user's own log, with no true angle
-//! (issue 12). One concern per module:
+//! Self-tuning: every estimator's settings from the user's own log, with no true angle.
+//! One concern per module:
 //!
 //! - [`spectrum`]: Welch power spectral densities (the other estimators read them).
 //! - [`encoder`]: encoder quantisation step and noise.

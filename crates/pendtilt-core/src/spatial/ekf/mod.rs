@@ -2,7 +2,7 @@
 //! carries the attitude, the gyro bias and the Cardan pendulum's two angles and rates.
 //! The gyro (and, when the log has it, the speed) drives the process, the encoders (and,
 //! optionally, the accelerometer) are measurements; the encoders are never differentiated
-//! (MODEL.md section 7, issues 14 and 15).
+//! (MODEL.md section 7).
 //!
 //! - [`state`]: the state, its 10-dimensional error and `retract` (composition for the
 //!   attitude);

@@ -12,7 +12,7 @@
 //!
 //! The pivot's specific force is `g u` (the world's up direction in body axes, from the
 //! attitude), plus O's acceleration `v' x_b + w_p x (v x_b)` from O's forward speed `v`
-//! and its rate `v'`, both states (a vehicle braking and turning, issue 15; held at zero
+//! and its rate `v'`, both states (a vehicle braking and turning; held at zero
 //! without a `speed` column: O not accelerating), plus the lever arm `wd x r + w x (w x r)` from O (`[mounting] speed_at`,
 //! the point the body turns about) to the pivot, `r = P2 - O`: a scooter on its stand
 //! swinging about a point 0.25 m below the sensors moves the pivot by `wd x r`, at 0.9 Hz
@@ -96,8 +96,8 @@ pub struct Drive<T: Real> {
 impl<T: Real> Drive<T> {
     /// O's acceleration in body axes for the body rate `w` (bias removed) and O's forward
     /// speed and its rate `travel = (v, v')`: `v' x_b + w_p x (v x_b)`, the longitudinal
-    /// and the centripetal acceleration of a vehicle whose point O moves along body x
-    /// (issue 15), with `w_p = w + path_gyro - gyro` the rate at which its path turns (the
+    /// and the centripetal acceleration of a vehicle whose point O moves along body x,
+    /// with `w_p = w + path_gyro - gyro` the rate at which its path turns (the
     /// same bias removed).
     #[inline]
     pub fn centre_accel(&self, w: &Vector3<T>, travel: &Vector2<T>) -> Vector3<T> {

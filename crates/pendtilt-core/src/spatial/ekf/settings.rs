@@ -57,7 +57,7 @@ pub const DEFAULT_INITIAL_SPEED_RATE: f64 = 2.0;
 /// comes at 10-100 Hz, so a log at the IMU's rate has it on one row in 10-100.
 pub const DEFAULT_SPEED_TIMEOUT: f64 = 0.5;
 
-/// O's forward speed and its rate as states (issue 15): the `speed` column measures the
+/// O's forward speed and its rate as states: the `speed` column measures the
 /// speed, the rate is a random walk.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpeedSettings<T> {
@@ -110,7 +110,7 @@ impl<T: Real> SpeedSettings<T> {
 ///   either way, ukf3d too. 0.03 and 0.1 gave 0.054 and 0.053 on scooter3d seed 1.
 pub const DEFAULT_ENCODER_JITTER_DEG: f64 = 0.05;
 
-/// Defaults of [`SlipSettings`] (issue 15, wheel slip; module `super::slip`). Measured
+/// Defaults of [`SlipSettings`] (wheel slip; module `super::slip`). Measured
 /// with ekf3d at its other defaults (`cargo test --release -p pendtilt --test ride3d_slip
 /// -- --nocapture`; the sweep on 2026-12-02, before the encoder jitter and the 5 Hz speed
 /// derivative: ride3d seeds 1-3, scooter3d and ship3d 120 s, ride3d_slip seeds 1-3; the

@@ -1,4 +1,4 @@
-//! Wheel-slip detection for the `speed` column (issue 15 item 2).
+//! Wheel-slip detection for the `speed` column.
 //!
 //! A wheel-speed sensor reads the wheel, not the vehicle: a wheel that spins when pulling
 //! away reads above the vehicle's speed, one that locks when braking drops towards 0 while

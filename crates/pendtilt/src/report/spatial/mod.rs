@@ -1,4 +1,4 @@
-//! 3-D reports (MODEL.md 7, issue 14 item 4): every estimator's roll and pitch against the
+//! 3-D reports (MODEL.md 7): every estimator's roll and pitch against the
 //! truth and its inclination error (MODEL.md 7.9) over time, as figures, a table of RMS,
 //! max and mean, `report.md`, `report.json` and one HTML page.
 //!

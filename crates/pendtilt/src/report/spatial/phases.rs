@@ -1,4 +1,4 @@
-//! The phases of a ride (issue 15 item 4), found from the log alone, never from the truth:
+//! The phases of a ride, found from the log alone, never from the truth:
 //! turning, braking and accelerating, from the `speed` column and the gyro's z component.
 //!
 //! - turning: the centripetal acceleration `|v w_z|` is above [`PHASE_ACCEL`], `v` the

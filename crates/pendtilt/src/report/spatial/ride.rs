@@ -1,4 +1,4 @@
-//! A ride (issue 15 item 4): on a log with a `speed` column, the estimator that uses the
+//! A ride: on a log with a `speed` column, the estimator that uses the
 //! speed (`ekf3d`) beside the same filter run without it, per phase of the ride
 //! ([`super::phases`]: turning, braking, accelerating, found from the log), as a figure
 //! of roll, pitch and inclination error over time with the phases shaded, a table and

@@ -1,4 +1,4 @@
-//! The zoo of unseen rigs (issue 12): seeded simulated rides with randomly drawn rigs,
+//! The zoo of unseen rigs: seeded simulated rides with randomly drawn rigs,
 //! sensor grades, vibration and motions, on which self-tuning is measured against the
 //! defaults and a brute-force grid tuned against the true angle ([`score`]).
 //!
