@@ -427,3 +427,47 @@ fn numeric_options_a_fit_cannot_run_with_are_named_with_their_range() {
     }
     fit(&[log, "-q", "--smoothing-hz", "499", "-o", out]).unwrap();
 }
+
+/// A log without the true angle: the default fit says so before any work and names the
+/// fit that needs none (it printed its iteration header, then "no usable `theta`").
+#[test]
+fn a_log_without_truth_is_told_about_the_gyro_target() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = write_log(dir.path());
+    let text = std::fs::read_to_string(&log).unwrap();
+    let no_truth: String = text
+        .lines()
+        .map(|l| l.rsplit_once(',').unwrap().0.to_string() + "\n")
+        .collect();
+    let path = dir.path().join("no_truth.csv");
+    std::fs::write(&path, no_truth).unwrap();
+    let out = dir.path().join("rig.toml");
+    let cli = Cli::try_parse_from([
+        "pendtilt",
+        "fit",
+        path.to_str().unwrap(),
+        "-q",
+        "-o",
+        out.to_str().unwrap(),
+    ])
+    .unwrap();
+    let e = format!("{:#}", run(cli).unwrap_err());
+    assert!(
+        e.contains("no_truth.csv has no `theta` column") && e.contains("--target gyro"),
+        "{e}"
+    );
+    assert!(!out.exists());
+    let cli = Cli::try_parse_from([
+        "pendtilt",
+        "fit",
+        path.to_str().unwrap(),
+        "--target",
+        "gyro",
+        "-q",
+        "-o",
+        out.to_str().unwrap(),
+    ])
+    .unwrap();
+    run(cli).unwrap();
+    assert!(RigConfig::load(&out).is_ok());
+}

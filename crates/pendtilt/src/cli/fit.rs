@@ -130,6 +130,14 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
         start.b = b;
     }
     let log = read_log(args, &rig)?;
+    // Said before any work, with the way out (it used to come after the iteration header).
+    anyhow::ensure!(
+        args.target != Target::Truth || log.has_theta,
+        "{} has no `theta` column (the true angle), which --target truth (the default) fits \
+         against; without a true angle, --target gyro fits from the gyro and the pendulum \
+         (Eq 29)",
+        args.log.display()
+    );
     let settings = fit_settings(args, &rig, start);
     let cost = args.cost.resolve(args.target, args.algorithm);
     anyhow::ensure!(

@@ -89,10 +89,16 @@ impl SensorLimits {
             return None;
         }
         let unit = column.unit();
+        // The number beside the unit is in that unit: converted (`--accel-unit g`,
+        // `--deg`), it is the SI value, and the cell as written follows it.
+        let shown = if raw == value {
+            format!("{} {unit}", fmt_value(raw))
+        } else {
+            format!("{} {unit} ({} as written)", fmt_sig(value), fmt_value(raw))
+        };
         Some(format!(
-            "{column} {} {unit} exceeds {what} {} {unit} ({known}): read as missing for \
+            "{column} {shown} exceeds {what} {} {unit} ({known}): read as missing for \
              every estimator, the row is flagged implausible",
-            fmt_value(raw),
             fmt_sig(limit)
         ))
     }
@@ -305,6 +311,13 @@ mod tests {
             .unwrap()
             .contains("78.5 m/s^2"));
         assert!(l.check(Column::Ay, 78.4532, 78.4532).is_none());
+        // Read with `--accel-unit g`: 13.65 g is 133.9 m/s^2, and the message says so (it
+        // printed "13.65 m/s^2 exceeds 78.5 m/s^2").
+        let m = l.check(Column::Ay, 13.65 * 9.80665, 13.65).unwrap();
+        assert!(
+            m.starts_with("ay 134 m/s^2 (13.65 as written) exceeds the full scale 78.5 m/s^2"),
+            "{m}"
+        );
         let d = SensorLimits::default();
         assert!(d.check(Column::Gyro, 99.0, 99.0).is_none());
         assert!(d
