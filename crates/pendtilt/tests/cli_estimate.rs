@@ -627,3 +627,70 @@ fn every_command_that_reads_a_log_says_a_gyro_in_deg_per_s() {
         );
     }
 }
+
+/// A time unit given is checked as one found: a 1 kHz log in seconds read with
+/// `--time-unit ms` (planar and 3-D) is refused with the fix (it ran, ekf at 93 deg); the
+/// same log with its time in ms runs with the option, and `--time-unit s` always runs.
+#[test]
+fn a_time_unit_given_is_judged_by_the_physics() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("s.csv");
+    write_log(
+        &log,
+        ["t", "phi", "gyro", "ax", "ay", "theta"],
+        false,
+        false,
+    );
+    let out = dir.path().join("e.csv");
+    let run = |log: &Path, unit: &str| {
+        bin()
+            .arg("estimate")
+            .arg(log)
+            .args(["--time-unit", unit, "-q", "-o"])
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    let o = run(&log, "ms");
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{e}");
+    assert!(
+        e.contains("column 1 (`t`): read with --time-unit ms")
+            && e.contains("read as seconds it is 1000 Hz: drop --time-unit ms"),
+        "{e}"
+    );
+    assert!(!out.exists());
+    assert!(run(&log, "s").status.success());
+    // The same rows with t in ms.
+    let text = std::fs::read_to_string(&log).unwrap();
+    let mut lines = text.lines();
+    let mut ms = format!("{}\n", lines.next().unwrap());
+    for l in lines {
+        let (t, rest) = l.split_once(',').unwrap();
+        ms.push_str(&format!("{},{rest}\n", t.parse::<f64>().unwrap() * 1000.0));
+    }
+    let log_ms = dir.path().join("ms.csv");
+    std::fs::write(&log_ms, ms).unwrap();
+    let o = run(&log_ms, "ms");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // 3-D: the same check.
+    let log3 = dir.path().join("r3.csv");
+    let o = bin()
+        .args([
+            "simulate",
+            "--scenario",
+            "still3d",
+            "--duration",
+            "2",
+            "-q",
+            "-o",
+        ])
+        .arg(&log3)
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let o = run(&log3, "us");
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{e}");
+    assert!(e.contains("drop --time-unit us"), "{e}");
+}

@@ -45,7 +45,8 @@ use crate::config::{doubt_gravity, doubt_gyro_full_scale};
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::plateau::{NewLevel, PlateauWatch, LOOK_AHEAD_ROWS};
 use crate::io::plausibility::{
-    implausible_step, DEFAULT_ACCEL_LIMIT, DEFAULT_GYRO_LIMIT, FULL_SCALE_ROUNDING,
+    implausible_given_unit, implausible_step, DEFAULT_ACCEL_LIMIT, DEFAULT_GYRO_LIMIT,
+    FULL_SCALE_ROUNDING,
 };
 use crate::io::{Column3d, Estimates3dWriter, Log3dReader, Log3dRecord};
 use crate::sim3d::Scenario3d;
@@ -166,8 +167,8 @@ pub(crate) struct Setup {
     pub score_from: f64,
     /// Seconds per unit of `t`.
     time_scale: f64,
-    /// Whether `t`'s unit was given (no rate check then).
-    time_given: bool,
+    /// `t`'s unit, when given (checked as the physics would find it).
+    time_given: Option<crate::io::TimeUnit>,
     /// Radians per unit of the angular columns.
     angle_scale: f64,
     /// `--accel-unit` (`None`: m/s^2).
@@ -267,7 +268,7 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
         settings,
         score_from,
         time_scale: opts.columns.time_unit.map_or(1.0, |u| u.seconds()),
-        time_given: opts.columns.time_unit.is_some(),
+        time_given: opts.columns.time_unit,
         angle_scale,
         accel_unit: opts.columns.accel_unit,
     })
@@ -461,9 +462,7 @@ pub(crate) fn pass(
             None => break,
         }
     }
-    if !setup.time_given {
-        check_time_unit(&file, &head)?;
-    }
+    check_time_unit(&file, &head, setup.time_given)?;
     let header: Vec<String> = log.header().to_vec();
     let mut row = RowInput::new(setup, &file, &header);
     let mut gyro_units = GyroUnits::new(&setup.settings.ekf.params);
@@ -855,7 +854,11 @@ fn slip_warning(file: &str, slip_rows: u64, speed_rows: u64) -> Option<String> {
     })
 }
 
-fn check_time_unit(file: &str, head: &[Log3dRecord]) -> anyhow::Result<()> {
+fn check_time_unit(
+    file: &str,
+    head: &[Log3dRecord],
+    given: Option<crate::io::TimeUnit>,
+) -> anyhow::Result<()> {
     let mut steps: Vec<f64> = head
         .windows(2)
         .map(|p| p[1].t - p[0].t)
@@ -866,7 +869,11 @@ fn check_time_unit(file: &str, head: &[Log3dRecord]) -> anyhow::Result<()> {
     }
     steps.sort_by(f64::total_cmp);
     let median = steps[steps.len() / 2];
-    match implausible_step(median) {
+    let why = match given {
+        Some(u) => implausible_given_unit(median, u),
+        None => implausible_step(median),
+    };
+    match why {
         Some(why) => {
             let line = head.get(1).map_or(0, |r| r.line);
             bail!("{file}:{line}: column 1 (`t`): {why}")

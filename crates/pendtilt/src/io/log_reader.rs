@@ -28,7 +28,9 @@ use super::columns::{
 };
 use super::csv_lines::CsvLines;
 use super::diagnostics::{LogSummary, LogWarning, WarningKind};
-use super::plausibility::{implausible_step, AccelUnit, SensorLimits, TimeUnit};
+use super::plausibility::{
+    implausible_given_unit, implausible_step, AccelUnit, SensorLimits, TimeUnit,
+};
 use super::split::unquote;
 use crate::bank::Inputs;
 use crate::units::{Finding, UnitCheck};
@@ -789,8 +791,11 @@ impl<R: BufRead> LogReader<R> {
                 positive,
                 self.summary.nominal_dt.unwrap_or(0.0),
             ))
-        } else if self.options.time_unit.is_some() {
-            None
+        } else if let Some(u) = self.options.time_unit {
+            // A unit given is judged as one found: nominal_dt is in seconds already.
+            self.summary
+                .nominal_dt
+                .and_then(|dt| implausible_given_unit(dt / u.seconds(), u))
         } else {
             let Some(dt) = self.summary.nominal_dt else {
                 return Ok(());

@@ -276,9 +276,83 @@ pub fn implausible_step(dt: f64) -> Option<String> {
     Some(msg)
 }
 
+/// The fastest plausible rate \[Hz\] of a log whose time unit the user gave: the fastest
+/// MEMS IMUs sample at 32 kHz. Tighter than [`MAX_RATE_HZ`] because a 1 kHz log in seconds
+/// read with `--time-unit ms` comes out at exactly 1 MHz.
+pub const MAX_GIVEN_RATE_HZ: f64 = 1e5;
+
+/// Why a median time step of `raw_dt` in the file's numbers, read in the unit the user
+/// `given`, is not a plausible sensor rate, with the unit that fits; `None` when it is.
+/// `--time-unit s` is the way to read any rate as seconds, and is never questioned.
+pub fn implausible_given_unit(raw_dt: f64, given: TimeUnit) -> Option<String> {
+    let plausible = |r: f64| (MIN_RATE_HZ..=MAX_GIVEN_RATE_HZ).contains(&r);
+    let rate = 1.0 / (raw_dt * given.seconds());
+    if given == TimeUnit::S || !(raw_dt > 0.0) || plausible(rate) {
+        return None;
+    }
+    let mut msg = format!(
+        "read with --time-unit {given}, the median time step is {} s, a rate of {} Hz, \
+         outside the plausible {MIN_RATE_HZ} Hz to {} kHz of a sensor log",
+        {
+            let dt = raw_dt * given.seconds();
+            if dt < 1e-3 {
+                format!("{dt:.2e}")
+            } else {
+                fmt_sig(dt)
+            }
+        },
+        fmt_sig(rate),
+        MAX_GIVEN_RATE_HZ / 1e3
+    );
+    let fix = TimeUnit::ALL
+        .into_iter()
+        .find(|u| plausible(1.0 / (raw_dt * u.seconds())));
+    match fix {
+        Some(TimeUnit::S) => msg.push_str(&format!(
+            "; read as seconds it is {} Hz: drop --time-unit {given}",
+            fmt_sig(1.0 / raw_dt)
+        )),
+        Some(u) => msg.push_str(&format!(
+            "; read as {u} it is {} Hz: give --time-unit {u}",
+            fmt_sig(1.0 / (raw_dt * u.seconds()))
+        )),
+        None => msg.push_str("; no time unit makes it one (--time-unit s reads it as seconds)"),
+    }
+    Some(msg)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A 1 kHz log in seconds read with `--time-unit ms` (1 MHz) or `us` (1 GHz) is
+    /// refused with the fix; the right unit, and `s` whatever the rate, pass.
+    #[test]
+    fn a_time_unit_given_is_checked_too() {
+        let ms = implausible_given_unit(1e-3, TimeUnit::Ms).unwrap();
+        assert!(
+            ms.starts_with(
+                "read with --time-unit ms, the median time step is 1.00e-6 s, a rate of \
+                 1000000 Hz, outside the plausible 10 Hz to 100 kHz of a sensor log"
+            ),
+            "{ms}"
+        );
+        assert!(
+            ms.ends_with("read as seconds it is 1000 Hz: drop --time-unit ms"),
+            "{ms}"
+        );
+        let us = implausible_given_unit(1e-3, TimeUnit::Us).unwrap();
+        assert!(us.contains("drop --time-unit us"), "{us}");
+        // Microseconds read as milliseconds: 1 kHz stamps 1000 apart.
+        let wrong = implausible_given_unit(1000.0, TimeUnit::Ms).unwrap();
+        assert!(
+            wrong.ends_with("read as us it is 1000 Hz: give --time-unit us"),
+            "{wrong}"
+        );
+        assert!(implausible_given_unit(1.0, TimeUnit::Ms).is_none());
+        assert!(implausible_given_unit(1000.0, TimeUnit::Us).is_none());
+        assert!(implausible_given_unit(1e-7, TimeUnit::S).is_none());
+    }
 
     #[test]
     fn at_full_scale_is_plausible_beyond_it_is_not() {
