@@ -287,7 +287,8 @@ pub const MAX_GIVEN_RATE_HZ: f64 = 1e5;
 pub fn implausible_given_unit(raw_dt: f64, given: TimeUnit) -> Option<String> {
     let plausible = |r: f64| (MIN_RATE_HZ..=MAX_GIVEN_RATE_HZ).contains(&r);
     let rate = 1.0 / (raw_dt * given.seconds());
-    if given == TimeUnit::S || !(raw_dt > 0.0) || plausible(rate) {
+    let positive = raw_dt > 0.0 && raw_dt.is_finite();
+    if given == TimeUnit::S || !positive || plausible(rate) {
         return None;
     }
     let mut msg = format!(
