@@ -132,3 +132,81 @@ fn a_reader_that_stops_early_ends_the_run_quietly() {
         assert!(!stderr(&o).contains("error"), "{args:?}: {}", stderr(&o));
     }
 }
+
+/// Runs `script` in sh with `$P` the binary, in `dir`; returns (stdout, stderr).
+fn sh(dir: &std::path::Path, script: &str) -> (String, String) {
+    let o = std::process::Command::new("sh")
+        .args(["-c", &format!("set -e\n{script}")])
+        .env("P", env!("CARGO_BIN_EXE_pendtilt"))
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    let (out, err) = (
+        String::from_utf8(o.stdout).unwrap(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    );
+    assert!(o.status.success(), "{script}: {err}");
+    (out, err)
+}
+
+/// With `-o -` standard output carries the data alone: the summaries (the error table,
+/// the fit's verdict, tune's findings) go to standard error, so that the next command of
+/// a pipe reads a clean CSV or TOML (the error table used to follow the CSV, and `fit` and
+/// `tune` put their summaries before the TOML).
+#[test]
+fn with_o_dash_standard_output_is_the_data_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // simulate | estimate | a second estimate's input check: every line a CSV row.
+    let (csv, err) = sh(
+        d,
+        "$P simulate --scenario scooter --duration 3 -q -o - | $P estimate /dev/stdin -o -",
+    );
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 3001, "{}", lines.last().unwrap());
+    let width = lines[0].split(',').count();
+    assert!(lines.iter().all(|l| l.split(',').count() == width));
+    assert!(
+        err.contains("RMS [deg]"),
+        "the error table goes to stderr: {err}"
+    );
+    std::fs::write(d.join("est.csv"), &csv).unwrap();
+    let (fir, _) = sh(d, "$P filter est.csv --order 50 --cutoff 20 -o -");
+    assert_eq!(fir.lines().count(), 3001);
+    // fit -o - | estimate --params /dev/stdin: the TOML alone on the pipe.
+    sh(
+        d,
+        "$P simulate --scenario scooter --duration 20 -q -o ride.csv",
+    );
+    let (toml, err) = sh(d, "$P fit ride.csv -o -");
+    assert!(toml.starts_with('#') || toml.starts_with('['), "{toml}");
+    assert!(!toml.contains("Converged"), "{toml}");
+    assert!(err.contains("natural frequency"), "{err}");
+    let (est, _) = sh(
+        d,
+        "$P fit ride.csv -o - -q | $P estimate ride.csv --params /dev/stdin -o - -q",
+    );
+    assert_eq!(est.lines().count(), 20001);
+    let (tuned, err) = sh(d, "$P tune ride.csv -o -");
+    assert!(
+        tuned
+            .lines()
+            .all(|l| l.is_empty() || l.starts_with('#') || l.starts_with('[') || l.contains('=')),
+        "{tuned}"
+    );
+    assert!(!err.is_empty());
+    toml_parses(&tuned);
+    // 3-D: the score table on stderr too.
+    sh(
+        d,
+        "$P simulate --scenario still3d --duration 3 -q -o s3.csv",
+    );
+    let (csv3, err3) = sh(d, "$P estimate s3.csv --params s3.rig.toml -o -");
+    assert!(csv3.lines().all(|l| !l.contains("RMS")), "{csv3}");
+    assert!(err3.contains("RMS"), "{err3}");
+}
+
+fn toml_parses(text: &str) {
+    let v: Result<toml::Value, _> = toml::from_str(text);
+    assert!(v.is_ok(), "{text}");
+}

@@ -75,7 +75,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             eprintln!("{}", log.summary());
         }
         if let Some(errors) = &summary.errors {
-            println!("{}", pipeline::error_table(errors));
+            super::options::summary(
+                crate::io::output::is_stdout(&args.output),
+                &pipeline::error_table(errors),
+            );
         }
     }
     Ok(())

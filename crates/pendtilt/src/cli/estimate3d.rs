@@ -294,7 +294,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             eprintln!("warning: {w}");
         }
         if result.truth {
-            println!("{}", score_table(&result, setup.score_from));
+            super::options::summary(
+                crate::io::output::is_stdout(&args.output),
+                &score_table(&result, setup.score_from),
+            );
         }
     }
     Ok(())

@@ -206,7 +206,12 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
         (Algorithm::Alg3, _) | (_, None) => Vec::new(),
         (_, Some(span)) => fit::plausibility::check(&fitted, &span),
     };
-    print_result(&report, &fitted, &implausible);
+    print_result(
+        &report,
+        &fitted,
+        &implausible,
+        crate::io::output::is_stdout(&args.output),
+    );
     check_result(args, &report, &fitted, &implausible)?;
     fitted_rig(args, rig, &report, fitted, problem.as_ref())
 }
@@ -398,13 +403,15 @@ fn print_result(
     report: &fit::FitReport,
     fitted: &pendtilt_core::PendulumParams<f64>,
     implausible: &[fit::plausibility::Implausible],
+    data_on_stdout: bool,
 ) {
+    let say = |text: String| super::options::summary(data_on_stdout, &text);
     let verdict = if implausible.is_empty() {
         format!("{:?}", report.stop)
     } else {
         format!("IMPLAUSIBLE (the optimiser stopped: {:?})", report.stop)
     };
-    println!(
+    say(format!(
         "{verdict} after {} iterations ({} passes over the log, {:.1} ms): cost {:.4e} -> {:.4e} {}",
         report.iterations.len() - 1,
         report.evaluations,
@@ -412,17 +419,17 @@ fn print_result(
         report.start_cost,
         report.cost,
         report.cost_unit()
-    );
+    ));
     for (n, v) in report.names.iter().zip(&report.params) {
-        println!("  {n} = {v:.6e}");
+        say(format!("  {n} = {v:.6e}"));
     }
     if fitted.b > 0.0 && fitted.a.is_finite() {
-        println!(
+        say(format!(
             "  natural frequency {:.4} Hz ({:.3} rad/s), damping ratio {:.4}",
             fitted.natural_frequency_hz(),
             fitted.natural_frequency(),
             fitted.damping_ratio()
-        );
+        ));
     }
 }
 

@@ -163,3 +163,13 @@ impl BankOptions {
 pub fn rig_bank_settings(rig: &RigConfig) -> BankSettings {
     BankSettings::from_rig(rig.clone())
 }
+
+/// Prints a summary (a table, a verdict): on standard output, or on standard error when
+/// standard output carries the data (`-o -`), so that a pipe gets only the data.
+pub fn summary(data_on_stdout: bool, text: &str) {
+    if data_on_stdout {
+        eprintln!("{text}");
+    } else {
+        println!("{text}");
+    }
+}

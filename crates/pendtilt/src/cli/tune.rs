@@ -185,8 +185,9 @@ fn tuned_text(args: &Args) -> anyhow::Result<String> {
     bar.finish_and_clear();
     let header = header(args, &log, &t);
     if !args.quiet {
+        let data_on_stdout = crate::io::output::is_stdout(&args.output);
         for h in &header {
-            println!("{h}");
+            super::options::summary(data_on_stdout, h);
         }
         for n in &t.notes {
             let kept = if n.kept_default {
@@ -194,7 +195,7 @@ fn tuned_text(args: &Args) -> anyhow::Result<String> {
             } else {
                 ""
             };
-            println!("  {} = {}{kept}", n.key, n.value);
+            super::options::summary(data_on_stdout, &format!("  {} = {}{kept}", n.key, n.value));
         }
     }
     for n in t.notes.iter().filter(|n| n.fell_back && !args.quiet) {
