@@ -68,21 +68,19 @@ impl<T: Real> EncoderNoise<T> {
     /// [`NOISE_GATE`] times the variance so far (at least `floor`) is a jump (a glitch, a
     /// re-zero), not noise: it is left out and the run starts again.
     fn push(&mut self, phi: T, dt: T, floor: T) {
-        if self.run >= 1 {
-            // Wrapped, for an encoder that turns past +-pi.
-            let d1 = wrap(phi - self.last[1]).abs();
-            if d1 > T::lit(1e-12) {
-                self.step = Some(self.step.map_or(d1, |q| q.min(d1)));
-            }
-        }
         if self.run >= 2 {
-            let d2 = wrap(phi - self.last[1]) - wrap(self.last[1] - self.last[0]);
+            // Wrapped, for an encoder that turns past +-pi.
+            let d1 = wrap(phi - self.last[1]);
+            let d2 = d1 - wrap(self.last[1] - self.last[0]);
             let v = d2 * d2 / T::lit(6.0);
             let so_far = self.mean.unwrap_or(T::zero()).max(floor);
             if v > T::lit(NOISE_GATE) * so_far {
                 self.last = [self.last[1], phi];
                 self.run = 1;
                 return;
+            }
+            if d1.abs() > T::lit(1e-12) {
+                self.step = Some(self.step.map_or(d1.abs(), |q| q.min(d1.abs())));
             }
             let k = (dt / T::lit(ENCODER_NOISE_TAU)).min(T::one());
             self.mean = Some(self.mean.map_or(v, |m| m + k * (v - m)));
