@@ -18,9 +18,9 @@
 //!   that skips outliers and re-acquires after a run of them
 //!   ([`ModelSettings::innovation_gate`], [`ModelSettings::reacquire_after`]; measured
 //!   by `cargo test --release -p pendtilt --test ekf_gate -- --nocapture`: a 100 ms,
-//!   2.5 rad encoder glitch leaves the EKF within 0.0091 deg of the clean run from 50 ms
+//!   2.5 rad encoder glitch leaves the EKF within 0.0088 deg of the clean run from 50 ms
 //!   after it, 16.9 deg without the gate; a 0.2 rad encoder re-zero is followed to within
-//!   0.17 deg from 0.5 s on; no sample of four clean 60 s rides is skipped).
+//!   0.15 deg from 0.5 s on; no sample of four clean 60 s rides is skipped).
 //!
 //! Everything is `no_std`, allocation-free and generic over `f32`/`f64`; `f64` is
 //! recommended for the filters (the covariance spans many orders of magnitude).
