@@ -19,6 +19,8 @@
 //!   `retract`, so a rotation composes instead of adding.
 //! - [`kalman`]: the paper's angle+bias filter (Eqs 2-11) as models on the engine;
 //!   [`kalman::tilt`] assembles it over any measurement source.
+//! - [`adaptation`]: the pendulum's forcing adapted online to the encoders' innovations,
+//!   shared by the planar and the spatial filters.
 //! - [`ekf`]: the pendulum dynamics and its sensors as models on the engine, and the
 //!   model-based estimators `ekf` and `ukf` (the paper's future work).
 //! - [`spatial`]: the spatial model (MODEL.md section 7): a two-axis pendulum on a Cardan
@@ -48,6 +50,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod adaptation;
 pub mod ekf;
 pub mod engine;
 pub mod estimators;

@@ -4,6 +4,11 @@
 //! brute-force grid against the true angle (the oracle); then the median and worst ratios
 //! per estimator against the targets.
 //!
+//! Then the planar ekf's defaults against its self-tuned result: the median and worst of
+//! defaults / self-tuned over the rides the rules were chosen on (1-14) and the held-out
+//! ones (15-20), with the adaptation (the defaults) and without it (`[ekf] adapt = false`,
+//! the defaults as they were before it; docs/adaptation.md).
+//!
 //! Last, the scooter target: the self-tuned ekf on the 60 s scooter ride (seed 5) against
 //! the peers with their gains searched against the true angle.
 //!
@@ -58,9 +63,10 @@ fn print_ride(s: &RideScore) {
         })
         .collect();
     println!(
-        "| {} | {} | {:.1} | {} |",
+        "| {} | {} | {:.4} | {:.1} | {} |",
         s.ride.index,
         cells.join(" | "),
+        d(s.defaults_fixed[0]),
         s.tune_seconds,
         s.ride.description
     );
@@ -73,14 +79,14 @@ fn main() -> anyhow::Result<()> {
         "{rides} rides of {seconds} s at 1 kHz; RMS error [deg]: defaults / self-tuned / oracle"
     );
     println!(
-        "| ride | {} | tune [s] | rig |",
+        "| ride | {} | ekf def, adapt off | tune [s] | rig |",
         ESTIMATORS
             .iter()
             .map(|e| format!("{e} def / tuned / oracle"))
             .collect::<Vec<_>>()
             .join(" | ")
     );
-    println!("|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|");
     let mut scores = Vec::new();
     for k in 1..=rides {
         let s = score(&ride(k, seconds));
@@ -110,6 +116,36 @@ fn main() -> anyhow::Result<()> {
             } else {
                 bad.join(", ")
             }
+        );
+    }
+    println!(
+        "\n| ekf defaults / self-tuned | rides | median | worst | adapt off: median | worst |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for (label, range) in [
+        ("chosen on", 1..=14),
+        ("held out", 15..=20),
+        ("all", 1..=u64::MAX),
+    ] {
+        let part: Vec<&RideScore> = scores
+            .iter()
+            .filter(|s| range.contains(&s.ride.index))
+            .collect();
+        if part.is_empty() {
+            continue;
+        }
+        let on: Vec<f64> = part.iter().map(|s| s.defaults[0] / s.tuned[0]).collect();
+        let off: Vec<f64> = part
+            .iter()
+            .map(|s| s.defaults_fixed[0] / s.tuned[0])
+            .collect();
+        println!(
+            "| {label} | {} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            part.len(),
+            median(on.clone()),
+            worst(&on),
+            median(off.clone()),
+            worst(&off)
         );
     }
     let t: Vec<f64> = scores.iter().map(|s| s.tune_seconds).collect();

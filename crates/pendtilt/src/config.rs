@@ -61,6 +61,7 @@
 //! # encoder_noise = 0.0, gyro_density = 8.73e-5, gyro_bias = 0.01745,
 //! # accel_density = 3.92e-3, accel_vibration = 3.0, process_jerk = 301.0,
 //! # process_pendulum = ..., process_bias = 1e-8   (see config::EkfConfig)
+//! # adapt = true             # the forcing adapts online (tune writes false)
 //! ```
 //!
 //! The tables are the fields of [`RigConfig`], listed there once: reading, writing and the
@@ -826,6 +827,7 @@ fn key_comment(table: &str, key: &str) -> Option<&'static str> {
         ("ekf", "process_jerk") => "tilt jerk process noise density [rad^2/s^5]",
         ("ekf", "process_pendulum") => "pendulum forcing process noise density [1/s^3]",
         ("ekf", "process_bias") => "gyro bias walk process noise density [(rad/s)^2/s]",
+        ("ekf", "adapt") => "adapt the forcing and encoder noise to the log (docs/adaptation.md)",
         _ => return None,
     })
 }

@@ -3,9 +3,12 @@
 //! (`super::sensor`) with their innovation gates. [`super::Ekf`] and [`super::Ukf`] are
 //! this over the EKF and the UKF.
 use super::measurement::{Accelerometer, Encoder, Gyro};
-use super::model::{Cov, PendulumProcess, State, ALPHA, BIAS, DPHI, N, OMEGA, PHI, THETA};
+use super::model::{
+    Cov, PendulumProcess, ProcessNoise, State, ALPHA, BIAS, DPHI, N, OMEGA, PHI, THETA,
+};
 use super::sensor::{wrap, Sensor};
 use super::settings::ModelSettings;
+use crate::adaptation::{ForcingAdaptation, SETTLE_SECONDS};
 use crate::engine::{substeps, Gate, GaussianFilter, ProcessModel, Rejected};
 use crate::{Estimate, Estimator, Flags, Real, Sample, StepClock};
 
@@ -25,7 +28,98 @@ pub const SLOW_RATE_TAU: f64 = 0.025;
 /// (0.5: 23, at most 5.6 s).
 pub const MISSING_RATE_SIGMAS: f64 = 1.0;
 
+/// Time constant \[s\] of the mean square of the encoder's second difference, the
+/// encoder's own noise measured on the log ([`ModelBased`]): long next to one sample, short
+/// next to a ride, so that a noisier encoder than the settings say is known within seconds.
+pub const ENCODER_NOISE_TAU: f64 = 1.0;
+
+/// The gate on one second difference of the encoder, in units of the variance measured so
+/// far (at least the settings'): the innovation gate's 50.
+pub const NOISE_GATE: f64 = 50.0;
+
+/// The encoder's noise measured on its readings: the mean square of the second difference
+/// of consecutive accepted readings over 6 (white noise of variance `s^2` has a second
+/// difference of variance `6 s^2`; the pendulum's own motion adds `phi'' dt^2`, 1e-5 rad at
+/// 10 rad/s^2 and 1 kHz, far below a 12-bit encoder's rounding).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct EncoderNoise<T> {
+    last: [T; 2],
+    // Consecutive accepted readings in `last` (0-2).
+    run: u8,
+    mean: Option<T>,
+    // The smallest change between consecutive readings: a quantised encoder's step.
+    step: Option<T>,
+    // How long the mean has run \[s\].
+    age: T,
+}
+
+impl<T: Real> EncoderNoise<T> {
+    fn new() -> Self {
+        Self {
+            last: [T::zero(); 2],
+            run: 0,
+            mean: None,
+            step: None,
+            age: T::zero(),
+        }
+    }
+
+    /// A reading `phi`, `dt` after the last row. A second difference beyond
+    /// [`NOISE_GATE`] times the variance so far (at least `floor`) is a jump (a glitch, a
+    /// re-zero), not noise: it is left out and the run starts again.
+    fn push(&mut self, phi: T, dt: T, floor: T) {
+        if self.run >= 2 {
+            // Wrapped, for an encoder that turns past +-pi.
+            let d1 = wrap(phi - self.last[1]);
+            let d2 = d1 - wrap(self.last[1] - self.last[0]);
+            let v = d2 * d2 / T::lit(6.0);
+            let so_far = self.mean.unwrap_or(T::zero()).max(floor);
+            if v > T::lit(NOISE_GATE) * so_far {
+                self.last = [self.last[1], phi];
+                self.run = 1;
+                return;
+            }
+            if d1.abs() > T::lit(1e-12) {
+                self.step = Some(self.step.map_or(d1.abs(), |q| q.min(d1.abs())));
+            }
+            let k = (dt / T::lit(ENCODER_NOISE_TAU)).min(T::one());
+            self.mean = Some(self.mean.map_or(v, |m| m + k * (v - m)));
+            self.age += dt;
+        }
+        self.last = [self.last[1], phi];
+        self.run = (self.run + 1).min(2);
+    }
+
+    /// A reading missing or not accepted: the next second difference waits for three in
+    /// a row again.
+    fn interrupt(&mut self) {
+        self.run = 0;
+    }
+
+    /// The measured variance \[rad^2\]: the second difference's, or the rounding's
+    /// (`q^2 / 12`), whichever is larger (a clean encoder's rounding is not white on a
+    /// slow signal, and its second difference reads less); `None` until it has run for
+    /// [`ENCODER_NOISE_TAU`].
+    fn variance(&self) -> Option<T> {
+        let q = self.step.unwrap_or(T::zero());
+        self.mean
+            .filter(|_| self.age >= T::lit(ENCODER_NOISE_TAU))
+            .map(|m| m.max(q * q / T::lit(12.0)))
+    }
+}
+
 /// A model-based tilt estimator (see the module documentation of [`super`]).
+///
+/// With [`ModelSettings::adaptation`] on (the default), the pendulum's forcing variance
+/// ([`super::ProcessNoise::pendulum`]) is scaled by a factor that follows the encoder's
+/// normalised innovation squared before its update ([`crate::adaptation`]), and the
+/// encoder's variance is at least its noise measured on the log (the second difference of
+/// consecutive accepted readings, [`ENCODER_NOISE_TAU`]): otherwise an encoder noisier than
+/// the settings say would raise the innovations and the forcing with them. Only readings
+/// the gate accepted count, and none within [`SETTLE_SECONDS`] of a start (a restart after
+/// a gap starts the factor again at 1), while the gate is held open after a gap or a
+/// re-acquisition, or on a sample without the gyro: those innovations are the filter's,
+/// not the motion's. A run of rejections is the re-acquisition's to handle.
 ///
 /// Per sample: predict over `dt` (split into steps of at most
 /// [`ModelSettings::max_step`]), then update with each sensor in turn (the gyro, the
@@ -66,6 +160,15 @@ pub struct ModelBased<T: Real, F> {
     encoder: Encoder<T>,
     q_step: T,
     q: Cov<T>,
+    // The part of `q` the pendulum's forcing adds, scaled by the adapted factor.
+    q_forcing: Cov<T>,
+    forcing: ForcingAdaptation<T>,
+    // The settings' encoder variance, which the measured noise floors.
+    encoder_r: T,
+    encoder_noise: EncoderNoise<T>,
+    // Time since the filter (re)started, and since the last encoder reading \[s\].
+    since_start: T,
+    since_reading: T,
     filter: Option<F>,
     clock: StepClock<T>,
     // Time since the last row with an encoder reading.
@@ -117,14 +220,19 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             r: sens.accel_density * sens.accel_density / dt
                 + settings.accel_vibration * settings.accel_vibration,
         };
+        let encoder_r = settings.encoder_variance().max(T::lit(1e-14));
         Self {
             model: settings.process_model(),
             accel,
-            encoder: Encoder {
-                r: settings.encoder_variance().max(T::lit(1e-14)),
-            },
+            encoder: Encoder { r: encoder_r },
             q_step: T::zero(),
             q: Cov::<T>::zeros(),
+            q_forcing: Cov::<T>::zeros(),
+            forcing: ForcingAdaptation::new(),
+            encoder_r,
+            encoder_noise: EncoderNoise::new(),
+            since_start: T::zero(),
+            since_reading: T::zero(),
             settings,
             filter: None,
             clock: StepClock::new(),
@@ -160,6 +268,24 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// The gyro-bias estimate [rad/s] (0 before the start).
     pub fn bias(&self) -> T {
         self.state().map_or(T::zero(), |x| x[BIAS])
+    }
+
+    /// The factor on the pendulum's forcing variance the adaptation has reached (1: the
+    /// settings' [`super::ProcessNoise::pendulum`]).
+    pub fn forcing_factor(&self) -> T {
+        self.forcing.factor()
+    }
+
+    /// The low-passed normalised innovation squared of the encoder that drives the
+    /// adaptation, once one counted.
+    pub fn innovation_mean(&self) -> Option<T> {
+        self.forcing.mean()
+    }
+
+    /// The encoder's variance as the filter takes it \[rad^2\]: the settings', floored
+    /// by the noise measured on the log while the adaptation is on.
+    pub fn encoder_variance(&self) -> T {
+        self.encoder.r
     }
 
     fn gyro_variance(&self, dt: T) -> T {
@@ -201,6 +327,9 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         self.filter = Some(F::start(x, p));
         self.slow_rate = x[OMEGA];
         self.runs = Runs::default();
+        self.forcing.reset();
+        self.since_start = T::zero();
+        self.since_reading = T::zero();
         self.clock.accept();
         self.last_theta = s.phi;
         Estimate {
@@ -264,14 +393,33 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         let (n, h) = substeps(dt, self.settings.max_step);
         if h != self.q_step {
             self.q = self.model.q(h);
+            let forcing = PendulumProcess {
+                params: self.model.params,
+                noise: ProcessNoise {
+                    jerk: T::zero(),
+                    pendulum: self.model.noise.pendulum,
+                    bias: T::zero(),
+                },
+            };
+            self.q_forcing = forcing.q(h);
             self.q_step = h;
         }
+        // At the factor 1 (always, without the adaptation) the noise is the settings' to
+        // the bit.
+        let f = self.forcing.factor();
+        let scaled;
+        let q = if f == T::one() {
+            &self.q
+        } else {
+            scaled = self.q + self.q_forcing * (f - T::one());
+            &scaled
+        };
         let Some(filter) = self.filter.as_mut() else {
             return false;
         };
         let mut ok = true;
         for _ in 0..n {
-            ok &= filter.predict(&self.model, &(), h, &self.q);
+            ok &= filter.predict(&self.model, &(), h, q);
         }
         ok
     }
@@ -418,7 +566,16 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         // The sensors, in this order; a new sensor is one more line.
         let runs = &mut self.runs;
         flags |= Self::sense(filter, st, &gyro, s, &mut runs.gyro);
-        flags |= Self::sense(filter, st, &self.encoder, s, &mut runs.phi);
+        // The encoder's normalised innovation before its update, for the adaptation, and
+        // whether the gate tests it (not held open, not re-acquiring).
+        let gated = matches!(runs.phi, Lock::Tracking(run) if run < st.reacquire_after.max(1));
+        let nis = {
+            let (x, p) = (filter.state(), filter.covariance());
+            let y = wrap(s.phi - x[PHI]);
+            y * y / (p[(PHI, PHI)] + self.encoder.r)
+        };
+        let enc = Self::sense(filter, st, &self.encoder, s, &mut runs.phi);
+        flags |= enc;
         if st.use_accel {
             flags |= Self::sense(filter, st, &self.accel, s, &mut runs.accel);
         }
@@ -443,6 +600,22 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
             self.filter = None;
             return self.hold(flags | Flags::INITIALISING);
         }
+        self.since_start += dt;
+        self.since_reading += dt;
+        if s.phi.is_finite() && st.adaptation.enabled {
+            let since = core::mem::replace(&mut self.since_reading, T::zero());
+            self.encoder_noise.push(s.phi, dt, self.encoder_r);
+            if let Some(v) = self.encoder_noise.variance() {
+                self.encoder.r = self.encoder_r.max(v);
+            }
+            let settled = self.since_start >= T::lit(SETTLE_SECONDS);
+            let applied = !enc.contains(Flags::MEASUREMENT_SKIPPED);
+            if applied && gated && settled && s.gyro.is_finite() {
+                self.forcing.step(&st.adaptation, nis, since);
+            }
+        } else if !s.phi.is_finite() {
+            self.encoder_noise.interrupt();
+        }
         let theta = filter.state()[THETA];
         if s.gyro.is_finite() {
             let a = (dt / T::lit(SLOW_RATE_TAU)).min(T::one());
@@ -460,6 +633,9 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         self.since_gyro = None;
         self.last_theta = T::nan();
         self.runs = Runs::default();
+        self.forcing.reset();
+        self.encoder_noise = EncoderNoise::new();
+        self.encoder.r = self.encoder_r;
     }
 
     /// Forgets everything but the gyro bias, which restarts with its variance grown by

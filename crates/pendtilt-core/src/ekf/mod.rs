@@ -18,9 +18,9 @@
 //!   that skips outliers and re-acquires after a run of them
 //!   ([`ModelSettings::innovation_gate`], [`ModelSettings::reacquire_after`]; measured
 //!   by `cargo test --release -p pendtilt --test ekf_gate -- --nocapture`: a 100 ms,
-//!   2.5 rad encoder glitch leaves the EKF within 0.0091 deg of the clean run from 50 ms
+//!   2.5 rad encoder glitch leaves the EKF within 0.0088 deg of the clean run from 50 ms
 //!   after it, 16.9 deg without the gate; a 0.2 rad encoder re-zero is followed to within
-//!   0.17 deg from 0.5 s on; no sample of four clean 60 s rides is skipped).
+//!   0.15 deg from 0.5 s on; no sample of four clean 60 s rides is skipped).
 //!
 //! Everything is `no_std`, allocation-free and generic over `f32`/`f64`; `f64` is
 //! recommended for the filters (the covariance spans many orders of magnitude).
@@ -38,8 +38,8 @@
 //! | alg3 (gains = alg2) | 2.690 | 0.027 | 10.0 |
 //! | kf_alg2 | 2.699 | 0.025 | 18.2 |
 //! | alg2_offset | 1.691 | 0.032 | -15.7 |
-//! | **ekf** | **0.043** | 0.031 | 0.1 |
-//! | ukf | 0.043 | 0.031 | 0.1 |
+//! | **ekf** | **0.042** | 0.030 | 0.1 |
+//! | ukf | 0.042 | 0.030 | 0.1 |
 //! | madgwick (beta 1.18) | 1.162 | 0.675 | 5.7 |
 //! | mahony (kp 0.45, ki 0) | 3.035 | -1.858 | -17.3 |
 //! | complementary (tau 0.75 s) | 0.806 | 0.522 | 29.0 |

@@ -28,11 +28,13 @@
 //!   broadband vibration above f_n barely move the pendulum.
 //!
 //! Checked against the tuner on the simulated scooter ride (l12 = 0.2 m, 60 s): these
-//! defaults gave 0.043 deg RMS, the fitted densities 0.038 deg.
+//! defaults gave 0.043 deg RMS (fixed; 0.042 with the adaptation), the fitted densities
+//! 0.038 deg.
 //!
 //! The tuner in the std crate (`pendtilt::peers::tune`) fits the three process noise
 //! densities on a log with a true angle.
 use super::model::{PendulumProcess, ProcessNoise};
+use crate::adaptation::Adaptation;
 use crate::params::STANDARD_GRAVITY;
 use crate::{PendulumParams, PhysicalParams, Real};
 
@@ -220,6 +222,12 @@ pub struct ModelSettings<T> {
     /// entirely), short next to the time a body tilt takes. Scale it with the sample
     /// rate. Values below 1 count as 1.
     pub reacquire_after: u32,
+    /// The pendulum's forcing ([`ProcessNoise::pendulum`]) adapted online to the
+    /// encoder's innovations, and the encoder's variance floored by its measured noise
+    /// (see [`super::ModelBased`]): one set of defaults for a standing scooter, a ride, a
+    /// ship and a hand-held device. Default on, [`Adaptation::planar`]
+    /// (docs/adaptation.md); `pendtilt tune` turns it off, its figures being the log's.
+    pub adaptation: Adaptation<T>,
 }
 
 impl<T: Real> Default for ModelSettings<T> {
@@ -267,6 +275,7 @@ impl<T: Real> ModelSettings<T> {
             initial_angle: T::lit(2.0 * core::f64::consts::PI / 180.0),
             innovation_gate: T::lit(50.0),
             reacquire_after: 200,
+            adaptation: Adaptation::planar(),
         }
     }
 
@@ -275,6 +284,17 @@ impl<T: Real> ModelSettings<T> {
     /// ([`Self::encoder_jitter`]).
     pub fn encoder_variance(&self) -> T {
         self.sensors.encoder_variance() + self.encoder_jitter * self.encoder_jitter
+    }
+
+    /// These settings with the adaptation off: fixed noise figures, as before it.
+    pub fn fixed(self) -> Self {
+        Self {
+            adaptation: Adaptation {
+                enabled: false,
+                ..self.adaptation
+            },
+            ..self
+        }
     }
 
     /// The process model these settings describe.

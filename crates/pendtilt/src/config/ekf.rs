@@ -43,6 +43,11 @@ pub struct EkfConfig {
     /// Process noise density of the gyro bias walk \[(rad/s)^2/s\].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub process_bias: Option<f64>,
+    /// Adapt the pendulum's forcing and the encoder's variance to the log
+    /// (`ModelSettings::adaptation`; default true). `pendtilt tune` writes false: its
+    /// figures are already the log's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub adapt: Option<bool>,
 }
 
 impl EkfConfig {
@@ -71,6 +76,9 @@ impl EkfConfig {
         set(&mut s.process.jerk, self.process_jerk);
         set(&mut s.process.pendulum, self.process_pendulum);
         set(&mut s.process.bias, self.process_bias);
+        if let Some(a) = self.adapt {
+            s.adaptation.enabled = a;
+        }
         s
     }
 
@@ -87,6 +95,7 @@ impl EkfConfig {
             process_jerk: Some(s.process.jerk),
             process_pendulum: Some(s.process.pendulum),
             process_bias: Some(s.process.bias),
+            adapt: Some(s.adaptation.enabled),
         }
     }
 
@@ -125,6 +134,7 @@ mod tests {
         other.process.jerk = 12.0;
         other.process.pendulum = 3.5;
         other.process.bias = 2e-9;
+        other.adaptation.enabled = false;
         let c = EkfConfig::from_settings(&other);
         assert_eq!(c.apply(base), other);
     }

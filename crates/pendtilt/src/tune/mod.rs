@@ -617,6 +617,13 @@ struct KalmanFit {
 /// (Long, kept whole: the steps in the order they depend on each other, each one call;
 /// splitting it would pass most of its locals to each part.)
 pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
+    // The tuned figures are the log's: the filter runs with them fixed, here and after
+    // (the rig file gets `adapt = false`).
+    let fixed = Start {
+        ekf: start.ekf.fixed(),
+        ..start.clone()
+    };
+    let start = &fixed;
     let planned = planned_evaluations();
     let tell = |n: u64| {
         if let Some(p) = opts.progress {

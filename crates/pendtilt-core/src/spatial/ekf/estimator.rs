@@ -5,6 +5,7 @@ use super::process::{CardanProcess, Drive};
 use super::settings::Settings;
 use super::slip::{longitudinal_accel, SlipDetector};
 use super::state::{Error, State, A, ACC, B, BIAS, N, P, R, ROT, V};
+use crate::adaptation::{ForcingAdaptation, SETTLE_SECONDS};
 use crate::engine::{substeps, Cov, Gate, GaussianFilter, Measurement, ProcessModel, Rejected};
 use crate::filters::diff::{Response, SmoothingDifferentiator};
 use crate::filters::one_pole::{OnePole, OnePoleGain};
@@ -84,10 +85,6 @@ const REFERENCE_FORCING: f64 = 100.0;
 /// Standard deviation \[rad/s\] of the gyro's bias read at rest: 0.01 deg/s.
 const REST_BIAS_SD: f64 = 0.01 * core::f64::consts::PI / 180.0;
 
-/// How long after a start \[s\] the forcing's adaptation waits: the start's own transient
-/// (the attitude known to 2 deg) is not the motion's.
-const ADAPT_AFTER_START: f64 = 2.0;
-
 /// `x` wrapped to (-pi, pi].
 fn wrap_pi<T: Real>(x: T) -> T {
     let tau = T::lit(core::f64::consts::TAU);
@@ -132,9 +129,7 @@ pub struct ModelBased<T: Real, F> {
     // the angle's, the angle-rate and the rate's variance.
     q_forcing: [[T; 3]; 2],
     // The factor on the forcing's variance (Settings::adaptation), >= 1.
-    forcing: T,
-    // The encoders' normalised innovation squared, low-passed (Adaptation::window).
-    nis: Option<T>,
+    forcing: ForcingAdaptation<T>,
     // Time since the last encoder reading that was used \[s\] (for the adaptation's step).
     since_used: T,
     // The pendulum is out of its range: the joint states start again at the next reading
@@ -211,8 +206,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             q_travelling: false,
             q: Cov::<T, N>::zeros(),
             q_forcing: [[T::zero(); 3]; 2],
-            forcing: T::one(),
-            nis: None,
+            forcing: ForcingAdaptation::new(),
             since_used: T::zero(),
             out_of_range: false,
             reference: InclinationReference::new(settings.guard_tau),
@@ -525,7 +519,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// The factor on the pendulum's forcing variance the adaptation has reached (1: the
     /// floor, [`crate::ekf::Environment::vibration_density`]).
     pub fn forcing_factor(&self) -> T {
-        self.forcing
+        self.forcing.factor()
     }
 
     fn hold(&self, flags: Flags) -> Attitude<T> {
@@ -624,7 +618,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         let with_extra;
         // Nothing to add (the usual case: a gyro reading within its range and the forcing
         // at its floor) leaves the cached noise as it is, uncopied.
-        let forcing = self.forcing;
+        let forcing = self.forcing.factor();
         let q = if extra.iter().all(|e| *e == T::zero()) && forcing == T::one() {
             &self.q
         } else {
@@ -702,36 +696,16 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         flags
     }
 
-    /// One step of the forcing's adaptation on the encoders' normalised innovation
-    /// squared `nis` (per axis, before the update): its low-pass moves the log of the
-    /// factor at `ln(mean) / rise` while above one, `ln(mean) / fall` below.
+    /// One step of the forcing's adaptation ([`ForcingAdaptation::step`]) on the
+    /// encoders' normalised innovation squared `nis` (per axis, before the update).
     fn adapt(&mut self, nis: T) {
-        let a = self.settings.adaptation;
         let dt = core::mem::replace(&mut self.since_used, T::zero());
         // Not while the gyro is held or its bias kept after a hold, nor while the filter
         // settles after a start: those innovations are the filter's, not the motion's.
-        let settling = self.since_start < T::lit(ADAPT_AFTER_START) || self.held_bias.is_some();
-        if !a.enabled || settling || !(nis.is_finite() && dt > T::zero()) {
-            return;
+        let settling = self.since_start < T::lit(SETTLE_SECONDS) || self.held_bias.is_some();
+        if !settling {
+            self.forcing.step(&self.settings.adaptation, nis, dt);
         }
-        let k = (dt / a.window).min(T::one());
-        let m = match self.nis {
-            Some(m) => m + k * (nis - m),
-            None => nis,
-        };
-        self.nis = Some(m);
-        let step = if m > a.threshold {
-            (m / a.threshold).ln() * dt / a.rise
-        } else if m < T::one() {
-            m.max(T::lit(1e-6)).ln() * dt / a.fall
-        } else {
-            T::zero()
-        };
-        let step = step.max(T::lit(-1.0)).min(T::one());
-        self.forcing = (self.forcing.ln() + step)
-            .exp()
-            .max(T::one())
-            .min(a.max_factor);
     }
 
     /// Starts the joint states again at the reading `z` (a, b), their rates unknown and
@@ -860,7 +834,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             T::lit(REFERENCE_SD)
         } else {
             T::lit(REFERENCE_SD)
-                * (T::lit(REFERENCE_FORCING) / self.forcing)
+                * (T::lit(REFERENCE_FORCING) / self.forcing.factor())
                     .sqrt()
                     .max(T::one())
         };
@@ -926,7 +900,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             T::zero()
         } else {
             let q = st.environment.vibration_density;
-            q * q * self.forcing / h
+            q * q * self.forcing.factor() / h
         };
         // The lever arm from O at the filter's bias-corrected rate.
         let w = drive.gyro - filter.state().bias;
@@ -1213,8 +1187,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> Estimator for ModelBased<T, F> 
         self.held_bias = None;
         self.since_hold = T::zero();
         self.clip_hold = false;
-        self.forcing = T::one();
-        self.nis = None;
+        self.forcing.reset();
         self.since_used = T::zero();
         self.out_of_range = false;
         self.reference.reset();

@@ -230,66 +230,9 @@ impl<T: Real> SlipSettings<T> {
     }
 }
 
-/// Online adaptation of the pendulum's forcing to the motion the log shows: one set of
-/// defaults for a standing scooter, a ride, a ship and a hand-held device.
-///
-/// The forcing's density ([`crate::ekf::Environment::vibration_density`]) is the floor; a
-/// factor on its variance follows the encoders' normalised innovations (their squares over
-/// the filter's predicted variance, low-passed over [`Self::window`]): up with
-/// [`Self::rise`] while they are larger than one (the pendulum swings more than the model
-/// expects, as under a hand-held body's accelerations), back with [`Self::fall`] while they
-/// are smaller (covariance matching, Mehra 1972; as in VQF, the gravity reference is then
-/// trusted over seconds, not over the pendulum's period). See docs/real-motion.md for the
-/// measurements.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Adaptation<T> {
-    /// Adapt. Default true.
-    pub enabled: bool,
-    /// Time constant \[s\] of the low-pass of the normalised innovations. Default 0.5 s:
-    /// several of the pendulum's periods (0.46 s at 2.19 Hz), so that one swing's
-    /// innovations are averaged.
-    pub window: T,
-    /// Time \[s\] for the factor to grow by e while the mean normalised innovation is e
-    /// or more. Default 0.2 s: a hand-held body's acceleration lasts about a second.
-    pub rise: T,
-    /// Time \[s\] for the factor to fall by e while the mean normalised innovation is
-    /// 1/e or less. Default 5 s.
-    pub fall: T,
-    /// The mean normalised innovation above which the factor grows (below one it falls;
-    /// between, it stays). Default 2: see [`Adaptation`]'s measurements.
-    pub threshold: T,
-    /// Largest factor on the forcing's variance. Default 1e5 (the density times 316:
-    /// 0.02 -> 6.3 m/s^2/sqrt(Hz)).
-    pub max_factor: T,
-}
-
-impl<T: Real> Default for Adaptation<T> {
-    fn default() -> Self {
-        Self {
-            enabled: true,
-            window: T::lit(0.5),
-            rise: T::lit(0.2),
-            fall: T::lit(5.0),
-            threshold: T::lit(2.0),
-            max_factor: T::lit(1e5),
-        }
-    }
-}
-
-impl<T: Real> Adaptation<T> {
-    /// The same settings in another scalar type.
-    pub fn cast<U: Real>(&self) -> Adaptation<U> {
-        let c = |x: T| U::lit(x.to_f64());
-        Adaptation {
-            enabled: self.enabled,
-            window: c(self.window),
-            rise: c(self.rise),
-            fall: c(self.fall),
-            threshold: c(self.threshold),
-            max_factor: c(self.max_factor),
-        }
-    }
-}
+/// The forcing's adaptation, shared with the planar filter ([`crate::adaptation`]);
+/// ekf3d's defaults are [`Adaptation::spatial`].
+pub use crate::adaptation::Adaptation;
 
 /// Settings of the spatial model-based filter.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -371,7 +314,8 @@ pub struct Settings<T> {
     /// inflated by the innovation and the reading applied without the gate. Default 200
     /// samples.
     pub reacquire_after: u32,
-    /// The pendulum's forcing adapted to the log. Default on: see [`Adaptation`].
+    /// The pendulum's forcing adapted to the log. Default on, [`Adaptation::spatial`]
+    /// (docs/real-motion.md).
     pub adaptation: Adaptation<T>,
     /// The guard \[rad\]: when the filter's up direction and the gyro and accelerometer's
     /// ([`crate::spatial::imu::InclinationReference`], the accelerometer less O's known
@@ -413,7 +357,7 @@ impl<T: Real> Default for Settings<T> {
             initial_angle: T::lit(2.0f64.to_radians()),
             innovation_gate: T::lit(50.0),
             reacquire_after: 200,
-            adaptation: Adaptation::default(),
+            adaptation: Adaptation::spatial(),
             guard_angle: T::lit(5f64.to_radians()),
             guard_tau: T::lit(crate::spatial::imu::DEFAULT_REFERENCE_TAU),
             pendulum_range: T::lit(70f64.to_radians()),

@@ -13,7 +13,7 @@
 //!   (two points per decade);
 //! - ekf: the sensor figures (the defaults, or the simulator's true ones) x the tilt-jerk
 //!   and pendulum-forcing densities at 1e-3..1e3 times their defaults (a point per
-//!   decade).
+//!   decade), the adaptation off (fixed figures, as the self-tuned).
 use super::Ride;
 use crate::bank::{build_alone, Bank, BankSettings, Inputs};
 use crate::config::{EkfConfig, RigConfig};
@@ -198,6 +198,8 @@ fn oracle_ekf(rig: &RigConfig, scenario: &Scenario, log: &RideLog) -> EkfConfig 
         true_sensors(scenario),
         &PeerSettings::default().environment,
     );
+    // Fixed figures: the best the log's own noise can be set to.
+    let (base, truth_sensors) = (base.fixed(), truth_sensors.fixed());
     let mut best = (f64::INFINITY, EkfConfig::from_settings(&base));
     for start in [base, truth_sensors] {
         for j in (-3..=3).map(|k| 10f64.powi(k)) {
@@ -223,6 +225,9 @@ pub struct RideScore {
     pub ride: Ride,
     /// With the rig's defaults.
     pub defaults: [f64; 4],
+    /// With the rig's defaults, the ekf's adaptation off (`[ekf] adapt = false`): the
+    /// defaults as they were before it.
+    pub defaults_fixed: [f64; 4],
     /// Self-tuned (no true angle).
     pub tuned: [f64; 4],
     /// Tuned by the grid against the true angle.
@@ -237,6 +242,9 @@ pub fn score(ride: &Ride) -> RideScore {
     // The user knows their pendulum (`pendtilt fit`): the rig is the simulator's.
     let rig = ride.scenario.rig().unwrap_or_else(|_| RigConfig::default());
     let defaults = bank_rms(&rig, &log);
+    let mut fixed_rig = rig.clone();
+    fixed_rig.ekf.adapt = Some(false);
+    let defaults_fixed = bank_rms(&fixed_rig, &log);
     let t0 = Instant::now();
     let t = tune(&log.samples, &Start::from_rig(&rig), &Options::default());
     let tune_seconds = t0.elapsed().as_secs_f64();
@@ -258,6 +266,7 @@ pub fn score(ride: &Ride) -> RideScore {
     RideScore {
         ride: ride.clone(),
         defaults,
+        defaults_fixed,
         tuned,
         oracle: [o[0], o[1], e1, e2],
         tune_seconds,
