@@ -298,3 +298,33 @@ fn a_3d_scenario_file_of_some_keys_overrides_the_named_scenario() {
     }
     assert!(!p("d.csv").exists());
 }
+
+/// The scenario file's header tells the truth about its units: the [motion] amplitudes in
+/// degrees, the sensors' angles in radians (it said "angles in degrees, SI otherwise",
+/// and `encoder_noise` is in rad).
+#[test]
+fn the_scenario_files_header_names_its_units_truly() {
+    let o = pendtilt(&["simulate", "--scenario", "still3d", "--print-scenario"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let header: String = text
+        .lines()
+        .take_while(|l| l.starts_with('#'))
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(
+        header.contains("[motion] roll, pitch and yaw terms in degrees")
+            && header.contains("[sensors] angles in rad"),
+        "{header}"
+    );
+    let v: toml::Value = toml::from_str(&text).unwrap();
+    let o = pendtilt(&["simulate", "--scenario", "scooter3d", "--print-scenario"]);
+    let sc: toml::Value = toml::from_str(&String::from_utf8(o.stdout).unwrap()).unwrap();
+    let written = sc["sensors"]["encoder_noise"].as_float().unwrap();
+    let s = Scenario3d::named("scooter3d", 1).unwrap();
+    assert_eq!(written, s.sensors.encoder_noise);
+    assert!((written - 0.01f64.to_radians()).abs() < 1e-15, "{written}");
+    // still3d's roll: a 10 deg sigmoid, written as 10.
+    let roll_amp = v["motion"]["roll"][0]["shape"]["amp"].as_float().unwrap();
+    assert_eq!(roll_amp, 10.0);
+}

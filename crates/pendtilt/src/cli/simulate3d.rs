@@ -163,8 +163,11 @@ fn write_log(s: &Scenario3d, seed: u64, log: &OutputFile, quiet: bool) -> anyhow
 pub fn run(args: Args) -> anyhow::Result<()> {
     let (s, name, seed) = resolve(&args)?;
     let scenario_text = format!(
-        "# Resolved 3-D scenario written by `pendtilt simulate` (MODEL.md 7.8); angles in\n\
-         # degrees, SI otherwise. Rerun with pendtilt simulate --config THIS_FILE -o NEW.csv\n\
+        "# Resolved 3-D scenario written by `pendtilt simulate` (MODEL.md 7.8). Units: the\n\
+         # amplitudes of the [motion] roll, pitch and yaw terms in degrees (their rates in\n\
+         # deg/s); everything else SI: phases and [sensors] angles in rad, rates in rad/s,\n\
+         # lengths in m, frequencies in Hz. Rerun with\n\
+         # pendtilt simulate --config THIS_FILE -o NEW.csv\n\
          scenario = \"{name}\"\nseed = {seed}\n{}",
         s.to_toml()?
     );
