@@ -38,6 +38,10 @@ bitflags::bitflags! {
         /// The attitude was reset to the gyro and accelerometer's inclination reference:
         /// the two had parted by more than the guard (ekf3d, ukf3d).
         const RESET = 1 << 10;
+        /// The input line could not be read (a malformed line of a live stream: a cell
+        /// that is no number, a wrong number of fields): no estimator saw it, and its
+        /// output row holds NaN so that the rows still match the input's.
+        const BAD_LINE = 1 << 11;
     }
 }
 
@@ -54,7 +58,7 @@ pub struct FlagNames(Flags);
 
 impl core::fmt::Display for FlagNames {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        const NAMES: [(Flags, &str); 11] = [
+        const NAMES: [(Flags, &str); 12] = [
             (Flags::INITIALISING, "initialising"),
             (Flags::ASIN_CLAMPED, "asin_clamped"),
             (Flags::SAMPLE_MISSING, "sample_missing"),
@@ -66,6 +70,7 @@ impl core::fmt::Display for FlagNames {
             (Flags::SLIP, "slip"),
             (Flags::PENDULUM_UNUSED, "pendulum_unused"),
             (Flags::RESET, "reset"),
+            (Flags::BAD_LINE, "bad_line"),
         ];
         let mut first = true;
         for (flag, name) in NAMES {

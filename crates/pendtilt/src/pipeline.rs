@@ -103,6 +103,24 @@ pub fn run<R: BufRead, W: Write>(
         let read = if end { Ok(None) } else { log.next_record() };
         let read = match read {
             Ok(r) => r,
+            // A live stream goes on after a malformed line: it is said, and its output row
+            // is NaN, flagged bad_line (one output row per input line still).
+            Err(e) if flush_each && e.is_one_line() => {
+                warn(&LogWarning {
+                    file: e.file.clone(),
+                    line: e.line.unwrap_or(0),
+                    column: None,
+                    header: None,
+                    kind: WarningKind::BadLine,
+                    message: format!(
+                        "{}: the line is skipped; its output row is NaN, flagged bad_line",
+                        strip_place(&e)
+                    ),
+                });
+                log.resume_after(&e);
+                pass.bad_line(bank, out.as_deref_mut())?;
+                continue;
+            }
             Err(e) => {
                 error = Some(e);
                 None
@@ -139,6 +157,16 @@ pub fn run<R: BufRead, W: Write>(
         return Err(e.into());
     }
     pass.finish(bank, out, &mut warn, log.unit_findings().to_vec())
+}
+
+/// A reader error's text after its `file:line: ` (a warning says the place itself).
+fn strip_place(e: &LogError) -> String {
+    let text = e.to_string();
+    let place = match e.line {
+        Some(l) => format!("{}:{l}: ", e.file),
+        None => format!("{}: ", e.file),
+    };
+    text.strip_prefix(&place).unwrap_or(&text).to_string()
 }
 
 /// Rows the reader thread of [`run_parallel`] hands over at a time.
@@ -465,6 +493,30 @@ impl Pass {
         }
         self.rows += 1;
         each(self.rows, &self.est);
+        Ok(())
+    }
+
+    /// The output row of a line that could not be read: t and every estimate NaN, each
+    /// flagged [`Flags::BAD_LINE`](pendtilt_core::Flags::BAD_LINE); the bank does not see
+    /// it (the next row's step spans it).
+    fn bad_line<W: Write>(
+        &mut self,
+        bank: &Bank,
+        out: Option<&mut EstimatesWriter<W>>,
+    ) -> Result<(), PassError> {
+        let blank = Estimate {
+            theta: f64::NAN,
+            flags: pendtilt_core::Flags::BAD_LINE,
+        };
+        self.est.clear();
+        self.est.resize(bank.names().len(), blank);
+        if let Some(w) = out {
+            let theta = self.with_theta.then_some(f64::NAN);
+            w.write(f64::NAN, &self.est, theta)
+                .map_err(PassError::Write)?;
+            w.flush().map_err(PassError::Write)?;
+        }
+        self.rows += 1;
         Ok(())
     }
 

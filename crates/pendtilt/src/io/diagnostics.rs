@@ -40,11 +40,14 @@ pub enum WarningKind {
     /// NUL bytes in the file (a logger's preallocated space, or a write a power loss cut):
     /// removed; a line of them alone is blank, a line they end is cut (`TruncatedRow`).
     NulBytes,
+    /// A malformed line of a live stream (`pendtilt stream`): skipped, its output row NaN
+    /// and flagged `bad_line`.
+    BadLine,
 }
 
 impl WarningKind {
     /// Every kind, in a fixed order (the order of [`LogSummary::warning_counts`]).
-    pub const ALL: [WarningKind; 14] = [
+    pub const ALL: [WarningKind; 15] = [
         WarningKind::TruncatedRow,
         WarningKind::EmptyCell,
         WarningKind::NonFinite,
@@ -59,6 +62,7 @@ impl WarningKind {
         WarningKind::UnitMismatch,
         WarningKind::Clipped,
         WarningKind::NulBytes,
+        WarningKind::BadLine,
     ];
 
     /// A short snake_case name, for summaries.
@@ -78,6 +82,7 @@ impl WarningKind {
             WarningKind::UnitMismatch => "unit_mismatch",
             WarningKind::Clipped => "clipped",
             WarningKind::NulBytes => "nul_bytes",
+            WarningKind::BadLine => "bad_line",
         }
     }
 

@@ -455,8 +455,17 @@ impl<R: BufRead> LogReader<R> {
         })
     }
 
+    /// Goes on after an error in one line alone ([`LogError::is_one_line`]: the line was
+    /// read and left behind), for a live stream that must survive a glitch; the next
+    /// [`Self::next_record`] reads the line after it.
+    pub fn resume_after(&mut self, e: &LogError) {
+        if e.is_one_line() {
+            self.finished = false;
+        }
+    }
+
     /// Reads the next data row. `Ok(None)` at the end of the log; after an error the
-    /// reader is finished and returns `Ok(None)`.
+    /// reader is finished and returns `Ok(None)` (unless [`Self::resume_after`]).
     pub fn next_record(&mut self) -> Result<Option<LogRecord>, LogError> {
         if self.finished {
             return Ok(None);

@@ -141,6 +141,22 @@ pub struct LogError {
     pub kind: Box<LogErrorKind>,
 }
 
+impl LogError {
+    /// Whether the error is in one line alone, which a reader may skip and go on after
+    /// (a cell that is no number, a wrong number of fields, an unclosed quote, bytes that
+    /// are not UTF-8): what a live feed's glitch looks like. The others (the header, the
+    /// time base, the rate, the file itself) concern the whole log.
+    pub fn is_one_line(&self) -> bool {
+        matches!(
+            *self.kind,
+            LogErrorKind::NotANumber { .. }
+                | LogErrorKind::TooManyFields { .. }
+                | LogErrorKind::UnterminatedQuote
+                | LogErrorKind::InvalidUtf8
+        ) && self.line.is_some()
+    }
+}
+
 fn line_part(line: Option<u64>) -> String {
     line.map(|l| format!(":{l}")).unwrap_or_default()
 }
