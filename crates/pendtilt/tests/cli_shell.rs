@@ -210,3 +210,19 @@ fn toml_parses(text: &str) {
     let v: Result<toml::Value, _> = toml::from_str(text);
     assert!(v.is_ok(), "{text}");
 }
+
+/// A log large enough to take a while gets a progress line on a terminal only: with
+/// standard error a pipe (as here, and in CI or a script) nothing of it is written.
+#[test]
+fn no_progress_line_reaches_a_pipe() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    sh(
+        d,
+        "$P simulate --scenario scooter --duration 120 -q -o big.csv",
+    );
+    assert!(std::fs::metadata(d.join("big.csv")).unwrap().len() > 10_000_000);
+    let (_, err) = sh(d, "$P estimate big.csv --only pendulum -o est.csv");
+    assert!(!err.contains("estimating"), "{err}");
+    assert!(err.contains("120000 rows"), "{err}");
+}
