@@ -114,7 +114,7 @@ pub fn run<R: BufRead, W: Write>(
                     kind: WarningKind::BadLine,
                     message: format!(
                         "{}: the line is skipped; its output row is NaN, flagged bad_line",
-                        strip_place(&e)
+                        e.what()
                     ),
                 });
                 log.resume_after(&e);
@@ -157,16 +157,6 @@ pub fn run<R: BufRead, W: Write>(
         return Err(e.into());
     }
     pass.finish(bank, out, &mut warn, log.unit_findings().to_vec())
-}
-
-/// A reader error's text after its `file:line: ` (a warning says the place itself).
-fn strip_place(e: &LogError) -> String {
-    let text = e.to_string();
-    let place = match e.line {
-        Some(l) => format!("{}:{l}: ", e.file),
-        None => format!("{}: ", e.file),
-    };
-    text.strip_prefix(&place).unwrap_or(&text).to_string()
 }
 
 /// Rows the reader thread of [`run_parallel`] hands over at a time.

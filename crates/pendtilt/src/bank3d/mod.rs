@@ -305,6 +305,8 @@ pub fn names3d() -> String {
 /// The chosen 3-D estimators, run side by side.
 pub struct Bank3d {
     entries: Vec<&'static Entry3d>,
+    /// The sensors each entry reads, looked up in the catalogue once.
+    reads: Vec<Inputs>,
     runners: Vec<Box<dyn Runner3d>>,
     out: Vec<Attitude<f64>>,
     /// A sensor missing for longer than this \[s\] restarts the estimators reading it at
@@ -350,6 +352,7 @@ impl Bank3d {
         Ok(Self {
             runners: entries.iter().map(|e| (e.build)(settings)).collect(),
             out: Vec::with_capacity(entries.len()),
+            reads: entries.iter().map(|e| e.reads()).collect(),
             entries,
             restart_gap: RESTART_GAP,
             gaps: GapWatch::new(),
@@ -383,8 +386,8 @@ impl Bank3d {
         let clipped = clips.sensors();
         if let Some(r) = self.gaps.observe(s, clipped, self.restart_gap) {
             let mut n = 0;
-            for (e, run) in self.entries.iter().zip(&mut self.runners) {
-                if e.reads().intersects(r.sensors) {
+            for (reads, run) in self.reads.iter().zip(&mut self.runners) {
+                if reads.intersects(r.sensors) {
                     run.resume();
                     n += 1;
                 }
@@ -406,8 +409,8 @@ impl Bank3d {
         // gap) is no estimate. They restart when it is back.
         let stale = self.gaps.stale();
         if !stale.is_empty() {
-            for (o, e) in self.out.iter_mut().zip(&self.entries) {
-                if e.reads().intersects(stale) {
+            for (o, reads) in self.out.iter_mut().zip(&self.reads) {
+                if reads.intersects(stale) {
                     o.roll = f64::NAN;
                     o.pitch = f64::NAN;
                     o.flags |= Flags::SAMPLE_MISSING;
@@ -434,8 +437,8 @@ impl Bank3d {
         if sensors.is_empty() {
             return;
         }
-        for (o, e) in self.out.iter_mut().zip(&self.entries) {
-            if e.reads().intersects(sensors) {
+        for (o, reads) in self.out.iter_mut().zip(&self.reads) {
+            if reads.intersects(sensors) {
                 o.flags |= flag;
             }
         }

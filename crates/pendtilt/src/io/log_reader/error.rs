@@ -142,6 +142,15 @@ pub struct LogError {
 }
 
 impl LogError {
+    /// What is wrong, with the cell, without the file and line (for a message that names
+    /// them itself): "column 3 (`gyro`): not a number: `abc`".
+    pub fn what(&self) -> String {
+        match &self.column {
+            Some(c) => format!("column {} (`{}`): {}", c.position, c.header, self.kind),
+            None => self.kind.to_string(),
+        }
+    }
+
     /// Whether the error is in one line alone, which a reader may skip and go on after
     /// (a cell that is no number, a wrong number of fields, an unclosed quote, bytes that
     /// are not UTF-8): what a live feed's glitch looks like. The others (the header, the
