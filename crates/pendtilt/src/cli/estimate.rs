@@ -34,8 +34,9 @@ pub struct Args {
     /// there is no --params. Default: none (the filters' default noise figures).
     #[arg(long, value_name = "FILE")]
     pub scenario: Option<PathBuf>,
-    /// 3-D logs: score the inclination error from this long after the first row (s).
-    /// Default: the --scenario file's score_from, else 5 s.
+    /// Score the error against the truth from this long after the first row (s), so the
+    /// estimators' start-up is left out of the table. Default: the --scenario file's
+    /// score_from (3-D), else 5 s.
     #[arg(long, value_name = "SECONDS")]
     pub score_from: Option<f64>,
 }
@@ -50,7 +51,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         &[
             ("--quaternion", args.quaternion),
             ("--scenario", args.scenario.is_some()),
-            ("--score-from", args.score_from.is_some()),
         ],
         &args.log,
     )?;
@@ -77,7 +77,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if let Some(errors) = &summary.errors {
             super::options::summary(
                 crate::io::output::is_stdout(&args.output),
-                &pipeline::error_table(errors),
+                &pipeline::error_table(errors, summary.score_from),
             );
         }
     }
@@ -110,7 +110,8 @@ fn estimate_into(
         }
     };
     // run_parallel joins its writer thread before it returns: every row is in `w` here.
-    let summary = pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), warn, each);
+    let score_from = args.score_from.unwrap_or(pipeline::DEFAULT_SCORE_FROM);
+    let summary = pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), score_from, warn, each);
     bar.finish_and_clear();
     let summary = summary?;
     w.flush()?;

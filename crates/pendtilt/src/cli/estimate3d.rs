@@ -52,10 +52,7 @@ use crate::io::{Column3d, Estimates3dWriter, Log3dReader, Log3dRecord};
 use crate::sim3d::Scenario3d;
 use crate::units::Pair;
 
-/// Scoring starts this long after the first row when neither `--score-from` nor a
-/// scenario file says \[s\]: the filters' start-up (the pendulum settling, VQF's
-/// accelerometer low-pass of 3 s) is over by then.
-pub const DEFAULT_SCORE_FROM: f64 = 5.0;
+pub use crate::pipeline::DEFAULT_SCORE_FROM;
 
 /// Rows read before the first estimate, for the time-unit check.
 const HEAD_ROWS: usize = 64;

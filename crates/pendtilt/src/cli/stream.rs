@@ -48,7 +48,15 @@ pub fn run_on<R: std::io::BufRead, W: std::io::Write>(
     // The header goes out at once, so that a reader downstream sees the columns before
     // the first sample.
     w.flush()?;
-    let summary = pipeline::run(&mut log, &mut bank, Some(&mut w), true, warn, |_, _| {})?;
+    let summary = pipeline::run(
+        &mut log,
+        &mut bank,
+        Some(&mut w),
+        true,
+        pipeline::DEFAULT_SCORE_FROM,
+        warn,
+        |_, _| {},
+    )?;
     if !opts.quiet {
         eprintln!("{} rows streamed", summary.rows);
         if log.summary().total_warnings() > 0 {
