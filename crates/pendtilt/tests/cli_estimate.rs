@@ -711,7 +711,12 @@ fn the_error_table_scores_from_score_from() {
     let out = out_path(d.path(), "est.csv");
     let run = |extra: &[&str]| {
         let o = bin()
-            .args(["estimate", log.to_str().unwrap(), "-o", out.to_str().unwrap()])
+            .args([
+                "estimate",
+                log.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
             .args(extra)
             .output()
             .unwrap();
@@ -725,7 +730,10 @@ fn the_error_table_scores_from_score_from() {
         "{default}"
     );
     let table = run(&["--score-from", "1"]);
-    assert!(table.contains("t >= t0 + 1 s (2000 rows scored)"), "{table}");
+    assert!(
+        table.contains("t >= t0 + 1 s (2000 rows scored)"),
+        "{table}"
+    );
     // ekf's RMS in the table is the file's over t >= 1 s (t0 = 0).
     let (header, rows) = read_csv(&out);
     let col = |n: &str| header.iter().position(|h| h == n).unwrap();

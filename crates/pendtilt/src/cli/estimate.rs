@@ -8,6 +8,7 @@ use anyhow::Context;
 
 use super::options::BankOptions;
 use crate::bank::Bank;
+use crate::io::input::InputLog;
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::{Column, EstimatesWriter, LogReader};
 use crate::pipeline;
@@ -16,7 +17,8 @@ use crate::pipeline;
 #[derive(Debug, clap::Args)]
 #[command(after_help = super::help::estimate_after_help())]
 pub struct Args {
-    /// The sensor log (CSV, MODEL.md section 5).
+    /// The sensor log (CSV, MODEL.md section 5; a 3-D log, MODEL.md 7.6); `-` for
+    /// standard input.
     pub log: PathBuf,
     /// Where to write the estimates (CSV); `-` for standard output. Written to a temporary
     /// file and renamed into place only when the whole log was read.
@@ -44,15 +46,21 @@ pub struct Args {
 /// Runs `pendtilt estimate`: refuses an output that is an input, writes the estimates to a
 /// temporary file and renames it onto `-o` only when the whole log was read.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    if super::estimate3d::is_3d_log(&args.log) {
-        return super::estimate3d::run(args);
+    output::check_distinct(
+        &[NamedPath::new("LOG", &args.log)],
+        &[NamedPath::new("-o", &args.output)],
+    )?;
+    // Standard input or a pipe is copied first: the header is peeked at below.
+    let log = InputLog::open(&args.log)?;
+    if super::estimate3d::is_3d_log(log.path()) {
+        return super::estimate3d::run(args, &log);
     }
     super::estimate3d::refuse_3d_options(
         &[
             ("--quaternion", args.quaternion),
             ("--scenario", args.scenario.is_some()),
         ],
-        &args.log,
+        std::path::Path::new(log.name()),
     )?;
     let opts = &args.bank;
     let mut inputs = vec![NamedPath::new("LOG", &args.log)];
@@ -62,7 +70,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     output::check_distinct(&inputs, &[NamedPath::new("-o", &args.output)])?;
     let out = OutputFile::create("-o", &args.output)?;
     let (log, bank, summary) =
-        estimate_into(&args, &out).with_context(|| output::not_written(&args.output))?;
+        estimate_into(&args, &log, &out).with_context(|| output::not_written(&args.output))?;
     out.commit()?;
     if !opts.quiet {
         eprintln!(
@@ -88,11 +96,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// an error.
 fn estimate_into(
     args: &Args,
+    input: &InputLog,
     out: &OutputFile,
 ) -> anyhow::Result<(LogReader<BufReader<File>>, Bank, pipeline::PassSummary)> {
     let opts = &args.bank;
     let rig = opts.rig()?;
-    let mut log = LogReader::open(&args.log, opts.reader_options(&rig))?;
+    let mut log = LogReader::open_as(input.path(), input.name(), opts.reader_options(&rig))?;
     let mut bank = opts.bank(&rig, &log)?;
     let with_theta = log.columns().has(Column::Theta);
     let mut w = EstimatesWriter::new(
@@ -102,7 +111,7 @@ fn estimate_into(
         opts.writer_options(),
     )?;
     let warn = |w: &crate::io::LogWarning| opts.warn(w);
-    let bar = progress(&args.log, opts.quiet);
+    let bar = progress(input.path(), opts.quiet);
     let each = |rows: u64, _: &[pendtilt_core::Estimate<f64>]| {
         // Every 64k rows: a counter the bar reads, not a draw per row.
         if rows % 65_536 == 0 {

@@ -42,6 +42,7 @@ use crate::bank3d::rig::{mounting_doubts, Pendulum3dConfig, Rig3dConfig};
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Clips, Settings3d};
 use crate::config::{doubt_gravity, doubt_gyro_full_scale};
+use crate::io::input::InputLog;
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::plateau::{NewLevel, PlateauWatch, LOOK_AHEAD_ROWS};
 use crate::io::plausibility::{
@@ -79,9 +80,9 @@ pub(crate) fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::R
 
 /// True when the first header line of the file at `path` has every 3-D column (comment
 /// and blank lines before it skipped). An unreadable file is not 3-D: the planar reader
-/// then reports it. Only a regular file is peeked at: reading a pipe (`<(cat log.csv)`,
-/// `/dev/stdin`) would take its first lines from the reader that follows (which then
-/// read a line from the middle as the header); the planar reader refuses a 3-D header.
+/// then reports it. Only a regular file is peeked at: a pipe (`<(cat log.csv)`,
+/// `/dev/stdin`, `-`) is copied to one first ([`InputLog`]), as reading its first lines
+/// here would take them from the reader that follows.
 pub fn is_3d_log(path: &Path) -> bool {
     if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
         return false;
@@ -105,8 +106,10 @@ pub fn is_3d_log(path: &Path) -> bool {
 /// What a 3-D run is given: the log and the options `estimate` and `report` share.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Options3d<'a> {
-    /// The log.
+    /// The log (to read: the file, or the copy of standard input).
     pub log: &'a Path,
+    /// The log's name in messages, when not its path (`<stdin>`).
+    pub log_name: Option<&'a str>,
     /// `--params`.
     pub params: Option<&'a Path>,
     /// `--scenario`.
@@ -123,10 +126,11 @@ pub(crate) struct Options3d<'a> {
 
 impl<'a> Options3d<'a> {
     /// The options of `pendtilt estimate`.
-    fn of_estimate(args: &'a Args) -> Self {
+    fn of_estimate(args: &'a Args, log: &'a InputLog) -> Self {
         let b = &args.bank;
         Self {
-            log: &args.log,
+            log: log.path(),
+            log_name: Some(log.name()),
             params: b.params.as_deref(),
             scenario: args.scenario.as_deref(),
             score_from: args.score_from,
@@ -272,8 +276,8 @@ pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
 }
 
 /// Runs `pendtilt estimate` on a 3-D log.
-pub fn run(args: Args) -> anyhow::Result<()> {
-    let opts = Options3d::of_estimate(&args);
+pub fn run(args: Args, log: &InputLog) -> anyhow::Result<()> {
+    let opts = Options3d::of_estimate(&args, log);
     output::check_distinct(&opts.inputs(), &[NamedPath::new("-o", &args.output)])?;
     let setup = setup(&opts)?;
     let out = OutputFile::create("-o", &args.output)?;
@@ -414,8 +418,10 @@ pub(crate) fn pass(
     quaternion: bool,
     sink: &mut dyn Sink3d,
 ) -> anyhow::Result<Pass> {
-    let mut log = Log3dReader::open(opts.log)?;
-    let file = opts.log.display().to_string();
+    let file = opts
+        .log_name
+        .map_or_else(|| opts.log.display().to_string(), str::to_string);
+    let mut log = Log3dReader::open_as(opts.log, &file)?;
     let mut bank = Bank3d::new(&setup.settings, opts.only).map_err(anyhow::Error::msg)?;
     let names = bank.names();
     let truth = log.has("roll") && log.has("pitch");

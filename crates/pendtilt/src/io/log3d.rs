@@ -84,14 +84,19 @@ impl Log3dReader<BufReader<File>> {
     /// Opens a log file; errors name it as given.
     pub fn open(path: impl AsRef<Path>) -> Result<Self, LogError> {
         let path = path.as_ref();
-        let name = path.display().to_string();
+        Self::open_as(path, &path.display().to_string())
+    }
+
+    /// Opens the log file at `path`; errors name it `name` (the path the user gave, or
+    /// `<stdin>`: [`super::input::InputLog`]).
+    pub fn open_as(path: &Path, name: &str) -> Result<Self, LogError> {
         let file = File::open(path).map_err(|e| LogError {
-            file: name.clone(),
+            file: name.to_string(),
             line: None,
             column: None,
             kind: Box::new(LogErrorKind::Io(e)),
         })?;
-        Self::new(BufReader::with_capacity(1 << 16, file), &name)
+        Self::new(BufReader::with_capacity(1 << 16, file), name)
     }
 }
 
