@@ -410,6 +410,18 @@ fn estimate_into(
     Ok(result)
 }
 
+/// How a pass reads its log.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Feed {
+    /// A file: rows are read ahead to find clips, and the time unit is checked on the
+    /// first rows before any estimate is made. A malformed line ends the pass.
+    File,
+    /// A live stream: nothing is read ahead, every row goes to the sink as soon as its
+    /// line arrived, the time unit is checked once enough rows went through, and a
+    /// malformed line is skipped, said, and given one NaN row flagged `bad_line`.
+    Live,
+}
+
 /// Reads the log's first rows, checks the time unit, then runs every row through the bank
 /// into `sink`, scoring the inclination error when the log has the truth.
 pub(crate) fn pass(
@@ -421,7 +433,21 @@ pub(crate) fn pass(
     let file = opts
         .log_name
         .map_or_else(|| opts.log.display().to_string(), str::to_string);
-    let mut log = Log3dReader::open_as(opts.log, &file)?;
+    let log = Log3dReader::open_as(opts.log, &file)?;
+    pass_on(log, &file, opts, setup, quaternion, sink, Feed::File)
+}
+
+/// [`pass`] over a log already open (`file` its name), read as `feed` says.
+pub(crate) fn pass_on<R: std::io::BufRead>(
+    mut log: Log3dReader<R>,
+    file: &str,
+    opts: &Options3d,
+    setup: &Setup,
+    quaternion: bool,
+    sink: &mut dyn Sink3d,
+    feed: Feed,
+) -> anyhow::Result<Pass> {
+    let file = file.to_string();
     let mut bank = Bank3d::new(&setup.settings, opts.only).map_err(anyhow::Error::msg)?;
     let names = bank.names();
     let truth = log.has("roll") && log.has("pitch");
@@ -461,14 +487,32 @@ pub(crate) fn pass(
         .map(|i| quaternion && bank.has_quaternion(i))
         .collect();
     sink.start(&names, &with_q, truth)?;
-    let mut head = Vec::with_capacity(HEAD_ROWS);
-    while head.len() < HEAD_ROWS {
+    let live = feed == Feed::Live;
+    let (look_ahead, head_rows) = if live {
+        (0, 0)
+    } else {
+        (LOOK_AHEAD_ROWS, HEAD_ROWS)
+    };
+    let mut head = Vec::with_capacity(head_rows);
+    while head.len() < head_rows {
         match log.next_record()? {
             Some(r) => head.push(r),
             None => break,
         }
     }
-    check_time_unit(&file, &head, setup.time_given)?;
+    // Live: the first rows are kept as they go by, and judged when there are enough.
+    let mut seen = Vec::with_capacity(if live { HEAD_ROWS } else { 0 });
+    if !live {
+        check_time_unit(&file, &head, setup.time_given)?;
+    }
+    let blank = vec![
+        Attitude {
+            roll: f64::NAN,
+            pitch: f64::NAN,
+            flags: Flags::BAD_LINE,
+        };
+        names.len()
+    ];
     let header: Vec<String> = log.header().to_vec();
     let mut row = RowInput::new(setup, &file, &header);
     let mut gyro_units = GyroUnits::new(&setup.settings.ekf.params);
@@ -485,15 +529,35 @@ pub(crate) fn pass(
     let (mut speed_rows, mut slip_rows) = (0u64, 0u64);
     // The rows after the current one: clips are found LOOK_AHEAD_ROWS ahead, lone time
     // stamps one row ahead.
-    let mut ahead: VecDeque<Log3dRecord> = VecDeque::with_capacity(LOOK_AHEAD_ROWS + 1);
+    let mut ahead: VecDeque<Log3dRecord> = VecDeque::with_capacity(look_ahead + 1);
     let mut head = head.into_iter();
     loop {
-        while ahead.len() <= LOOK_AHEAD_ROWS {
+        while ahead.len() <= look_ahead {
             let r = match head.next() {
                 Some(r) => r,
-                None => match log.next_record()? {
-                    Some(r) => r,
-                    None => break,
+                None => match log.next_record() {
+                    Ok(Some(r)) => r,
+                    Ok(None) => break,
+                    // Live, nothing is held ahead: the bad line's row goes out in its place.
+                    Err(e) if live && e.is_one_line() => {
+                        opts.notice(&format!(
+                            "warning: {file}:{}: {}: the line is skipped; its output row is \
+                             NaN, flagged bad_line",
+                            e.line.unwrap_or(0),
+                            e.what()
+                        ));
+                        log.resume_after(&e);
+                        sink.row(Row {
+                            t: f64::NAN,
+                            est: &blank,
+                            quats: &vec![None; names.len()],
+                            truth: (f64::NAN, f64::NAN),
+                            sample: &SpatialSample::after(f64::NAN),
+                        })?;
+                        rows += 1;
+                        continue;
+                    }
+                    Err(e) => return Err(e.into()),
                 },
             };
             // In m/s^2 from here on (--accel-unit); before the bounds, for the unit check.
@@ -506,6 +570,12 @@ pub(crate) fn pass(
         let Some(r) = ahead.pop_front() else {
             break;
         };
+        if live && seen.len() < HEAD_ROWS {
+            seen.push(r.clone());
+            if seen.len() == HEAD_ROWS {
+                check_time_unit(&file, &seen, setup.time_given)?;
+            }
+        }
         let (t, s, roll, pitch) = row.sample(&r, &ahead, &mut gate);
         gyro_units.add(&r, s.dt, setup.angle_scale);
         bank.update_clipped(&s, row.clipped);
@@ -535,6 +605,9 @@ pub(crate) fn pass(
             sample: &s,
         })?;
         rows += 1;
+    }
+    if live && seen.len() < HEAD_ROWS {
+        check_time_unit(&file, &seen, setup.time_given)?;
     }
     let mut warnings = row.warnings();
     if let Some((line, n)) = log.take_nul() {

@@ -7,7 +7,10 @@
 //! (removed when the [`InputLog`] is dropped); a regular file is read in place. Messages
 //! name the input as the user gave it (`<stdin>` for `-`), never the copy.
 use std::fs::File;
+use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
+
+use super::csv_lines::CsvLines;
 
 use super::log_reader::{LogError, LogErrorKind};
 
@@ -91,9 +94,52 @@ impl InputLog {
     }
 }
 
+/// A live input after [`peek_header`]: the lines read to find the header, then the rest.
+pub type Peeked<R> = std::io::Chain<std::io::Cursor<Vec<u8>>, R>;
+
+/// Reads `input` up to its header line (blank and `#` comment lines before it skipped,
+/// as the log readers skip them) and returns the header's fields and a reader that gives
+/// every byte again from the start: a live stream can be told planar or 3-D by its header
+/// without losing a line. `None` for an input that ends before a header.
+///
+/// # Errors
+/// Reading `input` failed.
+pub fn peek_header<R: BufRead>(mut input: R) -> std::io::Result<(Option<Vec<String>>, Peeked<R>)> {
+    let mut seen = Vec::new();
+    let header = loop {
+        let start = seen.len();
+        if input.read_until(b'\n', &mut seen)? == 0 {
+            break None;
+        }
+        // The readers' own line reader, on this line alone (a byte-order mark, quotes).
+        let mut line = CsvLines::new(&seen[start..], b',');
+        if let Ok(Some(())) = line.next_row() {
+            break Some(
+                (0..line.field_count())
+                    .filter_map(|i| line.field(i))
+                    .map(|f| String::from_utf8_lossy(&f).into_owned())
+                    .collect(),
+            );
+        }
+    };
+    Ok((header, std::io::Cursor::new(seen).chain(input)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_header_is_peeked_and_every_byte_given_again() {
+        let text = "\u{feff}# a comment\n\n t , phi_x,\"phi_y\"\n0,1,2\n1,2,3\n";
+        let (header, mut rest) = peek_header(text.as_bytes()).unwrap();
+        assert_eq!(header.unwrap(), ["t", "phi_x", "phi_y"]);
+        let mut again = String::new();
+        rest.read_to_string(&mut again).unwrap();
+        assert_eq!(again, text);
+        let (none, _) = peek_header("# only a comment\n".as_bytes()).unwrap();
+        assert!(none.is_none());
+    }
 
     #[test]
     fn a_regular_file_is_read_in_place_and_a_pipe_is_copied() {

@@ -287,7 +287,18 @@ impl<R: BufRead> Log3dReader<R> {
         Ok(())
     }
 
+    /// After an error on one line ([`LogError::is_one_line`]: a cell that is no number,
+    /// the wrong number of fields, an unclosed quote), reading goes on from the next line,
+    /// for a live stream that must not stop on one glitch. After any other error the
+    /// reader stays finished.
+    pub fn resume_after(&mut self, e: &LogError) {
+        if e.is_one_line() {
+            self.finished = false;
+        }
+    }
+
     /// Reads the next data row; `Ok(None)` at the end (an error if there was no data row).
+    /// After an error the reader is finished (unless [`Self::resume_after`]).
     pub fn next_record(&mut self) -> Result<Option<Log3dRecord>, LogError> {
         if self.finished {
             return Ok(None);
