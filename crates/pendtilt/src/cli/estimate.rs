@@ -111,7 +111,11 @@ fn estimate_into(
         opts.writer_options(),
     )?;
     let warn = |w: &crate::io::LogWarning| opts.warn(w);
-    let bar = progress(input.path(), opts.quiet);
+    let bar = super::options::progress(
+        input.path(),
+        "estimating {spinner} {human_pos} rows, {elapsed}",
+        opts.quiet,
+    );
     let each = |rows: u64, _: &[pendtilt_core::Estimate<f64>]| {
         // Every 64k rows: a counter the bar reads, not a draw per row.
         if rows % 65_536 == 0 {
@@ -126,26 +130,4 @@ fn estimate_into(
     w.flush()?;
     drop(w);
     Ok((log, bank, summary))
-}
-
-/// Logs smaller than this \[bytes\] run in well under 2 s (10 MB is about 100,000 rows,
-/// 0.15 s): no bar.
-const PROGRESS_BYTES: u64 = 10_000_000;
-
-/// A count of the rows done and their rate on standard error, for a log large enough to
-/// take a while; hidden when quiet, for a small log, or when standard error is not a
-/// terminal (a pipe, a file, CI).
-fn progress(log: &std::path::Path, quiet: bool) -> indicatif::ProgressBar {
-    use std::io::IsTerminal;
-    let big = std::fs::metadata(log).is_ok_and(|m| m.len() > PROGRESS_BYTES);
-    if quiet || !big || !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let b = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
-    b.set_style(
-        indicatif::ProgressStyle::with_template("estimating {spinner} {human_pos} rows, {elapsed}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-    );
-    b.enable_steady_tick(std::time::Duration::from_millis(200));
-    b
 }

@@ -357,6 +357,9 @@ struct FileSink<'a> {
     out: &'a OutputFile,
     options: crate::io::WriterOptions,
     writer: Option<Estimates3dWriter<Box<dyn std::io::Write + Send>>>,
+    /// Rows written, for the progress line.
+    rows: u64,
+    bar: indicatif::ProgressBar,
 }
 
 impl Sink3d for FileSink<'_> {
@@ -387,6 +390,11 @@ impl Sink3d for FileSink<'_> {
         if let Some(w) = &mut self.writer {
             w.write(r.t, r.est, r.quats, r.truth)?;
         }
+        self.rows += 1;
+        // Every 64k rows: a counter the bar reads, not a draw per row.
+        if self.rows % 65_536 == 0 {
+            self.bar.set_position(self.rows);
+        }
         Ok(())
     }
 }
@@ -402,8 +410,16 @@ fn estimate_into(
         out,
         options: args.bank.writer_options(),
         writer: None,
+        rows: 0,
+        bar: super::options::progress(
+            opts.log,
+            "estimating {spinner} {human_pos} rows, {elapsed}",
+            opts.quiet,
+        ),
     };
-    let result = pass(opts, setup, args.quaternion, &mut sink)?;
+    let result = pass(opts, setup, args.quaternion, &mut sink);
+    sink.bar.finish_and_clear();
+    let result = result?;
     if let Some(mut w) = sink.writer.take() {
         w.flush()?;
     }

@@ -601,11 +601,15 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     // Read twice (checked, then filtered): standard input or a pipe is copied first.
     let input = InputLog::open(&args.input)?;
-    let plan = scan(&input, &opts).with_context(|| crate::io::output::not_written(&args.output))?;
+    let bar = super::options::progress(input.path(), "filtering {spinner} {elapsed}", false);
+    let plan = scan(&input, &opts).with_context(|| crate::io::output::not_written(&args.output));
+    let plan = plan.inspect_err(|_| bar.finish_and_clear())?;
     let out = OutputFile::create("-o", &args.output)?;
     let applied = plan
         .apply(std::io::BufWriter::new(out.writer()?))
-        .with_context(|| crate::io::output::not_written(&args.output))?;
+        .with_context(|| crate::io::output::not_written(&args.output));
+    bar.finish_and_clear();
+    let applied = applied?;
     out.commit()?;
     let delay = plan.output_delay_samples();
     eprintln!(
