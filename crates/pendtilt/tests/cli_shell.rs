@@ -7,7 +7,8 @@ use std::process::Stdio;
 mod common;
 use common::{bin, pendtilt, s, stderr};
 
-const SUBCOMMANDS: [&str; 11] = [
+const SUBCOMMANDS: [&str; 12] = [
+    "batch",
     "estimate",
     "filter",
     "simulate",

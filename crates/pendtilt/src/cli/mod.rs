@@ -1,6 +1,7 @@
 //! Command-line front end: one module per subcommand, each with its `Args` and `run`.
 use clap::{Parser, Subcommand};
 
+pub mod batch;
 pub mod estimate;
 pub mod estimate3d;
 pub mod filter;
@@ -40,6 +41,9 @@ pub struct Cli {
 pub enum Command {
     /// Run every estimator whose inputs are present over a sensor log (CSV).
     Estimate(estimate::Args),
+    /// `estimate` on many logs across the cores, with a summary table of each log's
+    /// warnings and errors.
+    Batch(batch::Args),
     /// Apply the paper's FIR low-pass to columns of any CSV.
     Filter(filter::Args),
     /// Simulate the pendulum rig on a moving, vibrating body and write a sensor log.
@@ -69,6 +73,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Estimate(a) => estimate::run(a),
+        Command::Batch(a) => batch::run(a),
         Command::Filter(a) => filter::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Fit(a) => fit::run(a),
