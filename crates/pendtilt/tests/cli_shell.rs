@@ -7,7 +7,8 @@ use std::process::Stdio;
 mod common;
 use common::{bin, pendtilt, s, stderr};
 
-const SUBCOMMANDS: [&str; 12] = [
+const SUBCOMMANDS: [&str; 13] = [
+    "rig",
     "batch",
     "estimate",
     "filter",

@@ -12,6 +12,7 @@ pub mod replay;
 pub mod report;
 pub mod report3d;
 pub mod reproduce;
+pub mod rig;
 pub mod shell;
 pub mod simulate;
 pub mod simulate3d;
@@ -63,6 +64,8 @@ pub enum Command {
     /// Tune every estimator's settings from a log (no true angle needed) and write a rig
     /// file that `estimate` reads.
     Tune(tune::Args),
+    /// Print a commented rig file with every default (`--template planar` or `3d`).
+    Rig(rig::Args),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     Completions(shell::CompletionsArgs),
     /// Write the man pages.
@@ -74,6 +77,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Estimate(a) => estimate::run(a),
         Command::Batch(a) => batch::run(a),
+        Command::Rig(a) => rig::run(a),
         Command::Filter(a) => filter::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Fit(a) => fit::run(a),
