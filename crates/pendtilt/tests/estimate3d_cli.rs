@@ -330,7 +330,7 @@ fn only_with_an_unknown_name_lists_the_3d_estimators_and_planar_options_are_refu
     );
     let o = pendtilt(&["estimate", s(&log), "--map", "phi=x", "-q", "-o", s(&out)]);
     assert!(
-        stderr(&o).contains("--map: for planar logs only"),
+        stderr(&o).contains("--map phi=...: a column of a planar log"),
         "{}",
         stderr(&o)
     );
@@ -1695,4 +1695,64 @@ fn a_3d_sensor_axis_counting_the_other_way_is_named() {
         let e = inv3d_stderr(&wrong, &rig);
         assert!(e.contains(says), "{columns:?}, truth {truth}: {e}");
     }
+}
+
+/// `--map` names a 3-D log's columns: a log under other names gives the estimates of the
+/// same log under MODEL.md 7.6's names; mapped onto a name the header lacks, it is an
+/// error naming it; and with `t` alone mapped it is refused, never read as planar.
+#[test]
+fn map_reads_a_3d_log_under_other_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = level_log(300, 1.0, None);
+    let log = write(d, "log.csv", &text);
+    let (head, body) = text.split_once('\n').unwrap();
+    let renamed_head = head
+        .replace("t,", "time,")
+        .replace("phi_x", "enc_x")
+        .replace("phi_y", "enc_y")
+        .replace("gyro_x", "gx")
+        .replace("gyro_y", "gy")
+        .replace("gyro_z", "gz");
+    assert!(renamed_head.starts_with("time,enc_x,"), "{renamed_head}");
+    let other = write(d, "other.csv", &format!("{renamed_head}\n{body}"));
+    let (a, b) = (d.join("a.csv"), d.join("b.csv"));
+    let o = pendtilt(&["estimate", s(&log), "-q", "-o", s(&a)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let map = "t=time,phi_x=enc_x,phi_y=enc_y,gyro_x=gx,gyro_y=gy,gyro_z=gz";
+    let o = pendtilt(&["estimate", s(&other), "--map", map, "-q", "-o", s(&b)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+    // A source the header lacks.
+    let o = pendtilt(&[
+        "estimate",
+        s(&other),
+        "--map",
+        "t=time,phi_x=enc_x,phi_y=encoder_y,gyro_x=gx,gyro_y=gy,gyro_z=gz",
+        "-o",
+        s(&b),
+    ]);
+    let e = stderr(&o);
+    assert!(!o.status.success());
+    assert!(
+        e.contains("--map phi_y=encoder_y: no column `encoder_y` in the header"),
+        "{e}"
+    );
+    // `t` alone: not read as planar (only `accel` would run, on the wrong axes).
+    let o = pendtilt(&["estimate", s(&other), "--map", "t=time", "-o", s(&b)]);
+    let e = stderr(&o);
+    assert!(!o.status.success());
+    assert!(
+        e.contains("a 3-D log under other names?") && e.contains("--map"),
+        "{e}"
+    );
+    // A 3-D column mapped on a planar log.
+    let planar = write(d, "p.csv", "t,phi,gyro\n0,0.1,0\n0.001,0.1,0\n");
+    let o = pendtilt(&["estimate", s(&planar), "--map", "gyro_z=gyro", "-o", s(&b)]);
+    let e = stderr(&o);
+    assert!(!o.status.success());
+    assert!(
+        e.contains("p.csv:1: not a 3-D log: no `phi_x`, `phi_y`"),
+        "{e}"
+    );
 }

@@ -110,7 +110,9 @@ pub fn estimate_with(args: &Args, parallel: bool) -> anyhow::Result<Outcome> {
     )?;
     // Standard input or a pipe is copied first: the header is peeked at below.
     let log = InputLog::open(&args.log)?;
-    if super::estimate3d::is_3d_log(log.path()) {
+    // A map onto 3-D columns says the log is 3-D: the 3-D reader names what is amiss.
+    let map = &args.bank.columns.map;
+    if super::estimate3d::is_3d_log(log.path(), map) || !map.spatial_only().is_empty() {
         return super::estimate3d::estimate(args, &log);
     }
     super::estimate3d::refuse_3d_options(

@@ -83,7 +83,7 @@ pub(crate) fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::R
 /// then reports it. Only a regular file is peeked at: a pipe (`<(cat log.csv)`,
 /// `/dev/stdin`, `-`) is copied to one first ([`InputLog`]), as reading its first lines
 /// here would take them from the reader that follows.
-pub fn is_3d_log(path: &Path) -> bool {
+pub fn is_3d_log(path: &Path, map: &crate::io::ColumnMap) -> bool {
     if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
         return false;
     }
@@ -100,7 +100,7 @@ pub fn is_3d_log(path: &Path) -> bool {
         .filter_map(|i| lines.field(i))
         .map(|f| String::from_utf8_lossy(&f).into_owned())
         .collect();
-    crate::io::is_3d_header(&header)
+    crate::io::is_3d_header(&map.rename_spatial(&header))
 }
 
 /// What a 3-D run is given: the log and the options `estimate` and `report` share.
@@ -178,9 +178,10 @@ pub(crate) struct Setup {
 
 /// Reads the rig and scenario files and checks the options.
 pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
-    if !opts.columns.map.is_empty() {
+    if let Some(c) = opts.columns.map.planar_only().first() {
         bail!(
-            "--map: for planar logs only; a 3-D log's columns are read by their MODEL.md 7.6 names"
+            "--map {c}=...: a column of a planar log; a 3-D log's columns are t, phi_x, phi_y, \
+             gyro_x, gyro_y, gyro_z, ax, ay, az, speed, roll, pitch (MODEL.md 7.6)"
         );
     }
     if opts.columns.negate.is_some() {
@@ -454,7 +455,7 @@ pub(crate) fn pass(
     let file = opts
         .log_name
         .map_or_else(|| opts.log.display().to_string(), str::to_string);
-    let log = Log3dReader::open_as(opts.log, &file)?;
+    let log = Log3dReader::open_as(opts.log, &file, opts.columns.map.spatial())?;
     pass_on(log, &file, opts, setup, quaternion, sink, Feed::File)
 }
 

@@ -140,7 +140,7 @@ pub fn read_log(
 /// moves them in only when the whole report was made, after checking that none of them is
 /// the log or the rig file.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    if super::estimate3d::is_3d_log(&args.log) {
+    if super::estimate3d::is_3d_log(&args.log, &args.columns.map) {
         return super::report3d::run(args);
     }
     super::estimate3d::refuse_3d_options(

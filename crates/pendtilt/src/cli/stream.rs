@@ -55,7 +55,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// the command): one flushed estimate line per input data line.
 pub fn run_on<R: BufRead, W: Write>(args: Args, input: R, output: W) -> anyhow::Result<()> {
     let (header, input) = peek_header(input)?;
-    if header.is_some_and(|h| crate::io::is_3d_header(&h)) {
+    let map = &args.bank.columns.map;
+    let spatial = header.is_some_and(|h| crate::io::is_3d_header(&map.rename_spatial(&h)));
+    if spatial || !map.spatial_only().is_empty() {
         return run_3d(&args, input, output);
     }
     estimate3d::refuse_3d_options(
@@ -108,7 +110,7 @@ fn run_3d<R: BufRead, W: Write>(args: &Args, input: R, output: W) -> anyhow::Res
         quiet: b.quiet,
     };
     let setup = estimate3d::setup(&opts)?;
-    let log = crate::io::Log3dReader::new(input, STDIN_NAME)?;
+    let log = crate::io::Log3dReader::new_mapped(input, STDIN_NAME, b.columns.map.spatial())?;
     let mut sink = LiveSink {
         out: Some(output),
         options: b.writer_options(),

@@ -87,7 +87,7 @@ struct TuneLog {
 /// Reads the whole log (warnings printed unless `--quiet`).
 fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<TuneLog> {
     anyhow::ensure!(
-        !super::estimate3d::is_3d_log(&args.log),
+        !super::estimate3d::is_3d_log(&args.log, &args.columns.map),
         "{}: a 3-D log; `tune` tunes the planar estimators (t, phi, gyro, ax, ay)",
         args.log.display()
     );

@@ -78,7 +78,10 @@ impl fmt::Display for Column {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum OptionError {
     /// A name that is not a column of the contract.
-    #[error("`{0}` is not a log column; the columns are t, phi, gyro, ax, ay, theta")]
+    #[error(
+        "`{0}` is not a log column; the columns are t, phi, gyro, ax, ay, theta (planar), or \
+         t, phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az, speed, roll, pitch (3-D)"
+    )]
     UnknownColumn(String),
     /// A `--map` entry without `=`, or with an empty side.
     #[error("`{0}` is not of the form column=header_name (e.g. phi=enc_angle)")]
@@ -112,6 +115,9 @@ pub enum OptionError {
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct ColumnMap {
     sources: [Option<String>; 6],
+    /// `(column, source)` for the 3-D log's columns (MODEL.md 7.6; `t`, `ax`, `ay` are
+    /// in both contracts and land in both).
+    spatial: Vec<(String, String)>,
 }
 
 impl ColumnMap {
@@ -132,7 +138,44 @@ impl ColumnMap {
 
     /// True when nothing is mapped.
     pub fn is_empty(&self) -> bool {
-        self.sources.iter().all(Option::is_none)
+        self.sources.iter().all(Option::is_none) && self.spatial.is_empty()
+    }
+
+    /// The entries naming a 3-D log's columns (MODEL.md 7.6), `(column, source)`: a 3-D
+    /// log's header is read with each source renamed to its column.
+    pub fn spatial(&self) -> &[(String, String)] {
+        &self.spatial
+    }
+
+    /// The columns mapped that only a 3-D log has (`phi_x`, `gyro_z`, ...): an error on a
+    /// planar log.
+    pub fn spatial_only(&self) -> Vec<&str> {
+        (self.spatial.iter())
+            .map(|(c, _)| c.as_str())
+            .filter(|c| Column::from_name(c).is_none())
+            .collect()
+    }
+
+    /// The columns mapped that only a planar log has (`phi`, `gyro`, `theta`): an error on
+    /// a 3-D log.
+    pub fn planar_only(&self) -> Vec<&str> {
+        (Column::ALL.into_iter())
+            .filter(|c| self.source(*c).is_some())
+            .map(|c| c.name())
+            .filter(|c| !super::LOG3D_COLUMNS.contains(c))
+            .collect()
+    }
+
+    /// `header` with each mapped 3-D source renamed to its column.
+    pub fn rename_spatial(&self, header: &[String]) -> Vec<String> {
+        header
+            .iter()
+            .map(|h| {
+                (self.spatial.iter())
+                    .find(|(_, s)| s == h)
+                    .map_or_else(|| h.clone(), |(c, _)| c.clone())
+            })
+            .collect()
     }
 }
 
@@ -149,22 +192,38 @@ impl FromStr for ColumnMap {
                 .map(|(c, s)| (c.trim(), s.trim()))
                 .filter(|(c, s)| !c.is_empty() && !s.is_empty())
                 .ok_or_else(|| OptionError::BadMapEntry(entry.to_string()))?;
-            let column =
-                Column::from_name(col).ok_or_else(|| OptionError::UnknownColumn(col.into()))?;
-            if map.source(column).is_some() {
+            let planar = Column::from_name(col);
+            let spatial = super::LOG3D_COLUMNS.contains(&col);
+            if planar.is_none() && !spatial {
+                return Err(OptionError::UnknownColumn(col.into()));
+            }
+            let mapped = planar.and_then(|c| map.source(c)).is_some()
+                || map.spatial.iter().any(|(c, _)| c == col);
+            if mapped {
                 return Err(OptionError::MappedTwice(col.to_string()));
             }
-            if let Some(other) = Column::ALL
-                .into_iter()
-                .find(|c| map.source(*c) == Some(source))
-            {
+            let other = (Column::ALL.into_iter())
+                .filter(|c| map.source(*c) == Some(source))
+                .map(|c| c.name().to_string())
+                .chain(
+                    (map.spatial.iter())
+                        .filter(|(_, s)| s == source)
+                        .map(|(c, _)| c.clone()),
+                )
+                .next();
+            if let Some(other) = other {
                 return Err(OptionError::SameSource {
                     source_name: source.to_string(),
-                    first: other.name().to_string(),
+                    first: other,
                     second: col.to_string(),
                 });
             }
-            map.set(column, source);
+            if let Some(column) = planar {
+                map.set(column, source);
+            }
+            if spatial {
+                map.spatial.push((col.to_string(), source.to_string()));
+            }
         }
         Ok(map)
     }

@@ -84,19 +84,24 @@ impl Log3dReader<BufReader<File>> {
     /// Opens a log file; errors name it as given.
     pub fn open(path: impl AsRef<Path>) -> Result<Self, LogError> {
         let path = path.as_ref();
-        Self::open_as(path, &path.display().to_string())
+        Self::open_as(path, &path.display().to_string(), &[])
     }
 
     /// Opens the log file at `path`; errors name it `name` (the path the user gave, or
     /// `<stdin>`: [`super::input::InputLog`]).
-    pub fn open_as(path: &Path, name: &str) -> Result<Self, LogError> {
+    /// `renames`: `--map`'s 3-D entries ([`Self::new_mapped`]).
+    pub fn open_as(
+        path: &Path,
+        name: &str,
+        renames: &[(String, String)],
+    ) -> Result<Self, LogError> {
         let file = File::open(path).map_err(|e| LogError {
             file: name.to_string(),
             line: None,
             column: None,
             kind: Box::new(LogErrorKind::Io(e)),
         })?;
-        Self::new(BufReader::with_capacity(1 << 16, file), name)
+        Self::new_mapped(BufReader::with_capacity(1 << 16, file), name, renames)
     }
 }
 
@@ -108,6 +113,17 @@ pub fn read_log3d(path: impl AsRef<Path>) -> Result<Vec<Log3dRecord>, LogError> 
 impl<R: BufRead> Log3dReader<R> {
     /// Reads the header from `input`; `origin` names the source in messages.
     pub fn new(input: R, origin: &str) -> Result<Self, LogError> {
+        Self::new_mapped(input, origin, &[])
+    }
+
+    /// [`Self::new`] with the header's columns `(column, source)` renamed (`--map`): the
+    /// header field `source` is read as the 3-D column `column`; a source the header does
+    /// not have is an error.
+    pub fn new_mapped(
+        input: R,
+        origin: &str,
+        renames: &[(String, String)],
+    ) -> Result<Self, LogError> {
         let mut r = Self {
             lines: CsvLines::new(input, b','),
             file: origin.to_string(),
@@ -120,7 +136,7 @@ impl<R: BufRead> Log3dReader<R> {
             rows: 0,
             finished: false,
         };
-        r.read_header()?;
+        r.read_header(renames)?;
         Ok(r)
     }
 
@@ -188,7 +204,7 @@ impl<R: BufRead> Log3dReader<R> {
 
     /// The header: names, each column's position, the required ones present, no used name
     /// twice.
-    fn read_header(&mut self) -> Result<(), LogError> {
+    fn read_header(&mut self, renames: &[(String, String)]) -> Result<(), LogError> {
         if !self.read_row()? {
             return Err(self.error(None, None, LogErrorKind::Empty));
         }
@@ -204,6 +220,17 @@ impl<R: BufRead> Log3dReader<R> {
                 return Err(self.error(line, None, LogErrorKind::InvalidUtf8));
             };
             header.push(name);
+        }
+        for (column, source) in renames {
+            let Some(i) = header.iter().position(|h| h == source) else {
+                let kind = LogErrorKind::MappedSourceMissing {
+                    column: column.clone(),
+                    source_name: source.clone(),
+                    header: header.join(", "),
+                };
+                return Err(self.error(line, None, kind));
+            };
+            header[i] = column.clone();
         }
         self.header = header;
         for (k, name) in LOG3D_COLUMNS.iter().enumerate() {

@@ -1,5 +1,4 @@
 //! Why a log could not be read, and where: the file, the line and the cell.
-use crate::io::Column;
 
 /// A cell position for error messages: its 1-based field number and header name.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -71,8 +70,8 @@ pub enum LogErrorKind {
     /// `--map` names a header column that is not there.
     #[error("--map {column}={source_name}: no column `{source_name}` in the header (the header has: {header})")]
     MappedSourceMissing {
-        /// The contract column.
-        column: Column,
+        /// The contract column (planar or 3-D).
+        column: String,
         /// The header name asked for.
         source_name: String,
         /// The header names, comma-separated.

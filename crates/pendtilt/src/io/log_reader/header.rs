@@ -110,7 +110,7 @@ impl<R: BufRead> LogReader<R> {
                     line,
                     None,
                     LogErrorKind::MappedSourceMissing {
-                        column,
+                        column: column.name().to_string(),
                         source_name: source.unwrap_or_default(),
                         header: listing.to_string(),
                     },
@@ -164,6 +164,16 @@ impl<R: BufRead> LogReader<R> {
             .filter(|c| self.header.iter().any(|h| h.eq_ignore_ascii_case(c)))
             .collect();
         if found.is_empty() {
+            // A 3-D log under other names (`time, enc_x, ..., gz, ax, ay, az`): read as
+            // planar only `accel` would run, on its x and y axes.
+            let az = self.header.iter().any(|h| h.eq_ignore_ascii_case("az"));
+            if az && !planar(Column::Phi) && !planar(Column::Gyro) {
+                let what = "a column `az` and neither `phi` nor `gyro`: a 3-D log under other \
+                            names? Read as planar only `accel` would run, on its x and y axes. \
+                            Map its columns onto the 3-D names (MODEL.md 7.6), e.g. --map \
+                            t=time,phi_x=enc_x,phi_y=enc_y,gyro_x=gx,gyro_y=gy,gyro_z=gz";
+                return Err(self.not_planar(what.to_string(), listing.to_string()));
+            }
             return Ok(());
         }
         if planar(Column::Phi) || planar(Column::Gyro) {
