@@ -1756,3 +1756,34 @@ fn map_reads_a_3d_log_under_other_names() {
         "{e}"
     );
 }
+
+/// A log with a `speed` column and a rig without `[mounting]`: `speed_at` is taken as P1,
+/// and said once; with the rig's `[mounting]` nothing is said.
+#[test]
+fn a_speed_without_mounting_is_said_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let log = d.join("rd.csv");
+    let o = pendtilt(&[
+        "simulate",
+        "--scenario",
+        "ride3d",
+        "--duration",
+        "2",
+        "-q",
+        "-o",
+        s(&log),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rig = std::fs::read_to_string(d.join("rd.rig.toml")).unwrap();
+    let bare = rig[..rig.find("\n[mounting]").unwrap() + 1].to_string();
+    let bare_path = write(d, "bare.toml", &bare);
+    let out = d.join("e.csv");
+    let said = |rig: &std::path::Path| {
+        let o = pendtilt(&["estimate", s(&log), "--params", s(rig), "-o", s(&out)]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        stderr(&o).matches("names no [mounting]").count()
+    };
+    assert_eq!(said(&bare_path), 1);
+    assert_eq!(said(&d.join("rd.rig.toml")), 0);
+}

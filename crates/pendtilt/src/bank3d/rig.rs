@@ -308,6 +308,9 @@ pub struct Rig3dConfig {
     /// `[gyro]`: its full scale (default unknown). A reading at it is clipped and flagged
     /// `saturated`; beyond it, impossible and read as missing.
     pub gyro: GyroSettings<f64>,
+    /// Whether the file has a `[mounting]` table (without one, a log's `speed` is taken as
+    /// P1's, which `estimate` says).
+    pub mounting_given: bool,
 }
 
 /// `[ekf3d]`: the settings of `ekf3d` and `ukf3d` a rig may set, each optional and each
@@ -440,6 +443,7 @@ impl Default for Rig3dConfig {
             mounting: Mounting::default(),
             ekf3d: Ekf3dConfig::default(),
             gyro: GyroSettings::default(),
+            mounting_given: false,
         }
     }
 }
@@ -538,6 +542,7 @@ impl Rig3dConfig {
                 mounting: f.mounting,
                 ekf3d: f.ekf3d,
                 gyro: f.gyro,
+                mounting_given: table.contains_key("mounting"),
             });
         }
         // Every key of the normalised form is needed: all the missing ones in one message.
@@ -566,6 +571,7 @@ impl Rig3dConfig {
             mounting: f.mounting,
             ekf3d: f.ekf3d,
             gyro: f.gyro,
+            mounting_given: table.contains_key("mounting"),
         })
     }
 }
