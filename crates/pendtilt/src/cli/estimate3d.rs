@@ -68,7 +68,7 @@ const MAX_ACCEL: f64 = DEFAULT_ACCEL_LIMIT;
 
 /// Refuses the options of `given` (name, whether given) that only 3-D logs take, on the
 /// planar log `log`.
-pub(crate) fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::Result<()> {
+pub fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::Result<()> {
     let given: Vec<&str> = given.iter().filter(|g| g.1).map(|g| g.0).collect();
     anyhow::ensure!(
         given.is_empty(),
@@ -107,7 +107,7 @@ pub fn is_3d_log(path: &Path) -> bool {
 
 /// What a 3-D run is given: the log and the options `estimate` and `report` share.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Options3d<'a> {
+pub struct Options3d<'a> {
     /// The log.
     pub log: &'a Path,
     /// `--params`.
@@ -160,7 +160,7 @@ impl<'a> Options3d<'a> {
 
 /// What the options and files give the run.
 #[derive(Debug, Clone)]
-pub(crate) struct Setup {
+pub struct Setup {
     /// The estimators' settings.
     pub settings: Settings3d,
     /// Scoring starts this long after the first row \[s\].
@@ -176,7 +176,7 @@ pub(crate) struct Setup {
 }
 
 /// Reads the rig and scenario files and checks the options.
-pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
+pub fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
     if !opts.columns.map.is_empty() {
         bail!(
             "--map: for planar logs only; a 3-D log's columns are read by their MODEL.md 7.6 names"
@@ -304,7 +304,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 /// What a pass over the log gave.
-pub(crate) struct Pass {
+pub struct Pass {
     /// Rows read (one output row each).
     pub rows: u64,
     /// The estimators, in column order.
@@ -318,7 +318,7 @@ pub(crate) struct Pass {
 }
 
 /// One row of a pass as the sink sees it.
-pub(crate) struct Row<'a> {
+pub struct Row<'a> {
     /// Time \[s\].
     pub t: f64,
     /// Every estimator's output, in [`Pass::names`] order.
@@ -338,7 +338,7 @@ const MAX_WARNINGS: usize = 10;
 const ROW_ISSUES_LISTED: u64 = 3;
 
 /// Where a pass puts its rows: the estimates file, or memory (`report`).
-pub(crate) trait Sink3d {
+pub trait Sink3d {
     /// Called once, before the first row: the estimators, which of them give a
     /// quaternion, and whether the log has the truth.
     fn start(
@@ -411,7 +411,7 @@ fn estimate_into(
 
 /// Reads the log's first rows, checks the time unit, then runs every row through the bank
 /// into `sink`, scoring the inclination error when the log has the truth.
-pub(crate) fn pass(
+pub fn pass(
     opts: &Options3d,
     setup: &Setup,
     quaternion: bool,
