@@ -88,10 +88,16 @@ class Rig:
         kind, canonical, doubts = _pendtilt.rig_check(text, origin)
         #: ``"planar"`` or ``"3d"``.
         self.kind: str = kind
-        #: The TOML text (a planar rig as the command writes it).
-        self.text: str = canonical if canonical is not None else text
+        #: The TOML text as given (a file's, comments and all), which :func:`write_rig`
+        #: writes back.
+        self.text: str = text
+        #: A planar rig as the command writes it (every key with its unit); a 3-D rig's
+        #: text as given. Two rigs are equal when these are.
+        self.canonical: str = canonical if canonical is not None else text
         #: The rig's doubtful values, as the command warns about them.
         self.doubts: List[str] = list(doubts)
+
+    __hash__ = None  # type: ignore[assignment]
 
     @classmethod
     def default(cls) -> "Rig":
@@ -118,7 +124,10 @@ class Rig:
         return Rig.from_dict(d)
 
     def __eq__(self, other: object) -> bool:
-        return isinstance(other, Rig) and (self.kind, self.text) == (other.kind, other.text)
+        return isinstance(other, Rig) and (self.kind, self.canonical) == (
+            other.kind,
+            other.canonical,
+        )
 
     def __repr__(self) -> str:
         return f"Rig(kind={self.kind!r}, tables={list(self.to_dict())})"
