@@ -446,7 +446,8 @@ class Simulation:
         self.log: Path = log
         #: The rig file written beside it.
         self.rig: Path = rig
-        #: The 3-D scenario file written beside it (3-D scenarios), else None.
+        #: The resolved scenario file written beside it (``pendtilt simulate --config``
+        #: reruns it; a 3-D one is :func:`estimate`'s ``scenario``), else None.
         self.scenario: Optional[Path] = scenario
         self._keep = keep  # the temporary directory, when no output was given
         self._data: Optional[Dict[str, Any]] = None
