@@ -54,6 +54,7 @@ __all__ = [
     "write_csv",
     "flag_names",
     "run",
+    "catalogue",
     "library_version",
 ]
 
@@ -61,6 +62,14 @@ __all__ = [
 def library_version() -> str:
     """The version (and commit) of the pendtilt library the native module was built from."""
     return _pendtilt.version()
+
+
+def catalogue() -> List[Dict[str, Any]]:
+    """Every estimator, planar then 3-D, as the command lists them: ``name``, ``model``
+    (``"planar"`` or ``"3d"``), ``family`` (Raw, Paper, Kalman, ModelBased, Peers: the
+    panels of the report's figures), ``reads`` (the sensors) and ``about``."""
+    keys = ("name", "model", "family", "reads", "about")
+    return [dict(zip(keys, row)) for row in _pendtilt.catalogue()]
 
 
 def run(*args: str) -> None:
