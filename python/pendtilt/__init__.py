@@ -759,6 +759,20 @@ _TABLE = {
 }
 
 
+#: The keys of the ``[ekf]`` table (planar ekf, ukf).
+_KEYS_EKF = (
+    "encoder_bits", "encoder_noise", "encoder_jitter", "gyro_density", "gyro_bias",
+    "accel_density", "accel_vibration", "process_jerk", "process_pendulum", "process_bias",
+    "adapt",
+)
+#: The keys of the ``[ekf3d]`` table (ekf3d, ukf3d, imu3d).
+_KEYS_EKF3D = (
+    "vibration_density", "angular_accel_hz", "angular_accel_lead", "speed_noise",
+    "jerk_density", "path_turn_hz", "path_pitch_hz", "encoder_jitter", "use_accel", "adapt",
+    "guard_angle", "pendulum_range",
+)
+
+
 def _class_name(name: str) -> str:
     return "".join(p[:1].upper() + p[1:] for p in name.split("_"))
 
@@ -833,10 +847,14 @@ def _doc(name: str, about: str, table: Optional[str], kind: str) -> str:
     if kind == "planar":
         d = Rig.default().to_dict().get(table, {})
         defaults = ", ".join(f"{k}={v!r}" for k, v in d.items()) or (
-            "none written: every figure derived from the rig's sensors"
+            "none written, every figure derived from the rig's sensors; the keys: "
+            + ", ".join(_KEYS_EKF)
         )
     else:
-        defaults = "every key absent: the filter's defaults (docs/spatial.md)"
+        defaults = (
+            "every key absent, the filter's own defaults (docs/spatial.md); the keys: "
+            + ", ".join(_KEYS_EKF3D)
+        )
     return (
         head
         + f"Settings: keyword arguments set keys of the rig's ``[{table}]`` table (SI "

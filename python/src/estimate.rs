@@ -111,7 +111,9 @@ pub fn write_csv(
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| PendtiltError::new_err(format!("a column is not contiguous: {e}")))?;
     py.detach(|| write_table(&path, &names, &slices))
-        .map_err(|e| py_err(anyhow::Error::from(e).context(format!("cannot write {}", path.display()))))
+        .map_err(|e| {
+            py_err(anyhow::Error::from(e).context(format!("cannot write {}", path.display())))
+        })
 }
 
 /// What a planar pass gave, before it becomes Python objects.
@@ -253,7 +255,12 @@ fn run_planar<R: std::io::BufRead + Send>(
         Some(cols) => {
             let col = |c: Column| -> Option<Vec<f64>> {
                 let pos = log.columns().status(c).position?;
-                Some(cols[pos][..rows].iter().map(|&x| si(&log, ropts, c, x)).collect())
+                Some(
+                    cols[pos][..rows]
+                        .iter()
+                        .map(|&x| si(&log, ropts, c, x))
+                        .collect(),
+                )
             };
             (
                 col(Column::T).unwrap_or_default(),
@@ -472,7 +479,10 @@ fn spatial<'py>(
     if mem.truth {
         d.set_item(
             "truth",
-            (mem.true_roll.into_pyarray(py), mem.true_pitch.into_pyarray(py)),
+            (
+                mem.true_roll.into_pyarray(py),
+                mem.true_pitch.into_pyarray(py),
+            ),
         )?;
         let scores: Vec<_> = pass
             .names

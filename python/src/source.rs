@@ -101,18 +101,3 @@ impl BufRead for ColumnsSource<'_> {
         self.pos = (self.pos + amt).min(self.buf.len());
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_text_reads_back_to_the_same_numbers() {
-        let t = [0.0, 0.001, 0.002];
-        let x = [0.1, f64::NAN, -1.0e-300];
-        let mut s = ColumnsSource::new(&["t".into(), "a,b".into()], vec![&t, &x]);
-        let mut text = String::new();
-        s.read_to_string(&mut text).unwrap();
-        assert_eq!(text, "t,\"a,b\"\n0.0,0.1\n0.001,NaN\n0.002,-1e-300\n");
-    }
-}

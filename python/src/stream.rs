@@ -189,8 +189,8 @@ impl Stream3d {
             quiet: true,
         };
         let setup = estimate3d::setup(&opts).map_err(py_err)?;
-        let bank = Bank3d::new(&setup.settings, estimators.as_deref())
-            .map_err(PendtiltError::new_err)?;
+        let bank =
+            Bank3d::new(&setup.settings, estimators.as_deref()).map_err(PendtiltError::new_err)?;
         Ok(Self {
             bank,
             gate: StepGate::new(),

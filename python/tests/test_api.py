@@ -119,3 +119,52 @@ def test_every_estimator_has_a_class_and_the_3d_stream_matches_estimate(scooter3
 def test_flag_names_are_the_csvs():
     assert pendtilt.flag_names(0) == ""
     assert "|" in pendtilt.flag_names(3)
+
+
+def test_the_stubs_name_every_estimator_class_and_function():
+    from pathlib import Path
+
+    stub = (Path(pendtilt.__file__).parent / "__init__.pyi").read_text()
+    assert (Path(pendtilt.__file__).parent / "py.typed").exists()
+    for name, (cls, model, _) in pendtilt.ESTIMATORS.items():
+        base = "_Planar" if model == "planar" else "_Spatial"
+        assert f"class {cls.__name__}({base}):" in stub, name
+    for name in pendtilt.__all__:
+        if name not in ("ESTIMATORS",):
+            assert f"def {name}(" in stub or f"class {name}" in stub, name
+
+
+def test_batch_functions_release_the_gil(scooter):
+    import threading
+    import time
+
+    log, rig = scooter
+    cols = pendtilt.read_csv(log)
+    big = {k: np.tile(v, 10) for k, v in cols.items()}
+    big["t"] = np.arange(len(big["t"])) * 1e-3
+    done = threading.Event()
+    worker = threading.Thread(
+        target=lambda: (pendtilt.estimate(big, rig=rig, only="ekf,ukf,kf_fused"), done.set())
+    )
+    stamps = []
+    start = time.perf_counter()
+    worker.start()
+    while not done.is_set():
+        stamps.append(time.perf_counter())
+        time.sleep(0.001)
+    worker.join()
+    total = time.perf_counter() - start
+    gaps = np.diff(stamps)
+    # This thread ran all along: no pause near the length of the call.
+    assert total > 0.2 and len(stamps) > 50 and gaps.max() < total / 4, (total, gaps.max())
+
+
+def test_write_csv_writes_each_number_in_its_shortest_exact_form(tmp_path):
+    t = np.array([0.0, 0.001, 0.002])
+    x = np.array([0.1, np.nan, -1.0e-300])
+    pendtilt.write_csv({"t": t, "a,b": x, "label": ["p", "q", "r"]}, tmp_path / "x.csv")
+    text = (tmp_path / "x.csv").read_text()
+    assert text.splitlines()[0] == 't,"a,b"'  # the text column is left out
+    assert text.splitlines()[2:] == ["0.001,NaN", "0.002,-1e-300"]
+    back = pendtilt.read_csv(tmp_path / "x.csv")
+    assert back["t"].tolist() == t.tolist() and back["a,b"][2] == -1.0e-300
