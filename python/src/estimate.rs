@@ -150,11 +150,13 @@ fn planar<'py>(
         .detach(|| -> anyhow::Result<PlanarOut> {
             let opts = &args.bank;
             let mut notes = Vec::new();
+            // The rig's doubts: warnings, as the command prints them.
+            let mut warnings = Vec::new();
             let rig = match &opts.params {
                 Some(p) => {
                     let rig = pendtilt::config::RigConfig::load(p)?;
                     for d in rig.doubts() {
-                        notes.push(format!("warning: {}: {d}", p.display()));
+                        warnings.push(format!("{}: {d}", p.display()));
                     }
                     rig
                 }
@@ -173,11 +175,11 @@ fn planar<'py>(
                     let origin = args.log.display().to_string();
                     let source = ColumnsSource::new(names, cols.clone());
                     let log = LogReader::new(source, &origin, ropts.clone())?;
-                    run_planar(log, args, &rig, notes, Some(&cols), &ropts)
+                    run_planar(log, args, &rig, (notes, warnings), Some(&cols), &ropts)
                 }
                 None => {
                     let log = LogReader::open(&args.log, ropts.clone())?;
-                    run_planar(log, args, &rig, notes, None, &ropts)
+                    run_planar(log, args, &rig, (notes, warnings), None, &ropts)
                 }
             }
         })
@@ -191,7 +193,7 @@ fn run_planar<R: std::io::BufRead + Send>(
     mut log: LogReader<R>,
     args: &pendtilt::cli::estimate::Args,
     rig: &pendtilt::config::RigConfig,
-    mut notes: Vec<String>,
+    (mut notes, mut warnings): (Vec<String>, Vec<String>),
     table: Option<&Vec<&[f64]>>,
     ropts: &ReaderOptions,
 ) -> anyhow::Result<PlanarOut> {
@@ -230,7 +232,6 @@ fn run_planar<R: std::io::BufRead + Send>(
     };
     let mut estimates: Vec<Vec<f64>> = vec![Vec::new(); width];
     let mut flags: Vec<Vec<u16>> = vec![Vec::new(); width];
-    let mut warnings = Vec::new();
     let summary = {
         let warn = |w: &LogWarning| warnings.push(w.to_string());
         let each = |_: u64, est: &[Estimate<f64>]| {
