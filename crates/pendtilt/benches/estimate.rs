@@ -28,8 +28,15 @@ fn bench(c: &mut Criterion) {
             let mut bank = Bank::new(&settings, pipeline::inputs_of(&reader), None).expect("bank");
             let mut w = EstimatesWriter::create(&out, bank.names(), true, WriterOptions::default())
                 .expect("out");
-            let s = pipeline::run_parallel(&mut reader, &mut bank, Some(&mut w), |_| {}, |_, _| {})
-                .expect("run");
+            let s = pipeline::run_parallel(
+                &mut reader,
+                &mut bank,
+                Some(&mut w),
+                0.0,
+                |_| {},
+                |_, _| {},
+            )
+            .expect("run");
             assert_eq!(s.rows, 1_000_000);
         })
     });

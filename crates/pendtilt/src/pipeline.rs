@@ -67,8 +67,11 @@ impl ErrorStats {
 pub struct PassSummary {
     /// Rows read (= rows written).
     pub rows: u64,
-    /// Error statistics per estimator, in the bank's order, when the log has `theta`.
+    /// Error statistics per estimator, in the bank's order, when the log has `theta`,
+    /// over the rows from `score_from` after the first on.
     pub errors: Option<Vec<(String, ErrorStats)>>,
+    /// Where scoring started: this long after the first row's time \[s\].
+    pub score_from: f64,
     /// Restarts of estimators after long sensor gaps.
     pub restarts: u64,
     /// Columns whose scale disagrees with the physics (degrees read as radians), each
@@ -79,9 +82,18 @@ pub struct PassSummary {
 mod clips;
 pub(crate) use clips::ClipFinder;
 
+/// Errors are scored from this long after the first row \[s\] when the user does not say
+/// (`--score-from`), planar and 3-D alike: the start-up is over by then. The model-based
+/// filters settle in about 2 s (the planar ekf's RMS on the 60 s scooter ride is 0.079°
+/// from 0 s, 0.035° from 2 s, 0.032° from 5 s), VQF's accelerometer low-pass takes 3 s;
+/// Mahony's slow integral still settles (1.51° from 0 s, 0.26° from 5 s, 0.18° from
+/// 10 s). See docs/estimators.md.
+pub const DEFAULT_SCORE_FROM: f64 = 5.0;
+
 /// Reads every row of `log`, runs `bank` on it, writes one row per input row to `out`
 /// (when given, flushing after each row if `flush_each`), hands each reader warning to
-/// `warn`, and accumulates errors against `theta` when the log has it. Clips are found
+/// `warn`, and accumulates errors against `theta` when the log has it, from `score_from`
+/// \[s\] after the first row's time on ([`DEFAULT_SCORE_FROM`]). Clips are found
 /// [`LOOK_AHEAD_ROWS`] rows ahead of the estimators, or, when `flush_each` (live input:
 /// nothing is read ahead), from the row that completes their run on.
 pub fn run<R: BufRead, W: Write>(
@@ -89,10 +101,11 @@ pub fn run<R: BufRead, W: Write>(
     bank: &mut Bank,
     mut out: Option<&mut EstimatesWriter<W>>,
     flush_each: bool,
+    score_from: f64,
     mut warn: impl FnMut(&LogWarning),
     mut each: impl FnMut(u64, &[Estimate<f64>]),
 ) -> Result<PassSummary, PassError> {
-    let mut pass = Pass::new(bank, log);
+    let mut pass = Pass::new(bank, log, score_from);
     let look_ahead = if flush_each { 0 } else { LOOK_AHEAD_ROWS };
     let mut clips = ClipFinder::new(log, bank.settings(), look_ahead);
     // A read error ends the log: the rows held before it are still run and written.
@@ -206,10 +219,11 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
     log: &mut LogReader<R>,
     bank: &mut Bank,
     out: Option<&mut EstimatesWriter<W>>,
+    score_from: f64,
     mut warn: impl FnMut(&LogWarning),
     mut each: impl FnMut(u64, &[Estimate<f64>]),
 ) -> Result<PassSummary, PassError> {
-    let mut pass = Pass::new(bank, log);
+    let mut pass = Pass::new(bank, log, score_from);
     let mut clips = ClipFinder::new(log, bank.settings(), LOOK_AHEAD_ROWS);
     let width = bank.names().len();
     let reader = &mut *log;
@@ -363,6 +377,10 @@ const MAX_RESTART_WARNINGS: u64 = 10;
 struct Pass {
     file: String,
     with_theta: bool,
+    /// Rows are scored from this long after `t0` \[s\].
+    score_from: f64,
+    /// The first finite time.
+    t0: Option<f64>,
     stats: Vec<ErrorStats>,
     est: Vec<Estimate<f64>>,
     rows: u64,
@@ -377,8 +395,10 @@ struct Pass {
 }
 
 impl Pass {
-    fn new<R: BufRead>(bank: &Bank, log: &LogReader<R>) -> Self {
+    fn new<R: BufRead>(bank: &Bank, log: &LogReader<R>, score_from: f64) -> Self {
         Self {
+            score_from,
+            t0: None,
             file: log.file().to_string(),
             with_theta: log.columns().has(Column::Theta),
             stats: vec![ErrorStats::default(); bank.names().len()],
@@ -469,7 +489,11 @@ impl Pass {
                 warn(&w);
             }
         }
-        if let (true, Some(th)) = (self.with_theta, rec.theta) {
+        if rec.t.is_finite() && self.t0.is_none() {
+            self.t0 = Some(rec.t);
+        }
+        let scored = self.t0.is_some_and(|t0| rec.t >= t0 + self.score_from);
+        if let (true, true, Some(th)) = (scored, self.with_theta, rec.theta) {
             for (s, e) in self.stats.iter_mut().zip(&self.est) {
                 s.add(e.theta, th);
             }
@@ -542,6 +566,7 @@ impl Pass {
             rows: self.rows,
             restarts: self.restarts,
             unit_findings,
+            score_from: self.score_from,
             errors: self.with_theta.then(|| {
                 bank.names()
                     .iter()
@@ -566,9 +591,14 @@ pub enum PassError {
     Settings(String),
 }
 
-/// The error table printed by `estimate`: RMS and max error per estimator, in degrees.
-pub fn error_table(errors: &[(String, ErrorStats)]) -> String {
-    let mut s = String::from("estimator        RMS [deg]   max [deg]   samples  missing\n");
+/// The error table printed by `estimate`: RMS and max error per estimator, in degrees,
+/// over the rows from `score_from` \[s\] after the first on.
+pub fn error_table(errors: &[(String, ErrorStats)], score_from: f64) -> String {
+    let n = errors.first().map_or(0, |(_, e)| e.count + e.missing);
+    let mut s = format!(
+        "error against theta, t >= t0 + {score_from} s ({n} rows scored):\n\
+         estimator        RMS [deg]   max [deg]   samples  missing\n"
+    );
     for (name, e) in errors {
         s.push_str(&format!(
             "{name:<15} {:>10.4} {:>11.4} {:>9} {:>8}\n",
@@ -576,6 +606,12 @@ pub fn error_table(errors: &[(String, ErrorStats)]) -> String {
             e.max_abs.to_degrees(),
             e.count,
             e.missing
+        ));
+    }
+    if n == 0 {
+        s.push_str(&format!(
+            "no row scored: the log ends before t0 + {score_from} s (t0 its first time); \
+             score earlier with --score-from SECONDS\n"
         ));
     }
     s
@@ -624,13 +660,21 @@ mod tests {
             EstimatesWriter::new(Vec::new(), bank.names(), true, WriterOptions::default()).unwrap();
         let mut seen = 0;
         let res = if parallel {
-            run_parallel(&mut r, &mut bank, Some(&mut w), |_| {}, |n, _| seen = n)
+            run_parallel(
+                &mut r,
+                &mut bank,
+                Some(&mut w),
+                1.0,
+                |_| {},
+                |n, _| seen = n,
+            )
         } else {
             run(
                 &mut r,
                 &mut bank,
                 Some(&mut w),
                 false,
+                1.0,
                 |_| {},
                 |n, _| seen = n,
             )
@@ -660,5 +704,47 @@ mod tests {
         let msg = a.2.unwrap();
         assert_eq!(Some(msg.clone()), b.2);
         assert!(msg.contains("mem.csv") && msg.contains("abc"), "{msg}");
+    }
+
+    #[test]
+    fn errors_are_scored_from_score_from_after_the_first_row() {
+        // 3 s at 1 kHz from t0 = 10 s; the accelerometer's estimate is off by 0.1 rad
+        // before t = 11 s and exact after, so scoring from 1 s sees no error from it.
+        let mut text = String::from("t,ax,ay,theta\n");
+        for k in 0..3000 {
+            let t = 10.0 + k as f64 * 1e-3;
+            let th: f64 = 0.2;
+            let read = if t < 11.0 { th + 0.1 } else { th };
+            let (ax, ay) = (9.8 * read.sin(), 9.8 * read.cos());
+            text.push_str(&format!("{t},{ax},{ay},{th}\n"));
+        }
+        let score = |from: f64| {
+            let mut r = LogReader::new(text.as_bytes(), "m.csv", ReaderOptions::default()).unwrap();
+            let s = BankSettings::from_params(PendulumParams::default());
+            let only = vec!["accel".to_string()];
+            let mut bank = Bank::new(&s, inputs_of(&r), Some(&only)).unwrap();
+            let p = run(
+                &mut r,
+                &mut bank,
+                None::<&mut EstimatesWriter<Vec<u8>>>,
+                false,
+                from,
+                |_| {},
+                |_, _| {},
+            )
+            .unwrap();
+            assert_eq!(p.rows, 3000);
+            assert_eq!(p.score_from, from);
+            p.errors.unwrap()[0].1
+        };
+        let all = score(0.0);
+        assert_eq!(all.count, 3000);
+        assert!((all.max_abs - 0.1).abs() < 1e-9, "{}", all.max_abs);
+        // t >= 11 s: rows 1000..3000 (10 + 1000e-3 rounds to 11 exactly).
+        let late = score(1.0);
+        assert_eq!(late.count, 2000);
+        assert!(late.max_abs < 1e-9 && late.rms() < 1e-9, "{late:?}");
+        let table = error_table(&[("accel".into(), late)], 1.0);
+        assert!(table.contains("t >= t0 + 1 s"), "{table}");
     }
 }

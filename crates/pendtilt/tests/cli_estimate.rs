@@ -694,3 +694,57 @@ fn a_time_unit_given_is_judged_by_the_physics() {
     assert!(!o.status.success(), "{e}");
     assert!(e.contains("drop --time-unit us"), "{e}");
 }
+
+/// The planar error table leaves the start-up out: from 5 s after the first row by
+/// default (a 3 s log has no row scored, and says how to score it), from `--score-from`
+/// when given, and its RMS is the file's RMS over those rows.
+#[test]
+fn the_error_table_scores_from_score_from() {
+    let d = tmp();
+    let log = out_path(d.path(), "log.csv");
+    write_log(
+        &log,
+        ["t", "phi", "gyro", "ax", "ay", "theta"],
+        false,
+        false,
+    );
+    let out = out_path(d.path(), "est.csv");
+    let run = |extra: &[&str]| {
+        let o = bin()
+            .args([
+                "estimate",
+                log.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let default = run(&[]);
+    assert!(
+        default.contains("t >= t0 + 5 s (0 rows scored)")
+            && default.contains("score earlier with --score-from SECONDS"),
+        "{default}"
+    );
+    let table = run(&["--score-from", "1"]);
+    assert!(
+        table.contains("t >= t0 + 1 s (2000 rows scored)"),
+        "{table}"
+    );
+    // ekf's RMS in the table is the file's over t >= 1 s (t0 = 0).
+    let (header, rows) = read_csv(&out);
+    let col = |n: &str| header.iter().position(|h| h == n).unwrap();
+    let (t, e, th) = (col("t"), col("ekf"), col("theta"));
+    let late: Vec<&Vec<f64>> = rows.iter().filter(|r| r[t] >= 1.0).collect();
+    let rms = (late.iter().map(|r| (r[e] - r[th]).powi(2)).sum::<f64>() / late.len() as f64)
+        .sqrt()
+        .to_degrees();
+    let line = table.lines().find(|l| l.starts_with("ekf ")).unwrap();
+    let printed: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+    assert!((printed - rms).abs() < 1e-4, "{line} vs {rms}");
+    let all = run(&["--score-from", "0"]);
+    assert!(all.contains("(3000 rows scored)"), "{all}");
+}

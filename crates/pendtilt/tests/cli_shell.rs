@@ -226,3 +226,53 @@ fn no_progress_line_reaches_a_pipe() {
     assert!(!err.contains("estimating"), "{err}");
     assert!(err.contains("120000 rows"), "{err}");
 }
+
+/// `-` reads standard input: `simulate | estimate - | filter -` in one pipe (filter reads
+/// its input twice, so a pipe is copied first), a 3-D log too (told from its header,
+/// which a pipe shows only once), and an error names `<stdin>` with its line.
+#[test]
+fn a_dash_reads_standard_input_planar_and_3d() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (csv, err) = sh(
+        d,
+        "$P simulate --scenario scooter --duration 3 -q -o - | $P estimate - -o - | \
+         $P filter - --order 50 --cutoff 20 -o -",
+    );
+    assert_eq!(csv.lines().count(), 3001, "{err}");
+    assert!(csv.starts_with("t,accel,pendulum,"), "{}", &csv[..80]);
+    assert!(
+        err.contains("<stdin>: columns: t, phi, gyro, ax, ay, theta"),
+        "{err}"
+    );
+    // 3-D through standard input and through a pipe named as a file: the same estimates
+    // as from the file.
+    sh(
+        d,
+        "$P simulate --scenario still3d --duration 3 -q -o s3.csv",
+    );
+    let (file, _) = sh(d, "$P estimate s3.csv --params s3.rig.toml -q -o -");
+    let (piped, _) = sh(d, "cat s3.csv | $P estimate - --params s3.rig.toml -q -o -");
+    assert_eq!(file, piped);
+    assert!(file.starts_with("t,pendulum3d_roll,"), "{}", &file[..60]);
+    let (fifo, _) = sh(
+        d,
+        "mkfifo f.csv; cat s3.csv > f.csv & $P estimate f.csv --params s3.rig.toml -q -o -",
+    );
+    assert_eq!(file, fifo);
+    // A bad cell on standard input: named `<stdin>`, its line and column.
+    let o = std::process::Command::new("sh")
+        .args([
+            "-c",
+            "printf 't,phi,gyro\\n0,0.1,0\\n0.001,abc,0\\n' | $P estimate - -o -",
+        ])
+        .env("P", env!("CARGO_BIN_EXE_pendtilt"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(
+        e.contains("<stdin>:3: column 2 (`phi`): not a number: `abc`"),
+        "{e}"
+    );
+}

@@ -254,3 +254,84 @@ fn a_line_the_input_ends_in_streams_with_its_cut_cell_missing() {
         "{e}"
     );
 }
+
+/// A 3-D log streams through the 3-D estimators, told by its header: each row out before
+/// the next line is sent, a bad line skipped and flagged, and, fed at once, the same
+/// estimates as `estimate` on the file.
+#[test]
+fn a_3d_log_streams_live_through_the_3d_estimators() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let log = d.join("s3.csv");
+    let o = Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+        .args([
+            "simulate",
+            "--scenario",
+            "scooter3d",
+            "--duration",
+            "0.5",
+            "-q",
+            "-o",
+        ])
+        .arg(&log)
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let rig = d.join("s3.rig.toml");
+    let text = std::fs::read_to_string(&log).unwrap();
+    let mut lines = text.lines();
+    let head = lines.next().unwrap();
+    let data: Vec<&str> = lines.collect();
+    let mut c = Child::spawn(&["--params", rig.to_str().unwrap(), "--flags"]);
+    c.send(head);
+    let header = c.next_line("the header");
+    assert!(
+        header.starts_with("t,pendulum3d_roll,pendulum3d_pitch,"),
+        "{header}"
+    );
+    assert!(header.contains("ekf3d_flags"), "{header}");
+    let ncol = header.split(',').count();
+    for (k, line) in data.iter().take(80).enumerate() {
+        if k == 40 {
+            c.send("0.04,1,2,abc,4,5,6,7,8");
+            let out = c.next_line("the bad line");
+            assert!(out.starts_with("NaN,") && out.contains("bad_line"), "{out}");
+        }
+        c.send(line);
+        let out = c.next_line(&format!("input row {k}"));
+        let fields: Vec<&str> = out.split(',').collect();
+        assert_eq!(fields.len(), ncol, "{out}");
+        assert_eq!(fields[0], line.split(',').next().unwrap(), "row {k}");
+        assert!(
+            c.lines.try_recv().is_err(),
+            "more than one line for row {k}"
+        );
+    }
+    let (status, stderr, _) = c.finish();
+    assert!(status.success(), "{stderr}");
+    assert!(
+        stderr.contains("<stdin>:42: column 4 (`gyro_x`): not a number: `abc`")
+            && stderr.contains("flagged bad_line"),
+        "{stderr}"
+    );
+    // All at once: the file's estimates, byte for byte.
+    let est = d.join("est.csv");
+    let o = Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+        .arg("estimate")
+        .arg(&log)
+        .args(["--params", rig.to_str().unwrap(), "--flags", "-q", "-o"])
+        .arg(&est)
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let o = Command::new(env!("CARGO_BIN_EXE_pendtilt"))
+        .args(["stream", "--params", rig.to_str().unwrap(), "--flags", "-q"])
+        .stdin(std::fs::File::open(&log).unwrap())
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    assert_eq!(
+        String::from_utf8(o.stdout).unwrap(),
+        std::fs::read_to_string(&est).unwrap()
+    );
+}

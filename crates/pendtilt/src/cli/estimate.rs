@@ -8,6 +8,7 @@ use anyhow::Context;
 
 use super::options::BankOptions;
 use crate::bank::Bank;
+use crate::io::input::InputLog;
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::{Column, EstimatesWriter, LogReader};
 use crate::pipeline;
@@ -16,7 +17,8 @@ use crate::pipeline;
 #[derive(Debug, clap::Args)]
 #[command(after_help = super::help::estimate_after_help())]
 pub struct Args {
-    /// The sensor log (CSV, MODEL.md section 5).
+    /// The sensor log (CSV, MODEL.md section 5; a 3-D log, MODEL.md 7.6); `-` for
+    /// standard input.
     pub log: PathBuf,
     /// Where to write the estimates (CSV); `-` for standard output. Written to a temporary
     /// file and renamed into place only when the whole log was read.
@@ -34,8 +36,9 @@ pub struct Args {
     /// there is no --params. Default: none (the filters' default noise figures).
     #[arg(long, value_name = "FILE")]
     pub scenario: Option<PathBuf>,
-    /// 3-D logs: score the inclination error from this long after the first row (s).
-    /// Default: the --scenario file's score_from, else 5 s.
+    /// Score the error against the truth from this long after the first row (s), so the
+    /// estimators' start-up is left out of the table. Default: the --scenario file's
+    /// score_from (3-D), else 5 s.
     #[arg(long, value_name = "SECONDS")]
     pub score_from: Option<f64>,
 }
@@ -43,16 +46,21 @@ pub struct Args {
 /// Runs `pendtilt estimate`: refuses an output that is an input, writes the estimates to a
 /// temporary file and renames it onto `-o` only when the whole log was read.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    if super::estimate3d::is_3d_log(&args.log) {
-        return super::estimate3d::run(args);
+    output::check_distinct(
+        &[NamedPath::new("LOG", &args.log)],
+        &[NamedPath::new("-o", &args.output)],
+    )?;
+    // Standard input or a pipe is copied first: the header is peeked at below.
+    let log = InputLog::open(&args.log)?;
+    if super::estimate3d::is_3d_log(log.path()) {
+        return super::estimate3d::run(args, &log);
     }
     super::estimate3d::refuse_3d_options(
         &[
             ("--quaternion", args.quaternion),
             ("--scenario", args.scenario.is_some()),
-            ("--score-from", args.score_from.is_some()),
         ],
-        &args.log,
+        std::path::Path::new(log.name()),
     )?;
     let opts = &args.bank;
     let mut inputs = vec![NamedPath::new("LOG", &args.log)];
@@ -62,7 +70,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     output::check_distinct(&inputs, &[NamedPath::new("-o", &args.output)])?;
     let out = OutputFile::create("-o", &args.output)?;
     let (log, bank, summary) =
-        estimate_into(&args, &out).with_context(|| output::not_written(&args.output))?;
+        estimate_into(&args, &log, &out).with_context(|| output::not_written(&args.output))?;
     out.commit()?;
     if !opts.quiet {
         eprintln!(
@@ -77,7 +85,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if let Some(errors) = &summary.errors {
             super::options::summary(
                 crate::io::output::is_stdout(&args.output),
-                &pipeline::error_table(errors),
+                &pipeline::error_table(errors, summary.score_from),
             );
         }
     }
@@ -88,11 +96,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// an error.
 fn estimate_into(
     args: &Args,
+    input: &InputLog,
     out: &OutputFile,
 ) -> anyhow::Result<(LogReader<BufReader<File>>, Bank, pipeline::PassSummary)> {
     let opts = &args.bank;
     let rig = opts.rig()?;
-    let mut log = LogReader::open(&args.log, opts.reader_options(&rig))?;
+    let mut log = LogReader::open_as(input.path(), input.name(), opts.reader_options(&rig))?;
     let mut bank = opts.bank(&rig, &log)?;
     let with_theta = log.columns().has(Column::Theta);
     let mut w = EstimatesWriter::new(
@@ -102,7 +111,11 @@ fn estimate_into(
         opts.writer_options(),
     )?;
     let warn = |w: &crate::io::LogWarning| opts.warn(w);
-    let bar = progress(&args.log, opts.quiet);
+    let bar = super::options::progress(
+        input.path(),
+        "estimating {spinner} {human_pos} rows, {elapsed}",
+        opts.quiet,
+    );
     let each = |rows: u64, _: &[pendtilt_core::Estimate<f64>]| {
         // Every 64k rows: a counter the bar reads, not a draw per row.
         if rows % 65_536 == 0 {
@@ -110,32 +123,11 @@ fn estimate_into(
         }
     };
     // run_parallel joins its writer thread before it returns: every row is in `w` here.
-    let summary = pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), warn, each);
+    let score_from = args.score_from.unwrap_or(pipeline::DEFAULT_SCORE_FROM);
+    let summary = pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), score_from, warn, each);
     bar.finish_and_clear();
     let summary = summary?;
     w.flush()?;
     drop(w);
     Ok((log, bank, summary))
-}
-
-/// Logs smaller than this \[bytes\] run in well under 2 s (10 MB is about 100,000 rows,
-/// 0.15 s): no bar.
-const PROGRESS_BYTES: u64 = 10_000_000;
-
-/// A count of the rows done and their rate on standard error, for a log large enough to
-/// take a while; hidden when quiet, for a small log, or when standard error is not a
-/// terminal (a pipe, a file, CI).
-fn progress(log: &std::path::Path, quiet: bool) -> indicatif::ProgressBar {
-    use std::io::IsTerminal;
-    let big = std::fs::metadata(log).is_ok_and(|m| m.len() > PROGRESS_BYTES);
-    if quiet || !big || !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let b = indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
-    b.set_style(
-        indicatif::ProgressStyle::with_template("estimating {spinner} {human_pos} rows, {elapsed}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-    );
-    b.enable_steady_tick(std::time::Duration::from_millis(200));
-    b
 }

@@ -42,6 +42,7 @@ use crate::bank3d::rig::{mounting_doubts, Pendulum3dConfig, Rig3dConfig};
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Clips, Settings3d};
 use crate::config::{doubt_gravity, doubt_gyro_full_scale};
+use crate::io::input::InputLog;
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::plateau::{NewLevel, PlateauWatch, LOOK_AHEAD_ROWS};
 use crate::io::plausibility::{
@@ -52,10 +53,7 @@ use crate::io::{Column3d, Estimates3dWriter, Log3dReader, Log3dRecord};
 use crate::sim3d::Scenario3d;
 use crate::units::Pair;
 
-/// Scoring starts this long after the first row when neither `--score-from` nor a
-/// scenario file says \[s\]: the filters' start-up (the pendulum settling, VQF's
-/// accelerometer low-pass of 3 s) is over by then.
-pub const DEFAULT_SCORE_FROM: f64 = 5.0;
+pub use crate::pipeline::DEFAULT_SCORE_FROM;
 
 /// Rows read before the first estimate, for the time-unit check.
 const HEAD_ROWS: usize = 64;
@@ -82,9 +80,9 @@ pub fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::Result<(
 
 /// True when the first header line of the file at `path` has every 3-D column (comment
 /// and blank lines before it skipped). An unreadable file is not 3-D: the planar reader
-/// then reports it. Only a regular file is peeked at: reading a pipe (`<(cat log.csv)`,
-/// `/dev/stdin`) would take its first lines from the reader that follows (which then
-/// read a line from the middle as the header); the planar reader refuses a 3-D header.
+/// then reports it. Only a regular file is peeked at: a pipe (`<(cat log.csv)`,
+/// `/dev/stdin`, `-`) is copied to one first ([`InputLog`]), as reading its first lines
+/// here would take them from the reader that follows.
 pub fn is_3d_log(path: &Path) -> bool {
     if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
         return false;
@@ -108,8 +106,10 @@ pub fn is_3d_log(path: &Path) -> bool {
 /// What a 3-D run is given: the log and the options `estimate` and `report` share.
 #[derive(Debug, Clone, Copy)]
 pub struct Options3d<'a> {
-    /// The log.
+    /// The log (to read: the file, or the copy of standard input).
     pub log: &'a Path,
+    /// The log's name in messages, when not its path (`<stdin>`).
+    pub log_name: Option<&'a str>,
     /// `--params`.
     pub params: Option<&'a Path>,
     /// `--scenario`.
@@ -126,10 +126,11 @@ pub struct Options3d<'a> {
 
 impl<'a> Options3d<'a> {
     /// The options of `pendtilt estimate`.
-    fn of_estimate(args: &'a Args) -> Self {
+    fn of_estimate(args: &'a Args, log: &'a InputLog) -> Self {
         let b = &args.bank;
         Self {
-            log: &args.log,
+            log: log.path(),
+            log_name: Some(log.name()),
             params: b.params.as_deref(),
             scenario: args.scenario.as_deref(),
             score_from: args.score_from,
@@ -275,8 +276,8 @@ pub fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
 }
 
 /// Runs `pendtilt estimate` on a 3-D log.
-pub fn run(args: Args) -> anyhow::Result<()> {
-    let opts = Options3d::of_estimate(&args);
+pub fn run(args: Args, log: &InputLog) -> anyhow::Result<()> {
+    let opts = Options3d::of_estimate(&args, log);
     output::check_distinct(&opts.inputs(), &[NamedPath::new("-o", &args.output)])?;
     let setup = setup(&opts)?;
     let out = OutputFile::create("-o", &args.output)?;
@@ -356,6 +357,9 @@ struct FileSink<'a> {
     out: &'a OutputFile,
     options: crate::io::WriterOptions,
     writer: Option<Estimates3dWriter<Box<dyn std::io::Write + Send>>>,
+    /// Rows written, for the progress line.
+    rows: u64,
+    bar: indicatif::ProgressBar,
 }
 
 impl Sink3d for FileSink<'_> {
@@ -386,6 +390,11 @@ impl Sink3d for FileSink<'_> {
         if let Some(w) = &mut self.writer {
             w.write(r.t, r.est, r.quats, r.truth)?;
         }
+        self.rows += 1;
+        // Every 64k rows: a counter the bar reads, not a draw per row.
+        if self.rows % 65_536 == 0 {
+            self.bar.set_position(self.rows);
+        }
         Ok(())
     }
 }
@@ -401,12 +410,32 @@ fn estimate_into(
         out,
         options: args.bank.writer_options(),
         writer: None,
+        rows: 0,
+        bar: super::options::progress(
+            opts.log,
+            "estimating {spinner} {human_pos} rows, {elapsed}",
+            opts.quiet,
+        ),
     };
-    let result = pass(opts, setup, args.quaternion, &mut sink)?;
+    let result = pass(opts, setup, args.quaternion, &mut sink);
+    sink.bar.finish_and_clear();
+    let result = result?;
     if let Some(mut w) = sink.writer.take() {
         w.flush()?;
     }
     Ok(result)
+}
+
+/// How a pass reads its log.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Feed {
+    /// A file: rows are read ahead to find clips, and the time unit is checked on the
+    /// first rows before any estimate is made. A malformed line ends the pass.
+    File,
+    /// A live stream: nothing is read ahead, every row goes to the sink as soon as its
+    /// line arrived, the time unit is checked once enough rows went through, and a
+    /// malformed line is skipped, said, and given one NaN row flagged `bad_line`.
+    Live,
 }
 
 /// Reads the log's first rows, checks the time unit, then runs every row through the bank
@@ -417,8 +446,24 @@ pub fn pass(
     quaternion: bool,
     sink: &mut dyn Sink3d,
 ) -> anyhow::Result<Pass> {
-    let mut log = Log3dReader::open(opts.log)?;
-    let file = opts.log.display().to_string();
+    let file = opts
+        .log_name
+        .map_or_else(|| opts.log.display().to_string(), str::to_string);
+    let log = Log3dReader::open_as(opts.log, &file)?;
+    pass_on(log, &file, opts, setup, quaternion, sink, Feed::File)
+}
+
+/// [`pass`] over a log already open (`file` its name), read as `feed` says.
+pub fn pass_on<R: std::io::BufRead>(
+    mut log: Log3dReader<R>,
+    file: &str,
+    opts: &Options3d,
+    setup: &Setup,
+    quaternion: bool,
+    sink: &mut dyn Sink3d,
+    feed: Feed,
+) -> anyhow::Result<Pass> {
+    let file = file.to_string();
     let mut bank = Bank3d::new(&setup.settings, opts.only).map_err(anyhow::Error::msg)?;
     let names = bank.names();
     let truth = log.has("roll") && log.has("pitch");
@@ -458,14 +503,32 @@ pub fn pass(
         .map(|i| quaternion && bank.has_quaternion(i))
         .collect();
     sink.start(&names, &with_q, truth)?;
-    let mut head = Vec::with_capacity(HEAD_ROWS);
-    while head.len() < HEAD_ROWS {
+    let live = feed == Feed::Live;
+    let (look_ahead, head_rows) = if live {
+        (0, 0)
+    } else {
+        (LOOK_AHEAD_ROWS, HEAD_ROWS)
+    };
+    let mut head = Vec::with_capacity(head_rows);
+    while head.len() < head_rows {
         match log.next_record()? {
             Some(r) => head.push(r),
             None => break,
         }
     }
-    check_time_unit(&file, &head, setup.time_given)?;
+    // Live: the first rows are kept as they go by, and judged when there are enough.
+    let mut seen = Vec::with_capacity(if live { HEAD_ROWS } else { 0 });
+    if !live {
+        check_time_unit(&file, &head, setup.time_given)?;
+    }
+    let blank = vec![
+        Attitude {
+            roll: f64::NAN,
+            pitch: f64::NAN,
+            flags: Flags::BAD_LINE,
+        };
+        names.len()
+    ];
     let header: Vec<String> = log.header().to_vec();
     let mut row = RowInput::new(setup, &file, &header);
     let mut gyro_units = GyroUnits::new(&setup.settings.ekf.params);
@@ -482,15 +545,35 @@ pub fn pass(
     let (mut speed_rows, mut slip_rows) = (0u64, 0u64);
     // The rows after the current one: clips are found LOOK_AHEAD_ROWS ahead, lone time
     // stamps one row ahead.
-    let mut ahead: VecDeque<Log3dRecord> = VecDeque::with_capacity(LOOK_AHEAD_ROWS + 1);
+    let mut ahead: VecDeque<Log3dRecord> = VecDeque::with_capacity(look_ahead + 1);
     let mut head = head.into_iter();
     loop {
-        while ahead.len() <= LOOK_AHEAD_ROWS {
+        while ahead.len() <= look_ahead {
             let r = match head.next() {
                 Some(r) => r,
-                None => match log.next_record()? {
-                    Some(r) => r,
-                    None => break,
+                None => match log.next_record() {
+                    Ok(Some(r)) => r,
+                    Ok(None) => break,
+                    // Live, nothing is held ahead: the bad line's row goes out in its place.
+                    Err(e) if live && e.is_one_line() => {
+                        opts.notice(&format!(
+                            "warning: {file}:{}: {}: the line is skipped; its output row is \
+                             NaN, flagged bad_line",
+                            e.line.unwrap_or(0),
+                            e.what()
+                        ));
+                        log.resume_after(&e);
+                        sink.row(Row {
+                            t: f64::NAN,
+                            est: &blank,
+                            quats: &vec![None; names.len()],
+                            truth: (f64::NAN, f64::NAN),
+                            sample: &SpatialSample::after(f64::NAN),
+                        })?;
+                        rows += 1;
+                        continue;
+                    }
+                    Err(e) => return Err(e.into()),
                 },
             };
             // In m/s^2 from here on (--accel-unit); before the bounds, for the unit check.
@@ -503,6 +586,12 @@ pub fn pass(
         let Some(r) = ahead.pop_front() else {
             break;
         };
+        if live && seen.len() < HEAD_ROWS {
+            seen.push(r.clone());
+            if seen.len() == HEAD_ROWS {
+                check_time_unit(&file, &seen, setup.time_given)?;
+            }
+        }
         let (t, s, roll, pitch) = row.sample(&r, &ahead, &mut gate);
         gyro_units.add(&r, s.dt, setup.angle_scale);
         bank.update_clipped(&s, row.clipped);
@@ -532,6 +621,9 @@ pub fn pass(
             sample: &s,
         })?;
         rows += 1;
+    }
+    if live && seen.len() < HEAD_ROWS {
+        check_time_unit(&file, &seen, setup.time_given)?;
     }
     let mut warnings = row.warnings();
     if let Some((line, n)) = log.take_nul() {

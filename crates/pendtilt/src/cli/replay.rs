@@ -227,8 +227,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         None => None,
     };
-    let rec = Recording::open(&args.input, &options)?;
-    let out = replay_with(&rec, &settings, vibration.as_ref())?;
+    // A BROAD trial of 10 MB takes about 2 s.
+    let bar = super::options::progress(&args.input, "replaying {spinner} {elapsed}", args.quiet);
+    let replayed = Recording::open(&args.input, &options)
+        .map_err(anyhow::Error::from)
+        .and_then(|rec| Ok((replay_with(&rec, &settings, vibration.as_ref())?, rec)));
+    bar.finish_and_clear();
+    let (out, rec) = replayed?;
 
     let log = args.output.clone();
     let rig_path = match &args.rig_out {

@@ -71,6 +71,7 @@ impl Sink3d for Memory {
 fn options(args: &Args) -> Options3d<'_> {
     Options3d {
         log: &args.log,
+        log_name: None,
         params: args.params.as_deref(),
         scenario: args.scenario.as_deref(),
         score_from: args.score_from,

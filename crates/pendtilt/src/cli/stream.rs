@@ -8,10 +8,23 @@
 //! serial port can be followed live, for example
 //! `socat -u /dev/ttyUSB0,raw,b115200 - | pendtilt stream --params rig.toml --flags`.
 //!
+//! A 3-D log (MODEL.md 7.6, told by its header) runs through the 3-D estimators the same
+//! way, one flushed row per line.
+//!
+//! A malformed line (a cell that is no number, the wrong number of fields) is skipped and
+//! said on standard error with its line; its output row is NaN, flagged `bad_line`, so the
+//! rows still match the lines. Only what a live feed cannot recover from stops it: a
+//! header that is no log's, a time unit the physics refutes, a failed read or write.
+//!
 //! Messages (columns found, skipped estimators, warnings, a read error naming the line and
 //! column) go to standard error; standard output carries only the estimates CSV.
+use std::io::{BufRead, Write};
+use std::path::{Path, PathBuf};
+
+use super::estimate3d::{self, Feed, Options3d, Row, Sink3d};
 use super::options::BankOptions;
-use crate::io::{Column, EstimatesWriter, LogReader, LogWarning};
+use crate::io::input::{peek_header, STDIN_NAME};
+use crate::io::{Column, Column3d, Estimates3dWriter, EstimatesWriter, LogReader, LogWarning};
 use crate::pipeline;
 
 /// Options of `pendtilt stream`.
@@ -21,6 +34,14 @@ pub struct Args {
     /// Rig, column mapping, estimator choice and output form.
     #[command(flatten)]
     pub bank: BankOptions,
+    /// 3-D logs: add `<name>_qw, _qx, _qy, _qz` (world <- body) for the estimators that
+    /// have an attitude quaternion (ekf3d, ukf3d). Default: off.
+    #[arg(long)]
+    pub quaternion: bool,
+    /// 3-D logs: the scenario file `simulate` wrote beside the log (sensor noise figures
+    /// for ekf3d/ukf3d, the rig when there is no --params). Default: none.
+    #[arg(long, value_name = "FILE")]
+    pub scenario: Option<PathBuf>,
 }
 
 /// Runs `pendtilt stream` over standard input and output.
@@ -32,14 +53,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 /// Runs `pendtilt stream` over any line source and sink (standard input and output in
 /// the command): one flushed estimate line per input data line.
-pub fn run_on<R: std::io::BufRead, W: std::io::Write>(
-    args: Args,
-    input: R,
-    output: W,
-) -> anyhow::Result<()> {
+pub fn run_on<R: BufRead, W: Write>(args: Args, input: R, output: W) -> anyhow::Result<()> {
+    let (header, input) = peek_header(input)?;
+    if header.is_some_and(|h| crate::io::is_3d_header(&h)) {
+        return run_3d(&args, input, output);
+    }
+    estimate3d::refuse_3d_options(
+        &[
+            ("--quaternion", args.quaternion),
+            ("--scenario", args.scenario.is_some()),
+        ],
+        Path::new(STDIN_NAME),
+    )?;
     let opts = &args.bank;
     let rig = opts.rig()?;
-    let mut log = LogReader::new(input, "<stdin>", opts.reader_options(&rig))?;
+    let mut log = LogReader::new(input, STDIN_NAME, opts.reader_options(&rig))?;
     let mut bank = opts.bank(&rig, &log)?;
     let with_theta = log.columns().has(Column::Theta);
     let wopts = opts.writer_options();
@@ -48,7 +76,15 @@ pub fn run_on<R: std::io::BufRead, W: std::io::Write>(
     // The header goes out at once, so that a reader downstream sees the columns before
     // the first sample.
     w.flush()?;
-    let summary = pipeline::run(&mut log, &mut bank, Some(&mut w), true, warn, |_, _| {})?;
+    let summary = pipeline::run(
+        &mut log,
+        &mut bank,
+        Some(&mut w),
+        true,
+        pipeline::DEFAULT_SCORE_FROM,
+        warn,
+        |_, _| {},
+    )?;
     if !opts.quiet {
         eprintln!("{} rows streamed", summary.rows);
         if log.summary().total_warnings() > 0 {
@@ -56,4 +92,81 @@ pub fn run_on<R: std::io::BufRead, W: std::io::Write>(
         }
     }
     Ok(())
+}
+
+/// A 3-D log from a live input: the 3-D estimators, one flushed row per line.
+fn run_3d<R: BufRead, W: Write>(args: &Args, input: R, output: W) -> anyhow::Result<()> {
+    let b = &args.bank;
+    let opts = Options3d {
+        log: Path::new("-"),
+        log_name: Some(STDIN_NAME),
+        params: b.params.as_deref(),
+        scenario: args.scenario.as_deref(),
+        score_from: None,
+        columns: &b.columns,
+        only: b.only.as_deref(),
+        quiet: b.quiet,
+    };
+    let setup = estimate3d::setup(&opts)?;
+    let log = crate::io::Log3dReader::new(input, STDIN_NAME)?;
+    let mut sink = LiveSink {
+        out: Some(output),
+        options: b.writer_options(),
+        writer: None,
+    };
+    let pass = estimate3d::pass_on(
+        log,
+        STDIN_NAME,
+        &opts,
+        &setup,
+        args.quaternion,
+        &mut sink,
+        Feed::Live,
+    )?;
+    if !b.quiet {
+        eprintln!("{} rows streamed", pass.rows);
+        for w in &pass.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    Ok(())
+}
+
+/// The 3-D estimates on a live output: the header at once, then each row flushed.
+struct LiveSink<W: Write> {
+    out: Option<W>,
+    options: crate::io::WriterOptions,
+    writer: Option<Estimates3dWriter<W>>,
+}
+
+impl<W: Write> Sink3d for LiveSink<W> {
+    fn start(
+        &mut self,
+        names: &[&'static str],
+        quaternion: &[bool],
+        truth: bool,
+    ) -> anyhow::Result<()> {
+        let columns = names
+            .iter()
+            .zip(quaternion)
+            .map(|(n, q)| Column3d {
+                name: n.to_string(),
+                quaternion: *q,
+            })
+            .collect();
+        if let Some(out) = self.out.take() {
+            let mut w = Estimates3dWriter::new(out, columns, truth, self.options)?;
+            w.flush()?;
+            self.writer = Some(w);
+        }
+        Ok(())
+    }
+
+    fn row(&mut self, r: Row) -> anyhow::Result<()> {
+        if let Some(w) = &mut self.writer {
+            w.write(r.t, r.est, r.quats, r.truth)?;
+            w.flush()?;
+        }
+        Ok(())
+    }
 }

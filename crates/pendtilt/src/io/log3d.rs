@@ -84,14 +84,19 @@ impl Log3dReader<BufReader<File>> {
     /// Opens a log file; errors name it as given.
     pub fn open(path: impl AsRef<Path>) -> Result<Self, LogError> {
         let path = path.as_ref();
-        let name = path.display().to_string();
+        Self::open_as(path, &path.display().to_string())
+    }
+
+    /// Opens the log file at `path`; errors name it `name` (the path the user gave, or
+    /// `<stdin>`: [`super::input::InputLog`]).
+    pub fn open_as(path: &Path, name: &str) -> Result<Self, LogError> {
         let file = File::open(path).map_err(|e| LogError {
-            file: name.clone(),
+            file: name.to_string(),
             line: None,
             column: None,
             kind: Box::new(LogErrorKind::Io(e)),
         })?;
-        Self::new(BufReader::with_capacity(1 << 16, file), &name)
+        Self::new(BufReader::with_capacity(1 << 16, file), name)
     }
 }
 
@@ -282,7 +287,18 @@ impl<R: BufRead> Log3dReader<R> {
         Ok(())
     }
 
+    /// After an error on one line ([`LogError::is_one_line`]: a cell that is no number,
+    /// the wrong number of fields, an unclosed quote), reading goes on from the next line,
+    /// for a live stream that must not stop on one glitch. After any other error the
+    /// reader stays finished.
+    pub fn resume_after(&mut self, e: &LogError) {
+        if e.is_one_line() {
+            self.finished = false;
+        }
+    }
+
     /// Reads the next data row; `Ok(None)` at the end (an error if there was no data row).
+    /// After an error the reader is finished (unless [`Self::resume_after`]).
     pub fn next_record(&mut self) -> Result<Option<Log3dRecord>, LogError> {
         if self.finished {
             return Ok(None);

@@ -308,14 +308,19 @@ impl LogReader<BufReader<File>> {
     /// Opens a log file; errors (and warnings) name it as given.
     pub fn open(path: impl AsRef<Path>, options: ReaderOptions) -> Result<Self, LogError> {
         let path = path.as_ref();
-        let name = path.display().to_string();
+        Self::open_as(path, &path.display().to_string(), options)
+    }
+
+    /// Opens the log file at `path`; errors and warnings name it `name` (the path the user
+    /// gave, or `<stdin>` for a copy of standard input: [`super::input::InputLog`]).
+    pub fn open_as(path: &Path, name: &str, options: ReaderOptions) -> Result<Self, LogError> {
         let file = File::open(path).map_err(|e| LogError {
-            file: name.clone(),
+            file: name.to_string(),
             line: None,
             column: None,
             kind: Box::new(LogErrorKind::Io(e)),
         })?;
-        Self::new(BufReader::with_capacity(1 << 16, file), &name, options)
+        Self::new(BufReader::with_capacity(1 << 16, file), name, options)
     }
 }
 

@@ -25,6 +25,7 @@ pub(crate) mod csv_lines;
 mod diagnostics;
 mod estimates3d_writer;
 mod estimates_writer;
+pub mod input;
 mod log3d;
 mod log_reader;
 pub mod mat;

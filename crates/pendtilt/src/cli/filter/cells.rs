@@ -11,8 +11,9 @@ use crate::io::csv_lines::{CsvLines, RowError};
 /// The input as CSV lines (the log reader's: [`crate::io::csv_lines`]).
 pub(super) type Lines = CsvLines<BufReader<File>>;
 
-pub(super) fn open_reader(path: &Path) -> Result<Lines> {
-    let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
+/// The file at `path`, named `name` in messages.
+pub(super) fn open_reader(path: &Path, name: &Path) -> Result<Lines> {
+    let file = File::open(path).with_context(|| format!("cannot open {}", name.display()))?;
     Ok(CsvLines::new(BufReader::with_capacity(1 << 16, file), b','))
 }
 

@@ -28,7 +28,7 @@
 //!   around a field is trimmed, a quoted field may not span lines.
 //! - Streaming: the file is read twice (once to check the time column and the cells and
 //!   find the rate, once to filter), and memory holds only the filter histories, not the
-//!   file. The output goes to a temporary file beside it, renamed into place only when the
+//!   file. Standard input (`-`) or a pipe is copied to a temporary file first. The output goes to a temporary file beside it, renamed into place only when the
 //!   second pass succeeded: a failed run leaves an earlier output as it was.
 
 use anyhow::{bail, Context, Result};
@@ -39,6 +39,7 @@ use std::fmt::Write as _;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use crate::io::input::InputLog;
 use crate::io::output::{NamedPath, OutputFile};
 
 mod cells;
@@ -52,7 +53,7 @@ pub const MAX_ORDER: usize = 100_000;
 /// Options of `pendtilt filter`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Input CSV, with a header row and a time column.
+    /// Input CSV, with a header row and a time column; `-` for standard input.
     pub input: PathBuf,
     /// Output CSV (`-` for standard output).
     #[arg(short, long, visible_alias = "out")]
@@ -142,7 +143,10 @@ impl From<&Args> for FilterOptions {
 /// validated, so that applying it writes a complete output or fails only on I/O.
 #[derive(Debug, Clone)]
 pub struct Plan {
+    /// Where to read the input (the file, or the copy of standard input).
     input: PathBuf,
+    /// Its name in messages.
+    name: PathBuf,
     /// Header names as read (lossily decoded, trimmed).
     pub names: Vec<String>,
     /// Field indices of the filtered columns, in file order.
@@ -189,8 +193,8 @@ impl Plan {
     /// I/O errors, and the input changing between [`scan`] and here (a row that no longer
     /// parses is reported with its line as in the first pass).
     pub fn apply<W: Write>(&self, out: W) -> Result<Applied> {
-        let path = self.input.as_path();
-        let mut rdr = open_reader(path)?;
+        let path = self.name.as_path();
+        let mut rdr = open_reader(&self.input, path)?;
         let header = ByteRecord::from(read_header(path, &mut rdr)?);
         let mut wtr = RowWriter::new(out, &header, &self.names, &self.filtered)?;
         let n_cols = self.filtered.len();
@@ -353,10 +357,11 @@ fn format_f64(out: &mut String, x: f64) {
 ///
 /// # Errors
 /// Every problem with the file or the options, as `FILE:LINE: what`, naming the column.
-pub fn scan(input: &Path, opts: &FilterOptions) -> Result<Plan> {
+pub fn scan(log: &InputLog, opts: &FilterOptions) -> Result<Plan> {
+    let input = Path::new(log.name());
     let file = input.display();
     let shift = check_options(opts)?;
-    let mut rdr = open_reader(input)?;
+    let mut rdr = open_reader(log.path(), input)?;
     let names = read_header(input, &mut rdr)?;
     let time_idx = find_column(input, &names, &opts.time_column, "time")?;
     // Explicit columns are checked against the header now; the default set needs the first
@@ -394,7 +399,8 @@ pub fn scan(input: &Path, opts: &FilterOptions) -> Result<Plan> {
         )
     })?;
     Ok(Plan {
-        input: input.to_path_buf(),
+        input: log.path().to_path_buf(),
+        name: input.to_path_buf(),
         names,
         filtered: filtered.unwrap_or_default(),
         rows: steps.rows,
@@ -593,12 +599,17 @@ pub fn run(args: Args) -> Result<()> {
         &[NamedPath::new("INPUT", &args.input)],
         &[NamedPath::new("-o", &args.output)],
     )?;
-    let plan =
-        scan(&args.input, &opts).with_context(|| crate::io::output::not_written(&args.output))?;
+    // Read twice (checked, then filtered): standard input or a pipe is copied first.
+    let input = InputLog::open(&args.input)?;
+    let bar = super::options::progress(input.path(), "filtering {spinner} {elapsed}", false);
+    let plan = scan(&input, &opts).with_context(|| crate::io::output::not_written(&args.output));
+    let plan = plan.inspect_err(|_| bar.finish_and_clear())?;
     let out = OutputFile::create("-o", &args.output)?;
     let applied = plan
         .apply(std::io::BufWriter::new(out.writer()?))
-        .with_context(|| crate::io::output::not_written(&args.output))?;
+        .with_context(|| crate::io::output::not_written(&args.output));
+    bar.finish_and_clear();
+    let applied = applied?;
     out.commit()?;
     let delay = plan.output_delay_samples();
     eprintln!(
