@@ -295,7 +295,8 @@ class Estimates:
             if raw["theta"] is not None:
                 cols["theta"] = raw["theta"]
             #: Planar: per estimator (RMS, max |error|, samples, missing) against
-            #: ``theta`` [rad], as the command's table; None without a true angle.
+            #: ``theta`` [rad] from ``score_from`` on, as the command's table; None
+            #: without a true angle.
             self.errors: Optional[Dict[str, Tuple[float, float, int, int]]] = (
                 None if raw["errors"] is None else {n: tuple(e) for n, e in raw["errors"]}
             )
@@ -317,7 +318,7 @@ class Estimates:
             self.scores = (
                 None if raw["scores"] is None else {n: tuple(s) for n, s in raw["scores"]}
             )
-        #: Scoring started this long after the first row (3-D) [s].
+        #: The errors were scored from this long after the first row [s].
         self.score_from: Optional[float] = raw.get("score_from")
         #: The columns of the estimates CSV, in its order.
         self.columns: Dict[str, np.ndarray] = cols
@@ -406,8 +407,8 @@ def estimate(
     the other way; default none), ``flags`` (the ``_flags`` text columns in
     :meth:`Estimates.to_pandas`; default False), ``out_deg`` (estimates in degrees;
     default False), ``quaternion`` (3-D: ekf3d/ukf3d quaternions; default False),
-    ``score_from`` (3-D scoring start after the first row [s]; default the scenario's,
-    else 5). ``name`` names an in-memory table in messages (default ``<memory>``).
+    ``score_from`` (the errors are scored from this long after the first row [s];
+    default the 3-D scenario's, else 5). ``name`` names an in-memory table in messages (default ``<memory>``).
     """
     files = _Files()
     try:

@@ -4,16 +4,16 @@
 //! The options are the command's (its command line, parsed by its definitions). A planar
 //! log goes through [`pendtilt::pipeline::run_parallel`] with the reader, the bank and
 //! the checks the command builds; the estimates are kept rather than formatted. A 3-D log
-//! goes through [`pendtilt::cli::estimate3d::pass`] (the command's pass) into arrays; a
-//! 3-D table in memory is written to a temporary CSV first (the 3-D reader reads files).
-//! Either way every estimate is the command's, bit for bit.
+//! goes through [`pendtilt::cli::estimate3d::pass`] (the command's pass) into arrays, a
+//! table in memory through [`pendtilt::cli::estimate3d::pass_on`] over its columns read
+//! as CSV text. Either way every estimate is the command's, bit for bit.
 use std::path::{Path, PathBuf};
 
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pendtilt::bank::Bank;
-use pendtilt::cli::estimate3d::{self, Options3d, Row, Sink3d};
+use pendtilt::cli::estimate3d::{self, Feed, Options3d, Row, Sink3d};
 use pendtilt::cli::Command;
-use pendtilt::io::{Column, LogReader, LogWarning, ReaderOptions};
+use pendtilt::io::{Column, Log3dReader, LogReader, LogWarning, ReaderOptions};
 use pendtilt::pipeline;
 use pendtilt_core::Estimate;
 use pyo3::prelude::*;
@@ -42,10 +42,10 @@ pub fn estimate<'py>(
     names: Option<Vec<String>>,
     columns: Option<Vec<PyReadonlyArray1<'py, f64>>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut args = estimate_args(&argv)?;
+    let args = estimate_args(&argv)?;
     let Some((names, columns)) = names.zip(columns) else {
         return if estimate3d::is_3d_log(&args.log) {
-            spatial(py, &args)
+            spatial(py, &args, None)
         } else {
             planar(py, &args, None)
         };
@@ -70,18 +70,7 @@ pub fn estimate<'py>(
         )));
     }
     if pendtilt::io::is_3d_header(&names) {
-        // The 3-D reader reads files: the table is written out, each number in the
-        // shortest form that reads back to it.
-        let dir = tempfile::tempdir().map_err(|e| py_err(e.into()))?;
-        let name = args
-            .log
-            .file_name()
-            .map_or_else(|| "log.csv".into(), |n| n.to_os_string());
-        let path = dir.path().join(name);
-        py.detach(|| write_table(&path, &names, &slices))
-            .map_err(|e| py_err(e.into()))?;
-        args.log = path;
-        return spatial(py, &args);
+        return spatial(py, &args, Some((&names, slices)));
     }
     planar(py, &args, Some((&names, slices)))
 }
@@ -141,7 +130,6 @@ fn planar<'py>(
         &[
             ("--quaternion", args.quaternion),
             ("--scenario", args.scenario.is_some()),
-            ("--score-from", args.score_from.is_some()),
         ],
         &args.log,
     )
@@ -179,6 +167,7 @@ fn planar<'py>(
                 }
                 None => {
                     let log = LogReader::open(&args.log, ropts.clone())?;
+                    // (A file, not standard input: the Python layer gives paths.)
                     run_planar(log, args, &rig, (notes, warnings), None, &ropts)
                 }
             }
@@ -240,10 +229,12 @@ fn run_planar<R: std::io::BufRead + Send>(
                 f.push(e.flags.bits());
             }
         };
+        let score_from = args.score_from.unwrap_or(pipeline::DEFAULT_SCORE_FROM);
         pipeline::run_parallel(
             &mut log,
             &mut bank,
             None::<&mut pendtilt::io::EstimatesWriter<std::io::Sink>>,
+            score_from,
             warn,
             each,
         )?
@@ -358,8 +349,9 @@ fn planar_dict(py: Python<'_>, out: PlanarOut) -> PyResult<Bound<'_, PyDict>> {
         out.summary
             .errors
             .as_ref()
-            .map(|e| pipeline::error_table(e)),
+            .map(|e| pipeline::error_table(e, out.summary.score_from)),
     )?;
+    d.set_item("score_from", out.summary.score_from)?;
     d.set_item("restarts", out.summary.restarts)?;
     d.set_item("warnings", out.warnings)?;
     d.set_item("warning_count", out.warning_count)?;
@@ -427,10 +419,12 @@ impl Sink3d for Memory {
 fn spatial<'py>(
     py: Python<'py>,
     args: &pendtilt::cli::estimate::Args,
+    table: Option<(&[String], Vec<&[f64]>)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let b = &args.bank;
     let opts = Options3d {
         log: &args.log,
+        log_name: None,
         params: b.params.as_deref(),
         scenario: args.scenario.as_deref(),
         score_from: args.score_from,
@@ -450,7 +444,16 @@ fn spatial<'py>(
                 },
                 ..Memory::default()
             };
-            let pass = estimate3d::pass(&opts, &setup, args.quaternion, &mut mem)?;
+            let pass = match table {
+                // The columns read as the 3-D reader reads a file of them.
+                Some((names, cols)) => {
+                    let file = args.log.display().to_string();
+                    let log = Log3dReader::new(ColumnsSource::new(names, cols), &file)?;
+                    let q = args.quaternion;
+                    estimate3d::pass_on(log, &file, &opts, &setup, q, &mut mem, Feed::File)?
+                }
+                None => estimate3d::pass(&opts, &setup, args.quaternion, &mut mem)?,
+            };
             Ok((pass, mem, setup.score_from))
         })
         .map_err(py_err)?;

@@ -181,6 +181,7 @@ impl Stream3d {
         let no_log = PathBuf::new();
         let opts = Options3d {
             log: &no_log,
+            log_name: None,
             params: rig.as_deref(),
             scenario: scenario.as_deref(),
             score_from: None,
