@@ -148,3 +148,20 @@ def test_a_bad_rig_file_raises_the_commands_message(cli, scooter, tmp_path):
     with pytest.raises(pendtilt.PendtiltError) as e2:
         pendtilt.read_rig(rig)
     assert str(e2.value) in message
+
+
+def test_mapped_columns_in_degrees_equal_the_commands(cli, scooter, tmp_path):
+    log, rig = scooter
+    df = read(log).rename(columns={"phi": "enc", "gyro": "gz"})
+    df["enc"] = np.degrees(df["enc"])
+    df["gz"] = np.degrees(df["gz"])
+    mine = tmp_path / "mine.csv"
+    pendtilt.write_csv(df, mine)
+    want, _ = cli_estimates(cli, mine, tmp_path / "est.csv", "--params", rig, "--map",
+                            "phi=enc,gyro=gz", "--deg", "phi,gyro", "--score-from", "2")
+    got = pendtilt.estimate(df, rig=rig, map={"phi": "enc", "gyro": "gz"}, deg=["phi", "gyro"],
+                            score_from=2)
+    assert got.score_from == 2.0
+    assert list(got.columns) == list(want.columns)
+    for c in want.columns:
+        same(got[c], want[c], c)
