@@ -587,7 +587,7 @@ pub fn pass_on<R: std::io::BufRead>(
             break;
         };
         if live && seen.len() < HEAD_ROWS {
-            seen.push(r.clone());
+            seen.push(r);
             if seen.len() == HEAD_ROWS {
                 check_time_unit(&file, &seen, setup.time_given)?;
             }
