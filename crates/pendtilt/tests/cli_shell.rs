@@ -7,7 +7,9 @@ use std::process::Stdio;
 mod common;
 use common::{bin, pendtilt, s, stderr};
 
-const SUBCOMMANDS: [&str; 11] = [
+const SUBCOMMANDS: [&str; 13] = [
+    "rig",
+    "batch",
     "estimate",
     "filter",
     "simulate",

@@ -34,6 +34,163 @@ const TABLES_PLANAR: [&str; 8] = [
 /// The keys of the normalised form.
 const NORMALISED_KEYS: [&str; 8] = ["a_x", "a_y", "b_x", "b_y", "b_z", "b_ring", "c", "gravity"];
 
+/// The units of [`NORMALISED_KEYS`], in their order.
+const NORMALISED_UNITS: [&str; 8] = [
+    "s",
+    "s",
+    "s^2",
+    "s^2",
+    "s^2",
+    "s^2, 0 for a light ring",
+    "s^2, an array [x, y, z]: the pivot P2 - P1 over g",
+    "m/s^2",
+];
+
+/// A 3-D rig file with every key at its default and what it means: MODEL.md 7.6's rig,
+/// the sensors at P1, the filters' defaults. It reads back as [`Rig3dConfig::default`]
+/// with every `[ekf3d]` key given at its default.
+pub fn template() -> String {
+    let p = Pendulum3d::default();
+    let e = ekf::Settings::<f64>::default();
+    let m = Mounting::default();
+    let v = |x: [f64; 3]| format!("[{:?}, {:?}, {:?}]", x[0], x[1], x[2]);
+    let f = |x: f64| format!("{x:?}");
+    let tables: [(&str, Vec<(&str, String, &str)>); 3] = [
+        (
+            "pendulum3d",
+            vec![
+                ("mass", f(p.mass), "m [kg]"),
+                (
+                    "length",
+                    f(p.length),
+                    "l, pivot P2 to the centre of mass [m]",
+                ),
+                (
+                    "inertia_xx",
+                    f(p.inertia_xx),
+                    "Ixx about P2, pendulum axes, with m l^2 [kg m^2]",
+                ),
+                ("inertia_yy", f(p.inertia_yy), "Iyy [kg m^2]"),
+                ("inertia_zz", f(p.inertia_zz), "Izz, small and > 0 [kg m^2]"),
+                (
+                    "ring_inertia",
+                    f(p.ring_inertia),
+                    "the outer ring about body x [kg m^2]",
+                ),
+                (
+                    "damping_x",
+                    f(p.damping_x),
+                    "C_x, outer joint viscous damping [N m s/rad]",
+                ),
+                ("damping_y", f(p.damping_y), "C_y, inner joint [N m s/rad]"),
+                (
+                    "pivot_offset",
+                    v(p.pivot_offset),
+                    "P2 - P1, body axes (x fwd, y left, z up) [m]",
+                ),
+                ("gravity", f(p.gravity), "g [m/s^2]"),
+            ],
+        ),
+        (
+            "mounting",
+            vec![
+                (
+                    "accel_at",
+                    v(m.accel_at),
+                    "the accelerometer - P1, body axes [m]",
+                ),
+                (
+                    "speed_at",
+                    v(m.speed_at),
+                    "O - P1: the point `speed` is of; else the pivot of turns [m]",
+                ),
+            ],
+        ),
+        (
+            "ekf3d",
+            vec![
+                (
+                    "vibration_density",
+                    f(e.environment.vibration_density),
+                    "vibration near the pendulum [m/s^2/sqrt(Hz)]",
+                ),
+                (
+                    "adapt",
+                    e.adaptation.enabled.to_string(),
+                    "adapt the forcing to the log (docs/adaptation.md)",
+                ),
+                (
+                    "encoder_jitter",
+                    f(e.encoder_jitter),
+                    "encoder jitter from vibration above the band [rad]",
+                ),
+                (
+                    "angular_accel_hz",
+                    f(e.angular_accel_hz),
+                    "cutoff of the gyro's derivative [Hz]",
+                ),
+                (
+                    "angular_accel_lead",
+                    e.angular_accel_lead.to_string(),
+                    "take that filter's delay out",
+                ),
+                (
+                    "speed_noise",
+                    f(e.speed.noise),
+                    "the speed column's noise [m/s]",
+                ),
+                (
+                    "jerk_density",
+                    f(e.speed.jerk_density),
+                    "the vehicle's jerk [m/s^3/sqrt(Hz)]",
+                ),
+                (
+                    "path_turn_hz",
+                    f(e.path.path_turn_hz),
+                    "low-pass of the path's turn rate [Hz], inf: as read",
+                ),
+                (
+                    "path_pitch_hz",
+                    f(e.path.path_pitch_hz),
+                    "low-pass of the path's pitch rate [Hz]",
+                ),
+                (
+                    "use_accel",
+                    e.use_accel.to_string(),
+                    "the accelerometer as a further up measurement",
+                ),
+                (
+                    "guard_angle",
+                    f(e.guard_angle),
+                    "reset to the gyro+accel reference beyond this [rad]",
+                ),
+                (
+                    "pendulum_range",
+                    f(e.pendulum_range),
+                    "the pendulum unused beyond this swing [rad]",
+                ),
+            ],
+        ),
+    ];
+    let mut out = String::from(
+        "# pendtilt 3-D rig file (MODEL.md 7.6). SI units, angles in rad.\n\
+         # [pendulum3d] is required, in this physical form or the normalised one (a_x, a_y,\n\
+         # b_x, b_y, b_z, b_ring, c, gravity: MODEL.md 7.3, every key); the other tables and\n\
+         # every key in them are optional, each shown here at its default.\n",
+    );
+    for (name, keys) in tables {
+        out.push_str(&format!("\n[{name}]\n"));
+        for (k, value, what) in keys {
+            out.push_str(&format!("{:<36} # {what}\n", format!("{k} = {value}")));
+        }
+    }
+    out.push_str(&format!(
+        "\n[gyro]\n{:<36} # the gyro's full scale [rad/s]; default: unknown\n",
+        "# full_scale = 8.73"
+    ));
+    out
+}
+
 /// The pendulum of a 3-D rig file, in the form the file gave it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Pendulum3dConfig {
@@ -383,6 +540,21 @@ impl Rig3dConfig {
                 gyro: f.gyro,
             });
         }
+        // Every key of the normalised form is needed: all the missing ones in one message.
+        let missing: Vec<String> = NORMALISED_KEYS
+            .iter()
+            .zip(NORMALISED_UNITS)
+            .filter(|(k, _)| !keys.iter().any(|g| g == *k))
+            .map(|(k, u)| format!("{k} [{u}]"))
+            .collect();
+        if !missing.is_empty() {
+            return Err(format!(
+                "{origin}: [pendulum3d] in the normalised form (MODEL.md 7.3) needs every key; \
+                 missing: {}. Or give the physical form (mass, length, inertia_xx, ...); \
+                 `pendtilt rig --template 3d` prints a rig file with every key",
+                missing.join(", ")
+            ));
+        }
         let f: File<CardanParams<f64>> =
             toml::from_str(text).map_err(|e| toml_error(origin, text, &e))?;
         check_normalised(&f.pendulum3d).map_err(|e| format!("{origin}: pendulum3d.{e}"))?;
@@ -558,6 +730,40 @@ mod tests {
             Rig3dConfig::from_toml_str("[pendulum3d]\n[gyro]\nrange = 2\n", "r.toml").unwrap_err();
         assert!(
             e.starts_with("r.toml:3:1: ") && e.contains("full_scale"),
+            "{e}"
+        );
+    }
+
+    /// The template reads back as the defaults: MODEL.md 7.6's rig, the sensors at P1,
+    /// and every `[ekf3d]` key at the filter's default.
+    #[test]
+    fn the_template_reads_back_as_the_defaults() {
+        let r = Rig3dConfig::from_toml_str(&template(), "t.toml").unwrap();
+        assert_eq!(
+            r.pendulum3d,
+            Pendulum3dConfig::Physical(Pendulum3d::default())
+        );
+        assert_eq!(r.mounting, Mounting::default());
+        assert_eq!(r.gyro.full_scale, None);
+        let mut s = ekf::Settings::<f64>::default();
+        r.ekf3d.apply(&mut s);
+        assert_eq!(s, ekf::Settings::<f64>::default());
+        // Every key of Ekf3dConfig is in it (a key added later must be added there too).
+        let given = format!("{:?}", r.ekf3d);
+        assert!(!given.contains("None"), "{given}");
+    }
+
+    /// A normalised [pendulum3d] short of keys names them all at once, with their units.
+    #[test]
+    fn every_missing_normalised_key_is_named_in_one_message() {
+        let e = Rig3dConfig::from_toml_str("[pendulum3d]\na_x = 0.87\nb_x = 0.1\n", "r.toml")
+            .unwrap_err();
+        assert!(
+            e.starts_with("r.toml: [pendulum3d] in the normalised form (MODEL.md 7.3) needs every key; missing: a_y [s], b_y [s^2], b_z [s^2], b_ring [s^2, 0 for a light ring], c [s^2, an array [x, y, z]"),
+            "{e}"
+        );
+        assert!(
+            e.contains("gravity [m/s^2]") && e.contains("rig --template 3d"),
             "{e}"
         );
     }

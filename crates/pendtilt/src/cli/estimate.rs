@@ -43,9 +43,67 @@ pub struct Args {
     pub score_from: Option<f64>,
 }
 
+/// One estimator's error against the truth over the scored rows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Score {
+    /// The estimator.
+    pub name: String,
+    /// RMS error \[rad\] (inclination error on a 3-D log, MODEL.md 7.9).
+    pub rms: f64,
+    /// Largest error \[rad\].
+    pub max: f64,
+    /// Rows scored (a finite estimate and truth).
+    pub scored: u64,
+}
+
+/// What `estimate` did with one log, for its own report and for `batch`'s summary.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    /// Rows read and written (one per input row).
+    pub rows: u64,
+    /// The estimators run, in column order.
+    pub estimators: Vec<String>,
+    /// Warnings on the input (each also said on standard error unless quiet).
+    pub warnings: u64,
+    /// What is said after the run: the warnings' summary (planar) or the warnings (3-D).
+    pub notes: Vec<String>,
+    /// The error table as printed, when the log has the truth.
+    pub table: Option<String>,
+    /// Each estimator's error, when the log has the truth.
+    pub scores: Vec<Score>,
+}
+
 /// Runs `pendtilt estimate`: refuses an output that is an input, writes the estimates to a
 /// temporary file and renames it onto `-o` only when the whole log was read.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    let outcome = estimate(&args)?;
+    if !args.bank.quiet {
+        eprintln!(
+            "{} rows -> {} ({} estimators)",
+            outcome.rows,
+            args.output.display(),
+            outcome.estimators.len()
+        );
+        for n in &outcome.notes {
+            eprintln!("{n}");
+        }
+        if let Some(table) = &outcome.table {
+            super::options::summary(crate::io::output::is_stdout(&args.output), table);
+        }
+    }
+    Ok(())
+}
+
+/// `estimate` on one log, planar or 3-D, without the report at the end: the estimates
+/// written to `-o` (committed only when the whole log was read) and what was found.
+pub fn estimate(args: &Args) -> anyhow::Result<Outcome> {
+    estimate_with(args, true)
+}
+
+/// [`estimate`] with a planar log read, estimated and written on three threads
+/// (`parallel`, [`pipeline::run_parallel`]) or on this one (`batch` runs one log per core).
+/// The output is the same bytes either way.
+pub fn estimate_with(args: &Args, parallel: bool) -> anyhow::Result<Outcome> {
     output::check_distinct(
         &[NamedPath::new("LOG", &args.log)],
         &[NamedPath::new("-o", &args.output)],
@@ -53,7 +111,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // Standard input or a pipe is copied first: the header is peeked at below.
     let log = InputLog::open(&args.log)?;
     if super::estimate3d::is_3d_log(log.path()) {
-        return super::estimate3d::run(args, &log);
+        return super::estimate3d::estimate(args, &log);
     }
     super::estimate3d::refuse_3d_options(
         &[
@@ -69,27 +127,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     output::check_distinct(&inputs, &[NamedPath::new("-o", &args.output)])?;
     let out = OutputFile::create("-o", &args.output)?;
-    let (log, bank, summary) =
-        estimate_into(&args, &log, &out).with_context(|| output::not_written(&args.output))?;
+    let (log, bank, summary) = estimate_into(args, &log, &out, parallel)
+        .with_context(|| output::not_written(&args.output))?;
     out.commit()?;
-    if !opts.quiet {
-        eprintln!(
-            "{} rows -> {} ({} estimators)",
-            summary.rows,
-            args.output.display(),
-            bank.names().len()
-        );
-        if log.summary().total_warnings() > 0 {
-            eprintln!("{}", log.summary());
-        }
-        if let Some(errors) = &summary.errors {
-            super::options::summary(
-                crate::io::output::is_stdout(&args.output),
-                &pipeline::error_table(errors, summary.score_from),
-            );
-        }
-    }
-    Ok(())
+    let warnings = log.summary().total_warnings();
+    Ok(Outcome {
+        rows: summary.rows,
+        estimators: bank.names().iter().map(|n| n.to_string()).collect(),
+        warnings,
+        notes: (warnings > 0)
+            .then(|| log.summary().to_string())
+            .into_iter()
+            .collect(),
+        table: (summary.errors.as_ref()).map(|e| pipeline::error_table(e, summary.score_from)),
+        scores: (summary.errors.iter().flatten())
+            .map(|(name, e)| Score {
+                name: name.clone(),
+                rms: e.rms(),
+                max: e.max_abs,
+                scored: e.count,
+            })
+            .collect(),
+    })
 }
 
 /// The log read through the bank into `out` (not yet committed): every row, flushed, or
@@ -98,6 +157,7 @@ fn estimate_into(
     args: &Args,
     input: &InputLog,
     out: &OutputFile,
+    parallel: bool,
 ) -> anyhow::Result<(LogReader<BufReader<File>>, Bank, pipeline::PassSummary)> {
     let opts = &args.bank;
     let rig = opts.rig()?;
@@ -124,7 +184,12 @@ fn estimate_into(
     };
     // run_parallel joins its writer thread before it returns: every row is in `w` here.
     let score_from = args.score_from.unwrap_or(pipeline::DEFAULT_SCORE_FROM);
-    let summary = pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), score_from, warn, each);
+    let summary = if parallel {
+        pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), score_from, warn, each)
+    } else {
+        let out = Some(&mut w);
+        pipeline::run(&mut log, &mut bank, out, false, score_from, warn, each)
+    };
     bar.finish_and_clear();
     let summary = summary?;
     w.flush()?;

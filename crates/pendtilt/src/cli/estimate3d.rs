@@ -275,33 +275,38 @@ pub fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
     })
 }
 
-/// Runs `pendtilt estimate` on a 3-D log.
-pub fn run(args: Args, log: &InputLog) -> anyhow::Result<()> {
-    let opts = Options3d::of_estimate(&args, log);
+/// `pendtilt estimate` on a 3-D log ([`super::estimate::estimate`]).
+pub fn estimate(args: &Args, log: &InputLog) -> anyhow::Result<super::estimate::Outcome> {
+    let opts = Options3d::of_estimate(args, log);
     output::check_distinct(&opts.inputs(), &[NamedPath::new("-o", &args.output)])?;
     let setup = setup(&opts)?;
     let out = OutputFile::create("-o", &args.output)?;
-    let result = estimate_into(&args, &opts, &setup, &out)
+    let result = estimate_into(args, &opts, &setup, &out)
         .with_context(|| output::not_written(&args.output))?;
     out.commit()?;
-    if !opts.quiet {
-        eprintln!(
-            "{} rows -> {} ({} estimators)",
-            result.rows,
-            args.output.display(),
-            result.names.len()
-        );
-        for w in &result.warnings {
-            eprintln!("warning: {w}");
-        }
-        if result.truth {
-            super::options::summary(
-                crate::io::output::is_stdout(&args.output),
-                &score_table(&result, setup.score_from),
-            );
-        }
-    }
-    Ok(())
+    Ok(super::estimate::Outcome {
+        rows: result.rows,
+        estimators: result.names.iter().map(|n| n.to_string()).collect(),
+        warnings: result.warnings.len() as u64,
+        notes: result
+            .warnings
+            .iter()
+            .map(|w| format!("warning: {w}"))
+            .collect(),
+        table: result.truth.then(|| score_table(&result, setup.score_from)),
+        scores: if result.truth {
+            (result.names.iter().zip(&result.scores))
+                .map(|(n, s)| super::estimate::Score {
+                    name: n.to_string(),
+                    rms: s.rms(),
+                    max: s.max(),
+                    scored: s.count(),
+                })
+                .collect()
+        } else {
+            Vec::new()
+        },
+    })
 }
 
 /// What a pass over the log gave.

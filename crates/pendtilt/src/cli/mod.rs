@@ -1,6 +1,7 @@
 //! Command-line front end: one module per subcommand, each with its `Args` and `run`.
 use clap::{Parser, Subcommand};
 
+pub mod batch;
 pub mod estimate;
 pub mod estimate3d;
 pub mod filter;
@@ -11,6 +12,7 @@ pub mod replay;
 pub mod report;
 pub mod report3d;
 pub mod reproduce;
+pub mod rig;
 pub mod shell;
 pub mod simulate;
 pub mod simulate3d;
@@ -40,6 +42,9 @@ pub struct Cli {
 pub enum Command {
     /// Run every estimator whose inputs are present over a sensor log (CSV).
     Estimate(estimate::Args),
+    /// `estimate` on many logs across the cores, with a summary table of each log's
+    /// warnings and errors.
+    Batch(batch::Args),
     /// Apply the paper's FIR low-pass to columns of any CSV.
     Filter(filter::Args),
     /// Simulate the pendulum rig on a moving, vibrating body and write a sensor log.
@@ -59,6 +64,8 @@ pub enum Command {
     /// Tune every estimator's settings from a log (no true angle needed) and write a rig
     /// file that `estimate` reads.
     Tune(tune::Args),
+    /// Print a commented rig file with every default (`--template planar` or `3d`).
+    Rig(rig::Args),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     Completions(shell::CompletionsArgs),
     /// Write the man pages.
@@ -69,6 +76,8 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Estimate(a) => estimate::run(a),
+        Command::Batch(a) => batch::run(a),
+        Command::Rig(a) => rig::run(a),
         Command::Filter(a) => filter::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Fit(a) => fit::run(a),
