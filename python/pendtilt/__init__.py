@@ -101,7 +101,8 @@ class Rig:
         #: writes back.
         self.text: str = text
         #: A planar rig as the command writes it (every key with its unit); a 3-D rig's
-        #: text as given. Two rigs are equal when these are.
+        #: text as given. Two planar rigs are equal when these are, two 3-D rigs when
+        #: their tables are.
         self.canonical: str = canonical if canonical is not None else text
         #: The rig's doubtful values, as the command warns about them.
         self.doubts: List[str] = list(doubts)
@@ -109,14 +110,15 @@ class Rig:
     __hash__ = None  # type: ignore[assignment]
 
     @classmethod
-    def default(cls) -> "Rig":
-        """MODEL.md's planar rig, every default written out."""
-        return cls(_pendtilt.rig_default(), "<default rig>")
+    def default(cls, kind: str = "planar") -> "Rig":
+        """The default rig, every key written out: ``"planar"`` (MODEL.md section 5) or
+        ``"3d"`` (MODEL.md 7.6; ``pendtilt rig --template 3d``)."""
+        return cls(_pendtilt.rig_default(kind), f"<default {kind} rig>")
 
     @classmethod
     def from_dict(cls, tables: Mapping[str, Mapping[str, Any]]) -> "Rig":
         """A rig from its tables, e.g. ``{"pendulum": {"a": 0.02, "b": 0.005}}``."""
-        return cls(_pendtilt.toml_of_json(json.dumps(tables)), "<dict>")
+        return cls(_toml_of(tables), "<dict>")
 
     def to_dict(self) -> Dict[str, Dict[str, Any]]:
         """The tables as a dict."""
@@ -133,13 +135,40 @@ class Rig:
         return Rig.from_dict(d)
 
     def __eq__(self, other: object) -> bool:
-        return isinstance(other, Rig) and (self.kind, self.canonical) == (
-            other.kind,
-            other.canonical,
-        )
+        if not isinstance(other, Rig) or self.kind != other.kind:
+            return False
+        if self.kind == "3d":  # no canonical text: the same tables and values
+            return self.to_dict() == other.to_dict()
+        return self.canonical == other.canonical
 
     def __repr__(self) -> str:
         return f"Rig(kind={self.kind!r}, tables={list(self.to_dict())})"
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        x = float(v)
+        return "nan" if math.isnan(x) else ("inf" if x > 0 else "-inf") if math.isinf(x) else repr(x)
+    if isinstance(v, str):
+        return json.dumps(v)  # a TOML basic string
+    if isinstance(v, (list, tuple, np.ndarray)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise PendtiltError(f"not a rig value: {v!r}")
+
+
+def _toml_of(tables: Mapping[str, Any], prefix: str = "") -> str:
+    """TOML text of nested tables (the rig's tables of numbers, booleans and arrays)."""
+    keys = [f"{k} = {_toml_value(v)}\n" for k, v in tables.items() if not isinstance(v, Mapping)]
+    out = (f"[{prefix}]\n" if prefix and keys else "") + "".join(keys)
+    for k, v in tables.items():
+        if isinstance(v, Mapping):
+            name = f"{prefix}.{k}" if prefix else k
+            out += ("\n" if out else "") + (f"[{name}]\n" if not v else "") + _toml_of(v, name)
+    return out
 
 
 def read_rig(path: PathLike) -> Rig:
@@ -784,11 +813,7 @@ def _rig_with(rig: RigLike, table: Optional[str], settings: Dict[str, Any], kind
     if table is None:
         raise PendtiltError(f"no settings in the rig file for this estimator: {sorted(settings)}")
     if rig is None:
-        if kind == "3d":
-            base: Dict[str, Any] = {"pendulum3d": {}}
-            base[table] = dict(settings)
-            return Rig.from_dict(base)
-        r = Rig.default()
+        r = Rig.default(kind)
     elif isinstance(rig, Rig):
         r = rig
     elif isinstance(rig, Mapping):
@@ -852,10 +877,8 @@ def _doc(name: str, about: str, table: Optional[str], kind: str) -> str:
             + ", ".join(_KEYS_EKF)
         )
     else:
-        defaults = (
-            "every key absent, the filter's own defaults (docs/spatial.md); the keys: "
-            + ", ".join(_KEYS_EKF3D)
-        )
+        d = Rig.default("3d").to_dict().get(table, {})
+        defaults = ", ".join(f"{k}={v!r}" for k, v in d.items())
     return (
         head
         + f"Settings: keyword arguments set keys of the rig's ``[{table}]`` table (SI "

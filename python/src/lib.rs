@@ -85,7 +85,6 @@ fn _pendtilt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(table::read_csv, m)?)?;
     m.add_function(wrap_pyfunction!(rig::rig_check, m)?)?;
     m.add_function(wrap_pyfunction!(rig::rig_default, m)?)?;
-    m.add_function(wrap_pyfunction!(rig::toml_of_json, m)?)?;
     m.add_function(wrap_pyfunction!(stream::flag_names, m)?)?;
     m.add_class::<stream::Stream>()?;
     m.add_class::<stream::Stream3d>()?;

@@ -21,16 +21,16 @@ pub fn rig_check(text: &str, origin: &str) -> PyResult<(String, Option<String>, 
     Ok(("planar".into(), Some(rig.to_toml_string()), rig.doubts()))
 }
 
-/// The default planar rig (MODEL.md section 5) as the command writes a rig file.
+/// The default rig as the command writes it: planar (MODEL.md section 5), or 3-D
+/// (MODEL.md 7.6, `pendtilt rig --template 3d`: every key at its default).
 #[pyfunction]
-pub fn rig_default() -> String {
-    RigConfig::default().to_toml_string()
-}
-
-/// TOML text of a table given as JSON text (from a Python dict).
-#[pyfunction]
-pub fn toml_of_json(json: &str) -> PyResult<String> {
-    let v: serde_json::Value =
-        serde_json::from_str(json).map_err(|e| PendtiltError::new_err(e.to_string()))?;
-    toml::to_string(&v).map_err(|e| PendtiltError::new_err(format!("not a rig table: {e}")))
+#[pyo3(signature = (kind="planar"))]
+pub fn rig_default(kind: &str) -> PyResult<String> {
+    match kind {
+        "planar" => Ok(RigConfig::default().to_toml_string()),
+        "3d" => Ok(pendtilt::bank3d::rig::template()),
+        other => Err(PendtiltError::new_err(format!(
+            "unknown rig kind `{other}` (known: planar, 3d)"
+        ))),
+    }
 }

@@ -27,7 +27,7 @@ def test_read_rig_and_write_rig_round_trip(scooter, tmp_path):
     assert pendtilt.read_rig(out) == changed
 
 
-def test_a_3d_rig_round_trips_and_a_bad_key_is_refused(scooter3d, tmp_path):
+def test_a_3d_rig_round_trips_and_a_bad_key_is_refused(cli, scooter3d, tmp_path):
     _, rig_file, _ = scooter3d
     rig = pendtilt.read_rig(rig_file)
     assert rig.kind == "3d"
@@ -35,6 +35,14 @@ def test_a_3d_rig_round_trips_and_a_bad_key_is_refused(scooter3d, tmp_path):
     assert pendtilt.read_rig(tmp_path / "r.toml") == rig
     with pytest.raises(pendtilt.PendtiltError, match="nonesuch"):
         pendtilt.Rig.default().with_settings("kalman", nonesuch=1.0)
+    # The 3-D default is the command's template.
+    template = cli("rig", "--template", "3d").stdout
+    assert pendtilt.Rig.default("3d").to_toml() == template
+    assert pendtilt.Rig.default("3d").kind == "3d"
+    # Settings of every kind through a dict (an infinite frequency included).
+    ekf3d = pendtilt.Ekf3d(vibration_density=2.0, path_turn_hz=math.inf, adapt=False)
+    assert ekf3d.names == ["ekf3d"]
+    assert pendtilt.Rig.from_dict(pendtilt.Rig.default("3d").to_dict()) == pendtilt.Rig.default("3d")
 
 
 def test_simulate_writes_the_commands_bytes(cli, tmp_path):
