@@ -55,7 +55,9 @@ pub fn template() -> String {
     let m = Mounting::default();
     let v = |x: [f64; 3]| format!("[{:?}, {:?}, {:?}]", x[0], x[1], x[2]);
     let f = |x: f64| format!("{x:?}");
-    let tables: [(&str, Vec<(&str, String, &str)>); 3] = [
+    // Per table: its name and its (key, value, comment) lines.
+    type Keys<'a> = Vec<(&'a str, String, &'a str)>;
+    let tables: [(&str, Keys); 3] = [
         (
             "pendulum3d",
             vec![

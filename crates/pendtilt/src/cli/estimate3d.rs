@@ -66,7 +66,7 @@ const MAX_ACCEL: f64 = DEFAULT_ACCEL_LIMIT;
 
 /// Refuses the options of `given` (name, whether given) that only 3-D logs take, on the
 /// planar log `log`.
-pub(crate) fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::Result<()> {
+pub fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::Result<()> {
     let given: Vec<&str> = given.iter().filter(|g| g.1).map(|g| g.0).collect();
     anyhow::ensure!(
         given.is_empty(),
@@ -105,7 +105,7 @@ pub fn is_3d_log(path: &Path, map: &crate::io::ColumnMap) -> bool {
 
 /// What a 3-D run is given: the log and the options `estimate` and `report` share.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Options3d<'a> {
+pub struct Options3d<'a> {
     /// The log (to read: the file, or the copy of standard input).
     pub log: &'a Path,
     /// The log's name in messages, when not its path (`<stdin>`).
@@ -161,7 +161,7 @@ impl<'a> Options3d<'a> {
 
 /// What the options and files give the run.
 #[derive(Debug, Clone)]
-pub(crate) struct Setup {
+pub struct Setup {
     /// The estimators' settings.
     pub settings: Settings3d,
     /// Scoring starts this long after the first row \[s\].
@@ -179,7 +179,7 @@ pub(crate) struct Setup {
 }
 
 /// Reads the rig and scenario files and checks the options.
-pub(crate) fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
+pub fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
     if let Some(c) = opts.columns.map.planar_only().first() {
         bail!(
             "--map {c}=...: a column of a planar log; a 3-D log's columns are t, phi_x, phi_y, \
@@ -316,7 +316,7 @@ pub fn estimate(args: &Args, log: &InputLog) -> anyhow::Result<super::estimate::
 }
 
 /// What a pass over the log gave.
-pub(crate) struct Pass {
+pub struct Pass {
     /// Rows read (one output row each).
     pub rows: u64,
     /// The estimators, in column order.
@@ -330,7 +330,7 @@ pub(crate) struct Pass {
 }
 
 /// One row of a pass as the sink sees it.
-pub(crate) struct Row<'a> {
+pub struct Row<'a> {
     /// Time \[s\].
     pub t: f64,
     /// Every estimator's output, in [`Pass::names`] order.
@@ -350,7 +350,7 @@ const MAX_WARNINGS: usize = 10;
 const ROW_ISSUES_LISTED: u64 = 3;
 
 /// Where a pass puts its rows: the estimates file, or memory (`report`).
-pub(crate) trait Sink3d {
+pub trait Sink3d {
     /// Called once, before the first row: the estimators, which of them give a
     /// quaternion, and whether the log has the truth.
     fn start(
@@ -439,7 +439,7 @@ fn estimate_into(
 
 /// How a pass reads its log.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Feed {
+pub enum Feed {
     /// A file: rows are read ahead to find clips, and the time unit is checked on the
     /// first rows before any estimate is made. A malformed line ends the pass.
     File,
@@ -451,7 +451,7 @@ pub(crate) enum Feed {
 
 /// Reads the log's first rows, checks the time unit, then runs every row through the bank
 /// into `sink`, scoring the inclination error when the log has the truth.
-pub(crate) fn pass(
+pub fn pass(
     opts: &Options3d,
     setup: &Setup,
     quaternion: bool,
@@ -465,7 +465,7 @@ pub(crate) fn pass(
 }
 
 /// [`pass`] over a log already open (`file` its name), read as `feed` says.
-pub(crate) fn pass_on<R: std::io::BufRead>(
+pub fn pass_on<R: std::io::BufRead>(
     mut log: Log3dReader<R>,
     file: &str,
     opts: &Options3d,
@@ -607,7 +607,7 @@ pub(crate) fn pass_on<R: std::io::BufRead>(
             break;
         };
         if live && seen.len() < HEAD_ROWS {
-            seen.push(r.clone());
+            seen.push(r);
             if seen.len() == HEAD_ROWS {
                 check_time_unit(&file, &seen, setup.time_given)?;
             }
