@@ -44,7 +44,8 @@ pub fn estimate<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let args = estimate_args(&argv)?;
     let Some((names, columns)) = names.zip(columns) else {
-        return if estimate3d::is_3d_log(&args.log) {
+        let map = &args.bank.columns.map;
+        return if estimate3d::is_3d_log(&args.log, map) || !map.spatial_only().is_empty() {
             spatial(py, &args, None)
         } else {
             planar(py, &args, None)
@@ -69,7 +70,8 @@ pub fn estimate<'py>(
             c.len()
         )));
     }
-    if pendtilt::io::is_3d_header(&names) {
+    let map = &args.bank.columns.map;
+    if pendtilt::io::is_3d_header(&map.rename_spatial(&names)) || !map.spatial_only().is_empty() {
         return spatial(py, &args, Some((&names, slices)));
     }
     planar(py, &args, Some((&names, slices)))
@@ -448,7 +450,9 @@ fn spatial<'py>(
                 // The columns read as the 3-D reader reads a file of them.
                 Some((names, cols)) => {
                     let file = args.log.display().to_string();
-                    let log = Log3dReader::new(ColumnsSource::new(names, cols), &file)?;
+                    let renames = b.columns.map.spatial();
+                    let source = ColumnsSource::new(names, cols);
+                    let log = Log3dReader::new_mapped(source, &file, renames)?;
                     let q = args.quaternion;
                     estimate3d::pass_on(log, &file, &opts, &setup, q, &mut mem, Feed::File)?
                 }
