@@ -20,6 +20,7 @@ pub mod families;
 pub mod fig3;
 pub mod figures;
 pub mod html;
+pub mod interactive;
 pub mod markdown;
 pub mod metrics;
 pub mod palette;

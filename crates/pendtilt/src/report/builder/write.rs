@@ -260,6 +260,7 @@ impl Report {
                     caption: c.clone(),
                     png: rel(&f.png),
                     svg: Some(rel(&f.svg)),
+                    plots: f.plots.clone(),
                 })
                 .collect(),
             notes,
