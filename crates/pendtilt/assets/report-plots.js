@@ -106,7 +106,12 @@
         }
       },
       scales: {
-        x: { time: false, auto: false, range: function () { return [p.xr[0], p.xr[1]]; } },
+        // first view: the figure's ranges; then whatever the zoom sets (y is ranged
+        // only while never set, so a zoom in time keeps the ordinate steady)
+        x: {
+          time: false, auto: false,
+          range: function (u, a, b) { return a == null || b == null ? [p.xr[0], p.xr[1]] : [a, b]; }
+        },
         y: { auto: false, range: function () { return [p.yr[0], p.yr[1]]; } }
       },
       axes: [

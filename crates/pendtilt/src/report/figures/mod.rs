@@ -162,6 +162,9 @@ pub struct FigureSpec {
     pub width: u32,
     /// Height \[px\].
     pub height: u32,
+    /// Fixed abscissa range; `None`: the data's. Figures meant to be read one above the
+    /// other (a 3-D report's roll and pitch) share one, and so their time ticks.
+    pub x_range: Option<(f64, f64)>,
     /// Fixed ordinate range; `None`: fit the data with a 5% margin, within `robust`.
     pub y_range: Option<(f64, f64)>,
     /// How far the ordinate range may follow the data when it is not fixed: `None`, every
@@ -196,6 +199,7 @@ impl FigureSpec {
             y_label: y_label.to_string(),
             width: 1200,
             height: 675,
+            x_range: None,
             y_range: None,
             robust: Some(RobustRange::default()),
             legend: LegendPosition::UpperLeft,
@@ -326,6 +330,10 @@ fn build_axis(
         .collect::<Result<Vec<_>, _>>()?;
     let (xr, full) = data_extent(&prepared)
         .ok_or_else(|| ReportError::Empty(format!("figure {stem}: no finite point")))?;
+    let xr = match spec.x_range {
+        Some((a, b)) if a.is_finite() && b.is_finite() && b > a => (a, b),
+        _ => xr,
+    };
     let yr = match (spec.y_range, spec.robust) {
         (Some((a, b)), _) if a.is_finite() && b.is_finite() && b > a => (a, b),
         (_, Some(r)) => {
