@@ -1,4 +1,4 @@
-// pendtilt report: one uPlot per <div class="iplot" data-plot="k">, from the JSON in
+// pendtilt report: one uPlot per plot place (div.iplot, data-plot: its index), from the JSON in
 // <script id="pendtilt-plots">. Drag: zoom (sideways: time; diagonal: both axes);
 // Shift+wheel: zoom time about the cursor; Shift+drag: pan; double-click: back to the
 // first view. The panels of one figure share their time zoom.

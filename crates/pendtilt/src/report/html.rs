@@ -143,7 +143,7 @@ impl HtmlPage {
                 "<script type=\"application/json\" id=\"pendtilt-plots\">{}</script>\n",
                 interactive::page_json(&plots)
             ));
-            for js in [interactive::UPLOT_JS, interactive::PAGE_JS] {
+            for js in [interactive::uplot_js().as_str(), interactive::PAGE_JS] {
                 h.push_str(&format!(
                     "<script>{}</script>\n",
                     interactive::inline_script(js)

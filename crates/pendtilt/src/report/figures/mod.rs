@@ -888,6 +888,19 @@ mod tests {
     }
 
     #[test]
+    fn no_tick_reads_negative_zero() {
+        // a tick a rounding error below zero (0.1 * 3 - 0.3)
+        let tiny = 0.3 - 0.1 * 3.0;
+        assert!(tiny < 0.0);
+        for v in [tiny, -0.0, -1e-12] {
+            assert_eq!(tick_label(&v), "0.0", "{v:e}");
+        }
+        assert_eq!(tick_label(&-0.5), "-0.5");
+        assert_eq!(tick_label(&-10.0), "-10.0");
+        assert_eq!(tick_label(&0.05), "0.05");
+    }
+
+    #[test]
     fn lines_are_clipped_to_the_range_not_flattened() {
         let runs = vec![vec![
             (0.0, 0.0),

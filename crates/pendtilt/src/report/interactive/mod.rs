@@ -20,6 +20,12 @@ pub const BUCKETS: usize = 2000;
 
 /// uPlot 1.6.32 (`npm pack uplot`, `dist/uPlot.iife.min.js`), MIT, `assets/LICENSE-uPlot.txt`.
 pub const UPLOT_JS: &str = include_str!("../../../assets/uPlot.iife.min.js");
+
+/// [`UPLOT_JS`] as inlined in the page: its banner comment's project address without the
+/// scheme, so that no "http(s)://" appears on a page that must not touch the network.
+pub fn uplot_js() -> String {
+    UPLOT_JS.replacen("/*! https://", "/*! ", 1)
+}
 /// uPlot's style sheet (`dist/uPlot.min.css`).
 pub const UPLOT_CSS: &str = include_str!("../../../assets/uPlot.min.css");
 /// The page's own script: builds one uPlot per plot from the embedded JSON, with zoom, pan,
