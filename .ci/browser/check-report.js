@@ -1,6 +1,7 @@
 // Opens report pages in headless Chromium (the system's, no download) and checks that the
-// interactive plots work: no console error, one uPlot per plot, a drag zooms in, a
-// double-click zooms back out, Shift+drag pans.
+// interactive plots work: no console error or network request, one uPlot per plot, a drag
+// zooms in (the figure's other panels follow), Shift+drag pans, a double-click zooms back
+// out, no tick label reads "-0.0".
 // Usage: node check-report.js PAGE.html [PAGE.html ...]  (CHROMIUM=/path overrides)
 "use strict";
 const path = require("path");
@@ -80,6 +81,21 @@ async function check(browser, file) {
   if (Math.abs(reset[0] - before[0]) > 1e-9 || Math.abs(reset[1] - before[1]) > 1e-9) {
     fail(file, `double-click did not restore the range: ${before} -> ${reset}`);
   }
+  // tick labels: never "-0", "-0.0", ..., also on an ordinate a rounding error from zero
+  const negZero = await page.evaluate(async () => {
+    const u = window.pendtiltPlots[0];
+    // the formatter itself, on a split a rounding error below zero (0.1 * 3 - 0.3)
+    const bad = window.pendtiltTicks(u, [-0.2, 0.3 - 0.1 * 3, 0.2]).filter((v) => v !== "0.0" && Number(v) === 0);
+    for (const [a, b] of [[-0.35, 0.25], [-0.7, 0.5], [-3.3, 2.1]]) {
+      u.setScale("y", { min: a, max: b });
+      await new Promise((r) => requestAnimationFrame(r));
+      for (const ax of u.axes) {
+        for (const v of ax._values || []) if (/^-0(\.0*)?$/.test(String(v))) bad.push(v);
+      }
+    }
+    return bad;
+  });
+  if (negZero.length) fail(file, `tick labels reading negative zero: ${negZero}`);
   if (errors.length) fail(file, "console errors:\n  " + errors.join("\n  "));
   console.log(`${file}: ${n.plots} plots, ${(n.json / 1e6).toFixed(2)} MB of plot data; ` +
     `zoom ${before.map((v) => v.toFixed(2))} -> ${zoomed.map((v) => v.toFixed(2))}, pan, reset: ok`);

@@ -138,4 +138,5 @@
   });
   // for tests and the console
   window.pendtiltPlots = plots;
+  window.pendtiltTicks = ticks;
 })();
