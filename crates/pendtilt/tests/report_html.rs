@@ -97,8 +97,9 @@ fn build() -> Report {
 fn report_writes_every_file_and_the_page_references_only_existing_files() {
     let dir = tempfile::tempdir().unwrap();
     let out = build().write(dir.path()).unwrap();
-    // 2 overview + 2 per non-reference estimator (alg1, alg2) + 2 zoom + fig3
-    assert_eq!(out.figures.len(), 2 + 4 + 2 + 1);
+    // 2 overview + 2 comparison (alg1, alg2) + 2 per non-reference estimator (alg1,
+    // alg2) + 2 zoom + fig3
+    assert_eq!(out.figures.len(), 2 + 2 + 4 + 2 + 1);
     for f in &out.figures {
         assert_eq!(png_size(&f.png), (f.width, f.height), "{}", f.png.display());
         let svg = std::fs::read_to_string(&f.svg).unwrap();
@@ -226,4 +227,230 @@ fn bad_series_are_errors() {
         r.compute(),
         Err(ReportError::LengthMismatch { .. })
     ));
+}
+
+/// The `<script>` elements of a page: (attributes, text).
+fn scripts(html: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    let mut rest = html;
+    while let Some(i) = rest.find("<script") {
+        rest = &rest[i + "<script".len()..];
+        let close = rest.find('>').unwrap();
+        let end = rest.find("</script>").unwrap();
+        out.push((rest[..close].to_string(), rest[close + 1..end].to_string()));
+        rest = &rest[end..];
+    }
+    out
+}
+
+/// The plot data embedded in a page.
+fn plot_data(html: &str) -> serde_json::Value {
+    let (_, text) = scripts(html)
+        .into_iter()
+        .find(|(attrs, _)| attrs.contains("id=\"pendtilt-plots\""))
+        .expect("no plot data on the page");
+    serde_json::from_str(&text).unwrap()
+}
+
+#[test]
+fn the_page_embeds_its_plotting_library_and_one_plot_per_set_of_axes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = build().write(dir.path()).unwrap();
+    let html = std::fs::read_to_string(&out.html).unwrap();
+    let scripts = scripts(&html);
+    // the data, uPlot and the page's script, all inline: nothing to fetch
+    assert_eq!(
+        scripts.len(),
+        3,
+        "{:?}",
+        scripts.iter().map(|s| &s.0).collect::<Vec<_>>()
+    );
+    assert!(scripts.iter().all(|(attrs, _)| !attrs.contains("src")));
+    assert!(scripts[1].1.contains("uPlot") && scripts[1].1.len() > 40_000);
+    assert!(html.contains(".uplot"), "uPlot's style sheet is missing");
+    let data = plot_data(&html);
+    let plots = data["plots"].as_array().unwrap();
+    // one plot per set of axes of every figure but Fig. 3 (points, not a trace)
+    let axes: usize = out.figures.iter().map(|f| f.plots.len()).sum();
+    let want: usize = out
+        .figures
+        .iter()
+        .filter(|f| !f.png.ends_with("fig3_kalman_variance.png"))
+        .map(|f| f.axes.len())
+        .sum();
+    assert_eq!(axes, want);
+    assert_eq!(plots.len(), want);
+    assert_eq!(html.matches("<div class=\"iplot\"").count(), want);
+    // each plot on the page says what its figure says
+    let traces = data["traces"].as_array().unwrap();
+    let on_page: Vec<&pendtilt::report::interactive::Plot> =
+        out.figures.iter().flat_map(|f| &f.plots).collect();
+    for (p, want) in plots.iter().zip(&on_page) {
+        assert_eq!(p["title"], want.title.as_str());
+        let x = traces[p["x"].as_u64().unwrap() as usize]
+            .as_array()
+            .unwrap();
+        for s in p["series"].as_array().unwrap() {
+            let y = traces[s["data"].as_u64().unwrap() as usize]
+                .as_array()
+                .unwrap();
+            assert_eq!(y.len(), x.len(), "{}", s["name"]);
+        }
+        let yr = p["yr"].as_array().unwrap();
+        assert!((yr[0].as_f64().unwrap() - want.y_range.0).abs() < 1e-4);
+        assert!((yr[1].as_f64().unwrap() - want.y_range.1).abs() < 1e-4);
+    }
+    // the truth, drawn in many panels, is stored once per time axis
+    assert!(
+        traces.len()
+            < plots
+                .iter()
+                .map(|p| p["series"].as_array().unwrap().len())
+                .sum::<usize>()
+    );
+    // the static figures stay, linked
+    assert!(html.contains("<a href=\"angles_all.png\">PNG</a>"));
+}
+
+#[test]
+fn the_embedded_data_does_not_grow_with_the_log() {
+    // the same signals over 20 s and over 400 s at 1 kHz
+    let page = |seconds: usize| {
+        let n = seconds * 1000;
+        let t: Vec<f64> = (0..n).map(|k| k as f64 / RATE).collect();
+        let truth: Vec<f64> = t.iter().map(|t| 0.1 * (0.7 * t).sin()).collect();
+        let noisy: Vec<f64> = truth
+            .iter()
+            .enumerate()
+            .map(|(k, v)| v + 0.01 * ((k * 7919 % 1000) as f64 / 500.0 - 1.0))
+            .collect();
+        let dir = tempfile::tempdir().unwrap();
+        let out = Report::new("long", t, truth)
+            .unwrap()
+            .estimate("alg1", noisy)
+            .unwrap()
+            .write(dir.path())
+            .unwrap();
+        let html = std::fs::read_to_string(&out.html).unwrap();
+        let data = plot_data(&html);
+        for tr in data["traces"].as_array().unwrap() {
+            assert!(tr.as_array().unwrap().len() <= 2 * 2000 + 2);
+        }
+        html.len()
+    };
+    let (short, long) = (page(20), page(400));
+    // 20 times the samples, about the same page (the decimated traces are full in both)
+    assert!(long < short + short / 5, "{short} -> {long} bytes");
+    assert!(long < 2_000_000, "{long} bytes");
+}
+
+/// Planar series with the compared estimators and two peers (mahony the better).
+fn bank_report() -> Report {
+    let n = 6000;
+    let t: Vec<f64> = (0..n).map(|k| k as f64 / RATE).collect();
+    let truth: Vec<f64> = t.iter().map(|t| 0.2 * (1.3 * t).sin()).collect();
+    let off = |amp: f64, f: f64| -> Vec<f64> {
+        t.iter()
+            .zip(&truth)
+            .map(|(t, v)| v + amp * (f * t).sin())
+            .collect()
+    };
+    Report::new("bank", t.clone(), truth.clone())
+        .unwrap()
+        .estimate("accel", off(0.25, 210.0))
+        .unwrap()
+        .estimate("alg1", off(0.004, 37.0))
+        .unwrap()
+        .estimate("alg2", off(0.003, 41.0))
+        .unwrap()
+        .estimate("ekf", off(0.001, 29.0))
+        .unwrap()
+        .estimate("madgwick", off(0.02, 11.0))
+        .unwrap()
+        .estimate("mahony", off(0.01, 13.0))
+        .unwrap()
+        .reference("accel")
+}
+
+#[test]
+fn error_figures_are_scaled_to_their_estimators_not_the_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = bank_report().write(dir.path()).unwrap();
+    let fig = |stem: &str| {
+        out.figures
+            .iter()
+            .find(|f| f.png.file_stem().unwrap() == stem)
+            .unwrap_or_else(|| panic!("no figure {stem}"))
+    };
+    // accel's error reaches 0.25 rad = 14 deg; ekf's 0.001 rad = 0.057 deg
+    for (stem, amp_deg) in [
+        ("est_ekf_error", 0.001f64.to_degrees()),
+        ("est_alg1_error", 0.004f64.to_degrees()),
+    ] {
+        let f = fig(stem);
+        let (lo, hi) = f.axes[0].y_range;
+        assert!(
+            lo < -0.9 * amp_deg && hi > 0.9 * amp_deg,
+            "{stem}: {lo}..{hi}"
+        );
+        assert!(hi - lo < 4.0 * amp_deg, "{stem} flattened: {lo}..{hi}");
+        let names: Vec<&str> = f.plots[0].series.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names.len(), 1, "{stem}: {names:?}");
+        assert_eq!(f.plots[0].y_range, (lo, hi));
+    }
+    // the angle figure keeps the reference beside the estimator
+    let names: Vec<&str> = fig("est_ekf").plots[0]
+        .series
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(names, ["theta", "accel", "ekf"]);
+}
+
+#[test]
+fn one_figure_compares_alg1_alg2_ekf_and_the_best_peer() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = bank_report().write(dir.path()).unwrap();
+    let html = std::fs::read_to_string(&out.html).unwrap();
+    for stem in ["compare", "compare_error"] {
+        let f = out
+            .figures
+            .iter()
+            .find(|f| f.png.file_stem().unwrap() == stem)
+            .unwrap_or_else(|| panic!("no figure {stem}"));
+        assert!(f.png.is_file() && f.svg.is_file());
+        let names: Vec<&str> = f.plots[0].series.iter().map(|s| s.name.as_str()).collect();
+        let want: &[&str] = if stem == "compare" {
+            &["theta", "alg1", "alg2", "ekf", "mahony"]
+        } else {
+            &["alg1", "alg2", "ekf", "mahony"]
+        };
+        assert_eq!(names, want);
+        assert!(html.contains(&format!("<a href=\"{stem}.png\">PNG</a>")));
+    }
+    assert!(html.contains("mahony is the best peer here"));
+}
+
+#[test]
+fn no_tick_label_reads_negative_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = bank_report().write(dir.path()).unwrap();
+    let mut zeros = 0;
+    for f in &out.figures {
+        let svg = std::fs::read_to_string(&f.svg).unwrap();
+        // the text of every <text> element
+        for chunk in svg.split("</text>") {
+            let Some(i) = chunk.rfind('>') else { continue };
+            let text = chunk[i + 1..].trim();
+            let is_zero = text.parse::<f64>().is_ok_and(|v| v == 0.0);
+            assert!(
+                !(is_zero && text.starts_with('-')),
+                "{} has a tick {text}",
+                f.svg.display()
+            );
+            zeros += usize::from(is_zero);
+        }
+    }
+    // the error axes cross zero: the tick is there, unsigned
+    assert!(zeros > 0);
 }

@@ -193,5 +193,24 @@ fn report_on_a_ride_sets_ekf3d_beside_itself_without_the_speed() {
     // the page lists the ride table and its figure
     let html = std::fs::read_to_string(out.join("index.html")).unwrap();
     assert!(html.contains("Per phase of the ride") && html.contains("ride.png"));
+    // every figure on one time axis, the log's first to last row, so that their ticks
+    // line up (the pitch figure once started a row later, ticked at other times)
+    let csv = std::fs::read_to_string(&log).unwrap();
+    let t_of = |line: &str| line.split(',').next().unwrap().parse::<f64>().unwrap();
+    let rows: Vec<&str> = csv.lines().filter(|l| !l.starts_with(['#', 't'])).collect();
+    let span = (t_of(rows[0]), t_of(rows[rows.len() - 1]));
+    let mut panels = 0;
+    for f in json["figures"].as_array().unwrap() {
+        for a in f["axes"].as_array().unwrap() {
+            let x = (
+                a["x_range"][0].as_f64().unwrap(),
+                a["x_range"][1].as_f64().unwrap(),
+            );
+            assert_eq!(x, span, "{}: {}", f["png"], a["title"]);
+            panels += 1;
+        }
+    }
+    // one interactive plot per panel
+    assert_eq!(html.matches("<div class=\"iplot\"").count(), panels);
     assert!(Path::new(&out.join("ride.svg")).metadata().unwrap().len() > 10_000);
 }

@@ -72,6 +72,8 @@ impl TopPage<'_> {
                     },
                     png: format!("{}/{}", pick.dir, name(&f.png)),
                     svg: Some(format!("{}/{}", pick.dir, name(&f.svg))),
+                    // the top page stays static: its parts' pages have the plots
+                    plots: Vec::new(),
                 })
             })
             .collect()

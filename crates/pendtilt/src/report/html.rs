@@ -1,8 +1,12 @@
-//! One self-contained HTML page: inline CSS, no script, no network; figures referenced by
-//! relative paths to files beside the page (PNG shown, SVG linked).
+//! One self-contained HTML page: inline CSS and script, no network. A figure with
+//! interactive plots ([`super::interactive`]) shows them (zoom and pan, drawn by the
+//! inlined uPlot from the JSON embedded in the page) and links its PNG and SVG; any other
+//! figure shows its PNG and links its SVG. Files are referenced by relative paths beside
+//! the page.
 use std::path::{Path, PathBuf};
 
 use super::claims::Claim;
+use super::interactive::{self, Plot};
 use super::markdown::{metric_cells, metric_definitions, METRIC_COLUMNS};
 use super::metrics::Metrics;
 use super::palette::Palette;
@@ -17,6 +21,9 @@ pub struct FigureRef {
     pub png: String,
     /// SVG linked from the figure (relative path), if any.
     pub svg: Option<String>,
+    /// Interactive plots shown instead of the PNG (which is then linked), one per set of
+    /// axes; empty: the PNG is shown.
+    pub plots: Vec<Plot>,
 }
 
 /// A titled metrics table (for example "unfiltered" and "after the 20 Hz FIR").
@@ -91,7 +98,8 @@ border:1px solid #888}\
 figure{margin:1.2em 0}figure img{max-width:100%;border:1px solid #ddd}\
 figcaption{font-size:.92em;color:#444}.notes li{margin:.2em 0}\
 dl.defs{font-size:.85em;color:#333;display:grid;grid-template-columns:max-content auto;\
-gap:.1em 1em;margin:.3em 0 1em}dl.defs dt{font-weight:bold}dl.defs dd{margin:0}";
+gap:.1em 1em;margin:.3em 0 1em}dl.defs dt{font-weight:bold}dl.defs dd{margin:0}\
+.iplot{margin:.4em 0 .8em}.iplot .u-title{font-size:1em}.hint{font-size:.85em;color:#555}";
 
 impl HtmlPage {
     /// The relative paths the page references (images and links), in order.
@@ -111,7 +119,12 @@ impl HtmlPage {
         let mut h = String::new();
         h.push_str("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
         h.push_str(&format!("<title>{}</title>\n", escape(&self.title)));
-        h.push_str(&format!("<style>{CSS}</style>\n</head>\n<body>\n"));
+        h.push_str(&format!("<style>{CSS}</style>\n"));
+        let plots: Vec<&Plot> = self.figures.iter().flat_map(|f| &f.plots).collect();
+        if !plots.is_empty() {
+            h.push_str(&format!("<style>{}</style>\n", interactive::UPLOT_CSS));
+        }
+        h.push_str("</head>\n<body>\n");
         h.push_str(&format!("<h1>{}</h1>\n", escape(&self.title)));
         for p in &self.intro {
             h.push_str(&format!("<p>{}</p>\n", escape(p)));
@@ -125,6 +138,18 @@ impl HtmlPage {
         self.claims_section(&mut h);
         self.figures_section(&mut h);
         self.notes_section(&mut h);
+        if !plots.is_empty() {
+            h.push_str(&format!(
+                "<script type=\"application/json\" id=\"pendtilt-plots\">{}</script>\n",
+                interactive::page_json(&plots)
+            ));
+            for js in [interactive::uplot_js().as_str(), interactive::PAGE_JS] {
+                h.push_str(&format!(
+                    "<script>{}</script>\n",
+                    interactive::inline_script(js)
+                ));
+            }
+        }
         h.push_str(&format!(
             "<p style=\"color:#888;font-size:.85em\">Written by pendtilt {}.</p>\n</body>\n</html>\n",
             env!("CARGO_PKG_VERSION")
@@ -156,12 +181,42 @@ impl HtmlPage {
         }
     }
 
-    /// The figures, each linking its SVG when there is one.
+    /// The figures: interactive plots linking the PNG and SVG, or the PNG linking its SVG.
     fn figures_section(&self, h: &mut String) {
         if !self.figures.is_empty() {
             h.push_str("<h2>Figures</h2>\n");
         }
-        for f in &self.figures {
+        if self.figures.iter().any(|f| !f.plots.is_empty()) {
+            h.push_str(
+                "<p class=\"hint\">Plots: drag to zoom (sideways: time only; diagonally: both \
+                 axes), Shift+wheel to zoom time, Shift+drag to pan, double-click to go back; \
+                 the panels of a figure share their time zoom; click a legend entry to hide \
+                 its line.</p>\n",
+            );
+        }
+        let mut next_plot = 0;
+        for (k, f) in self.figures.iter().enumerate() {
+            if !f.plots.is_empty() {
+                h.push_str("<figure>");
+                for _ in &f.plots {
+                    h.push_str(&format!(
+                        "<div class=\"iplot\" data-plot=\"{next_plot}\" data-group=\"{k}\"></div>"
+                    ));
+                    next_plot += 1;
+                }
+                let svg = f
+                    .svg
+                    .as_ref()
+                    .map(|s| format!(", <a href=\"{}\">SVG</a>", escape(s)))
+                    .unwrap_or_default();
+                h.push_str(&format!(
+                    "<figcaption>{} (static figure: <a href=\"{}\">PNG</a>{svg})</figcaption>\
+                     </figure>\n",
+                    escape(&f.caption),
+                    escape(&f.png)
+                ));
+                continue;
+            }
             let img = format!(
                 "<img src=\"{}\" alt=\"{}\">",
                 escape(&f.png),
@@ -346,6 +401,7 @@ mod tests {
                 caption: "cap \"q\"".into(),
                 png: "a.png".into(),
                 svg: None,
+                plots: Vec::new(),
             }],
             ..HtmlPage::default()
         };

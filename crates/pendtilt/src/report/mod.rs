@@ -9,17 +9,23 @@
 //!   [`families`]: the panels of the small-multiple overview figures.
 //! - [`fig3`]: the paper's Fig. 3 (Eq 12 and a Monte-Carlo check).
 //! - [`claims`], [`markdown`], [`html`]: claims table, Markdown/JSON, the HTML page.
+//! - [`interactive`]: the page's zoomable plots (uPlot, inlined) of every time-series
+//!   panel, each trace min/max-decimated ([`interactive::decimate`]) so that the page's
+//!   size does not grow with the log.
 //! - [`spatial`]: the 3-D report (roll, pitch and inclination error of every 3-D estimator).
 //! - [`Report`]: all of it from named series into one directory. `pendtilt report` is
 //!   `Report::new(title, t, theta)`, one `.estimate(name, values)` per estimator column,
 //!   `.reference("accel")`, `.view("FIR 20 Hz", ..)` with the paper's filter, then
-//!   `.write(out_dir)`.
+//!   `.write(out_dir)`. Besides the overviews it draws `compare` (alg1, alg2, ekf and the
+//!   best peer on one set of axes) and, per estimator, its angle beside the reference and
+//!   its error alone (scaled to it).
 mod builder;
 pub mod claims;
 pub mod families;
 pub mod fig3;
 pub mod figures;
 pub mod html;
+pub mod interactive;
 pub mod markdown;
 pub mod metrics;
 pub mod palette;

@@ -86,6 +86,47 @@ impl Report {
                 .to_string(),
         );
 
+        if let Some((g, peer)) = comparison_group(&self.title, &suffix, &data.views[pv]) {
+            let (t, truth_w, series) = windowed(&self.t, &truth_deg, &g.names, &find, None)?;
+            let mut lines: Vec<(&str, &[f64])> = vec![("theta", &truth_w)];
+            lines.extend(series.iter().map(|(n, v)| (n.as_str(), v.as_slice())));
+            figures.push(plot_time_series(
+                dir,
+                &g.stem,
+                &g.title,
+                &t,
+                &lines,
+                &self.palette,
+            )?);
+            let why = peer
+                .map(|(p, rms)| {
+                    format!(
+                        " {p} is the best peer here: the lowest RMS error ({rms:.3} deg) of \
+                         the peers on the {pv_name} series."
+                    )
+                })
+                .unwrap_or_default();
+            captions.push(format!(
+                "{} against the true angle, on one set of axes.{why}{}",
+                g.names.join(", "),
+                beyond_caption(figures.last())
+            ));
+            figures.push(plot_errors(
+                dir,
+                &format!("{}_error", g.stem),
+                &format!("{}: error", g.title),
+                &t,
+                &truth_w,
+                &lines[1..],
+                &self.palette,
+            )?);
+            captions.push(format!(
+                "Error of {}, on one set of axes, the ordinate scaled to them.{}",
+                g.names.join(", "),
+                beyond_caption(figures.last())
+            ));
+        }
+
         let groups = self.figure_groups(&est_deg, &find);
         for g in &groups {
             let (t, truth_w, series) = windowed(&self.t, &truth_deg, &g.names, &find, g.window)?;
@@ -104,18 +145,38 @@ impl Report {
                 g.names.join(", "),
                 beyond_caption(figures.last())
             ));
+            // The reference's error (the accelerometer's, +-15 deg on a ride) would set
+            // the ordinate and flatten a sub-degree estimator's: it is in the overview.
+            let errors: Vec<(&str, &[f64])> = lines[1..]
+                .iter()
+                .filter(|(n, _)| lines.len() == 2 || Some(*n) != self.reference.as_deref())
+                .copied()
+                .collect();
+            let error_names: Vec<&str> = errors.iter().map(|(n, _)| *n).collect();
+            let error_title = if errors.len() + 1 < lines.len() {
+                format!("{}: {}: error{suffix}", self.title, error_names.join(", "))
+            } else {
+                format!("{}: error{suffix}", g.title)
+            };
             figures.push(plot_errors(
                 dir,
                 &format!("{}_error", g.stem),
-                &format!("{}: error{suffix}", g.title),
+                &error_title,
                 &t,
                 &truth_w,
-                &lines[1..],
+                &errors,
                 &self.palette,
             )?);
+            let left_out = match &self.reference {
+                Some(r) if errors.len() + 1 < lines.len() => format!(
+                    " The ordinate is scaled to {}; {r}'s error is in the overview of errors.",
+                    error_names.join(", ")
+                ),
+                _ => String::new(),
+            };
             captions.push(format!(
-                "Error of {}.{}",
-                g.names.join(", "),
+                "Error of {}.{left_out}{}",
+                error_names.join(", "),
                 beyond_caption(figures.last())
             ));
         }
@@ -260,6 +321,7 @@ impl Report {
                     caption: c.clone(),
                     png: rel(&f.png),
                     svg: Some(rel(&f.svg)),
+                    plots: f.plots.clone(),
                 })
                 .collect(),
             notes,
@@ -341,6 +403,44 @@ fn family_panels(
         palette,
     )?;
     Ok((angles, errors))
+}
+
+/// The estimators compared directly on one set of axes: Algorithms 1 and 2, the EKF.
+const COMPARED: [&str; 3] = ["alg1", "alg2", "ekf"];
+
+/// The comparison figure of [`COMPARED`] and the best peer (lowest RMS error of the
+/// peers' family in `view`), with the best peer and its RMS; `None` when fewer than two
+/// of them are in the report.
+fn comparison_group(
+    title: &str,
+    suffix: &str,
+    view: &ViewMetrics,
+) -> Option<(FigureGroup, Option<(String, f64)>)> {
+    let has = |n: &str| view.metrics.iter().any(|m| m.name == n);
+    let peer = view
+        .metrics
+        .iter()
+        .filter(|m| families::Family::of(&m.name) == families::Family::Peers)
+        .filter(|m| m.rms_deg.is_finite())
+        .min_by(|a, b| a.rms_deg.total_cmp(&b.rms_deg))
+        .map(|m| (m.name.clone(), m.rms_deg));
+    let mut names: Vec<String> = COMPARED
+        .iter()
+        .filter(|n| has(n))
+        .map(|n| n.to_string())
+        .collect();
+    names.extend(peer.as_ref().map(|(p, _)| p.clone()));
+    (names.len() >= 2).then(|| {
+        (
+            FigureGroup {
+                stem: "compare".into(),
+                title: format!("{title}: {}{suffix}", names.join(", ")),
+                names,
+                window: None,
+            },
+            peer,
+        )
+    })
 }
 
 /// Time, truth and named series of a figure window.

@@ -10,6 +10,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use serde::Serialize;
 
+use super::interactive::{Plot, PlotShade};
 use super::palette::Palette;
 use super::ReportError;
 
@@ -161,6 +162,9 @@ pub struct FigureSpec {
     pub width: u32,
     /// Height \[px\].
     pub height: u32,
+    /// Fixed abscissa range; `None`: the data's. Figures meant to be read one above the
+    /// other (a 3-D report's roll and pitch) share one, and so their time ticks.
+    pub x_range: Option<(f64, f64)>,
     /// Fixed ordinate range; `None`: fit the data with a 5% margin, within `robust`.
     pub y_range: Option<(f64, f64)>,
     /// How far the ordinate range may follow the data when it is not fixed: `None`, every
@@ -195,6 +199,7 @@ impl FigureSpec {
             y_label: y_label.to_string(),
             width: 1200,
             height: 675,
+            x_range: None,
             y_range: None,
             robust: Some(RobustRange::default()),
             legend: LegendPosition::UpperLeft,
@@ -218,6 +223,10 @@ pub struct FigureFiles {
     pub height: u32,
     /// One entry per set of axes (one, or one per panel), top to bottom.
     pub axes: Vec<AxisInfo>,
+    /// The interactive plots of the page, one per set of axes, top to bottom; empty when
+    /// a set of axes is not lines on one shared, sorted abscissa (points, x-y curves).
+    #[serde(skip)]
+    pub plots: Vec<Plot>,
 }
 
 impl FigureFiles {
@@ -249,6 +258,59 @@ struct Axis {
     ranges: ((f64, f64), (f64, f64)),
     beyond: Beyond,
     marks: Vec<(f64, bool)>,
+    plot: Option<Plot>,
+}
+
+/// Tick labels as plotters writes them, but never "-0.0" (a tick a rounding error below
+/// zero).
+pub fn tick_label(v: &f64) -> String {
+    let s = plotters::data::float::FloatPrettyPrinter {
+        allow_scientific: false,
+        min_decimal: 1,
+        max_decimal: 5,
+    }
+    .print(*v);
+    match s.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => s,
+    }
+}
+
+/// The interactive plot of one set of axes: its lines decimated on their shared abscissa
+/// (`None` when the curves are not all lines on one abscissa). Ranges are set when drawn.
+fn interactive_plot(spec: &FigureSpec, curves: &[Curve], palette: &Palette) -> Option<Plot> {
+    let x = curves.first()?.x;
+    let shared = curves
+        .iter()
+        .all(|c| c.kind == CurveKind::Line && (std::ptr::eq(c.x, x) || c.x == x));
+    if !shared {
+        return None;
+    }
+    let series: Vec<(&str, String, u32, &[f64])> = curves
+        .iter()
+        .map(|c| (c.name, palette.css(c.name), c.width.clamp(1, 3), c.y))
+        .collect();
+    let mut plot = Plot::decimated(
+        &spec.title,
+        (&spec.x_label, &spec.y_label),
+        x,
+        &series,
+        ((0.0, 1.0), (0.0, 1.0)),
+    )?;
+    plot.shades = spec
+        .shades
+        .iter()
+        .map(|s| PlotShade {
+            from: s.from,
+            to: s.to,
+            colour: format!(
+                "rgba({},{},{},{SHADE_ALPHA})",
+                s.colour.0, s.colour.1, s.colour.2
+            ),
+            label: s.label.clone(),
+        })
+        .collect();
+    Some(plot)
 }
 
 /// Prepares `curves` for one set of axes: thinned runs, the ranges (fixed, or robust, see
@@ -268,6 +330,10 @@ fn build_axis(
         .collect::<Result<Vec<_>, _>>()?;
     let (xr, full) = data_extent(&prepared)
         .ok_or_else(|| ReportError::Empty(format!("figure {stem}: no finite point")))?;
+    let xr = match spec.x_range {
+        Some((a, b)) if a.is_finite() && b.is_finite() && b > a => (a, b),
+        _ => xr,
+    };
     let yr = match (spec.y_range, spec.robust) {
         (Some((a, b)), _) if a.is_finite() && b.is_finite() && b > a => (a, b),
         (_, Some(r)) => {
@@ -291,6 +357,7 @@ fn build_axis(
         ranges: (xr, yr),
         beyond,
         marks,
+        plot: interactive_plot(spec, curves, palette),
     })
 }
 
@@ -331,6 +398,8 @@ fn draw_axis<DB: DrawingBackend>(
         .y_desc(spec.y_label.as_str())
         .axis_desc_style((FAMILY, 20))
         .label_style((FAMILY, 16))
+        .x_label_formatter(&tick_label)
+        .y_label_formatter(&tick_label)
         .light_line_style(RGBColor(235, 235, 235))
         .bold_line_style(RGBColor(210, 210, 210))
         .draw()
@@ -624,6 +693,17 @@ fn write_figure(
                 beyond: a.beyond,
             })
             .collect(),
+        plots: if axes.iter().all(|a| a.plot.is_some()) {
+            axes.iter()
+                .filter_map(|a| {
+                    let mut p = a.plot.clone()?;
+                    (p.x_range, p.y_range) = a.ranges;
+                    Some(p)
+                })
+                .collect()
+        } else {
+            Vec::new()
+        },
     })
 }
 
@@ -805,6 +885,19 @@ mod tests {
         assert_eq!(d.first(), pts.first());
         // x stays increasing
         assert!(d.windows(2).all(|w| w[1].0 > w[0].0));
+    }
+
+    #[test]
+    fn no_tick_reads_negative_zero() {
+        // a tick a rounding error below zero (0.1 * 3 - 0.3)
+        let tiny = 0.3 - 0.1 * 3.0;
+        assert!(tiny < 0.0);
+        for v in [tiny, -0.0, -1e-12] {
+            assert_eq!(tick_label(&v), "0.0", "{v:e}");
+        }
+        assert_eq!(tick_label(&-0.5), "-0.5");
+        assert_eq!(tick_label(&-10.0), "-10.0");
+        assert_eq!(tick_label(&0.05), "0.05");
     }
 
     #[test]

@@ -41,6 +41,15 @@ fn degrees(v: &[f64]) -> Vec<f64> {
 }
 
 impl SpatialReport {
+    /// The first and last finite time: the abscissa of every figure, so that their time
+    /// ticks line up (the pitch figure, its first row without a finite pitch, once
+    /// started 1 ms later and ticked at other times than the roll figure).
+    pub(super) fn time_span(&self) -> Option<(f64, f64)> {
+        let first = self.t.iter().copied().find(|t| t.is_finite())?;
+        let last = self.t.iter().rev().copied().find(|t| t.is_finite())?;
+        (last > first).then_some((first, last))
+    }
+
     /// Draws `roll`, `pitch` and `inclination` (PNG and SVG) into `dir`, `shades` behind
     /// every panel ([`SpatialReport::shades`]); returns each with its caption. `rows` are
     /// the scores, in estimator order (for the panel titles).
@@ -107,6 +116,7 @@ impl SpatialReport {
                 let mut spec =
                     FigureSpec::new(&e.name, "time [s]", &format!("{} [deg]", angle.word()));
                 spec.robust = Some(robust);
+                spec.x_range = self.time_span();
                 spec.legend = LegendPosition::Outside;
                 spec.shades = shades.to_vec();
                 Panel {
@@ -168,6 +178,7 @@ impl SpatialReport {
                 // frame
                 spec.y_range = Some((-0.02 * top, top));
                 spec.robust = None;
+                spec.x_range = self.time_span();
                 spec.legend = LegendPosition::Outside;
                 spec.shades = shades.to_vec();
                 Panel {

@@ -198,10 +198,12 @@ impl SpatialReport {
             figures: data
                 .figures
                 .iter()
-                .map(|f| FigureRef {
+                .zip(&drawn)
+                .map(|(f, (files, _))| FigureRef {
                     caption: f.caption.clone(),
                     png: f.png.clone(),
                     svg: Some(f.svg.clone()),
+                    plots: files.plots.clone(),
                 })
                 .collect(),
             notes: self.notes.clone(),

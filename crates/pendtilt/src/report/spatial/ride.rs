@@ -306,6 +306,7 @@ impl SpatialReport {
         let spec = |title: String, y: &str| {
             let mut s = FigureSpec::new(&title, "time [s]", y);
             s.legend = LegendPosition::Outside;
+            s.x_range = self.time_span();
             s.shades = shades.to_vec();
             s.robust = Some(crate::report::figures::RobustRange {
                 skip_x: self.score_from.max(0.0),
