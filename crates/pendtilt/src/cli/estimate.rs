@@ -1,14 +1,11 @@
 //! `pendtilt estimate LOG.csv --params RIG.toml -o OUT.csv`: a planar log through the bank
 //! ([`crate::bank`]); a 3-D log (MODEL.md 7.6 columns) through [`super::estimate3d`].
-use std::fs::File;
-use std::io::BufReader;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
 use super::options::BankOptions;
-use crate::bank::Bank;
-use crate::io::input::InputLog;
+use crate::io::input::LogSource;
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::{Column, EstimatesWriter, LogReader};
 use crate::pipeline;
@@ -108,19 +105,25 @@ pub fn estimate_with(args: &Args, parallel: bool) -> anyhow::Result<Outcome> {
         &[NamedPath::new("LOG", &args.log)],
         &[NamedPath::new("-o", &args.output)],
     )?;
-    // Standard input or a pipe is copied first: the header is peeked at below.
-    let log = InputLog::open(&args.log)?;
+    // Standard input or a pipe is read as it comes: its header is peeked at, not copied.
+    let (source, name) = LogSource::open(&args.log)?;
     // A map onto 3-D columns says the log is 3-D: the 3-D reader names what is amiss.
     let map = &args.bank.columns.map;
-    if super::estimate3d::is_3d_log(log.path(), map) || !map.spatial_only().is_empty() {
-        return super::estimate3d::estimate(args, &log);
+    let spatial = match &source {
+        LogSource::File(p) => super::estimate3d::is_3d_log(p, map),
+        LogSource::Stream { header, .. } => {
+            (header.as_ref()).is_some_and(|h| crate::io::is_3d_header(&map.rename_spatial(h)))
+        }
+    };
+    if spatial || !map.spatial_only().is_empty() {
+        return super::estimate3d::estimate(args, source, &name);
     }
     super::estimate3d::refuse_3d_options(
         &[
             ("--quaternion", args.quaternion),
             ("--scenario", args.scenario.is_some()),
         ],
-        std::path::Path::new(log.name()),
+        std::path::Path::new(&name),
     )?;
     let opts = &args.bank;
     let mut inputs = vec![NamedPath::new("LOG", &args.log)];
@@ -129,16 +132,29 @@ pub fn estimate_with(args: &Args, parallel: bool) -> anyhow::Result<Outcome> {
     }
     output::check_distinct(&inputs, &[NamedPath::new("-o", &args.output)])?;
     let out = OutputFile::create("-o", &args.output)?;
-    let (log, bank, summary) = estimate_into(args, &log, &out, parallel)
-        .with_context(|| output::not_written(&args.output))?;
+    let run = || -> anyhow::Result<_> {
+        let rig = opts.rig()?;
+        let reading = opts.reader_options(&rig);
+        match source {
+            LogSource::File(path) => {
+                let log = LogReader::open_as(&path, &name, reading)?;
+                estimate_into(args, &rig, log, &path, &out, parallel)
+            }
+            LogSource::Stream { reader, .. } => {
+                let log = LogReader::new(reader, &name, reading)?;
+                estimate_into(args, &rig, log, Path::new(""), &out, parallel)
+            }
+        }
+    };
+    let (names, log, summary) = run().with_context(|| output::not_written(&args.output))?;
     out.commit()?;
-    let warnings = log.summary().total_warnings();
+    let warnings = log.total_warnings();
     Ok(Outcome {
         rows: summary.rows,
-        estimators: bank.names().iter().map(|n| n.to_string()).collect(),
+        estimators: names,
         warnings,
         notes: (warnings > 0)
-            .then(|| log.summary().to_string())
+            .then(|| log.to_string())
             .into_iter()
             .collect(),
         table: (summary.errors.as_ref()).map(|e| pipeline::error_table(e, summary.score_from)),
@@ -154,17 +170,17 @@ pub fn estimate_with(args: &Args, parallel: bool) -> anyhow::Result<Outcome> {
 }
 
 /// The log read through the bank into `out` (not yet committed): every row, flushed, or
-/// an error.
-fn estimate_into(
+/// an error. Returns the estimators, the reader's summary of warnings and the pass's.
+fn estimate_into<R: std::io::BufRead + Send>(
     args: &Args,
-    input: &InputLog,
+    rig: &crate::config::RigConfig,
+    mut log: LogReader<R>,
+    path: &Path,
     out: &OutputFile,
     parallel: bool,
-) -> anyhow::Result<(LogReader<BufReader<File>>, Bank, pipeline::PassSummary)> {
+) -> anyhow::Result<(Vec<String>, crate::io::LogSummary, pipeline::PassSummary)> {
     let opts = &args.bank;
-    let rig = opts.rig()?;
-    let mut log = LogReader::open_as(input.path(), input.name(), opts.reader_options(&rig))?;
-    let mut bank = opts.bank(&rig, &log)?;
+    let mut bank = opts.bank(rig, &log)?;
     let with_theta = log.columns().has(Column::Theta);
     let mut w = EstimatesWriter::new(
         out.writer()?,
@@ -174,7 +190,7 @@ fn estimate_into(
     )?;
     let warn = |w: &crate::io::LogWarning| opts.warn(w);
     let bar = super::options::progress(
-        input.path(),
+        path,
         "estimating {spinner} {human_pos} rows, {elapsed}",
         opts.quiet,
     );
@@ -196,5 +212,6 @@ fn estimate_into(
     let summary = summary?;
     w.flush()?;
     drop(w);
-    Ok((log, bank, summary))
+    let names = bank.names().iter().map(|n| n.to_string()).collect();
+    Ok((names, log.summary().clone(), summary))
 }

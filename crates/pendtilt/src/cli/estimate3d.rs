@@ -42,7 +42,7 @@ use crate::bank3d::rig::{mounting_doubts, Pendulum3dConfig, Rig3dConfig};
 use crate::bank3d::score::Inclination;
 use crate::bank3d::{Bank3d, Clips, Settings3d};
 use crate::config::{doubt_gravity, doubt_gyro_full_scale};
-use crate::io::input::InputLog;
+use crate::io::input::{LogSource, STDIN_NAME};
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::plateau::{NewLevel, PlateauWatch, LOOK_AHEAD_ROWS};
 use crate::io::plausibility::{
@@ -81,8 +81,8 @@ pub fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::Result<(
 /// True when the first header line of the file at `path` has every 3-D column (comment
 /// and blank lines before it skipped). An unreadable file is not 3-D: the planar reader
 /// then reports it. Only a regular file is peeked at: a pipe (`<(cat log.csv)`,
-/// `/dev/stdin`, `-`) is copied to one first ([`InputLog`]), as reading its first lines
-/// here would take them from the reader that follows.
+/// `/dev/stdin`, `-`) has its header peeked at instead ([`LogSource`]), as reading its
+/// first lines here would take them from the reader that follows.
 pub fn is_3d_log(path: &Path, map: &crate::io::ColumnMap) -> bool {
     if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
         return false;
@@ -126,11 +126,11 @@ pub struct Options3d<'a> {
 
 impl<'a> Options3d<'a> {
     /// The options of `pendtilt estimate`.
-    fn of_estimate(args: &'a Args, log: &'a InputLog) -> Self {
+    fn of_estimate(args: &'a Args, log: &'a Path, name: &'a str) -> Self {
         let b = &args.bank;
         Self {
-            log: log.path(),
-            log_name: Some(log.name()),
+            log,
+            log_name: Some(name),
             params: b.params.as_deref(),
             scenario: args.scenario.as_deref(),
             score_from: args.score_from,
@@ -282,12 +282,20 @@ pub fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
 }
 
 /// `pendtilt estimate` on a 3-D log ([`super::estimate::estimate`]).
-pub fn estimate(args: &Args, log: &InputLog) -> anyhow::Result<super::estimate::Outcome> {
-    let opts = Options3d::of_estimate(args, log);
+pub fn estimate(
+    args: &Args,
+    source: LogSource,
+    name: &str,
+) -> anyhow::Result<super::estimate::Outcome> {
+    let path = match &source {
+        LogSource::File(p) => p.clone(),
+        LogSource::Stream { .. } => args.log.clone(),
+    };
+    let opts = Options3d::of_estimate(args, &path, name);
     output::check_distinct(&opts.inputs(), &[NamedPath::new("-o", &args.output)])?;
     let setup = setup(&opts)?;
     let out = OutputFile::create("-o", &args.output)?;
-    let result = estimate_into(args, &opts, &setup, &out)
+    let result = estimate_into(args, &opts, &setup, source, &out)
         .with_context(|| output::not_written(&args.output))?;
     out.commit()?;
     Ok(super::estimate::Outcome {
@@ -415,6 +423,7 @@ fn estimate_into(
     args: &Args,
     opts: &Options3d,
     setup: &Setup,
+    source: LogSource,
     out: &OutputFile,
 ) -> anyhow::Result<Pass> {
     let mut sink = FileSink {
@@ -428,7 +437,18 @@ fn estimate_into(
             opts.quiet,
         ),
     };
-    let result = pass(opts, setup, args.quaternion, &mut sink);
+    let q = args.quaternion;
+    let result = match source {
+        LogSource::File(_) => pass(opts, setup, q, &mut sink),
+        // A pipe is read as it comes (the header was peeked at), as a file is read.
+        LogSource::Stream { reader, .. } => {
+            let name = opts.log_name.unwrap_or(STDIN_NAME);
+            let renames = opts.columns.map.spatial();
+            Log3dReader::new_mapped(reader, name, renames)
+                .map_err(anyhow::Error::from)
+                .and_then(|log| pass_on(log, name, opts, setup, q, &mut sink, Feed::File))
+        }
+    };
     sink.bar.finish_and_clear();
     let result = result?;
     if let Some(mut w) = sink.writer.take() {

@@ -1,11 +1,11 @@
 //! A log named on the command line: a file, `-` for standard input, or a pipe
 //! (`<(zcat log.csv.gz)`, `/dev/stdin`, a FIFO).
 //!
-//! A batch command reads its log more than once: `estimate` peeks at the header to tell a
-//! planar log from a 3-D one, `filter` checks the whole file before it filters. A pipe can
-//! be read only once, so standard input and pipes are first copied to a temporary file
-//! (removed when the [`InputLog`] is dropped); a regular file is read in place. Messages
-//! name the input as the user gave it (`<stdin>` for `-`), never the copy.
+//! `estimate` reads its log once, front to back: a pipe is read as it comes
+//! ([`LogSource`]), its header peeked at to tell a planar log from a 3-D one without losing
+//! a line. `filter` checks the whole file before it filters, so it reads it twice: a pipe
+//! is copied to a temporary file first ([`InputLog`], removed when dropped). Messages name
+//! the input as the user gave it (`<stdin>` for `-`), never a copy.
 use std::fs::File;
 use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
@@ -91,6 +91,54 @@ impl InputLog {
     /// True when this is a copy of standard input or a pipe.
     pub fn is_copy(&self) -> bool {
         self._copy.is_some()
+    }
+}
+
+/// A log to read once, front to back: a regular file by its path, or standard input or a
+/// pipe as a stream whose header was peeked at ([`peek_header`]), so that it is estimated
+/// as it arrives, in constant memory, with nothing copied.
+pub enum LogSource {
+    /// A regular file (or a path that does not exist, for the reader to report).
+    File(PathBuf),
+    /// Standard input or a pipe: its header (`None`: it ended before one) and every byte.
+    Stream {
+        /// The header's fields.
+        header: Option<Vec<String>>,
+        /// The input from its first byte.
+        reader: Peeked<Box<dyn BufRead + Send>>,
+    },
+}
+
+impl LogSource {
+    /// The log at `arg` (`-`: standard input).
+    ///
+    /// # Errors
+    /// Opening the pipe or reading up to its header failed (named as given).
+    pub fn open(arg: &Path) -> Result<(Self, String), LogError> {
+        let stdin = is_stdin(arg);
+        let name = if stdin {
+            STDIN_NAME.to_string()
+        } else {
+            arg.display().to_string()
+        };
+        let regular = !stdin && std::fs::metadata(arg).map_or(true, |m| m.is_file());
+        if regular {
+            return Ok((Self::File(arg.to_path_buf()), name));
+        }
+        let io = |e: std::io::Error| LogError {
+            file: name.clone(),
+            line: None,
+            column: None,
+            kind: Box::new(LogErrorKind::Io(e)),
+        };
+        let input: Box<dyn BufRead + Send> = if stdin {
+            Box::new(std::io::BufReader::with_capacity(1 << 16, std::io::stdin()))
+        } else {
+            let f = File::open(arg).map_err(io)?;
+            Box::new(std::io::BufReader::with_capacity(1 << 16, f))
+        };
+        let (header, reader) = peek_header(input).map_err(io)?;
+        Ok((Self::Stream { header, reader }, name))
     }
 }
 
