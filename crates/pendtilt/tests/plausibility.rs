@@ -1362,6 +1362,8 @@ fn an_absurd_truth_cell_is_not_scored_and_not_called_degrees() {
             .args([
                 "estimate",
                 log.to_str().unwrap(),
+                "--score-from",
+                "0",
                 "-o",
                 out.to_str().unwrap(),
             ])
