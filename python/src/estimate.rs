@@ -10,7 +10,6 @@
 use std::path::{Path, PathBuf};
 
 use numpy::{IntoPyArray, PyReadonlyArray1};
-use pendtilt::bank::Bank;
 use pendtilt::cli::estimate3d::{self, Feed, Options3d, Row, Sink3d};
 use pendtilt::cli::Command;
 use pendtilt::io::{Column, Log3dReader, LogReader, LogWarning, ReaderOptions};
@@ -189,30 +188,8 @@ fn run_planar<R: std::io::BufRead + Send>(
     ropts: &ReaderOptions,
 ) -> anyhow::Result<PlanarOut> {
     let opts = &args.bank;
-    notes.push(format!("{}: {}", log.file(), log.columns()));
-    let mut bank = Bank::new(
-        &pendtilt::cli::options::rig_bank_settings(rig),
-        pipeline::inputs_of(&log),
-        opts.only.as_deref(),
-    )
-    .map_err(anyhow::Error::msg)?;
-    for (name, reader) in bank.pulled_in() {
-        notes.push(format!(
-            "note: {reader} reads {name}: {name} runs too (its column is written)"
-        ));
-    }
-    for s in bank.skipped() {
-        notes.push(format!(
-            "skipped {}: the log has no {}",
-            s.name,
-            s.lacking.join(", ")
-        ));
-    }
-    anyhow::ensure!(
-        !bank.names().is_empty(),
-        "{}: no estimator can run on this log's columns",
-        log.file()
-    );
+    let mut bank =
+        pendtilt::cli::options::bank_for(rig, &log, opts.only.as_deref(), |n| notes.push(n))?;
     let names: Vec<&'static str> = bank.names().to_vec();
     let width = names.len();
     let with_theta = log.columns().has(Column::Theta);
@@ -424,17 +401,8 @@ fn spatial<'py>(
     table: Option<(&[String], Vec<&[f64]>)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let b = &args.bank;
-    let opts = Options3d {
-        log: &args.log,
-        log_name: None,
-        params: b.params.as_deref(),
-        scenario: args.scenario.as_deref(),
-        score_from: args.score_from,
-        columns: &b.columns,
-        only: b.only.as_deref(),
-        // The setup's notices go to standard error, as the command's.
-        quiet: b.quiet,
-    };
+    // The setup's notices go to standard error, as the command's.
+    let opts = Options3d::of_estimate(args, &args.log, None);
     let (pass, mut mem, score_from) = py
         .detach(|| -> anyhow::Result<_> {
             let setup = estimate3d::setup(&opts)?;

@@ -125,12 +125,13 @@ pub struct Options3d<'a> {
 }
 
 impl<'a> Options3d<'a> {
-    /// The options of `pendtilt estimate`.
-    fn of_estimate(args: &'a Args, log: &'a Path, name: &'a str) -> Self {
+    /// The options of `pendtilt estimate`: the log read from `log`, named `name` in
+    /// messages (else by its path).
+    pub fn of_estimate(args: &'a Args, log: &'a Path, name: Option<&'a str>) -> Self {
         let b = &args.bank;
         Self {
             log,
-            log_name: Some(name),
+            log_name: name,
             params: b.params.as_deref(),
             scenario: args.scenario.as_deref(),
             score_from: args.score_from,
@@ -291,7 +292,7 @@ pub fn estimate(
         LogSource::File(p) => p.clone(),
         LogSource::Stream { .. } => args.log.clone(),
     };
-    let opts = Options3d::of_estimate(args, &path, name);
+    let opts = Options3d::of_estimate(args, &path, Some(name));
     output::check_distinct(&opts.inputs(), &[NamedPath::new("-o", &args.output)])?;
     let setup = setup(&opts)?;
     let out = OutputFile::create("-o", &args.output)?;
@@ -371,6 +372,18 @@ pub trait Sink3d {
     fn row(&mut self, r: Row) -> anyhow::Result<()>;
 }
 
+/// The estimates file's columns: each estimator, with its quaternion when asked for.
+pub fn columns(names: &[&'static str], quaternion: &[bool]) -> Vec<Column3d> {
+    names
+        .iter()
+        .zip(quaternion)
+        .map(|(n, q)| Column3d {
+            name: n.to_string(),
+            quaternion: *q,
+        })
+        .collect()
+}
+
 /// The estimates CSV (header written by [`Sink3d::start`]).
 struct FileSink<'a> {
     out: &'a OutputFile,
@@ -388,17 +401,9 @@ impl Sink3d for FileSink<'_> {
         quaternion: &[bool],
         truth: bool,
     ) -> anyhow::Result<()> {
-        let columns = names
-            .iter()
-            .zip(quaternion)
-            .map(|(n, q)| Column3d {
-                name: n.to_string(),
-                quaternion: *q,
-            })
-            .collect();
         self.writer = Some(Estimates3dWriter::new(
             self.out.writer()?,
-            columns,
+            columns(names, quaternion),
             truth,
             self.options,
         )?);

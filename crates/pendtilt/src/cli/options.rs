@@ -117,33 +117,9 @@ impl BankOptions {
     }
 
     /// The bank for `log`'s columns: reports the columns and the skipped estimators, and
-    /// errors when nothing can run.
+    /// errors when nothing can run ([`bank_for`], its notices on standard error).
     pub fn bank<R: BufRead>(&self, rig: &RigConfig, log: &LogReader<R>) -> anyhow::Result<Bank> {
-        self.notice(&format!("{}: {}", log.file(), log.columns()));
-        let bank = Bank::new(
-            &rig_bank_settings(rig),
-            pipeline::inputs_of(log),
-            self.only.as_deref(),
-        )
-        .map_err(anyhow::Error::msg)?;
-        for (name, reader) in bank.pulled_in() {
-            self.notice(&format!(
-                "note: {reader} reads {name}: {name} runs too (its column is written)"
-            ));
-        }
-        for s in bank.skipped() {
-            self.notice(&format!(
-                "skipped {}: the log has no {}",
-                s.name,
-                s.lacking.join(", ")
-            ));
-        }
-        anyhow::ensure!(
-            !bank.names().is_empty(),
-            "{}: no estimator can run on this log's columns",
-            log.file()
-        );
-        Ok(bank)
+        bank_for(rig, log, self.only.as_deref(), |n| self.notice(&n))
     }
 
     /// Prints a reader warning unless quiet.
@@ -195,4 +171,36 @@ pub fn progress(input: &std::path::Path, template: &str, quiet: bool) -> indicat
     );
     b.enable_steady_tick(std::time::Duration::from_millis(200));
     b
+}
+
+/// The bank for `log`'s columns with `rig`'s settings and `--only`: each notice (the
+/// columns found, an estimator pulled in, one skipped and why) handed to `say`; an error
+/// when nothing can run. What `estimate`, `stream` and the Python package say alike.
+pub fn bank_for<R: BufRead>(
+    rig: &RigConfig,
+    log: &LogReader<R>,
+    only: Option<&[String]>,
+    mut say: impl FnMut(String),
+) -> anyhow::Result<Bank> {
+    say(format!("{}: {}", log.file(), log.columns()));
+    let bank = Bank::new(&rig_bank_settings(rig), pipeline::inputs_of(log), only)
+        .map_err(anyhow::Error::msg)?;
+    for (name, reader) in bank.pulled_in() {
+        say(format!(
+            "note: {reader} reads {name}: {name} runs too (its column is written)"
+        ));
+    }
+    for s in bank.skipped() {
+        say(format!(
+            "skipped {}: the log has no {}",
+            s.name,
+            s.lacking.join(", ")
+        ));
+    }
+    anyhow::ensure!(
+        !bank.names().is_empty(),
+        "{}: no estimator can run on this log's columns",
+        log.file()
+    );
+    Ok(bank)
 }

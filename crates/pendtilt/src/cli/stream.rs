@@ -24,7 +24,7 @@ use std::path::{Path, PathBuf};
 use super::estimate3d::{self, Feed, Options3d, Row, Sink3d};
 use super::options::BankOptions;
 use crate::io::input::{peek_header, STDIN_NAME};
-use crate::io::{Column, Column3d, Estimates3dWriter, EstimatesWriter, LogReader, LogWarning};
+use crate::io::{Column, Estimates3dWriter, EstimatesWriter, LogReader, LogWarning};
 use crate::pipeline;
 
 /// Options of `pendtilt stream`.
@@ -148,14 +148,7 @@ impl<W: Write> Sink3d for LiveSink<W> {
         quaternion: &[bool],
         truth: bool,
     ) -> anyhow::Result<()> {
-        let columns = names
-            .iter()
-            .zip(quaternion)
-            .map(|(n, q)| Column3d {
-                name: n.to_string(),
-                quaternion: *q,
-            })
-            .collect();
+        let columns = estimate3d::columns(names, quaternion);
         if let Some(out) = self.out.take() {
             let mut w = Estimates3dWriter::new(out, columns, truth, self.options)?;
             w.flush()?;
