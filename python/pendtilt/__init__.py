@@ -437,7 +437,7 @@ def estimate(
     :meth:`Estimates.to_pandas`; default False), ``out_deg`` (estimates in degrees;
     default False), ``quaternion`` (3-D: ekf3d/ukf3d quaternions; default False),
     ``score_from`` (the errors are scored from this long after the first row [s];
-    default the 3-D scenario's, else 5). ``name`` names an in-memory table in messages (default ``<memory>``).
+    default the 3-D scenario's, else 5, or 0 for a log shorter than 10 s). ``name`` names an in-memory table in messages (default ``<memory>``).
     """
     files = _Files()
     try:

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pendtilt::cli::estimate3d::{self, Feed, Options3d, Row, Sink3d};
 use pendtilt::cli::Command;
-use pendtilt::io::{Column, Log3dReader, LogReader, LogWarning, ReaderOptions};
+use pendtilt::io::{Column, Log3dReader, LogReader, LogRecord, LogWarning, ReaderOptions};
 use pendtilt::pipeline;
 use pendtilt_core::Estimate;
 use pyo3::prelude::*;
@@ -200,15 +200,24 @@ fn run_planar<R: std::io::BufRead + Send>(
     };
     let mut estimates: Vec<Vec<f64>> = vec![Vec::new(); width];
     let mut flags: Vec<Vec<u16>> = vec![Vec::new(); width];
+    // From a file, t and theta as the pass read them (a table has them already).
+    let from_file = table.is_none();
+    let (mut t_read, mut theta_read) = (Vec::new(), Vec::new());
     let summary = {
         let warn = |w: &LogWarning| warnings.push(w.to_string());
-        let each = |_: u64, est: &[Estimate<f64>]| {
+        let each = |_: u64, rec: &LogRecord, est: &[Estimate<f64>]| {
             for ((e, v), f) in est.iter().zip(&mut estimates).zip(&mut flags) {
                 v.push(e.theta * scale);
                 f.push(e.flags.bits());
             }
+            if from_file {
+                t_read.push(rec.t);
+                if with_theta {
+                    theta_read.push(rec.theta.unwrap_or(f64::NAN));
+                }
+            }
         };
-        let score_from = args.score_from.unwrap_or(pipeline::DEFAULT_SCORE_FROM);
+        let score_from = args.score_from;
         pipeline::run_parallel(
             &mut log,
             &mut bank,
@@ -220,8 +229,7 @@ fn run_planar<R: std::io::BufRead + Send>(
     };
     let rows = summary.rows as usize;
     // t and theta as the reader read them: with the table's columns, in SI units (and
-    // read as missing where the reader reads them so); from a file, the estimates' rows
-    // are the file's rows, read again for these two columns alone.
+    // read as missing where the reader reads them so); from a file, as the pass read them.
     let (t, theta) = match table {
         Some(cols) => {
             let col = |c: Column| -> Option<Vec<f64>> {
@@ -238,7 +246,7 @@ fn run_planar<R: std::io::BufRead + Send>(
                 if with_theta { col(Column::Theta) } else { None },
             )
         }
-        None => reread_t_theta(&args.log, ropts, rows, with_theta)?,
+        None => (t_read, with_theta.then_some(theta_read)),
     };
     let theta = theta.map(|v| v.into_iter().map(|x| x * scale).collect());
     Ok(PlanarOut {
@@ -280,27 +288,6 @@ fn si<R: std::io::BufRead>(log: &LogReader<R>, ropts: &ReaderOptions, c: Column,
     }
 }
 
-/// `t` and `theta` of the first `rows` rows of the log file, read by the log reader again
-/// (its records carry them; the pass hands on the estimates alone).
-fn reread_t_theta(
-    path: &Path,
-    ropts: &ReaderOptions,
-    rows: usize,
-    with_theta: bool,
-) -> anyhow::Result<(Vec<f64>, Option<Vec<f64>>)> {
-    let mut log = LogReader::open(path, ropts.clone())?;
-    let mut t = Vec::with_capacity(rows);
-    let mut theta = with_theta.then(|| Vec::with_capacity(rows));
-    while t.len() < rows {
-        let Some(r) = log.next_record()? else { break };
-        t.push(r.t);
-        if let Some(v) = &mut theta {
-            v.push(r.theta.unwrap_or(f64::NAN));
-        }
-    }
-    Ok((t, theta))
-}
-
 fn planar_dict(py: Python<'_>, out: PlanarOut) -> PyResult<Bound<'_, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("model", "planar")?;
@@ -328,9 +315,9 @@ fn planar_dict(py: Python<'_>, out: PlanarOut) -> PyResult<Bound<'_, PyDict>> {
         out.summary
             .errors
             .as_ref()
-            .map(|e| pipeline::error_table(e, out.summary.score_from)),
+            .map(|e| pipeline::error_table(e, &out.summary.window)),
     )?;
-    d.set_item("score_from", out.summary.score_from)?;
+    d.set_item("score_from", out.summary.window.from)?;
     d.set_item("restarts", out.summary.restarts)?;
     d.set_item("warnings", out.warnings)?;
     d.set_item("warning_count", out.warning_count)?;
@@ -426,7 +413,8 @@ fn spatial<'py>(
                 }
                 None => estimate3d::pass(&opts, &setup, args.quaternion, &mut mem)?,
             };
-            Ok((pass, mem, setup.score_from))
+            let from = pass.window.from;
+            Ok((pass, mem, from))
         })
         .map_err(py_err)?;
     let d = PyDict::new(py);

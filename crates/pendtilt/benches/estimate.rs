@@ -32,9 +32,9 @@ fn bench(c: &mut Criterion) {
                 &mut reader,
                 &mut bank,
                 Some(&mut w),
-                0.0,
+                Some(0.0),
                 |_| {},
-                |_, _| {},
+                |_, _, _| {},
             )
             .expect("run");
             assert_eq!(s.rows, 1_000_000);

@@ -28,21 +28,14 @@ fn main() -> anyhow::Result<()> {
     let width = bank.names().len();
     let mut estimates: Vec<Vec<f64>> = vec![Vec::new(); width];
     let mut flags: Vec<Vec<u16>> = vec![Vec::new(); width];
-    let each = |_: u64, est: &[pendtilt_core::Estimate<f64>]| {
+    let each = |_: u64, _: &pendtilt::io::LogRecord, est: &[pendtilt_core::Estimate<f64>]| {
         for ((e, v), f) in est.iter().zip(&mut estimates).zip(&mut flags) {
             v.push(e.theta);
             f.push(e.flags.bits());
         }
     };
     let none = None::<&mut EstimatesWriter<std::io::Sink>>;
-    let summary = pipeline::run_parallel(
-        &mut reader,
-        &mut bank,
-        none,
-        pipeline::DEFAULT_SCORE_FROM,
-        |_| {},
-        each,
-    )?;
+    let summary = pipeline::run_parallel(&mut reader, &mut bank, none, None, |_| {}, each)?;
     let elapsed = start.elapsed().as_secs_f64();
     assert_eq!(estimates[0].len() as u64, summary.rows);
     println!("{} rows, {width} estimators, {elapsed:.6} s", summary.rows);

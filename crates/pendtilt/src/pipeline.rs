@@ -68,10 +68,10 @@ pub struct PassSummary {
     /// Rows read (= rows written).
     pub rows: u64,
     /// Error statistics per estimator, in the bank's order, when the log has `theta`,
-    /// over the rows from `score_from` after the first on.
+    /// over the rows of `window`.
     pub errors: Option<Vec<(String, ErrorStats)>>,
-    /// Where scoring started: this long after the first row's time \[s\].
-    pub score_from: f64,
+    /// The rows scored ([`Window::resolve`]).
+    pub window: Window,
     /// Restarts of estimators after long sensor gaps.
     pub restarts: u64,
     /// Columns whose scale disagrees with the physics (degrees read as radians), each
@@ -82,28 +82,25 @@ pub struct PassSummary {
 mod clips;
 pub(crate) use clips::ClipFinder;
 
-/// Errors are scored from this long after the first row \[s\] when the user does not say
-/// (`--score-from`), planar and 3-D alike: the start-up is over by then. The model-based
-/// filters settle in about 2 s (the planar ekf's RMS on the 60 s scooter ride is 0.079°
-/// from 0 s, 0.035° from 2 s, 0.032° from 5 s), VQF's accelerometer low-pass takes 3 s;
-/// Mahony's slow integral still settles (1.51° from 0 s, 0.26° from 5 s, 0.18° from
-/// 10 s). See docs/estimators.md.
-pub const DEFAULT_SCORE_FROM: f64 = 5.0;
+mod window;
+pub use window::{duration, Scorer, Window, DEFAULT_SCORE_FROM, SHORT_LOG};
 
 /// Reads every row of `log`, runs `bank` on it, writes one row per input row to `out`
 /// (when given, flushing after each row if `flush_each`), hands each reader warning to
 /// `warn`, and accumulates errors against `theta` when the log has it, from `score_from`
-/// \[s\] after the first row's time on ([`DEFAULT_SCORE_FROM`]). Clips are found
+/// \[s\] after the first row's time on (None: the rule of [`Window::resolve`]). Clips are found
 /// [`LOOK_AHEAD_ROWS`] rows ahead of the estimators, or, when `flush_each` (live input:
-/// nothing is read ahead), from the row that completes their run on.
+/// nothing is read ahead), from the row that completes their run on. `each` is called
+/// after each row with the rows so far, the row as read and the estimates (not for a
+/// malformed line of a live stream).
 pub fn run<R: BufRead, W: Write>(
     log: &mut LogReader<R>,
     bank: &mut Bank,
     mut out: Option<&mut EstimatesWriter<W>>,
     flush_each: bool,
-    score_from: f64,
+    score_from: Option<f64>,
     mut warn: impl FnMut(&LogWarning),
-    mut each: impl FnMut(u64, &[Estimate<f64>]),
+    mut each: impl FnMut(u64, &LogRecord, &[Estimate<f64>]),
 ) -> Result<PassSummary, PassError> {
     let mut pass = Pass::new(bank, log, score_from);
     let look_ahead = if flush_each { 0 } else { LOOK_AHEAD_ROWS };
@@ -219,9 +216,9 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
     log: &mut LogReader<R>,
     bank: &mut Bank,
     out: Option<&mut EstimatesWriter<W>>,
-    score_from: f64,
+    score_from: Option<f64>,
     mut warn: impl FnMut(&LogWarning),
-    mut each: impl FnMut(u64, &[Estimate<f64>]),
+    mut each: impl FnMut(u64, &LogRecord, &[Estimate<f64>]),
 ) -> Result<PassSummary, PassError> {
     let mut pass = Pass::new(bank, log, score_from);
     let mut clips = ClipFinder::new(log, bank.settings(), LOOK_AHEAD_ROWS);
@@ -377,11 +374,8 @@ const MAX_RESTART_WARNINGS: u64 = 10;
 struct Pass {
     file: String,
     with_theta: bool,
-    /// Rows are scored from this long after `t0` \[s\].
-    score_from: f64,
-    /// The first finite time.
-    t0: Option<f64>,
-    stats: Vec<ErrorStats>,
+    /// Error statistics per estimator, of the rows scored.
+    scorer: Scorer<ErrorStats>,
     est: Vec<Estimate<f64>>,
     rows: u64,
     /// The first positive time steps, until the settings are checked against their median.
@@ -395,13 +389,11 @@ struct Pass {
 }
 
 impl Pass {
-    fn new<R: BufRead>(bank: &Bank, log: &LogReader<R>, score_from: f64) -> Self {
+    fn new<R: BufRead>(bank: &Bank, log: &LogReader<R>, score_from: Option<f64>) -> Self {
         Self {
-            score_from,
-            t0: None,
+            scorer: Scorer::new(score_from, bank.names().len()),
             file: log.file().to_string(),
             with_theta: log.columns().has(Column::Theta),
-            stats: vec![ErrorStats::default(); bank.names().len()],
             est: Vec::with_capacity(bank.names().len()),
             rows: 0,
             steps: Vec::with_capacity(RATE_STEPS),
@@ -467,7 +459,7 @@ impl Pass {
         bank: &mut Bank,
         out: Option<&mut EstimatesWriter<W>>,
         flush_each: bool,
-        each: &mut impl FnMut(u64, &[Estimate<f64>]),
+        each: &mut impl FnMut(u64, &LogRecord, &[Estimate<f64>]),
         warn: &mut impl FnMut(&LogWarning),
     ) -> Result<(), PassError> {
         self.check_rate(rec.t, bank, false)?;
@@ -489,14 +481,13 @@ impl Pass {
                 warn(&w);
             }
         }
-        if rec.t.is_finite() && self.t0.is_none() {
-            self.t0 = Some(rec.t);
-        }
-        let scored = self.t0.is_some_and(|t0| rec.t >= t0 + self.score_from);
-        if let (true, true, Some(th)) = (scored, self.with_theta, rec.theta) {
-            for (s, e) in self.stats.iter_mut().zip(&self.est) {
-                s.add(e.theta, th);
-            }
+        if self.with_theta {
+            let (est, theta) = (&self.est, rec.theta);
+            self.scorer.row(rec.t, |i, s| {
+                if let Some(th) = theta {
+                    s.add(est[i].theta, th);
+                }
+            });
         }
         if let Some(w) = out {
             w.write(rec.t, &self.est, rec.theta)
@@ -506,7 +497,7 @@ impl Pass {
             }
         }
         self.rows += 1;
-        each(self.rows, &self.est);
+        each(self.rows, rec, &self.est);
         Ok(())
     }
 
@@ -562,16 +553,17 @@ impl Pass {
                 ),
             });
         }
+        let (window, stats) = self.scorer.finish();
         Ok(PassSummary {
             rows: self.rows,
             restarts: self.restarts,
             unit_findings,
-            score_from: self.score_from,
+            window,
             errors: self.with_theta.then(|| {
                 bank.names()
                     .iter()
                     .map(|n| n.to_string())
-                    .zip(self.stats)
+                    .zip(stats)
                     .collect()
             }),
         })
@@ -592,12 +584,14 @@ pub enum PassError {
 }
 
 /// The error table printed by `estimate`: RMS and max error per estimator, in degrees,
-/// over the rows from `score_from` \[s\] after the first on.
-pub fn error_table(errors: &[(String, ErrorStats)], score_from: f64) -> String {
+/// over the rows of `window`.
+pub fn error_table(errors: &[(String, ErrorStats)], window: &Window) -> String {
     let n = errors.first().map_or(0, |(_, e)| e.count + e.missing);
+    let score_from = window.from;
     let mut s = format!(
-        "error against theta, t >= t0 + {score_from} s ({n} rows scored):\n\
-         estimator        RMS [deg]   max [deg]   samples  missing\n"
+        "error against theta, {}:\n\
+         estimator        RMS [deg]   max [deg]   samples  missing\n",
+        window.heading(n)
     );
     for (name, e) in errors {
         s.push_str(&format!(
@@ -664,9 +658,9 @@ mod tests {
                 &mut r,
                 &mut bank,
                 Some(&mut w),
-                1.0,
+                Some(1.0),
                 |_| {},
-                |n, _| seen = n,
+                |n, _, _| seen = n,
             )
         } else {
             run(
@@ -674,9 +668,9 @@ mod tests {
                 &mut bank,
                 Some(&mut w),
                 false,
-                1.0,
+                Some(1.0),
                 |_| {},
-                |n, _| seen = n,
+                |n, _, _| seen = n,
             )
         };
         let (err, rms) = match res {
@@ -718,7 +712,7 @@ mod tests {
             let (ax, ay) = (9.8 * read.sin(), 9.8 * read.cos());
             text.push_str(&format!("{t},{ax},{ay},{th}\n"));
         }
-        let score = |from: f64| {
+        let score = |from: Option<f64>| {
             let mut r = LogReader::new(text.as_bytes(), "m.csv", ReaderOptions::default()).unwrap();
             let s = BankSettings::from_params(PendulumParams::default());
             let only = vec!["accel".to_string()];
@@ -730,21 +724,32 @@ mod tests {
                 false,
                 from,
                 |_| {},
-                |_, _| {},
+                |_, _, _| {},
             )
             .unwrap();
             assert_eq!(p.rows, 3000);
-            assert_eq!(p.score_from, from);
-            p.errors.unwrap()[0].1
+            (p.window, p.errors.unwrap()[0].1)
         };
-        let all = score(0.0);
+        let (window, all) = score(Some(0.0));
+        assert_eq!(window.from, 0.0);
         assert_eq!(all.count, 3000);
         assert!((all.max_abs - 0.1).abs() < 1e-9, "{}", all.max_abs);
         // t >= 11 s: rows 1000..3000 (10 + 1000e-3 rounds to 11 exactly).
-        let late = score(1.0);
+        let (window, late) = score(Some(1.0));
         assert_eq!(late.count, 2000);
         assert!(late.max_abs < 1e-9 && late.rms() < 1e-9, "{late:?}");
-        let table = error_table(&[("accel".into(), late)], 1.0);
-        assert!(table.contains("t >= t0 + 1 s"), "{table}");
+        let table = error_table(&[("accel".into(), late)], &window);
+        assert!(
+            table.contains("t >= t0 + 1 s (2000 rows scored)"),
+            "{table}"
+        );
+        // No start given: a 3 s log is scored whole, and the table says why.
+        let (window, short) = score(None);
+        assert_eq!((window.from, short.count), (0.0, 3000));
+        let table = error_table(&[("accel".into(), short)], &window);
+        assert!(
+            table.contains("the whole log, which lasts 3.0 s"),
+            "{table}"
+        );
     }
 }

@@ -46,14 +46,23 @@ fn every_log_gets_estimates_byte_for_byte_and_a_bad_one_is_skipped() {
         e.contains("bad.csv:3: column 2 (`phi`): not a number: `abc`"),
         "{e}"
     );
-    // The others, each as `estimate` writes it.
+    // The others, each as `estimate` writes it with the rig (and a 3-D log's scenario)
+    // that simulate wrote beside it.
     for (log, est) in [
         ("logs/a/ride.csv", "a/ride.est.csv"),
         ("logs/b/ride.csv", "b/ride.est.csv"),
         ("logs/b/sc3.csv", "b/sc3.est.csv"),
     ] {
         let single = d.join("single.csv");
-        let o = pendtilt(&["estimate", s(&d.join(log)), "-q", "-o", s(&single)]);
+        let own = |suffix: &str| d.join(log.replace(".csv", suffix));
+        let path = d.join(log);
+        let mut args = vec!["estimate", s(&path), "-q", "-o", s(&single)];
+        let (rig, scenario) = (own(".rig.toml"), own(".scenario.toml"));
+        args.extend(["--params", s(&rig)]);
+        if log.contains("sc3") {
+            args.extend(["--scenario", s(&scenario)]);
+        }
+        let o = pendtilt(&args);
         assert!(o.status.success(), "{}", stderr(&o));
         assert_eq!(
             std::fs::read(out.join(est)).unwrap(),
@@ -77,6 +86,8 @@ fn every_log_gets_estimates_byte_for_byte_and_a_bad_one_is_skipped() {
         .find(|r| r[0].ends_with("a/ride.csv"))
         .unwrap();
     assert_eq!((&ride[col("status")], &ride[col("rows")]), ("ok", "8000"));
+    assert!(ride[col("rig")].ends_with("a/ride.rig.toml"), "{ride:?}");
+    assert_eq!(&bad[col("rig")], "default");
     let o = pendtilt(&[
         "estimate",
         s(&d.join("logs/a/ride.csv")),

@@ -723,11 +723,17 @@ fn the_error_table_scores_from_score_from() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         String::from_utf8_lossy(&o.stdout).into_owned()
     };
+    // A 3 s log is scored whole by default (it is shorter than 10 s), and says so.
     let default = run(&[]);
     assert!(
-        default.contains("t >= t0 + 5 s (0 rows scored)")
-            && default.contains("score earlier with --score-from SECONDS"),
+        default.contains("t >= t0 + 0 s (3000 rows scored: the whole log, which lasts 3.0 s"),
         "{default}"
+    );
+    let beyond = run(&["--score-from", "5"]);
+    assert!(
+        beyond.contains("t >= t0 + 5 s (0 rows scored)")
+            && beyond.contains("score earlier with --score-from SECONDS"),
+        "{beyond}"
     );
     let table = run(&["--score-from", "1"]);
     assert!(

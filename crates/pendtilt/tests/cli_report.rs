@@ -159,3 +159,89 @@ fn a_bad_rig_file_is_an_error_naming_the_file() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("absent.csv"));
 }
+
+/// The RMS [deg] and sample count of `name` in a report.json's unfiltered view.
+fn report_rms(dir: &Path, name: &str) -> (f64, u64) {
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let m = json["views"][0]["metrics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["name"] == name)
+        .unwrap_or_else(|| panic!("no {name} in {json}"));
+    (
+        m["rms_deg"].as_f64().unwrap(),
+        m["samples"].as_u64().unwrap(),
+    )
+}
+
+#[test]
+fn report_scores_the_rows_estimate_scores() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut sc = Scenario::named("scooter").unwrap();
+    sc.duration = 12.0;
+    let log = dir.path().join("ride.csv");
+    let rows = simulate(&sc, 4).unwrap();
+    let mut csv = String::from("t,phi,gyro,ax,ay,theta\n");
+    for r in &rows {
+        csv.push_str(&format!(
+            "{},{},{},{},{},{}\n",
+            r.t, r.phi, r.gyro, r.ax, r.ay, r.theta
+        ));
+    }
+    std::fs::write(&log, csv).unwrap();
+    let report = |out: &str, extra: &[&str]| {
+        let o = bin()
+            .args(["report", log.to_str().unwrap(), "-q", "-o"])
+            .arg(dir.path().join(out))
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        dir.path().join(out)
+    };
+    // By default both leave out the first 5 s and agree on the figure.
+    let (rms, n) = report_rms(&report("default", &[]), "ekf");
+    assert_eq!(n, 7000);
+    let o = bin()
+        .args(["estimate", log.to_str().unwrap(), "--only", "ekf", "-o"])
+        .arg(dir.path().join("e.csv"))
+        .output()
+        .unwrap();
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        table.contains("t >= t0 + 5 s (7000 rows scored)"),
+        "{table}"
+    );
+    let line = table.lines().find(|l| l.starts_with("ekf ")).unwrap();
+    let est: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+    assert!((est - rms).abs() < 6e-5, "estimate {est} vs report {rms}");
+    let page = std::fs::read_to_string(dir.path().join("default/index.html")).unwrap();
+    assert!(page.contains("scored from 5 s after the first row"), "page");
+    // The start-up costs the ekf: scored from 0 it is worse, over every row.
+    let (whole, n) = report_rms(&report("whole", &["--score-from", "0"]), "ekf");
+    assert_eq!(n, 12000);
+    assert!(whole > rms, "{whole} vs {rms}");
+    // A start beyond the log is refused, naming it.
+    let o = bin()
+        .args([
+            "report",
+            log.to_str().unwrap(),
+            "-q",
+            "--score-from",
+            "30",
+            "-o",
+        ])
+        .arg(dir.path().join("none"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success()
+            && err.contains("ride.csv")
+            && err.contains("the last row is at t0 + 11.999 s"),
+        "{err}"
+    );
+    assert!(!dir.path().join("none").exists());
+}

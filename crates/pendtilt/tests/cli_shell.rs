@@ -278,3 +278,46 @@ fn a_dash_reads_standard_input_planar_and_3d() {
         "{e}"
     );
 }
+
+/// `--summary FILE` takes the summary (the error table, what was written, a fit's report)
+/// off the terminal into FILE; warnings and notes stay on standard error; FILE may not be
+/// one of the command's files.
+#[test]
+fn the_summary_goes_to_the_summary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    sh(
+        d,
+        "$P simulate --scenario scooter --duration 12 -o ride.csv --summary sim.txt",
+    );
+    let sim = std::fs::read_to_string(d.join("sim.txt")).unwrap();
+    assert!(sim.starts_with("wrote 12000 rows"), "{sim}");
+    let (out, err) = sh(d, "$P estimate ride.csv -o est.csv --summary est.txt");
+    assert!(out.is_empty(), "stdout: {out}");
+    assert!(err.contains("note: no --params"), "notes stay: {err}");
+    assert!(!err.contains("RMS") && !err.contains("rows ->"), "{err}");
+    let table = std::fs::read_to_string(d.join("est.txt")).unwrap();
+    assert!(table.starts_with("12000 rows -> est.csv"), "{table}");
+    assert!(table.contains("t >= t0 + 5 s (7000 rows scored)") && table.contains("RMS [deg]"));
+    // With -o - the data alone on standard output, the report in the file.
+    let (toml, err) = sh(d, "$P fit ride.csv -o - --summary fit.txt");
+    toml_parses(&toml);
+    assert!(!err.contains("natural frequency"), "{err}");
+    let fit = std::fs::read_to_string(d.join("fit.txt")).unwrap();
+    assert!(fit.contains("natural frequency"), "{fit}");
+    // Never onto an input (nor a link to it), nor onto standard output.
+    let before = std::fs::read(d.join("ride.csv")).unwrap();
+    std::os::unix::fs::symlink(d.join("ride.csv"), d.join("link.csv")).unwrap();
+    for target in ["ride.csv", "link.csv", "-"] {
+        let o = bin()
+            .current_dir(d)
+            .args(["estimate", "ride.csv", "-o", "e2.csv", "--summary", target])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{target}: {err}");
+        assert!(err.contains("--summary"), "{err}");
+        assert!(!d.join("e2.csv").exists());
+    }
+    assert_eq!(std::fs::read(d.join("ride.csv")).unwrap(), before);
+}

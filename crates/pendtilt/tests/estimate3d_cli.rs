@@ -552,8 +552,8 @@ fn a_speed_in_km_per_h_is_named_by_the_slip_it_causes() {
     assert!(!warned(&log));
 }
 
-/// A log with the truth but shorter than the scoring start says why nothing was scored
-/// and how to score it; with `--score-from 0` it is scored (a level, still body: exact).
+/// A log with the truth shorter than 10 s is scored whole by default; one shorter than
+/// the start given says why nothing was scored and how to score it; with `--score-from 0` it is scored (a level, still body: exact).
 #[test]
 fn a_log_shorter_than_the_scoring_start_says_how_to_score_it() {
     let dir = tempfile::tempdir().unwrap();
@@ -564,6 +564,16 @@ fn a_log_shorter_than_the_scoring_start_says_how_to_score_it() {
     let log = write(dir.path(), "short.csv", &text);
     let out = dir.path().join("est.csv");
     let table = ok(&["estimate", s(&log), "--only", "pendulum3d", "-o", s(&out)]);
+    assert!(
+        table.contains("(500 rows scored: the whole log, which lasts 0.5 s"),
+        "a log shorter than 10 s is scored whole by default: {table}"
+    );
+    let given = ["--score-from", "1"];
+    let table = ok(&[
+        &["estimate", s(&log), "--only", "pendulum3d", "-o", s(&out)],
+        &given[..],
+    ]
+    .concat());
     assert!(
         table.contains("(0 rows scored)") && table.contains("--score-from SECONDS"),
         "{table}"

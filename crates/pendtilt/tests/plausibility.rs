@@ -68,9 +68,9 @@ fn run_with(log: &str, rig: &RigConfig, options: ReaderOptions) -> Run {
         &mut bank,
         None::<&mut EstimatesWriter<Vec<u8>>>,
         false,
-        0.0,
+        Some(0.0),
         |w| warnings.push(w.clone()),
-        |_, e| est.push(e.to_vec()),
+        |_, _, e| est.push(e.to_vec()),
     );
     let t: Vec<f64> = log
         .lines()

@@ -258,10 +258,10 @@ fn bad_input_names_the_file_and_place_and_writes_nothing() {
     let e = stderr(&pendtilt(&[
         "report",
         s(&planar),
-        "--score-from",
-        "1",
+        "--scenario",
+        s(&planar),
         "-o",
         s(&out),
     ]));
-    assert!(e.contains("--score-from: for 3-D logs only"), "{e}");
+    assert!(e.contains("--scenario: for 3-D logs only"), "{e}");
 }

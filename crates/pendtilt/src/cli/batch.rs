@@ -7,6 +7,10 @@
 //! list every log: its rows, warnings, error (if it failed) and, where it has the truth,
 //! each estimator's RMS error. The exit status is 1 when any log failed.
 //!
+//! Without `--params` each log is estimated with its own rig: the `NAME.rig.toml` beside
+//! `NAME.csv` (as `simulate` writes it, and for a 3-D log its `NAME.scenario.toml` too), or
+//! the MODEL.md rig when there is none; the summary names the rig of each log.
+//!
 //! Each log runs on one thread (the sequential pass, [`crate::pipeline::run`]), so the
 //! logs spread over the cores (rayon) rather than each log's reading, estimating and
 //! writing (as `estimate` does for one log).
@@ -29,11 +33,13 @@ pub struct Args {
     /// logs' common folder) and the summary tables; made when missing.
     #[arg(long, short = 'o', visible_alias = "out")]
     pub output: PathBuf,
-    /// Rig, column mapping, estimator choice and output form, as for `estimate`.
+    /// Rig, column mapping, estimator choice and output form, as for `estimate`. Without
+    /// --params, each log's own NAME.rig.toml beside it (and a 3-D log's
+    /// NAME.scenario.toml), else the default rig.
     #[command(flatten)]
     pub bank: BankOptions,
     /// Score the error against the truth from this long after each log's first row (s).
-    /// Default: 5 s, as `estimate`.
+    /// Default: as `estimate`, 5 s (the whole log when it lasts less than 10 s).
     #[arg(long, value_name = "SECONDS")]
     pub score_from: Option<f64>,
     /// Logs estimated at once. Default: one per core.
@@ -48,8 +54,24 @@ pub struct Entry {
     pub log: PathBuf,
     /// Where its estimates went.
     pub output: PathBuf,
+    /// The rig file it was estimated with (None: the MODEL.md rig).
+    pub rig: Option<PathBuf>,
     /// What `estimate` found, or why it failed.
     pub result: Result<Outcome, String>,
+}
+
+/// The rig and scenario files of `log` when `--params` is not given: `NAME.rig.toml` and,
+/// for a 3-D log, `NAME.scenario.toml` beside it, each when it exists.
+pub fn own_files(args: &Args, log: &Path) -> (Option<PathBuf>, Option<PathBuf>) {
+    if let Some(p) = &args.bank.params {
+        return (Some(p.clone()), None);
+    }
+    let beside = |suffix: &str| {
+        let stem = log.file_stem()?.to_string_lossy().into_owned();
+        Some(log.with_file_name(format!("{stem}.{suffix}.toml"))).filter(|p| p.is_file())
+    };
+    let three_d = super::estimate3d::is_3d_log(log, &args.bank.columns.map);
+    (beside("rig"), beside("scenario").filter(|_| three_d))
 }
 
 /// Runs `pendtilt batch`.
@@ -78,14 +100,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .filter_map(|e| e.result.as_ref().ok())
             .map(|o| o.rows)
             .sum();
-        eprintln!(
+        super::summary::eprint(&format!(
             "{} logs, {rows} rows -> {} ({} failed); summary: {}, {}",
             entries.len(),
             args.output.display(),
             failed.len(),
             summary_csv.display(),
             summary_md.display()
-        );
+        ));
     }
     for e in &failed {
         if let Err(msg) = &e.result {
@@ -184,11 +206,14 @@ pub fn run_all(
         logs.par_iter()
             .map(|log| {
                 let output = output_of(log, &common, &args.output);
-                let result = one(args, log, &output).map_err(|e| format!("{e:#}"));
+                let (rig, scenario) = own_files(args, log);
+                let result =
+                    one(args, log, &output, rig.clone(), scenario).map_err(|e| format!("{e:#}"));
                 done();
                 Entry {
                     log: log.clone(),
                     output,
+                    rig,
                     result,
                 }
             })
@@ -197,20 +222,28 @@ pub fn run_all(
     Ok(entries)
 }
 
-/// One log through `estimate`, quietly (its warnings are counted in the summary).
-fn one(args: &Args, log: &Path, output: &Path) -> anyhow::Result<Outcome> {
+/// One log through `estimate` with `rig` and `scenario`, quietly (its warnings are counted
+/// in the summary).
+fn one(
+    args: &Args,
+    log: &Path,
+    output: &Path,
+    rig: Option<PathBuf>,
+    scenario: Option<PathBuf>,
+) -> anyhow::Result<Outcome> {
     if let Some(dir) = output.parent() {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot make the folder {}", dir.display()))?;
     }
     let mut bank = args.bank.clone();
     bank.quiet = true;
+    bank.params = rig;
     let a = estimate::Args {
         log: log.to_path_buf(),
         output: output.to_path_buf(),
         bank,
         quaternion: false,
-        scenario: None,
+        scenario,
         score_from: args.score_from,
     };
     estimate::estimate_with(&a, false)
@@ -239,6 +272,7 @@ pub fn write_summary(entries: &[Entry], csv_path: &Path, md_path: &Path) -> anyh
     let mut header = vec![
         "log".to_string(),
         "estimates".into(),
+        "rig".into(),
         "status".into(),
         "rows".into(),
         "warnings".into(),
@@ -246,17 +280,21 @@ pub fn write_summary(entries: &[Entry], csv_path: &Path, md_path: &Path) -> anyh
     ];
     header.extend(names.iter().map(|n| format!("{n}_rms_deg")));
     csv.write_record(&header)?;
-    let mut md = String::from("| log | status | rows | warnings |");
+    let mut md = String::from("| log | rig | status | rows | warnings |");
     for n in &names {
         md.push_str(&format!(" {n} RMS [deg] |"));
     }
-    md.push_str("\n|---|---|---:|---:|");
+    md.push_str("\n|---|---|---|---:|---:|");
     md.push_str(&"---:|".repeat(names.len()));
     md.push('\n');
     let mut failures = String::new();
     for e in entries {
         let log = e.log.display().to_string();
         let out = e.output.display().to_string();
+        let rig = e
+            .rig
+            .as_ref()
+            .map_or("default".into(), |r| r.display().to_string());
         match &e.result {
             Ok(o) => {
                 let cells: Vec<String> = names
@@ -266,6 +304,7 @@ pub fn write_summary(entries: &[Entry], csv_path: &Path, md_path: &Path) -> anyh
                 let mut row = vec![
                     log.clone(),
                     out,
+                    rig.clone(),
                     "ok".into(),
                     o.rows.to_string(),
                     o.warnings.to_string(),
@@ -273,7 +312,10 @@ pub fn write_summary(entries: &[Entry], csv_path: &Path, md_path: &Path) -> anyh
                 ];
                 row.extend(cells);
                 csv.write_record(&row)?;
-                md.push_str(&format!("| {log} | ok | {} | {} |", o.rows, o.warnings));
+                md.push_str(&format!(
+                    "| {log} | {rig} | ok | {} | {} |",
+                    o.rows, o.warnings
+                ));
                 for n in &names {
                     let cell = rms(o, n).map_or("".into(), |x| format!("{x:.4}"));
                     md.push_str(&format!(" {cell} |"));
@@ -283,6 +325,7 @@ pub fn write_summary(entries: &[Entry], csv_path: &Path, md_path: &Path) -> anyh
                 let mut row = vec![
                     log.clone(),
                     String::new(),
+                    rig.clone(),
                     "failed".into(),
                     String::new(),
                     String::new(),
@@ -290,7 +333,7 @@ pub fn write_summary(entries: &[Entry], csv_path: &Path, md_path: &Path) -> anyh
                 ];
                 row.extend(names.iter().map(|_| String::new()));
                 csv.write_record(&row)?;
-                md.push_str(&format!("| {log} | failed | | |"));
+                md.push_str(&format!("| {log} | {rig} | failed | | |"));
                 md.push_str(&" |".repeat(names.len()));
                 failures.push_str(&format!("- `{log}`: {}\n", msg.replace('\n', " ")));
             }

@@ -35,7 +35,7 @@ pub struct Args {
     pub scenario: Option<PathBuf>,
     /// Score the error against the truth from this long after the first row (s), so the
     /// estimators' start-up is left out of the table. Default: the --scenario file's
-    /// score_from (3-D), else 5 s.
+    /// score_from (3-D), else 5 s (the whole log when it lasts less than 10 s).
     #[arg(long, value_name = "SECONDS")]
     pub score_from: Option<f64>,
 }
@@ -75,17 +75,17 @@ pub struct Outcome {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let outcome = estimate(&args)?;
     if !args.bank.quiet {
-        eprintln!(
+        super::summary::eprint(&format!(
             "{} rows -> {} ({} estimators)",
             outcome.rows,
             args.output.display(),
             outcome.estimators.len()
-        );
+        ));
         for n in &outcome.notes {
             eprintln!("{n}");
         }
         if let Some(table) = &outcome.table {
-            super::options::summary(crate::io::output::is_stdout(&args.output), table);
+            super::summary::print(crate::io::output::is_stdout(&args.output), table);
         }
     }
     Ok(())
@@ -157,7 +157,7 @@ pub fn estimate_with(args: &Args, parallel: bool) -> anyhow::Result<Outcome> {
             .then(|| log.to_string())
             .into_iter()
             .collect(),
-        table: (summary.errors.as_ref()).map(|e| pipeline::error_table(e, summary.score_from)),
+        table: (summary.errors.as_ref()).map(|e| pipeline::error_table(e, &summary.window)),
         scores: (summary.errors.iter().flatten())
             .map(|(name, e)| Score {
                 name: name.clone(),
@@ -194,14 +194,14 @@ fn estimate_into<R: std::io::BufRead + Send>(
         "estimating {spinner} {human_pos} rows, {elapsed}",
         opts.quiet,
     );
-    let each = |rows: u64, _: &[pendtilt_core::Estimate<f64>]| {
+    let each = |rows: u64, _: &crate::io::LogRecord, _: &[pendtilt_core::Estimate<f64>]| {
         // Every 64k rows: a counter the bar reads, not a draw per row.
         if rows % 65_536 == 0 {
             bar.set_position(rows);
         }
     };
     // run_parallel joins its writer thread before it returns: every row is in `w` here.
-    let score_from = args.score_from.unwrap_or(pipeline::DEFAULT_SCORE_FROM);
+    let score_from = args.score_from;
     let summary = if parallel {
         pipeline::run_parallel(&mut log, &mut bank, Some(&mut w), score_from, warn, each)
     } else {

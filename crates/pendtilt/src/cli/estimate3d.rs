@@ -6,8 +6,8 @@
 //! rig of the `--scenario` file, else MODEL.md 7.6's. The sensors' noise figures come from
 //! the `--scenario` file (the one `simulate` writes beside the log) when given. With
 //! truth in the log, the inclination error (MODEL.md 7.9) of every estimator is printed,
-//! over t >= t0 + `--score-from` (default: the scenario's `score_from`, else
-//! [`DEFAULT_SCORE_FROM`]).
+//! over t >= t0 + `--score-from` (default: the scenario's `score_from`, else the rule of
+//! [`crate::pipeline::Window::resolve`]: 5 s, or the whole of a log shorter than 10 s).
 //!
 //! Row handling: one output row per data row. A missing cell or a time that does not
 //! increase reaches the estimators as NaN, which they flag and hold on; an encoder angle
@@ -52,8 +52,6 @@ use crate::io::plausibility::{
 use crate::io::{Column3d, Estimates3dWriter, Log3dReader, Log3dRecord};
 use crate::sim3d::Scenario3d;
 use crate::units::Pair;
-
-pub use crate::pipeline::DEFAULT_SCORE_FROM;
 
 /// Rows read before the first estimate, for the time-unit check.
 const HEAD_ROWS: usize = 64;
@@ -165,8 +163,9 @@ impl<'a> Options3d<'a> {
 pub struct Setup {
     /// The estimators' settings.
     pub settings: Settings3d,
-    /// Scoring starts this long after the first row \[s\].
-    pub score_from: f64,
+    /// Scoring starts this long after the first row \[s\], as `--score-from` or the
+    /// scenario file says; None: the rule of [`crate::pipeline::Window::resolve`].
+    pub score_from: Option<f64>,
     /// Seconds per unit of `t`.
     time_scale: f64,
     /// `t`'s unit, when given (checked as the physics would find it).
@@ -267,10 +266,7 @@ pub fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
     if scenario.is_none() {
         opts.notice("note: no --scenario: ekf3d and ukf3d use their default sensor noise figures");
     }
-    let score_from = opts
-        .score_from
-        .or(scenario.as_ref().map(|s| s.score_from))
-        .unwrap_or(DEFAULT_SCORE_FROM);
+    let score_from = opts.score_from.or(scenario.as_ref().map(|s| s.score_from));
     Ok(Setup {
         settings,
         score_from,
@@ -308,7 +304,7 @@ pub fn estimate(
             .iter()
             .map(|w| format!("warning: {w}"))
             .collect(),
-        table: result.truth.then(|| score_table(&result, setup.score_from)),
+        table: result.truth.then(|| score_table(&result)),
         scores: if result.truth {
             (result.names.iter().zip(&result.scores))
                 .map(|(n, s)| super::estimate::Score {
@@ -334,6 +330,8 @@ pub struct Pass {
     pub truth: bool,
     /// Their inclination error over the scored rows.
     pub scores: Vec<Inclination>,
+    /// The rows scored.
+    pub window: crate::pipeline::Window,
     /// Warnings on the input (places named).
     pub warnings: Vec<String>,
 }
@@ -582,9 +580,8 @@ pub fn pass_on<R: std::io::BufRead>(
         .accel_unit
         .map_or(1.0, |u| u.metres_per_second_squared());
     let mut gate = StepGate::new();
-    let mut scores = vec![Inclination::default(); names.len()];
+    let mut scorer = crate::pipeline::Scorer::<Inclination>::new(setup.score_from, names.len());
     let mut quats = vec![None; names.len()];
-    let mut t0 = None;
     let mut rows = 0u64;
     // Rows with a speed reading, and those some estimator flagged as wheel slip.
     let (mut speed_rows, mut slip_rows) = (0u64, 0u64);
@@ -650,13 +647,10 @@ pub fn pass_on<R: std::io::BufRead>(
         for (i, q) in quats.iter_mut().enumerate() {
             *q = if quaternion { bank.quaternion(i) } else { None };
         }
-        if t.is_finite() && t0.is_none() {
-            t0 = Some(t);
-        }
-        if truth && t0.is_some_and(|t0| t >= t0 + setup.score_from) {
-            for (sc, e) in scores.iter_mut().zip(est) {
-                sc.add((e.roll, e.pitch), (roll, pitch));
-            }
+        if truth {
+            scorer.row(t, |i, sc| {
+                sc.add((est[i].roll, est[i].pitch), (roll, pitch))
+            });
         }
         sink.row(Row {
             t,
@@ -691,11 +685,13 @@ pub fn pass_on<R: std::io::BufRead>(
         }
     }
     warnings.extend(found);
+    let (window, scores) = scorer.finish();
     Ok(Pass {
         rows,
         names,
         truth,
         scores,
+        window,
         warnings,
     })
 }
@@ -1470,12 +1466,18 @@ fn sensor_names(sensors: Inputs) -> String {
 }
 
 /// The inclination error table (MODEL.md 7.9) in degrees.
-fn score_table(p: &Pass, score_from: f64) -> String {
+fn score_table(p: &Pass) -> String {
     let n = p.scores.first().map_or(0, |s| s.count() + s.missing());
+    let score_from = p.window.from;
     let mut t = format!(
-        "inclination error [deg], t >= t0 + {score_from} s ({n} rows scored):\n\
+        "inclination error [deg], {}:\n\
          {:<12} {:>10} {:>10} {:>10} {:>8}\n",
-        "estimator", "RMS", "max", "mean", "missing"
+        p.window.heading(n),
+        "estimator",
+        "RMS",
+        "max",
+        "mean",
+        "missing"
     );
     for (name, s) in p.names.iter().zip(&p.scores) {
         t.push_str(&format!(

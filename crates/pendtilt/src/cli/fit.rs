@@ -405,7 +405,7 @@ fn print_result(
     implausible: &[fit::plausibility::Implausible],
     data_on_stdout: bool,
 ) {
-    let say = |text: String| super::options::summary(data_on_stdout, &text);
+    let say = |text: String| super::summary::print(data_on_stdout, &text);
     let verdict = if implausible.is_empty() {
         format!("{:?}", report.stop)
     } else {

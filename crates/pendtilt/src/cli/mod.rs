@@ -17,6 +17,7 @@ pub mod shell;
 pub mod simulate;
 pub mod simulate3d;
 pub mod stream;
+pub mod summary;
 pub mod tune;
 
 /// The version and the commit it was built from (`build.rs`; "unknown" outside a git
@@ -35,6 +36,11 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+    /// Write the command's summary (its tables, its verdict, what it wrote) to this file
+    /// instead of the terminal; warnings, notes and errors stay on standard error. Default:
+    /// none (standard output, or standard error when `-o -` puts the data there).
+    #[arg(long, global = true, value_name = "FILE")]
+    pub summary: Option<std::path::PathBuf>,
 }
 
 /// The subcommands.
@@ -72,9 +78,34 @@ pub enum Command {
     Man(shell::ManArgs),
 }
 
-/// Runs one parsed command line.
+/// Runs one parsed command line; with `--summary FILE` the summary is held and written
+/// to FILE when the command ends, whether it succeeded or not.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
-    match cli.command {
+    let Some(path) = cli.summary else {
+        return dispatch(cli.command);
+    };
+    summary::start(&path, &other_arguments())?;
+    let result = dispatch(cli.command);
+    let written = summary::finish(&path);
+    result.and(written.map(|_| ()))
+}
+
+/// The process's arguments but `--summary` and its value.
+fn other_arguments() -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    let mut args = std::env::args_os().skip(1);
+    while let Some(a) = args.next() {
+        if a == "--summary" {
+            args.next();
+        } else if !a.to_string_lossy().starts_with("--summary=") {
+            out.push(a.into());
+        }
+    }
+    out
+}
+
+fn dispatch(command: Command) -> anyhow::Result<()> {
+    match command {
         Command::Estimate(a) => estimate::run(a),
         Command::Batch(a) => batch::run(a),
         Command::Rig(a) => rig::run(a),

@@ -140,16 +140,6 @@ pub fn rig_bank_settings(rig: &RigConfig) -> BankSettings {
     BankSettings::from_rig(rig.clone())
 }
 
-/// Prints a summary (a table, a verdict): on standard output, or on standard error when
-/// standard output carries the data (`-o -`), so that a pipe gets only the data.
-pub fn summary(data_on_stdout: bool, text: &str) {
-    if data_on_stdout {
-        eprintln!("{text}");
-    } else {
-        println!("{text}");
-    }
-}
-
 /// Logs smaller than this \[bytes\] are read in well under 2 s (10 MB is about 100,000
 /// rows, 0.15 s through `estimate`): no progress line for them.
 pub const PROGRESS_BYTES: u64 = 10_000_000;

@@ -309,12 +309,12 @@ fn accel_unit_doubt(args: &Args, gravity: f64) -> Option<String> {
     ))
 }
 
-/// What the replay found, on standard error.
+/// What the replay found, on standard error (or in the `--summary` file).
 fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, started: Instant) {
     let r = &out.report;
     let n = out.rows.len();
     let secs = rec.t[n - 1] - rec.t[0];
-    eprintln!(
+    super::summary::say_err!(
         "replayed {n} rows ({secs:.1} s at {:.1} Hz) of {} through the pendulum in {:.2} s; \
          wrote {} (rig: {})",
         (n - 1) as f64 / secs,
@@ -326,7 +326,7 @@ fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, start
             .to_string())
     );
     match r.rest {
-        Some(rest) => eprintln!(
+        Some(rest) => super::summary::say_err!(
             "initial rest: {:.2} s; gyro bias removed ({:.3}, {:.3}, {:.3}) deg/s; gravity \
              {:.4} m/s^2",
             rec.t[rest.end.min(n - 1)] - rec.t[0],
@@ -335,7 +335,7 @@ fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, start
             rest.gyro_bias[2].to_degrees(),
             r.gravity
         ),
-        None => eprintln!(
+        None => super::summary::say_err!(
             "warning: {}: no initial rest of {} s or more: the gyro's bias is not removed \
              (taken as 0) and gravity is {} m/s^2",
             args.input.display(),
@@ -344,7 +344,7 @@ fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, start
         ),
     }
     if r.filled.iter().any(|&k| k > 0) {
-        eprintln!(
+        super::summary::say_err!(
             "warning: {}: {} gyro and {} accelerometer values missing, interpolated across \
              to drive the pendulum (written empty, as recorded)",
             args.input.display(),
@@ -352,7 +352,7 @@ fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, start
             r.filled[1]
         );
     }
-    eprintln!(
+    super::summary::say_err!(
         "largest swing: outer {:.1} deg, inner {:.1} deg{}",
         r.largest_swing[0].to_degrees(),
         r.largest_swing[1].to_degrees(),
@@ -366,7 +366,7 @@ fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, start
         }
     );
     if r.substep_change > SUBSTEP_TOLERANCE {
-        eprintln!(
+        super::summary::say_err!(
             "warning: the pendulum moved by up to {:.2e} rad when the substeps were doubled \
              (more than {SUBSTEP_TOLERANCE:e}): give --substeps {}",
             r.substep_change,
@@ -374,7 +374,7 @@ fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, start
         );
     }
     if let (Some(v), Some(name)) = (r.vibration, &args.vibration) {
-        eprintln!(
+        super::summary::say_err!(
             "vibration of {name} added (RMS {:.2}, {:.2}, {:.2} m/s^2 with the tone at {:.1} Hz, \
              read as {:.1} Hz); the pendulum integrated at {} steps a sample; accelerometer \
              clipped at {:.1} m/s^2 on {} of {n} rows",
@@ -389,6 +389,8 @@ fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, start
         );
     }
     if rec.truth.is_none() {
-        eprintln!("the recording has no truth: the log has no roll and pitch columns");
+        super::summary::say_err!(
+            "the recording has no truth: the log has no roll and pitch columns"
+        );
     }
 }

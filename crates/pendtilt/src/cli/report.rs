@@ -14,8 +14,9 @@ use crate::experiment::Ride;
 use crate::io::output::{self, NamedPath, OutputDir};
 use crate::io::plateau::LOOK_AHEAD_ROWS;
 use crate::io::{Column, LogReader, ReaderOptions};
-use crate::pipeline::{self, ClipFinder};
+use crate::pipeline::{self, duration, ClipFinder, Window, DEFAULT_SCORE_FROM, SHORT_LOG};
 use crate::report::markdown::{claims_markdown, metrics_markdown};
+use crate::report::metrics::MetricsConfig;
 
 use super::options::rig_bank_settings;
 use super::reproduce::Bars;
@@ -48,8 +49,9 @@ pub struct Args {
     /// none (the filters' default noise figures).
     #[arg(long, value_name = "FILE")]
     pub scenario: Option<PathBuf>,
-    /// 3-D logs: score the inclination error from this long after the first row (s).
-    /// Default: the --scenario file's score_from, else 5 s.
+    /// Score the error against the truth from this long after the first row (s); the
+    /// figures still show the whole log. Default: the --scenario file's score_from (3-D),
+    /// else 5 s, as `estimate` (the whole log when it lasts less than 10 s).
     #[arg(long, value_name = "SECONDS")]
     pub score_from: Option<f64>,
 }
@@ -143,13 +145,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if super::estimate3d::is_3d_log(&args.log, &args.columns.map) {
         return super::report3d::run(args);
     }
-    super::estimate3d::refuse_3d_options(
-        &[
-            ("--scenario", args.scenario.is_some()),
-            ("--score-from", args.score_from.is_some()),
-        ],
-        &args.log,
-    )?;
+    super::estimate3d::refuse_3d_options(&[("--scenario", args.scenario.is_some())], &args.log)?;
     let bars = Bars::new(args.quiet);
     let out = OutputDir::create("-o", &args.output)?;
     let result = report(&args, out.staging(), &bars);
@@ -161,7 +157,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         inputs.push(NamedPath::new("--params", p));
     }
     out.commit(&inputs)?;
-    println!("wrote {}", html.display());
+    super::summary::say!("wrote {}", html.display());
     Ok(())
 }
 
@@ -197,8 +193,14 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
             .unwrap_or_else(|| ride.label.clone())
     });
     let label = ride.label.clone();
-    let (mut report, _) = standard_report(&title, ride.t, ride.theta, series)
+    let window = score_window(&ride.t, args.score_from, &label)?;
+    let (report, _) = standard_report(&title, ride.t, ride.theta, series)
         .with_context(|| format!("{label}: cannot build the report"))?;
+    let config = MetricsConfig {
+        score_from_s: window.from,
+        ..MetricsConfig::default()
+    };
+    let mut report = report.config(config).intro(&window_paragraph(&window));
     if let Some(text) = warnings_paragraph(&warnings, total) {
         report = report.intro(&text);
     }
@@ -217,16 +219,48 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
         .with_context(|| format!("cannot write the report into {}", args.output.display()))?;
     bars.finish();
     for v in &out.data.views {
-        println!("Metrics ({}):\n{}", v.view, metrics_markdown(&v.metrics));
+        super::summary::say!("Metrics ({}):\n{}", v.view, metrics_markdown(&v.metrics));
     }
     if !out.data.claims.is_empty() {
-        println!(
+        super::summary::say!(
             "Claims ({}):\n{}",
             out.data.claims_view,
             claims_markdown(&out.data.claims)
         );
     }
     Ok(out.html)
+}
+
+/// The rows the report scores ([`Window::resolve`], as `estimate`), or why none.
+fn score_window(t: &[f64], requested: Option<f64>, file: &str) -> anyhow::Result<Window> {
+    let (first, last) = (t.first().unwrap_or(&0.0), t.last().unwrap_or(&0.0));
+    let span = last - first;
+    let window = Window::resolve(requested, duration(*first, *last, t.len() as u64));
+    anyhow::ensure!(
+        window.from.is_finite() && window.from < span,
+        "{file}: --score-from {} s leaves no row to score: the last row is at t0 + {span:.3} s",
+        window.from
+    );
+    Ok(window)
+}
+
+/// What the page says of the rows it scores.
+fn window_paragraph(window: &Window) -> String {
+    let why = match window.short_log {
+        Some(span) => format!(
+            "the whole log: it lasts {span:.1} s, under the {SHORT_LOG} s from which the first \
+             {DEFAULT_SCORE_FROM} s are left out"
+        ),
+        None if window.from == 0.0 => "the whole log, as asked".to_string(),
+        None => "the estimators' start-up is left out, as pendtilt estimate leaves it; \
+                 --score-from SECONDS sets the start, 0 for the whole log"
+            .to_string(),
+    };
+    format!(
+        "Errors, lags and the claims are scored from {} s after the first row on ({why}); the \
+         figures show the whole log, and overshoot and settling time are measured on it.",
+        window.from
+    )
 }
 
 /// What the page says of the log's warnings (a clip found, an impossible reading, a gap):

@@ -90,7 +90,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         report(&args, &opts, out.staging()).with_context(|| output::not_written(&args.output))?;
     let html = out.final_path(&html);
     out.commit(&opts.inputs())?;
-    println!("wrote {}", html.display());
+    super::summary::say!("wrote {}", html.display());
     Ok(())
 }
 
@@ -119,27 +119,29 @@ fn report(args: &Args, opts: &Options3d, dir: &Path) -> anyhow::Result<PathBuf> 
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| file.clone())
     });
-    let mut report = SpatialReport::new(&title, mem.t, mem.truth.0, mem.truth.1, setup.score_from)
-        .with_context(|| format!("{file}: cannot build the report"))?
-        .intro(&format!(
-            "The 3-D log {file} through every 3-D estimator, as `pendtilt estimate` runs \
+    let mut report =
+        SpatialReport::new(&title, mem.t, mem.truth.0, mem.truth.1, result.window.from)
+            .with_context(|| format!("{file}: cannot build the report"))?
+            .intro(&format!(
+                "The 3-D log {file} through every 3-D estimator, as `pendtilt estimate` runs \
              them{}.",
-            match (opts.params, opts.scenario) {
-                (Some(p), Some(s)) => format!(
-                    " with the rig {} and the sensor figures of {}",
-                    p.display(),
-                    s.display()
-                ),
-                (Some(p), None) => format!(
-                    " with the rig {} and the filters' default sensor figures",
-                    p.display()
-                ),
-                (None, Some(s)) => format!(" with the rig and sensor figures of {}", s.display()),
-                (None, None) => " with MODEL.md 7.6's rig and the filters' default sensor \
+                match (opts.params, opts.scenario) {
+                    (Some(p), Some(s)) => format!(
+                        " with the rig {} and the sensor figures of {}",
+                        p.display(),
+                        s.display()
+                    ),
+                    (Some(p), None) => format!(
+                        " with the rig {} and the filters' default sensor figures",
+                        p.display()
+                    ),
+                    (None, Some(s)) =>
+                        format!(" with the rig and sensor figures of {}", s.display()),
+                    (None, None) => " with MODEL.md 7.6's rig and the filters' default sensor \
                                  figures"
-                    .to_string(),
-            }
-        ));
+                        .to_string(),
+                }
+            ));
     let said: Vec<String> = result.warnings.iter().map(|w| w.to_string()).collect();
     if let Some(text) = super::report::warnings_paragraph(&said, said.len()) {
         report = report.intro(&text);
@@ -167,6 +169,6 @@ fn report(args: &Args, opts: &Options3d, dir: &Path) -> anyhow::Result<PathBuf> 
         out.data.score_from_s,
         out.data.scored,
     );
-    println!("{}:\n{}", table.heading, text_table_markdown(&table));
+    super::summary::say!("{}:\n{}", table.heading, text_table_markdown(&table));
     Ok(out.html)
 }

@@ -147,11 +147,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         out.final_path(&outcome.json),
     );
     out.commit(&[])?;
-    println!("Claims ({} metrics):", outcome.claims_view);
+    super::summary::say!("Claims ({} metrics):", outcome.claims_view);
     print!("{}", claims_text(&outcome.claims));
-    println!();
+    super::summary::print(false, "");
     let t = &outcome.timings;
-    println!(
+    super::summary::say!(
         "simulate {:.1} s, fit {:.1} s, estimate {:.1} s, report {:.1} s; total {:.1} s",
         t.simulate.as_secs_f64(),
         t.fit.as_secs_f64(),
@@ -159,8 +159,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         t.report.as_secs_f64(),
         started.elapsed().as_secs_f64()
     );
-    println!("wrote {}", index.display());
-    println!("      {}", markdown.display());
-    println!("      {}", json.display());
+    super::summary::say!("wrote {}", index.display());
+    super::summary::say!("      {}", markdown.display());
+    super::summary::say!("      {}", json.display());
     Ok(())
 }

@@ -536,7 +536,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         },
     )?;
     if !args.quiet {
-        eprintln!(
+        super::summary::say_err!(
             "wrote {n} rows ({} s at {} Hz, seed {seed}) to {} in {:.2} s; rig: {}; scenario: {}",
             scenario.duration,
             scenario.rate,

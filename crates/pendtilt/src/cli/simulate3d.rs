@@ -192,7 +192,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         },
     )?;
     if !args.quiet {
-        eprintln!(
+        super::summary::say_err!(
             "wrote {n} rows of {name} ({} s at {} Hz, seed {seed}) to {} in {:.2} s; rig: {}; \
              scenario: {}",
             s.duration,

@@ -83,12 +83,12 @@ pub fn run_on<R: BufRead, W: Write>(args: Args, input: R, output: W) -> anyhow::
         &mut bank,
         Some(&mut w),
         true,
-        pipeline::DEFAULT_SCORE_FROM,
+        None,
         warn,
-        |_, _| {},
+        |_, _, _| {},
     )?;
     if !opts.quiet {
-        eprintln!("{} rows streamed", summary.rows);
+        super::summary::say_err!("{} rows streamed", summary.rows);
         if log.summary().total_warnings() > 0 {
             eprintln!("{}", log.summary());
         }
@@ -126,7 +126,7 @@ fn run_3d<R: BufRead, W: Write>(args: &Args, input: R, output: W) -> anyhow::Res
         Feed::Live,
     )?;
     if !b.quiet {
-        eprintln!("{} rows streamed", pass.rows);
+        super::summary::say_err!("{} rows streamed", pass.rows);
         for w in &pass.warnings {
             eprintln!("warning: {w}");
         }

@@ -187,7 +187,7 @@ fn tuned_text(args: &Args) -> anyhow::Result<String> {
     if !args.quiet {
         let data_on_stdout = crate::io::output::is_stdout(&args.output);
         for h in &header {
-            super::options::summary(data_on_stdout, h);
+            super::summary::print(data_on_stdout, h);
         }
         for n in &t.notes {
             let kept = if n.kept_default {
@@ -195,7 +195,7 @@ fn tuned_text(args: &Args) -> anyhow::Result<String> {
             } else {
                 ""
             };
-            super::options::summary(data_on_stdout, &format!("  {} = {}{kept}", n.key, n.value));
+            super::summary::print(data_on_stdout, &format!("  {} = {}{kept}", n.key, n.value));
         }
     }
     for n in t.notes.iter().filter(|n| n.fell_back && !args.quiet) {

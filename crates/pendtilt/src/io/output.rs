@@ -140,7 +140,7 @@ pub fn absolute(path: &Path) -> PathBuf {
 
 /// Whether `a` and `b` are one file: same device and inode when both exist, else the same
 /// absolute path.
-fn same_file(a: &Path, b: &Path) -> bool {
+pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
     match (identity(a), identity(b)) {
         (Some(x), Some(y)) => x == y,
         (None, None) => absolute(a) == absolute(b),

@@ -76,6 +76,27 @@ pub struct MetricsConfig {
     pub max_lag_s: f64,
     /// Step detection and settling band.
     pub step: StepConfig,
+    /// The error statistics and the lag are computed from this long after the first
+    /// sample on \[s\] (from sample `ceil(score_from_s * rate)`); overshoot and settling
+    /// time always from the whole record, since a step response is the start. Default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub score_from_s: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+impl MetricsConfig {
+    /// The first sample scored at `rate_hz` ([`MetricsConfig::score_from_s`]).
+    pub fn first_scored(&self, rate_hz: f64) -> usize {
+        let k = (self.score_from_s * rate_hz - 1e-9).ceil();
+        if k.is_finite() && k > 0.0 {
+            k as usize
+        } else {
+            0
+        }
+    }
 }
 
 impl Default for MetricsConfig {
@@ -85,6 +106,7 @@ impl Default for MetricsConfig {
             tolerance_deg: 0.5,
             max_lag_s: 0.5,
             step: StepConfig::default(),
+            score_from_s: 0.0,
         }
     }
 }
@@ -95,7 +117,7 @@ impl Default for MetricsConfig {
 pub struct Metrics {
     /// Estimator name (column name in the estimates CSV).
     pub name: String,
-    /// Number of samples in the record.
+    /// Number of samples scored: the record's from [`MetricsConfig::score_from_s`] on.
     pub samples: usize,
     /// Number of (estimate, truth) pairs used: both finite.
     pub samples_used: usize,
@@ -515,7 +537,8 @@ pub fn settling_time_s(estimate: &[f64], step: &Step, rate_hz: f64, band: f64) -
 
 /// All the metrics of one estimator against the truth, sampled at `rate_hz`.
 ///
-/// The angles are in `cfg.input_unit`; the result is in degrees. Step metrics are filled
+/// The angles are in `cfg.input_unit`; the result is in degrees. The errors and the lag
+/// are those of the samples from [`MetricsConfig::score_from_s`] on. Step metrics are filled
 /// only when the truth is one step ([`detect_step`]); the lag only when the correlation
 /// peak lies inside the window ([`lag_by_xcorr`]); otherwise `notes` says why.
 ///
@@ -531,9 +554,11 @@ pub fn compute_metrics(
     let f = cfg.input_unit.to_deg_factor();
     let est: Vec<f64> = estimate.iter().map(|v| v * f).collect();
     let tru: Vec<f64> = truth.iter().map(|v| v * f).collect();
-    let errs = ErrorSamples::new(&est, &tru)?;
+    let from = cfg.first_scored(rate_hz).min(est.len());
+    let errs = ErrorSamples::new(&est[from..], &tru[from..])?;
     let mut notes = Vec::new();
-    let (lag_ms, lag_correlation) = match lag_by_xcorr(&est, &tru, rate_hz, cfg.max_lag_s) {
+    let lag = lag_by_xcorr(&est[from..], &tru[from..], rate_hz, cfg.max_lag_s);
+    let (lag_ms, lag_correlation) = match lag {
         Ok(l) => {
             // a weak peak (noise-dominated estimate) gives a number that means little
             if l.peak_correlation < WEAK_CORRELATION {

@@ -612,7 +612,7 @@ pub fn run(args: Args) -> Result<()> {
     let applied = applied?;
     out.commit()?;
     let delay = plan.output_delay_samples();
-    eprintln!(
+    crate::cli::summary::say_err!(
         "pendtilt filter: {} rows at {:.6} Hz; {}-tap {} low-pass at {} Hz on: {}; \
          passed through: {}; output delay {} samples ({:.3} ms){}",
         applied.rows,
