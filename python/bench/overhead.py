@@ -12,7 +12,7 @@ Times, best of --repeat runs each, on the same simulated scooter log:
             arrays (a DataFrame's): the table is handed to the reader as text.
 
     cargo build --release -p pendtilt --example estimate_in_memory
-    python bench/overhead.py [--rows 1000000] [--repeat 3] [--bin target/release/pendtilt]
+    python python/bench/overhead.py [--rows 1000000] [--repeat 3] [--bin target/release/pendtilt]
 """
 from __future__ import annotations
 

@@ -87,7 +87,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some(n) => n,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
-    let bar = bar(logs.len() as u64, args.bank.quiet);
+    let bar = super::options::bar(
+        logs.len() as u64,
+        "estimating {bar:40} {pos}/{len} logs, {elapsed}, eta {eta}",
+        args.bank.quiet,
+    );
     let entries = run_all(&args, &logs, jobs, || bar.inc(1))?;
     bar.finish_and_clear();
     let summary_csv = args.output.join("summary.csv");
@@ -346,25 +350,6 @@ pub fn write_summary(entries: &[Entry], csv_path: &Path, md_path: &Path) -> anyh
     }
     std::fs::write(md_path, md).with_context(|| format!("cannot write {}", md_path.display()))?;
     Ok(())
-}
-
-/// One bar over the logs on standard error (hidden when quiet or not a terminal).
-fn bar(total: u64, quiet: bool) -> indicatif::ProgressBar {
-    use std::io::IsTerminal;
-    if quiet || !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let b = indicatif::ProgressBar::with_draw_target(
-        Some(total),
-        indicatif::ProgressDrawTarget::stderr(),
-    );
-    b.set_style(
-        indicatif::ProgressStyle::with_template(
-            "estimating {bar:40} {pos}/{len} logs, {elapsed}, eta {eta}",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    b
 }
 
 #[cfg(test)]

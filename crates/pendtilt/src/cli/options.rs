@@ -163,6 +163,25 @@ pub fn progress(input: &std::path::Path, template: &str, quiet: bool) -> indicat
     b
 }
 
+/// A progress bar on standard error over `total` steps, drawn with `template`
+/// (indicatif's keys: `{bar:40}`, `{pos}`, `{len}`, `{eta}`...). Hidden when quiet or when
+/// standard error is not a terminal (a pipe, a file, CI).
+pub fn bar(total: u64, template: &str, quiet: bool) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if quiet || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let b = indicatif::ProgressBar::with_draw_target(
+        Some(total),
+        indicatif::ProgressDrawTarget::stderr(),
+    );
+    b.set_style(
+        indicatif::ProgressStyle::with_template(template)
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    b
+}
+
 /// The bank for `log`'s columns with `rig`'s settings and `--only`: each notice (the
 /// columns found, an estimator pulled in, one skipped and why) handed to `say`; an error
 /// when nothing can run. What `estimate`, `stream` and the Python package say alike.

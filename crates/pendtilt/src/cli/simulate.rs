@@ -5,12 +5,12 @@
 //! (`--scenario`), the scenario TOML (`--config`), the rig (`--rig`), the individual flags,
 //! `--set KEY=VALUE` assignments, and last `--no-noise`, `--ideal-sensors`, `--no-vibration`.
 
-use std::io::{BufWriter, IsTerminal};
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::ProgressBar;
 
 use super::help;
 use crate::io::output::{self as safe, NamedPath, OutputFile};
@@ -311,17 +311,11 @@ fn apply_sensors(s: &mut Scenario, o: &Settings) -> anyhow::Result<()> {
 
 /// A progress bar on standard error for `total` rows (hidden when quiet or not a terminal).
 pub(super) fn progress_bar(total: u64, quiet: bool) -> ProgressBar {
-    if quiet || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let b = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
-    b.set_style(
-        ProgressStyle::with_template(
-            "simulating {bar:40} {percent:>3}% {human_pos}/{human_len} rows, eta {eta}",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    b
+    super::options::bar(
+        total,
+        "simulating {bar:40} {percent:>3}% {human_pos}/{human_len} rows, eta {eta}",
+        quiet,
+    )
 }
 
 /// A run of no row would write a header-only log that no command reads: refused with
