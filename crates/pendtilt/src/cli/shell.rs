@@ -52,11 +52,15 @@ pub fn man(args: ManArgs) -> anyhow::Result<()> {
                 .context("writing the man page")?;
             out.flush().context("writing the man page")?;
         }
+        Some(dir) if crate::io::output::is_stdout(&dir) => anyhow::bail!(
+            "-o -: -o names a directory for every page; leave -o out for pendtilt(1) alone on \
+             standard output"
+        ),
         Some(dir) => {
             std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
             clap_mangen::generate_to(cmd, &dir)
                 .with_context(|| format!("writing the man pages into {}", dir.display()))?;
-            eprintln!("man pages written to {}", dir.display());
+            super::summary::say_err!("man pages written to {}", dir.display());
         }
     }
     Ok(())
