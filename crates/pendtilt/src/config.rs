@@ -302,6 +302,10 @@ pub struct Alg1Table {
 /// Name used in errors for configurations built in memory rather than read from a file.
 pub const IN_MEMORY: &str = "<rig parameters>";
 
+/// The tables of a 3-D rig file (MODEL.md 7.6; read by [`crate::bank3d::rig`]): named
+/// here so that a planar file holding one is told it is the wrong kind of file.
+pub const TABLES_3D: [&str; 4] = ["pendulum3d", "mounting", "ekf3d", "gyro"];
+
 /// A pendulum length or pivot offset beyond this \[m\] is doubted ([`RigConfig::doubts`]).
 pub const DOUBTFUL_LENGTH: f64 = 2.0;
 
@@ -1062,7 +1066,7 @@ impl<'a> Parser<'a> {
         if let Err(e) = Self::read_alone(name, toml::Table::new()) {
             // The only error an empty table can give: a name that is not a table's.
             // A 3-D rig's table: the file, not the key, is the mistake.
-            let hint = if crate::bank3d::rig::TABLES_3D.contains(&name) {
+            let hint = if TABLES_3D.contains(&name) {
                 format!(
                     "; [{name}] is a table of a 3-D rig file (MODEL.md 7.6), and a planar rig is \
                      read here: give a planar rig file ([pendulum], MODEL.md 5), or \

@@ -9,10 +9,11 @@ use std::sync::mpsc;
 
 use pendtilt_core::Estimate;
 
+use crate::bank::check_settings_against_rate;
 use crate::bank::{Bank, Inputs, Restart};
 use crate::io::plateau::LOOK_AHEAD_ROWS;
 use crate::io::{Column, EstimatesWriter, LogError, LogReader, LogRecord, LogWarning, WarningKind};
-use crate::units::{check_settings_against_rate, Finding};
+use crate::units::Finding;
 
 /// Which sensors a log's columns provide.
 pub fn inputs_of<R: BufRead>(log: &LogReader<R>) -> Inputs {

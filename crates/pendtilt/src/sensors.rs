@@ -1,7 +1,15 @@
 //! The sensor sets ([`Inputs`]): which of the encoders, the gyro and the accelerometer a
 //! log provides or an estimator reads, planar (`phi`, `gyro`, `ax/ay`) and 3-D (`phi_x/y`,
-//! `gyro_x/y/z`, `ax/ay/az`) alike. The ground floor: the catalogue of estimators, the
-//! banks and the reader all use it.
+//! `gyro_x/y/z`, `ax/ay/az`) alike, and the gap rule ([`RESTART_GAP`]). The ground floor:
+//! the catalogue of estimators, the banks, the reader and the unit checks all use it.
+
+/// A sensor whose readings are all missing for longer than this \[s\] restarts the
+/// estimators that read it (the banks' default `restart_gap`); the readers take a time step
+/// this long as a new time base. Shorter gaps are bridged: each estimator holds its input
+/// (or predicts) and resumes; longer ones restart it, because after them a held gyro rate
+/// has been integrated for too long (Madgwick and Mahony were left 180 and 110 deg off
+/// after a 10 s gap and never came back).
+pub const RESTART_GAP: f64 = 0.5;
 
 /// The sensors a log provides.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

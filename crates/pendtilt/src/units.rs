@@ -19,15 +19,13 @@
 //! of the readings' magnitude over the whole log (a histogram of its logarithm, no row
 //! kept) and reports one that g (or mg) explains, with the fix (`--accel-unit`).
 //!
-//! **Settings against the rate.** [`check_settings_against_rate`] refuses a cutoff at or
-//! above the log's Nyquist frequency (the digital filter cannot exist there) or a
-//! differentiator cutoff below half the natural frequency (it would remove the pendulum's
-//! own swing that Eqs 20-21 read), with the valid range.
+//! **Settings against the rate** are the bank's to check
+//! ([`crate::bank::check_settings_against_rate`], with [`MIN_DIFF_CUTOFF_TIMES_NATURAL`]).
 use pendtilt_core::estimators::equations::accel_angle;
 use pendtilt_core::filters::biquad::LowPass2;
 use pendtilt_core::Sample;
 
-use crate::bank::{BankSettings, Inputs};
+use crate::sensors::Inputs;
 
 /// 180 / pi: a column in degrees read as radians is this many times too large.
 pub const DEG: f64 = 180.0 / std::f64::consts::PI;
@@ -450,12 +448,6 @@ pub struct UnitCheck {
 }
 
 impl UnitCheck {
-    /// A check for a log with `inputs` (and a `theta` column if `with_theta`), for the
-    /// pendulum of `settings`.
-    pub fn new(settings: &BankSettings, inputs: Inputs) -> Self {
-        Self::with_natural_frequency(settings.params().natural_frequency_hz(), inputs)
-    }
-
     /// A check for a log with `inputs`, for a pendulum of natural frequency `f_n` \[Hz\]
     /// (one axis of a 3-D pendulum: each has its own).
     pub fn with_natural_frequency(f_n: f64, inputs: Inputs) -> Self {
@@ -885,55 +877,6 @@ fn finding(column: &'static str, comparison: Comparison, fit: Fit, k: f64) -> Fi
         fit,
         message,
     }
-}
-
-/// Checks the frequency settings of `settings` against a log whose median time step is
-/// `dt` \[s\]: every cutoff below the Nyquist frequency, the differentiator's at least
-/// [`MIN_DIFF_CUTOFF_TIMES_NATURAL`] f_n. The error names the setting, the log's rate and
-/// the valid range.
-pub fn check_settings_against_rate(settings: &BankSettings, dt: f64) -> Result<(), String> {
-    if !(dt > 0.0 && dt.is_finite()) {
-        return Ok(());
-    }
-    let rate = 1.0 / dt;
-    let nyquist = rate / 2.0;
-    let f_n = settings.params().natural_frequency_hz();
-    let floor = MIN_DIFF_CUTOFF_TIMES_NATURAL * f_n;
-    let diff = settings.rig.differentiator;
-    let hz = diff.cutoff_hz(&settings.params());
-    let what = match diff.cutoff {
-        pendtilt_core::filters::diff::Cutoff::Hz(_) => {
-            format!("[differentiator] cutoff_hz = {hz} Hz")
-        }
-        pendtilt_core::filters::diff::Cutoff::TimesNatural(k) => format!(
-            "[differentiator] cutoff_times_natural = {k}, a cutoff of {hz:.1} Hz \
-             (f_n = {f_n:.3} Hz),"
-        ),
-    };
-    if !(hz < nyquist && hz >= floor) {
-        let why = if hz >= nyquist {
-            format!("at or above the Nyquist frequency {nyquist} Hz of this log")
-        } else {
-            format!(
-                "below {MIN_DIFF_CUTOFF_TIMES_NATURAL} f_n: it would filter out the \
-                 pendulum's own swing at f_n = {f_n:.3} Hz that Eqs (20)-(21) read"
-            )
-        };
-        return Err(format!(
-            "{what} is {why} (median time step {dt} s, {rate} Hz); valid range: \
-             {floor:.3} Hz up to below {nyquist} Hz"
-        ));
-    }
-    if let Some(p) = settings.rig.accel.prefilter_hz {
-        if p >= nyquist {
-            return Err(format!(
-                "[accel] prefilter_hz = {p} Hz is at or above the Nyquist frequency \
-                 {nyquist} Hz of this log (median time step {dt} s, {rate} Hz); valid \
-                 range: above 0 up to below {nyquist} Hz"
-            ));
-        }
-    }
-    Ok(())
 }
 
 #[cfg(test)]

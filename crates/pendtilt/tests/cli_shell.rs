@@ -73,8 +73,16 @@ fn the_man_pages_describe_every_subcommand() {
     let estimate = std::fs::read_to_string(out.join("pendtilt-estimate.1")).unwrap();
     assert!(estimate.contains("\\-\\-params"), "{estimate}");
     // -o - is no directory: refused, none named `-` made.
-    let o = bin().current_dir(dir.path()).args(["man", "-o", "-"]).output().unwrap();
-    assert!(!o.status.success() && stderr(&o).contains("-o -"), "{}", stderr(&o));
+    let o = bin()
+        .current_dir(dir.path())
+        .args(["man", "-o", "-"])
+        .output()
+        .unwrap();
+    assert!(
+        !o.status.success() && stderr(&o).contains("-o -"),
+        "{}",
+        stderr(&o)
+    );
     assert!(!dir.path().join("-").exists());
 }
 

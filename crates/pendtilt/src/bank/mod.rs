@@ -27,4 +27,4 @@ pub use registry::{
     build_alone, BoxedEstimator, Entry, InversionSpec, KalmanSource, Kind, RSelector, REGISTRY,
 };
 pub use running::{any_flag, Bank, Restart, Skipped};
-pub use settings::{BankSettings, RESTART_GAP};
+pub use settings::{check_settings_against_rate, BankSettings, RESTART_GAP};

@@ -24,11 +24,7 @@ pub struct BankSettings {
     pub restart_gap: f64,
 }
 
-/// Default of [`BankSettings::restart_gap`] \[s\]. Shorter sensor gaps are bridged: each
-/// estimator holds its input (or predicts) and resumes; longer ones restart it, because
-/// after them a held gyro rate has been integrated for too long (Madgwick and Mahony were
-/// left 180 and 110 deg off after a 10 s gap and never came back).
-pub const RESTART_GAP: f64 = 0.5;
+pub use crate::sensors::RESTART_GAP;
 
 impl BankSettings {
     /// The rig's settings and the defaults of the rest.
@@ -56,4 +52,54 @@ impl BankSettings {
     pub fn gravity(&self) -> f64 {
         self.gravity.unwrap_or_else(|| self.rig.gravity())
     }
+}
+
+/// Checks the frequency settings of `settings` against a log whose median time step is
+/// `dt` \[s\]: every cutoff below the Nyquist frequency, the differentiator's at least
+/// [`crate::units::MIN_DIFF_CUTOFF_TIMES_NATURAL`] f_n. The error names the setting, the log's rate and
+/// the valid range.
+pub fn check_settings_against_rate(settings: &BankSettings, dt: f64) -> Result<(), String> {
+    if !(dt > 0.0 && dt.is_finite()) {
+        return Ok(());
+    }
+    let rate = 1.0 / dt;
+    let nyquist = rate / 2.0;
+    let f_n = settings.params().natural_frequency_hz();
+    let floor = crate::units::MIN_DIFF_CUTOFF_TIMES_NATURAL * f_n;
+    let diff = settings.rig.differentiator;
+    let hz = diff.cutoff_hz(&settings.params());
+    let what = match diff.cutoff {
+        pendtilt_core::filters::diff::Cutoff::Hz(_) => {
+            format!("[differentiator] cutoff_hz = {hz} Hz")
+        }
+        pendtilt_core::filters::diff::Cutoff::TimesNatural(k) => format!(
+            "[differentiator] cutoff_times_natural = {k}, a cutoff of {hz:.1} Hz \
+             (f_n = {f_n:.3} Hz),"
+        ),
+    };
+    if !(hz < nyquist && hz >= floor) {
+        let why = if hz >= nyquist {
+            format!("at or above the Nyquist frequency {nyquist} Hz of this log")
+        } else {
+            format!(
+                "below {} f_n: it would filter out the \
+                 pendulum's own swing at f_n = {f_n:.3} Hz that Eqs (20)-(21) read",
+                crate::units::MIN_DIFF_CUTOFF_TIMES_NATURAL
+            )
+        };
+        return Err(format!(
+            "{what} is {why} (median time step {dt} s, {rate} Hz); valid range: \
+             {floor:.3} Hz up to below {nyquist} Hz"
+        ));
+    }
+    if let Some(p) = settings.rig.accel.prefilter_hz {
+        if p >= nyquist {
+            return Err(format!(
+                "[accel] prefilter_hz = {p} Hz is at or above the Nyquist frequency \
+                 {nyquist} Hz of this log (median time step {dt} s, {rate} Hz); valid \
+                 range: above 0 up to below {nyquist} Hz"
+            ));
+        }
+    }
+    Ok(())
 }

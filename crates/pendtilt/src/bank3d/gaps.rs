@@ -1,5 +1,5 @@
 //! Long sensor gaps in a 3-D log: which sensor comes back after being missing for longer
-//! than the restart gap (the planar bank's rule, [`crate::bank::RESTART_GAP`]), so that the
+//! than the restart gap (the planar bank's rule, [`crate::sensors::RESTART_GAP`]), so that the
 //! bank restarts the estimators reading it instead of letting them resume from a state the
 //! gap has made stale (a gyro rate integrated for seconds).
 use pendtilt_core::spatial::SpatialSample;

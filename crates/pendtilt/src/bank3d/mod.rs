@@ -23,7 +23,6 @@ use pendtilt_core::spatial::pendulum::{Pendulum, PendulumSettings};
 use pendtilt_core::spatial::{Attitude, Mounting, SpatialSample};
 use pendtilt_core::{Estimator, Flags};
 
-use crate::bank::RESTART_GAP;
 use crate::catalogue::{self, Listing};
 use crate::peers::fusion::FusionSettings;
 use crate::peers::spatial::{
@@ -31,6 +30,7 @@ use crate::peers::spatial::{
     VQF_TAU_ACC,
 };
 use crate::sensors::Inputs;
+use crate::sensors::RESTART_GAP;
 use crate::sim3d::Sensors3d;
 use gaps::{GapWatch, Restart3d};
 
@@ -453,6 +453,17 @@ impl Bank3d {
     pub fn quaternion(&self, i: usize) -> Option<[f64; 4]> {
         self.runners[i].quaternion()
     }
+}
+
+/// The roll and pitch of one estimator (or of the truth) \[rad\], one value per row.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RollPitch {
+    /// Its name (the estimator's, a file stem and palette key).
+    pub name: String,
+    /// Roll \[rad\].
+    pub roll: Vec<f64>,
+    /// Pitch \[rad\].
+    pub pitch: Vec<f64>,
 }
 
 #[cfg(test)]

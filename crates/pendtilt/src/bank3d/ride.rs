@@ -2,9 +2,9 @@
 //! `speed` column, once more without it, and which estimators are the peers.
 use pendtilt_core::spatial::SpatialSample;
 
+use super::RollPitch;
 use super::{Bank3d, Settings3d, REGISTRY3D};
 use crate::catalogue::Family;
-use crate::report::spatial::{Ride, RollPitch};
 
 /// The estimator that uses the speed.
 pub const COMPENSATED: &str = "ekf3d";
@@ -73,20 +73,9 @@ impl WithoutSpeed {
         self.out.pitch.push(a.pitch);
     }
 
-    /// The ride of a log with `speed` and `gyro_z` per row (as many as samples given), or
-    /// `None` when the vehicle does not move ([`moves`]): nothing to compare.
-    pub fn ride(self, speed: Vec<f64>, gyro_z: Vec<f64>) -> Option<Ride> {
-        if !moves(&speed) {
-            return None;
-        }
-        Some(Ride {
-            speed,
-            gyro_z,
-            compensated: COMPENSATED.into(),
-            uncompensated: self.out,
-            how: HOW.into(),
-            peers: peers(),
-        })
+    /// The run: [`UNCOMPENSATED`]'s roll and pitch, one per sample given.
+    pub fn run(self) -> RollPitch {
+        self.out
     }
 }
 

@@ -16,8 +16,7 @@ use crate::config::{doubt_length, doubt_length_beyond, plain, LengthDoubt, DOUBT
 use crate::sim3d::scenario::check_mounting;
 use crate::sim3d::{Mounting, Pendulum3d};
 
-/// The tables of a 3-D rig file.
-pub const TABLES_3D: [&str; 4] = ["pendulum3d", "mounting", "ekf3d", "gyro"];
+pub use crate::config::TABLES_3D;
 
 /// The tables only a planar rig file has (MODEL.md 5).
 const TABLES_PLANAR: [&str; 8] = [

@@ -16,7 +16,7 @@ use crate::bank3d::ride::WithoutSpeed;
 use crate::io::output::{self, OutputDir};
 use crate::report::markdown::text_table_markdown;
 use crate::report::spatial::page::inclination_table;
-use crate::report::spatial::{RollPitch, SpatialReport};
+use crate::report::spatial::{Ride, RollPitch, SpatialReport};
 
 /// The rows of a pass, in memory, and the ride's extra run.
 struct Memory {
@@ -156,7 +156,7 @@ fn report(args: &Args, opts: &Options3d, dir: &Path) -> anyhow::Result<PathBuf> 
     for s in mem.est {
         report = report.estimate(s)?;
     }
-    if let Some(ride) = mem.without_speed.ride(mem.speed, mem.gyro_z) {
+    if let Some(ride) = Ride::of(mem.without_speed, mem.speed, mem.gyro_z) {
         if compared {
             report = report.ride(ride)?;
         }

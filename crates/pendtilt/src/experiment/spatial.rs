@@ -16,7 +16,7 @@ use crate::bank3d::ride::WithoutSpeed;
 use crate::bank3d::{Bank3d, Settings3d};
 use crate::report::claims::fmt_sig;
 use crate::report::html::TextTable;
-use crate::report::spatial::{secs, RollPitch, SpatialOutput, SpatialReport};
+use crate::report::spatial::{secs, Ride, RollPitch, SpatialOutput, SpatialReport};
 use crate::sim3d::Scenario3d;
 
 /// One 3-D scenario of `reproduce`.
@@ -139,7 +139,8 @@ pub fn ride3d_report(
     for s in &rec.samples {
         without.update(s);
     }
-    let ride = without.ride(
+    let ride = Ride::of(
+        without,
         rec.samples.iter().map(|s| s.speed).collect(),
         rec.samples.iter().map(|s| s.gyro[2]).collect(),
     );

@@ -32,7 +32,7 @@ use super::plausibility::{
     implausible_given_unit, implausible_step, AccelUnit, SensorLimits, TimeUnit,
 };
 use super::split::unquote;
-use crate::bank::Inputs;
+use crate::sensors::Inputs;
 use crate::units::{Finding, UnitCheck};
 
 /// An angle beyond this \[rad\] in a column read as radians looks like degrees (about 200
@@ -238,7 +238,7 @@ fn rounded_time(zero: u64, positive: u64, dt: f64) -> String {
 /// A time that goes back by more than this \[s\] (the bank's restart gap) and runs on from
 /// there is a new time base, an error ([`new_time_base`]); a shorter step back holds the
 /// estimators for as long, flagged, as before.
-pub const TIME_BASE_JUMP: f64 = crate::bank::RESTART_GAP;
+pub const TIME_BASE_JUMP: f64 = crate::sensors::RESTART_GAP;
 
 /// Where the time went back by more than [`TIME_BASE_JUMP`]: the line and the times
 /// before and at it.

@@ -28,16 +28,7 @@ pub mod ride;
 
 pub use ride::{Ride, RideData};
 
-/// The roll and pitch of one estimator (or of the truth) \[rad\], one value per row.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RollPitch {
-    /// Its name (the estimator's, a file stem and palette key).
-    pub name: String,
-    /// Roll \[rad\].
-    pub roll: Vec<f64>,
-    /// Pitch \[rad\].
-    pub pitch: Vec<f64>,
-}
+pub use crate::bank3d::RollPitch;
 
 /// One row of the inclination error table \[deg\].
 #[derive(Debug, Clone, PartialEq, Serialize)]

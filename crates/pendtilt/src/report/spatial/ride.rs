@@ -36,6 +36,30 @@ pub struct Ride {
     pub peers: Vec<String>,
 }
 
+impl Ride {
+    /// The ride of a log with `speed` and `gyro_z` per row, beside `without_speed`'s run
+    /// (as many rows), or `None` when the vehicle does not move
+    /// ([`crate::bank3d::ride::moves`]): nothing to compare.
+    pub fn of(
+        without_speed: crate::bank3d::ride::WithoutSpeed,
+        speed: Vec<f64>,
+        gyro_z: Vec<f64>,
+    ) -> Option<Ride> {
+        use crate::bank3d::ride::{moves, peers, COMPENSATED, HOW};
+        if !moves(&speed) {
+            return None;
+        }
+        Some(Ride {
+            speed,
+            gyro_z,
+            compensated: COMPENSATED.into(),
+            uncompensated: without_speed.run(),
+            how: HOW.into(),
+            peers: peers(),
+        })
+    }
+}
+
 /// RMS and max of one run's roll, pitch and inclination error over some rows \[deg\]
 /// (infinite when an estimate was not finite there; NaN over no row).
 #[derive(Debug, Clone, PartialEq, Serialize)]
