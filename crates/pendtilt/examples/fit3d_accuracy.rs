@@ -4,7 +4,10 @@
 //! `cargo run --release -p pendtilt --example fit3d_accuracy -- [SCENARIO] [SECONDS] [SEEDS]`
 //! (defaults scooter3d, 60, 1-3); the rigs are MODEL.md 7.6's and four others (1.2 Hz at
 //! zeta 0.15 with a 5 mm pivot offset and consumer-grade gyro noise, a ring, an asymmetric
-//! pendulum, an accelerometer away from P1).
+//! pendulum, an accelerometer away from P1). Environment: `FIT3D_NOISECORR=1` gives the fit
+//! the sensors' noise densities (as `--accel-noise`, `--gyro-noise` do); `FIT3D_RIGS=a,b`
+//! runs only those rigs; `FIT3D_CZ=X` sets the c_z sensitivity threshold; `FIT3D_NOVIB=1`,
+//! `FIT3D_IDEAL=1` and `FIT3D_NOISE=gyro,accel,enc` take the vibration or sensor errors out.
 use pendtilt::fit::cardan::{fit_cardan, Fit3dSettings, Log3dColumns, NoiseDensities, NAMES};
 use pendtilt::fit::Target;
 use pendtilt::sim3d::{Pendulum3d, Scenario3d};
@@ -33,7 +36,6 @@ fn main() {
         Some(s) => s.split(',').map(|x| x.parse().expect("seed")).collect(),
         None => vec![1, 2, 3],
     };
-    let d = 1f64.to_radians();
     let rigs: Vec<(&str, Pendulum3d, [f64; 3], f64)> = vec![
         ("default", Pendulum3d::default(), [0.0; 3], 1.0),
         (
@@ -118,12 +120,11 @@ fn main() {
                 }
                 s.sensors.gyro_noise_density *= gyro_scale;
                 s.sensors.gyro_bias_walk *= gyro_scale;
-                s.sensors.gyro_bias = s.sensors.gyro_bias.map(|b| b * gyro_scale.sqrt() + 0.0 * d);
                 let rows: Vec<_> = s.run(seed).expect("run").map(|(_, r)| r).collect();
                 let log = Log3dColumns::from_rows(&rows);
                 let noise = std::env::var("FIT3D_NOISECORR")
                     .is_ok()
-                    .then(|| NoiseDensities {
+                    .then_some(NoiseDensities {
                         accel: [s.sensors.accel_noise_density; 2],
                         gyro: [s.sensors.gyro_noise_density; 2],
                     });
