@@ -131,8 +131,10 @@ impl Args {
 /// Runs `pendtilt fit`: refuses an output that is an input, fits, and writes the rig file
 /// all at once (an earlier file stays as it was when the fit fails).
 pub fn run(args: Args) -> anyhow::Result<()> {
+    // A map onto planar columns reads one axis of a 3-D log as planar: the planar path.
     let map = &args.columns.map;
-    if super::estimate3d::is_3d_log(&args.log, map) || !map.spatial_only().is_empty() {
+    let spatial = super::estimate3d::is_3d_log(&args.log, map) && map.planar_only().is_empty();
+    if spatial || !map.spatial_only().is_empty() {
         return super::fit3d::run(&args);
     }
     super::estimate3d::refuse_3d_options(
