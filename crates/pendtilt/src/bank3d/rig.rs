@@ -10,7 +10,7 @@ use std::path::Path;
 use pendtilt_core::params::GyroSettings;
 use pendtilt_core::spatial::cardan::CardanParams;
 use pendtilt_core::spatial::ekf;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use crate::config::{doubt_length, doubt_length_beyond, plain, LengthDoubt, DOUBTFUL_SPEED_POINT};
 use crate::sim3d::scenario::check_mounting;
@@ -318,33 +318,45 @@ pub struct Rig3dConfig {
 /// the field of [`ekf::Settings`] of the same name (documented there, with its default).
 /// A travelling vehicle may want a larger `vibration_density` than the standing
 /// scooter's default: see docs/spatial.md, "The 3-D estimators (library)".
-#[derive(Debug, Clone, Copy, PartialEq, Default, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Ekf3dConfig {
     /// [`pendtilt_core::ekf::Environment::vibration_density`] \[m/s^2/sqrt(Hz)\].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub vibration_density: Option<f64>,
     /// [`ekf::Settings::angular_accel_hz`] \[Hz\].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub angular_accel_hz: Option<f64>,
     /// [`ekf::Settings::angular_accel_lead`].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub angular_accel_lead: Option<bool>,
     /// [`ekf::SpeedSettings::noise`] \[m/s\] of [`ekf::Settings::speed`].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub speed_noise: Option<f64>,
     /// [`ekf::SpeedSettings::jerk_density`] \[m/s^3/sqrt(Hz)\] of [`ekf::Settings::speed`].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub jerk_density: Option<f64>,
     /// [`pendtilt_core::spatial::travel::PathSettings::path_turn_hz`] \[Hz\] (`inf`: the gyro as read).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub path_turn_hz: Option<f64>,
     /// [`pendtilt_core::spatial::travel::PathSettings::path_pitch_hz`] \[Hz\] (`inf`: the gyro as read).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub path_pitch_hz: Option<f64>,
     /// [`ekf::Settings::encoder_jitter`] \[rad\].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub encoder_jitter: Option<f64>,
     /// [`ekf::Settings::use_accel`].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub use_accel: Option<bool>,
     /// [`pendtilt_core::spatial::ekf::Adaptation::enabled`] of
     /// [`ekf::Settings::adaptation`].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub adapt: Option<bool>,
     /// [`ekf::Settings::guard_angle`] \[rad\] (`inf`: no guard).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub guard_angle: Option<f64>,
     /// [`ekf::Settings::pendulum_range`] \[rad\].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub pendulum_range: Option<f64>,
 }
 

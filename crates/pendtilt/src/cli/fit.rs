@@ -22,8 +22,9 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "truth")]
     pub target: Target,
     /// Optimiser: `newton` = the paper's Eqs (24)-(28); `lm` = Levenberg-Marquardt.
-    #[arg(long, value_enum, default_value = "newton")]
-    pub method: Method,
+    /// Default: newton on a planar log; a 3-D log is fitted by lm only.
+    #[arg(long, value_enum)]
+    pub method: Option<Method>,
     /// Cost. `auto` (default) = `output` where it applies (truth target, alg1/alg2), else
     /// `inverse`. `output` = the pendulum simulated from the true angle against the
     /// measured phi: stays within 5 % of a, b under vibration and noise. `inverse` = the
@@ -93,14 +94,59 @@ pub struct Args {
     /// How the log's columns are named and in which units.
     #[command(flatten)]
     pub columns: crate::cli::options::LogColumns,
+    /// 3-D logs: the pendulum's mass m (kg), to write the physical `[pendulum3d]` form.
+    /// Default: none, the normalised form (or the start rig's mass with --length).
+    #[arg(long)]
+    pub mass: Option<f64>,
+    /// 3-D logs: the pendulum's length l, pivot to centre of mass (m), to write the
+    /// physical form. Default: none, the normalised form (or the start rig's length with
+    /// --mass).
+    #[arg(long)]
+    pub length: Option<f64>,
+    /// 3-D logs: the accelerometer's white-noise density (m/s^2/sqrt(Hz)), whose effect on
+    /// the simulated pendulum the cost takes out. Default: measured over the log's
+    /// initial rest, else no correction.
+    #[arg(long)]
+    pub accel_noise: Option<f64>,
+    /// 3-D logs, `--target gyro`: the gyro's white-noise density (rad/s/sqrt(Hz)), as
+    /// --accel-noise. Default: measured over the log's initial rest, else no correction.
+    #[arg(long)]
+    pub gyro_noise: Option<f64>,
+    /// 3-D logs: do not fit the constant encoder offsets. Default: fitted (and reported;
+    /// the rig file has no key for them).
+    #[arg(long)]
+    pub no_encoder_offset: bool,
     /// Print nothing but errors.
     #[arg(long, short = 'q')]
     pub quiet: bool,
 }
 
+impl Args {
+    /// The optimiser of a planar fit (Newton unless --method says otherwise).
+    fn planar_method(&self) -> Method {
+        self.method.unwrap_or(Method::Newton)
+    }
+}
+
 /// Runs `pendtilt fit`: refuses an output that is an input, fits, and writes the rig file
 /// all at once (an earlier file stays as it was when the fit fails).
 pub fn run(args: Args) -> anyhow::Result<()> {
+    // A map onto planar columns reads one axis of a 3-D log as planar: the planar path.
+    let map = &args.columns.map;
+    let spatial = super::estimate3d::is_3d_log(&args.log, map) && map.planar_only().is_empty();
+    if spatial || !map.spatial_only().is_empty() {
+        return super::fit3d::run(&args);
+    }
+    super::estimate3d::refuse_3d_options(
+        &[
+            ("--mass", args.mass.is_some()),
+            ("--length", args.length.is_some()),
+            ("--accel-noise", args.accel_noise.is_some()),
+            ("--gyro-noise", args.gyro_noise.is_some()),
+            ("--no-encoder-offset", args.no_encoder_offset),
+        ],
+        &args.log,
+    )?;
     let mut inputs = vec![NamedPath::new("LOG", &args.log)];
     if let Some(p) = &args.params {
         inputs.push(NamedPath::new("--params", p));
@@ -319,7 +365,7 @@ fn fit_settings(
     let mut settings = FitSettings {
         algorithm: args.algorithm,
         target: args.target,
-        method: args.method,
+        method: args.planar_method(),
         cost: args.cost,
         front_end: FrontEndSettings {
             differentiator: rig.diff_settings(),
@@ -362,7 +408,7 @@ fn print_fit_header(args: &Args, problem: Option<&fit::Problem>) {
                  {unit}, differentiator cutoff {:.3} Hz; biased under vibration)",
                 args.algorithm.names().join(", "),
                 args.algorithm,
-                args.method,
+                args.planar_method(),
                 problem.len(),
                 if args.target == Target::Truth { 23 } else { 29 },
                 problem.cutoff_hz(),
@@ -372,7 +418,7 @@ fn print_fit_header(args: &Args, problem: Option<&fit::Problem>) {
                  from the true angle, in rad; truth smoothed at {:.3} Hz)",
                 args.algorithm.names().join(", "),
                 args.algorithm,
-                args.method,
+                args.planar_method(),
                 args.smoothing_hz,
             ),
         }
@@ -388,7 +434,7 @@ fn print_fit_header(args: &Args, problem: Option<&fit::Problem>) {
             names.join(" "),
             "cost",
             "|grad|",
-            if args.method == Method::Newton {
+            if args.planar_method() == Method::Newton {
                 "step"
             } else {
                 "lambda"

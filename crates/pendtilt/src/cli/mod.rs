@@ -6,6 +6,7 @@ pub mod estimate;
 pub mod estimate3d;
 pub mod filter;
 pub mod fit;
+pub mod fit3d;
 pub mod help;
 pub mod options;
 pub mod replay;

@@ -56,6 +56,7 @@
 //! 100 % change of the parameters (along the least sensitive direction) changes the
 //! estimate by less than [`FitSettings::min_sensitivity`] is reported as
 //! [`FitError::Unidentifiable`] instead of returning a number.
+pub mod cardan;
 pub mod lm;
 pub mod output;
 pub mod plausibility;
