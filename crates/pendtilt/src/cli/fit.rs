@@ -155,7 +155,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let rig = fit_rig(&args).with_context(|| output::not_written(&args.output))?;
     output::write_atomic("-o", &args.output, rig.to_toml_string().as_bytes())?;
     if !args.quiet {
-        eprintln!("wrote {}", args.output.display());
+        super::summary::say_err!("wrote {}", args.output.display());
     }
     Ok(())
 }

@@ -25,7 +25,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let text = fit(args).with_context(|| output::not_written(&args.output))?;
     output::write_atomic("-o", &args.output, text.as_bytes())?;
     if !args.quiet {
-        eprintln!("wrote {}", args.output.display());
+        super::summary::say_err!("wrote {}", args.output.display());
     }
     Ok(())
 }
@@ -276,7 +276,7 @@ fn print_header(
 
 /// The verdict, each parameter with its start and result, the pendulum per axis.
 fn print_result(r: &Fit3dReport, implausible: &[Implausible3d], on_stdout: bool) {
-    let say = |text: String| super::options::summary(on_stdout, &text);
+    let say = |text: String| super::summary::print(on_stdout, &text);
     let verdict = if implausible.is_empty() {
         format!("{:?}", r.stop)
     } else {
