@@ -18,6 +18,7 @@ pub mod simulate;
 pub mod simulate3d;
 pub mod stream;
 pub mod tune;
+pub mod tune3d;
 
 /// The version and the commit it was built from (`build.rs`; "unknown" outside a git
 /// checkout), for `--version` and bug reports.
