@@ -130,8 +130,8 @@ fn header(args: &Args, samples: &[SpatialSample<f64>], from: &str, t: &Tuned3d) 
         ),
         format!(
             "ekf3d's settings from the log alone (no true attitude used); {} of {} values \
-             kept from the start (doubts, marked KEPT)",
-            t.notes.iter().filter(|n| n.kept_default).count(),
+             are doubts (kept from the start, or told only in part)",
+            t.notes.iter().filter(|n| rig_file::is_doubt(n)).count(),
             t.notes.len()
         ),
     ]

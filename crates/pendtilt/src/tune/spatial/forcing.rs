@@ -45,7 +45,7 @@ const DERIVATIVE_HZ: f64 = 10.0;
 pub const MOTION_BAND: [f64; 2] = [0.1, 0.3];
 
 /// The unpredicted specific force across the pendulum.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Forcing3d {
     /// Its density on body x and y near the natural frequencies (of the outer and inner
     /// joint), the median's floor \[m/s^2/sqrt(Hz)\].
@@ -57,6 +57,9 @@ pub struct Forcing3d {
     pub density: f64,
     /// The runs of ekf3d it took ([`settle`]).
     pub rounds: usize,
+    /// Why the motion band was not measured (a log too short for its resolution): the
+    /// density is then the one near the natural frequencies alone.
+    pub motion_short: Option<String>,
 }
 
 /// Runs of [`settle`] at most.
@@ -167,34 +170,42 @@ pub fn forcing(
         ((rate * 3.0 / (MOTION_BAND[1] - MOTION_BAND[0])) as usize).next_power_of_two();
     let third = 2f64.powf(1.0 / 6.0);
     let (mut near, mut motion) = ([0.0; 2], [0.0; 2]);
+    let short = |seg: usize| {
+        format!(
+            "too short for the accelerometer's spectrum at {:.3} Hz resolution ({:.0} s \
+             after the first {SETTLE_SECONDS} s needed, {:.0} s given)",
+            rate / seg as f64,
+            1.5 * seg as f64 / rate,
+            rows as f64 / rate
+        )
+    };
     for i in 0..2 {
         let r = &res[i][skip.min(res[i].len())..];
-        let short = |seg: usize| {
-            format!(
-                "too short for the accelerometer's spectrum at {:.3} Hz resolution ({:.0} s \
-                 after the first {SETTLE_SECONDS} s needed, {:.0} s given)",
-                rate / seg as f64,
-                1.5 * seg as f64 / rate,
-                rows as f64 / rate
-            )
-        };
         let psd = welch(r, rate, near_seg).ok_or_else(|| short(near_seg))?;
         let p = psd
             .band_median(f_n[i] / third, f_n[i] * third)
             .ok_or_else(|| "no spectrum bin near the natural frequency".to_string())?;
         near[i] = (p / 2.0 - floor * floor).max(0.0).sqrt();
-        let psd = welch(r, rate, motion_seg).ok_or_else(|| short(motion_seg))?;
+        // Too short for the motion band: the density near f_n alone, and said.
         let [a, b] = MOTION_BAND;
-        motion[i] = (psd.band_power(a, b) / (b - a) / 2.0 - floor * floor)
-            .max(0.0)
-            .sqrt();
+        motion[i] = welch(r, rate, motion_seg).map_or(f64::NAN, |psd| {
+            (psd.band_power(a, b) / (b - a) / 2.0 - floor * floor)
+                .max(0.0)
+                .sqrt()
+        });
     }
     let m = |v: [f64; 2]| v[0].max(v[1]);
+    let motion_short = motion.iter().any(|v| v.is_nan()).then(|| short(motion_seg));
     Ok(Forcing3d {
         rounds: 1,
         near,
         motion,
-        density: m(near).max(m(motion)),
+        density: if motion_short.is_some() {
+            m(near)
+        } else {
+            m(near).max(m(motion))
+        },
+        motion_short,
     })
 }
 

@@ -254,6 +254,18 @@ pub(super) fn forcing(s: &mut Settings<f64>, f: &Result<Forcing3d, String>, note
             s.environment.vibration_density = f.density;
             push(notes, "vibration_density", format!("{:.4} m/s^2/sqrt(Hz)", f.density), false,
                 format!("the accelerometer less what ekf3d predicts of it (gravity on its up direction, O's acceleration, the lever arm from O): its density within a third of an octave of each joint's natural frequency x {:.4}, y {:.4}, and in {}-{} Hz (the body's slow motion) x {:.4}, y {:.4}; the largest (the sensor's noise and the filter's error are in it: an upper bound)", f.near[0], f.near[1], super::forcing::MOTION_BAND[0], super::forcing::MOTION_BAND[1], f.motion[0], f.motion[1]));
+            if let Some(n) = notes
+                .iter_mut()
+                .rev()
+                .find(|n| n.key == "ekf3d.vibration_density")
+            {
+                if f.rounds > 1 {
+                    n.how += &format!("; ekf3d re-run at each density found, {} runs until it moved by less than 10 %", f.rounds);
+                }
+                if let Some(why) = &f.motion_short {
+                    n.how += &format!("; DOUBT: the motion band not measured ({why}): the density near the natural frequencies alone, which on a ship or a car can be ten times too low");
+                }
+            }
         }
         Ok(_) => fallback(
             notes,

@@ -79,6 +79,12 @@ fn comment(n: &Note) -> Vec<String> {
     lines
 }
 
+/// True for a note whose value is a doubt: kept from the start, or measured with a
+/// doubt its text gives (`DOUBT:`).
+pub fn is_doubt(n: &Note) -> bool {
+    n.kept_default || n.how.contains("DOUBT")
+}
+
 /// The tuned rig file: `start_text` (the `--params` file, or a rig written for the
 /// default) without its `[ekf3d]`, then the tuned table with `header` and the notes of
 /// `t` as comments.
@@ -94,12 +100,13 @@ pub fn tuned_toml(start_text: &str, t: &Tuned3d, header: &[String]) -> String {
     let doubts: Vec<&str> = t
         .notes
         .iter()
-        .filter(|n| n.kept_default)
+        .filter(|n| is_doubt(n))
         .map(|n| n.key.as_str())
         .collect();
     if !doubts.is_empty() {
         out.push_str(&format!(
-            "# doubts (the log did not tell these; the start's values are kept): {}\n",
+            "# doubts (values the log did not tell, the start's kept, or told only in part: \
+             see each one's note): {}\n",
             doubts.join(", ")
         ));
     }
