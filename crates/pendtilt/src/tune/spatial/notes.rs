@@ -224,7 +224,7 @@ pub(super) fn jitter(s: &mut Settings<f64>, j: &Result<f64, String>, notes: &mut
 }
 
 /// The jitter's scale: the note of the jitter (the last one) says what it became.
-pub(super) fn jitter_scale(v: f64, js: &crate::tune::forcing::JitterScale, notes: &mut Vec<Note>) {
+pub(super) fn jitter_scale(v: f64, js: &crate::tune::forcing::JitterScale, notes: &mut [Note]) {
     if let Some(n) = notes
         .iter_mut()
         .rev()
