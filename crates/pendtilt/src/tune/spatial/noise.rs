@@ -50,6 +50,10 @@ pub fn estimate(samples: &[SpatialSample<f64>], rate: f64, f_n: f64) -> Noise3d 
             // The pendulum's slope says nothing of a yaw bias.
             if z.still_seconds < 2.0 {
                 z.bias = None;
+                z.method = z.method.replace(
+                    "bias: slope of the gyro's integral minus phi",
+                    "no bias (the encoders do not see yaw)",
+                );
             }
             z
         }),
