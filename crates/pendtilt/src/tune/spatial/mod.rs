@@ -145,7 +145,10 @@ pub fn tune3d(samples: &[SpatialSample<f64>], start: &Start3d) -> Tuned3d {
         key: "ekf3d.adapt".into(),
         value: "false".into(),
         kept_default: false,
-        how: "the figures above are this log's: ekf3d runs with them fixed rather than adapting its forcing from its default (on the zoo's rides the adaptation on top of them changed nothing by 1 % but one scooter ride, 0.033 -> 0.043 deg)".into(),
+        how: "the figures above are this log's: ekf3d runs with them fixed rather than adapting \
+            its forcing from its default (on the zoo's rides the adaptation on top of them \
+            changed nothing by 1 % but one scooter ride, 0.033 -> 0.043 deg)"
+            .into(),
         fell_back: false,
     });
     let config = config_of(&start.config, &s, noise.speed.is_some());

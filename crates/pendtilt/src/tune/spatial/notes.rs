@@ -22,7 +22,10 @@ fn fallback(notes: &mut Vec<Note>, key: &str, kept: String, why: String) {
         key: format!("ekf3d.{key}"),
         value: kept,
         kept_default: true,
-        how: format!("{why}, which would make the filter trust this sensor without bound: kept the start's value"),
+        how: format!(
+            "{why}, which would make the filter trust this sensor without bound: kept \
+            the start's value"
+        ),
         fell_back: true,
     });
 }
@@ -36,8 +39,18 @@ pub(super) fn sensors(s: &mut Settings<f64>, n: &Noise3d, notes: &mut Vec<Note>)
     match &n.accel {
         Ok(a) if a.density > 0.0 && a.density.is_finite() => {
             s.sensors.accel_density = a.density;
-            push(notes, "accel_density", format!("{:.3e} m/s^2/sqrt(Hz)", a.density), false,
-                format!("median of the ax and ay spectra over 0.3-0.45 of the rate; the vibration above {:.1} Hz reads {:.3} m/s^2 RMS (with vibration reaching that band it is an upper bound; ekf3d reads it only with use_accel)", a.pendulum_band, a.vibration_rms));
+            push(
+                notes,
+                "accel_density",
+                format!("{:.3e} m/s^2/sqrt(Hz)", a.density),
+                false,
+                format!(
+                    "median of the ax and ay spectra over 0.3-0.45 of the rate; the \
+                    vibration above {:.1} Hz reads {:.3} m/s^2 RMS (with vibration reaching that \
+                    band it is an upper bound; ekf3d reads it only with use_accel)",
+                    a.pendulum_band, a.vibration_rms
+                ),
+            );
         }
         Ok(a) => fallback(
             notes,
@@ -59,8 +72,15 @@ pub(super) fn sensors(s: &mut Settings<f64>, n: &Noise3d, notes: &mut Vec<Note>)
     match &n.speed {
         Some(Ok(v)) if *v > 0.0 => {
             s.speed.noise = *v;
-            push(notes, "speed_noise", format!("{v:.4} m/s"), false,
-                "second differences of the speed column (a vehicle's speed is smooth at the sample rate: they are its white noise)".into());
+            push(
+                notes,
+                "speed_noise",
+                format!("{v:.4} m/s"),
+                false,
+                "second differences of the speed column (a vehicle's speed is smooth at the \
+                    sample rate: they are its white noise)"
+                    .into(),
+            );
         }
         Some(Ok(_)) => fallback(
             notes,
@@ -82,8 +102,16 @@ pub(super) fn sensors(s: &mut Settings<f64>, n: &Noise3d, notes: &mut Vec<Note>)
 fn encoder(s: &mut Settings<f64>, n: &Noise3d, notes: &mut Vec<Note>) {
     let ok: Vec<_> = n.encoder.iter().filter_map(|e| e.as_ref().ok()).collect();
     if ok.is_empty() || ok.iter().all(|e| e.white == 0.0 && e.step.is_none()) {
-        let why = n.encoder.iter().find_map(|e| e.as_ref().err()).cloned()
-            .unwrap_or_else(|| "the encoders never changed: a still pendulum within one step shows neither the step nor the noise".into());
+        let why = n
+            .encoder
+            .iter()
+            .find_map(|e| e.as_ref().err())
+            .cloned()
+            .unwrap_or_else(|| {
+                "the encoders never changed: a still pendulum within one step \
+                shows neither the step nor the noise"
+                    .into()
+            });
         push(
             notes,
             "encoder_noise",
@@ -135,8 +163,15 @@ fn encoder(s: &mut Settings<f64>, n: &Noise3d, notes: &mut Vec<Note>) {
         false,
         format!("gaps between the distinct readings ({})", steps.join("; ")),
     );
-    push(notes, "encoder_noise", format!("{:.3e} rad", s.sensors.encoder_noise), false,
-        "second differences of phi_x and phi_y, less the rounding's q^2/12, root mean square of the two".into());
+    push(
+        notes,
+        "encoder_noise",
+        format!("{:.3e} rad", s.sensors.encoder_noise),
+        false,
+        "second differences of phi_x and phi_y, less the rounding's q^2/12, root mean square of \
+            the two"
+            .into(),
+    );
 }
 
 fn gyro(s: &mut Settings<f64>, n: &Noise3d, notes: &mut Vec<Note>) {
@@ -191,8 +226,17 @@ fn gyro(s: &mut Settings<f64>, n: &Noise3d, notes: &mut Vec<Note>) {
             // seen (twice it), never narrower than the start's.
             let spread = (2.0 * b).max(s.sensors.gyro_bias);
             s.sensors.gyro_bias = spread;
-            push(notes, "gyro_bias", format!("{spread:.3e} rad/s"), spread > 2.0 * b,
-                format!("the largest bias seen on an axis, {b:.3e} rad/s (x and y: still stretches, else the gyro's integral against the encoder; z: still stretches only), twice it, never below the start's"));
+            push(
+                notes,
+                "gyro_bias",
+                format!("{spread:.3e} rad/s"),
+                spread > 2.0 * b,
+                format!(
+                    "the largest bias seen on an axis, {b:.3e} rad/s (x and y: still \
+                    stretches, else the gyro's integral against the encoder; z: still stretches \
+                    only), twice it, never below the start's"
+                ),
+            );
         }
         None => push(
             notes,
@@ -210,8 +254,15 @@ pub(super) fn jitter(s: &mut Settings<f64>, j: &Result<f64, String>, notes: &mut
     match j {
         Ok(v) => {
             s.encoder_jitter = *v;
-            push(notes, "encoder_jitter", format!("{v:.3e} rad ({:.4} deg)", v.to_degrees()), false,
-                "the encoders' power from 5 times each axis' natural frequency to 0.3 of the rate, less their white floor; root mean square of phi_x's and phi_y's".into());
+            push(
+                notes,
+                "encoder_jitter",
+                format!("{v:.3e} rad ({:.4} deg)", v.to_degrees()),
+                false,
+                "the encoders' power from 5 times each axis' natural frequency to 0.3 of the \
+                    rate, less their white floor; root mean square of phi_x's and phi_y's"
+                    .into(),
+            );
         }
         Err(why) => push(
             notes,
@@ -237,7 +288,8 @@ pub(super) fn jitter_scale(v: f64, js: &crate::tune::forcing::JitterScale, notes
             .collect();
         n.value = format!("{v:.3e} rad ({:.4} deg)", v.to_degrees());
         n.how = format!(
-            "{}; then x{:.3} (cap x{:.2}): ekf3d's error against the gyro's up direction in {} s windows, per doubling kept while it falls by more than 5 %: {}",
+            "{}; then x{:.3} (cap x{:.2}): ekf3d's error against the gyro's up direction in {} s \
+                windows, per doubling kept while it falls by more than 5 %: {}",
             n.how,
             js.scale,
             js.cap,
@@ -252,18 +304,43 @@ pub(super) fn forcing(s: &mut Settings<f64>, f: &Result<Forcing3d, String>, note
     match f {
         Ok(f) if f.density > 0.0 && f.density.is_finite() => {
             s.environment.vibration_density = f.density;
-            push(notes, "vibration_density", format!("{:.4} m/s^2/sqrt(Hz)", f.density), false,
-                format!("the accelerometer less what ekf3d predicts of it (gravity on its up direction, O's acceleration, the lever arm from O): its density within a third of an octave of each joint's natural frequency x {:.4}, y {:.4}, and in {}-{} Hz (the body's slow motion) x {:.4}, y {:.4}; the largest (the sensor's noise and the filter's error are in it: an upper bound)", f.near[0], f.near[1], super::forcing::MOTION_BAND[0], super::forcing::MOTION_BAND[1], f.motion[0], f.motion[1]));
+            push(
+                notes,
+                "vibration_density",
+                format!("{:.4} m/s^2/sqrt(Hz)", f.density),
+                false,
+                format!(
+                    "the accelerometer less what ekf3d predicts of it (gravity on its up \
+                    direction, O's acceleration, the lever arm from O): its density within a \
+                    third of an octave of each joint's natural frequency x {:.4}, y {:.4}, and \
+                    in {}-{} Hz (the body's slow motion) x {:.4}, y {:.4}; the largest (the \
+                    sensor's noise and the filter's error are in it: an upper bound)",
+                    f.near[0],
+                    f.near[1],
+                    super::forcing::MOTION_BAND[0],
+                    super::forcing::MOTION_BAND[1],
+                    f.motion[0],
+                    f.motion[1]
+                ),
+            );
             if let Some(n) = notes
                 .iter_mut()
                 .rev()
                 .find(|n| n.key == "ekf3d.vibration_density")
             {
                 if f.rounds > 1 {
-                    n.how += &format!("; ekf3d re-run at each density found, {} runs until it moved by less than 10 %", f.rounds);
+                    n.how += &format!(
+                        "; ekf3d re-run at each density found, {} runs until it \
+                        moved by less than 10 %",
+                        f.rounds
+                    );
                 }
                 if let Some(why) = &f.motion_short {
-                    n.how += &format!("; DOUBT: the motion band not measured ({why}): the density near the natural frequencies alone, which on a ship or a car can be ten times too low");
+                    n.how += &format!(
+                        "; DOUBT: the motion band not measured ({why}): the \
+                        density near the natural frequencies alone, which on a ship or a car can \
+                        be ten times too low"
+                    );
                 }
             }
         }
@@ -285,11 +362,25 @@ pub(super) fn forcing(s: &mut Settings<f64>, f: &Result<Forcing3d, String>, note
 
 /// The values the log does not tell: kept, each a doubt.
 pub(super) fn kept(s: &Settings<f64>, n: &Noise3d, notes: &mut Vec<Note>) {
-    push(notes, "gyro_bias_walk", format!("{:.3e} rad/s/sqrt(s)", s.sensors.gyro_bias_walk), true,
-        "DOUBT: a bias walk shows only over minutes of rest, which a ride does not give: kept the start's".into());
+    push(
+        notes,
+        "gyro_bias_walk",
+        format!("{:.3e} rad/s/sqrt(s)", s.sensors.gyro_bias_walk),
+        true,
+        "DOUBT: a bias walk shows only over minutes of rest, which a ride does not give: kept \
+            the start's"
+            .into(),
+    );
     if n.speed.is_some() {
-        push(notes, "jerk_density", format!("{:.3} m/s^3/sqrt(Hz)", s.speed.jerk_density), true,
-            "DOUBT: how fast the vehicle's acceleration changes is not told apart from the tilt without a true attitude: kept the start's".into());
+        push(
+            notes,
+            "jerk_density",
+            format!("{:.3} m/s^3/sqrt(Hz)", s.speed.jerk_density),
+            true,
+            "DOUBT: how fast the vehicle's acceleration changes is not told apart from the tilt \
+                without a true attitude: kept the start's"
+                .into(),
+        );
     } else {
         push(
             notes,

@@ -129,7 +129,8 @@ mod tests {
 
     #[test]
     fn the_old_table_goes_and_the_others_stay() {
-        let t = "[pendulum3d]\nmass = 0.05\n\n[ekf3d]\n# old\nvibration_density = 0.1\n\n[gyro]\nfull_scale = 8.0\n";
+        let t = "[pendulum3d]\nmass = 0.05\n\n[ekf3d]\n# old\nvibration_density = 0.1\n\n\
+                 [gyro]\nfull_scale = 8.0\n";
         let w = without_ekf3d(t);
         assert_eq!(w, "[pendulum3d]\nmass = 0.05\n\n[gyro]\nfull_scale = 8.0\n");
     }

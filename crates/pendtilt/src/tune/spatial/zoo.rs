@@ -24,8 +24,8 @@
 //! coordinate search (a golden-section search per setting in turn) on
 //! `vibration_density`, `encoder_jitter` and `gyro_density`, [`TRUTH_STEPS`] golden steps
 //! each within [`TRUTH_DECADES`] decades, one pass, from the self-tuned point and from the
-//! defaults (the better taken, and never worse than the self-tuned filter). The peers (vqf, mahony3d, madgwick3d) get their
-//! main gain searched against the truth the same way.
+//! defaults (the better taken, and never worse than the self-tuned filter). The peers
+//! (vqf, mahony3d, madgwick3d) get their main gain searched against the truth the same way.
 use super::{tune3d, Start3d};
 use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
 use crate::bank3d::score::Inclination;
@@ -138,9 +138,7 @@ pub fn ride(index: u64, duration: f64) -> Ride3d {
     let mut scenario = Scenario3d::named(kind, index).expect("a named scenario");
     scenario.duration = duration;
     scenario.rig.pendulum3d = pendulum(f, zeta, ring, r12);
-    let speed = (sens.speed_noise, sens.speed_scale);
     scenario.sensors = Sensors3d {
-        speed_noise: speed.0,
         speed_scale: scenario.sensors.speed_scale,
         speed_faults: scenario.sensors.speed_faults.clone(),
         accel_at: scenario.sensors.accel_at,
@@ -148,7 +146,8 @@ pub fn ride(index: u64, duration: f64) -> Ride3d {
     };
     let grade_name = ["consumer", "industrial", "navigation", "tactical"][grade];
     let description = format!(
-        "{kind}: f_n {:.2}/{:.2} Hz, zeta {zeta:.2}, ring {:.0} %, r12 [{:.0}, {:.0}, {:.0}] mm; {grade_name}",
+        "{kind}: f_n {:.2}/{:.2} Hz, zeta {zeta:.2}, ring {:.0} %, r12 [{:.0}, {:.0}, {:.0}] mm; \
+            {grade_name}",
         f[0],
         f[1],
         ring * 100.0,
