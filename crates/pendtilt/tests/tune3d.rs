@@ -52,7 +52,7 @@ fn the_simulated_sensor_noise_comes_back() {
     }
 }
 
-/// The rig (zoo ride 0: scooter3d, a 1.2 Hz pendulum at zeta 0.15 with a 5 mm
+/// An unseen rig (zoo ride 0: scooter3d, a 1.2 Hz pendulum at zeta 0.15 with a 5 mm
 /// pivot offset, consumer-grade sensors), 30 s: ekf3d through the tuned `[ekf3d]` table
 /// against ekf3d at its defaults, both scored by the inclination error from 5 s.
 /// Measured: 0.127 deg RMS at the defaults, 0.05-0.07 tuned.

@@ -12,7 +12,7 @@ use pendtilt::sim3d::output::write_log;
 use pendtilt::sim3d::Rig3d;
 use pendtilt::tune::spatial::zoo::ride;
 
-/// Zoo ride 0 (scooter3d on the rig: 1.2 Hz, zeta 0.15, 5 mm pivot offset,
+/// Zoo ride 0 (scooter3d on an unseen rig: 1.2 Hz, zeta 0.15, 5 mm pivot offset,
 /// consumer sensors), 30 s, as a 3-D log with its rig file.
 fn fixture(dir: &Path) -> (PathBuf, PathBuf) {
     let r = ride(0, 30.0);

@@ -14,7 +14,7 @@
 //!   0.03-0.001 deg/s/sqrt(Hz) with its bias walk, accelerometer 400-40 ug/sqrt(Hz); the
 //!   biases drawn.
 //!
-//! Ride 0 is the rig the issue names: scooter3d with a 1.2 Hz pendulum at zeta 0.15, a
+//! Ride 0 is a fixed unseen rig: scooter3d with a 1.2 Hz pendulum at zeta 0.15, a
 //! 5 mm pivot offset and a consumer gyro. The scenario's mounting (where O is) stays: it
 //! is the vehicle's, not the rig's.
 //!
