@@ -170,6 +170,36 @@ pub fn template() -> String {
                     f(e.pendulum_range),
                     "the pendulum unused beyond this swing [rad]",
                 ),
+                (
+                    "encoder_bits",
+                    e.sensors.encoder_bits.to_string(),
+                    "encoder resolution, bits per turn (0: none)",
+                ),
+                (
+                    "encoder_noise",
+                    f(e.sensors.encoder_noise),
+                    "encoder white noise [rad]",
+                ),
+                (
+                    "gyro_density",
+                    f(e.sensors.gyro_density),
+                    "gyro noise density [rad/s/sqrt(Hz)]",
+                ),
+                (
+                    "gyro_bias_walk",
+                    f(e.sensors.gyro_bias_walk),
+                    "gyro bias random walk [rad/s/sqrt(s)]",
+                ),
+                (
+                    "gyro_bias",
+                    f(e.sensors.gyro_bias),
+                    "spread of the gyro's initial bias [rad/s]",
+                ),
+                (
+                    "accel_density",
+                    f(e.sensors.accel_density),
+                    "accelerometer noise density [m/s^2/sqrt(Hz)]",
+                ),
             ],
         ),
     ];
@@ -358,6 +388,19 @@ pub struct Ekf3dConfig {
     /// [`ekf::Settings::pendulum_range`] \[rad\].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pendulum_range: Option<f64>,
+    /// [`pendtilt_core::ekf::SensorNoise::encoder_bits`] of [`ekf::Settings::sensors`]
+    /// (0: not quantised).
+    pub encoder_bits: Option<u32>,
+    /// [`pendtilt_core::ekf::SensorNoise::encoder_noise`] \[rad\].
+    pub encoder_noise: Option<f64>,
+    /// [`pendtilt_core::ekf::SensorNoise::gyro_density`] \[rad/s/sqrt(Hz)\].
+    pub gyro_density: Option<f64>,
+    /// [`pendtilt_core::ekf::SensorNoise::gyro_bias_walk`] \[rad/s/sqrt(s)\].
+    pub gyro_bias_walk: Option<f64>,
+    /// [`pendtilt_core::ekf::SensorNoise::gyro_bias`] \[rad/s\]: the initial bias' spread.
+    pub gyro_bias: Option<f64>,
+    /// [`pendtilt_core::ekf::SensorNoise::accel_density`] \[m/s^2/sqrt(Hz)\].
+    pub accel_density: Option<f64>,
 }
 
 impl Ekf3dConfig {
@@ -367,6 +410,10 @@ impl Ekf3dConfig {
             ("vibration_density", self.vibration_density),
             ("angular_accel_hz", self.angular_accel_hz),
             ("jerk_density", self.jerk_density),
+            ("gyro_density", self.gyro_density),
+            ("gyro_bias_walk", self.gyro_bias_walk),
+            ("gyro_bias", self.gyro_bias),
+            ("accel_density", self.accel_density),
         ] {
             if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
                 return Err(format!("ekf3d.{key}: {v} must be finite and > 0"));
@@ -399,10 +446,16 @@ impl Ekf3dConfig {
         for (key, v) in [
             ("encoder_jitter", self.encoder_jitter),
             ("speed_noise", self.speed_noise),
+            ("encoder_noise", self.encoder_noise),
         ] {
             if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
                 return Err(format!("ekf3d.{key}: {v} must be finite and >= 0"));
             }
+        }
+        if let Some(b) = self.encoder_bits.filter(|b| *b > 52) {
+            return Err(format!(
+                "ekf3d.encoder_bits: {b} must be 0 (not quantised) to 52"
+            ));
         }
         Ok(())
     }
@@ -445,6 +498,35 @@ impl Ekf3dConfig {
         if let Some(v) = self.pendulum_range {
             s.pendulum_range = v;
         }
+        let n = &mut s.sensors;
+        if let Some(v) = self.encoder_bits {
+            n.encoder_bits = v;
+        }
+        if let Some(v) = self.encoder_noise {
+            n.encoder_noise = v;
+        }
+        if let Some(v) = self.gyro_density {
+            n.gyro_density = v;
+        }
+        if let Some(v) = self.gyro_bias_walk {
+            n.gyro_bias_walk = v;
+        }
+        if let Some(v) = self.gyro_bias {
+            n.gyro_bias = v;
+        }
+        if let Some(v) = self.accel_density {
+            n.accel_density = v;
+        }
+    }
+
+    /// True when the table gives every sensor noise figure (then a log's filter needs no
+    /// `--scenario` for them).
+    pub fn gives_sensor_noise(&self) -> bool {
+        self.encoder_bits.is_some()
+            && self.encoder_noise.is_some()
+            && self.gyro_density.is_some()
+            && self.gyro_bias_walk.is_some()
+            && self.accel_density.is_some()
     }
 }
 

@@ -209,10 +209,12 @@ pub fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
         None => None,
     };
     let mut speed_at_given = scenario.is_some();
+    let mut rig_gives_noise = false;
     let settings = match (opts.params, &scenario) {
         (Some(p), s) => {
             let rig = Rig3dConfig::load(p).map_err(anyhow::Error::msg)?;
             speed_at_given = rig.mounting_given;
+            rig_gives_noise = rig.ekf3d.gives_sensor_noise();
             let mut doubts = rig.pendulum3d.length_doubts("pendulum3d");
             doubts.extend(mounting_doubts(&rig.mounting, "mounting"));
             for d in doubts {
@@ -263,7 +265,7 @@ pub fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
             Settings3d::new(rig.pendulum3d.params(), rig.mounting, None)
         }
     };
-    if scenario.is_none() {
+    if scenario.is_none() && !rig_gives_noise {
         opts.notice("note: no --scenario: ekf3d and ukf3d use their default sensor noise figures");
     }
     let score_from = opts.score_from.or(scenario.as_ref().map(|s| s.score_from));

@@ -20,6 +20,7 @@ pub mod simulate3d;
 pub mod stream;
 pub mod summary;
 pub mod tune;
+pub mod tune3d;
 
 /// The version and the commit it was built from (`build.rs`; "unknown" outside a git
 /// checkout), for `--version` and bug reports.

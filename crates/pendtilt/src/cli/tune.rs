@@ -27,14 +27,15 @@ pub enum TuneTarget {
 /// Options of `pendtilt tune`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The sensor log (CSV, MODEL.md section 5): t, phi and, for most values, gyro, ax,
-    /// ay. No true angle needed.
+    /// The sensor log (CSV): planar (MODEL.md section 5: t, phi and, for most values,
+    /// gyro, ax, ay) or 3-D (MODEL.md 7.6: t, phi_x, phi_y, gyro_x..z, ax..az, speed
+    /// optional; ekf3d's `[ekf3d]` table is tuned). No true angle needed.
     pub log: PathBuf,
     /// Where to write the tuned rig file (TOML). Never one of the inputs.
     #[arg(long, short = 'o', visible_alias = "out")]
     pub output: PathBuf,
-    /// The rig file to start from (its pendulum, and every value the log cannot tell).
-    /// Default: the MODEL.md rig.
+    /// The rig file to start from (its pendulum, and every value the log cannot tell; a
+    /// 3-D rig file for a 3-D log). Default: the MODEL.md rig.
     #[arg(long, short = 'p')]
     pub params: Option<PathBuf>,
     /// What the Kalman filters and the EKF are tuned against: `likelihood` (no true angle:
@@ -86,11 +87,6 @@ struct TuneLog {
 
 /// Reads the whole log (warnings printed unless `--quiet`).
 fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<TuneLog> {
-    anyhow::ensure!(
-        !super::estimate3d::is_3d_log(&args.log, &args.columns.map),
-        "{}: a 3-D log; `tune` tunes the planar estimators (t, phi, gyro, ax, ay)",
-        args.log.display()
-    );
     let options = args.columns.reader_options(rig);
     let mut log = LogReader::open(&args.log, options)?;
     if !args.quiet {
@@ -146,8 +142,12 @@ fn progress_bar(rows: usize, quiet: bool) -> ProgressBar {
     b
 }
 
-/// Reads, tunes, prints what was found and returns the rig file's text.
+/// Reads, tunes, prints what was found and returns the rig file's text (a 3-D log's
+/// through [`super::tune3d`]).
 fn tuned_text(args: &Args) -> anyhow::Result<String> {
+    if super::estimate3d::is_3d_log(&args.log, &args.columns.map) {
+        return super::tune3d::tuned_text(args);
+    }
     let rig = match &args.params {
         Some(p) => super::options::load_rig(p, args.quiet)?,
         None => RigConfig::default(),

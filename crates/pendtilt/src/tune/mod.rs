@@ -30,6 +30,8 @@
 //! - [`rig_file`]: the tuned settings as a rig file with a comment per value.
 //! - [`zoo`]: the test bed: seeded simulated rides on random rigs, each scored at the
 //!   defaults, self-tuned and against an oracle grid.
+//! - [`spatial`]: the 3-D tune (ekf3d's `[ekf3d]` table from a 3-D log), built on the
+//!   estimators above, with its own zoo.
 //!
 //! [`tune`] runs them all in that order on a log in memory and returns the plain settings
 //! structs the estimators take, with a [`Note`] per value saying how it was found or
@@ -57,6 +59,7 @@ mod notes;
 pub mod reference;
 pub mod rig_file;
 pub mod search;
+pub mod spatial;
 pub mod spectrum;
 pub mod surrogate;
 mod targets;

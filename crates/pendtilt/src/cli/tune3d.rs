@@ -1,0 +1,138 @@
+//! `pendtilt tune LOG3D --params RIG -o TUNED`: ekf3d's `[ekf3d]` table from a 3-D log
+//! ([`crate::tune::spatial`]), no true attitude needed; the output is the rig file as
+//! given with the tuned table, each value under a comment saying how it was found (or
+//! that the log could not tell it: a doubt).
+use anyhow::{bail, Context};
+use pendtilt_core::spatial::SpatialSample;
+use pendtilt_core::StepGate;
+
+use super::tune::{Args, TuneTarget};
+use crate::bank3d::rig::Rig3dConfig;
+use crate::io::Log3dReader;
+use crate::sim3d::Pendulum3d;
+use crate::tune::spatial::{self, rig_file, Start3d, Tuned3d};
+
+/// The rig file written when no `--params` is given: MODEL.md 7.6's pendulum alone.
+fn default_rig_text() -> anyhow::Result<String> {
+    let body = toml::to_string(&Pendulum3d::default()).context("writing the default rig")?;
+    Ok(format!(
+        "# 3-D rig (MODEL.md 7.6), SI units: the default pendulum.\n[pendulum3d]\n{body}"
+    ))
+}
+
+/// The log's rows as ekf3d takes them, with `--map`, `--deg`, `--time-unit` and
+/// `--accel-unit` applied, and the rows read.
+fn read_log(args: &Args) -> anyhow::Result<Vec<SpatialSample<f64>>> {
+    let c = &args.columns;
+    if let Some(col) = c.map.planar_only().first() {
+        bail!(
+            "--map {col}=...: a column of a planar log; a 3-D log's columns are t, phi_x, \
+             phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az, speed, roll, pitch (MODEL.md 7.6)"
+        );
+    }
+    if c.negate.is_some() {
+        bail!("--negate: for planar logs only; a 3-D log's columns follow MODEL.md 7.6's axes");
+    }
+    let angle = match c.deg {
+        None => 1.0,
+        Some(d) if d == crate::io::DegreeColumns::all() => std::f64::consts::PI / 180.0,
+        Some(_) => bail!(
+            "--deg with a list: for planar logs only; on a 3-D log --deg alone reads every \
+             angular column in degrees"
+        ),
+    };
+    let time = c.time_unit.map_or(1.0, |u| u.seconds());
+    let accel = c.accel_unit.map_or(1.0, |u| u.metres_per_second_squared());
+    let name = args.log.display().to_string();
+    let mut log = Log3dReader::open_as(&args.log, &name, c.map.spatial())?;
+    let mut gate = StepGate::new();
+    let mut out = Vec::new();
+    while let Some(r) = log.next_record()? {
+        let dt = gate.step(r.t * time);
+        out.push(SpatialSample {
+            dt,
+            phi: r.phi.map(|v| v * angle),
+            gyro: r.gyro.map(|v| v * angle),
+            accel: r.accel.map(|v| v * accel),
+            speed: r.speed.unwrap_or(f64::NAN),
+        });
+    }
+    Ok(out)
+}
+
+/// Reads the 3-D log and the rig, tunes, prints what was found (each value with its
+/// evidence) and returns the rig file's text.
+pub fn tuned_text(args: &Args) -> anyhow::Result<String> {
+    if args.target == TuneTarget::Truth {
+        bail!(
+            "{}: --target truth: a 3-D log is tuned without its truth; leave --target out",
+            args.log.display()
+        );
+    }
+    let (rig, text, from) = match &args.params {
+        Some(p) => {
+            let rig = Rig3dConfig::load(p).map_err(anyhow::Error::msg)?;
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("cannot read --params {}", p.display()))?;
+            (rig, text, p.display().to_string())
+        }
+        None => (
+            Rig3dConfig::default(),
+            default_rig_text()?,
+            "the default 3-D rig (MODEL.md 7.6)".to_string(),
+        ),
+    };
+    let samples = read_log(args)?;
+    let t = spatial::tune3d(&samples, &Start3d::from_rig(&rig));
+    let header = header(args, &samples, &from, &t);
+    if !args.quiet {
+        let on_stdout = crate::io::output::is_stdout(&args.output);
+        for h in &header {
+            super::options::summary(on_stdout, h);
+        }
+        for n in &t.notes {
+            let kept = if n.kept_default {
+                " (KEPT: a doubt)"
+            } else {
+                ""
+            };
+            super::options::summary(on_stdout, &format!("  {} = {}{kept}", n.key, n.value));
+            super::options::summary(on_stdout, &format!("      {}", n.how));
+        }
+        for n in t.notes.iter().filter(|n| n.fell_back) {
+            eprintln!(
+                "warning: {}: {} = {}: {}",
+                args.log.display(),
+                n.key,
+                n.value,
+                n.how
+            );
+        }
+    }
+    let out = rig_file::tuned_toml(&text, &t, &header);
+    // What estimate will read: checked before it is written.
+    Rig3dConfig::from_toml_str(&out, "the tuned rig file").map_err(anyhow::Error::msg)?;
+    Ok(out)
+}
+
+/// The file's first comment lines and what standard output says first.
+fn header(args: &Args, samples: &[SpatialSample<f64>], from: &str, t: &Tuned3d) -> Vec<String> {
+    let rate = spatial::sample_rate(samples);
+    let speed = samples.iter().any(|s| s.speed.is_finite());
+    vec![
+        format!(
+            "pendtilt tune: {} (3-D, {} rows, {:.1} s at {:.0} Hz{}), starting from {from}",
+            args.log.display(),
+            samples.len(),
+            samples.len() as f64 / rate,
+            rate,
+            if speed { ", with a speed" } else { "" }
+        ),
+        format!(
+            "ekf3d's settings from the log alone (no true attitude used); {} of {} values \
+             are doubts (kept from the start, or told only in part)",
+            t.notes.iter().filter(|n| rig_file::is_doubt(n)).count(),
+            t.notes.len()
+        ),
+    ]
+}
