@@ -70,7 +70,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let text = tuned_text(&args).with_context(|| output::not_written(&args.output))?;
     output::write_atomic("-o", &args.output, text.as_bytes())?;
     if !args.quiet {
-        eprintln!("wrote {}", args.output.display());
+        super::summary::say_err!("wrote {}", args.output.display());
     }
     Ok(())
 }

@@ -88,7 +88,7 @@ pub fn tuned_text(args: &Args) -> anyhow::Result<String> {
     if !args.quiet {
         let on_stdout = crate::io::output::is_stdout(&args.output);
         for h in &header {
-            super::options::summary(on_stdout, h);
+            super::summary::print(on_stdout, h);
         }
         for n in &t.notes {
             let kept = if n.kept_default {
@@ -96,8 +96,8 @@ pub fn tuned_text(args: &Args) -> anyhow::Result<String> {
             } else {
                 ""
             };
-            super::options::summary(on_stdout, &format!("  {} = {}{kept}", n.key, n.value));
-            super::options::summary(on_stdout, &format!("      {}", n.how));
+            super::summary::print(on_stdout, &format!("  {} = {}{kept}", n.key, n.value));
+            super::summary::print(on_stdout, &format!("      {}", n.how));
         }
         for n in t.notes.iter().filter(|n| n.fell_back) {
             eprintln!(
