@@ -179,11 +179,23 @@ pub fn jitter_scale(
     if !budget.tick() {
         return None;
     }
+    Some(doubling_search(cap, band, || budget.tick()))
+}
+
+/// The jitter's scale from 1, doubled (at most [`JITTER_MAX_DOUBLINGS`] times, never past
+/// `cap`) while each doubling lowers `band` (the error it gives) by more than
+/// [`JITTER_STEP_GAIN`]; `more` is asked before each doubling's evaluation (a budget).
+/// The planar and the 3-D tune's search.
+pub(crate) fn doubling_search(
+    cap: f64,
+    mut band: impl FnMut(f64) -> f64,
+    mut more: impl FnMut() -> bool,
+) -> JitterScale {
     let mut at: (f64, f64) = (1.0, band(1.0));
     let mut tried = vec![at];
     for _ in 0..JITTER_MAX_DOUBLINGS {
         let next = (2.0 * at.0).min(cap);
-        if next <= at.0 || !budget.tick() {
+        if next <= at.0 || !more() {
             break;
         }
         let e = band(next);
@@ -194,11 +206,11 @@ pub fn jitter_scale(
             break;
         }
     }
-    Some(JitterScale {
+    JitterScale {
         scale: at.0,
         cap,
         tried,
-    })
+    }
 }
 
 #[cfg(test)]

@@ -25,9 +25,7 @@
 //!   ([`jitter_scale3d`]).
 use super::noise::column;
 use super::SETTLE_SECONDS;
-use crate::tune::forcing::{
-    jitter, JitterScale, JITTER_MAX_DOUBLINGS, JITTER_STEP_GAIN, JITTER_TIMES_NATURAL,
-};
+use crate::tune::forcing::{doubling_search, jitter, JitterScale, JITTER_TIMES_NATURAL};
 use crate::tune::spectrum::{segment_for, welch};
 use nalgebra::Vector3;
 use pendtilt_core::filters::biquad::LowPass2;
@@ -224,7 +222,7 @@ pub fn jitter3d(samples: &[SpatialSample<f64>], rate: f64, f_n: [f64; 2]) -> Res
 
 /// Scales the measured jitter of `settings` by powers of two up to the cap while each
 /// doubling lowers ekf3d's error against the gyro's up direction
-/// ([`super::reference::band_error`]) by more than [`JITTER_STEP_GAIN`], as the planar
+/// ([`super::reference::band_error`]) by more than [`crate::tune::forcing::JITTER_STEP_GAIN`], as the planar
 /// tune's [`crate::tune::forcing::jitter_scale`] does (and for its reason: the jitter
 /// piles up just above the pendulum's band, where the filter does not average it away,
 /// and the cap is the ratio of the bands, `rate / 2 / (5 f_n)`). Measured on the zoo
@@ -247,24 +245,5 @@ pub fn jitter_scale3d(
         s.encoder_jitter *= m;
         super::reference::band_error(&super::reference::run(&s, samples), samples, rate, skip)
     };
-    let mut at: (f64, f64) = (1.0, band(1.0));
-    let mut tried = vec![at];
-    for _ in 0..JITTER_MAX_DOUBLINGS {
-        let next = (2.0 * at.0).min(cap);
-        if next <= at.0 {
-            break;
-        }
-        let e = band(next);
-        tried.push((next, e));
-        if e < (1.0 - JITTER_STEP_GAIN) * at.1 {
-            at = (next, e);
-        } else {
-            break;
-        }
-    }
-    JitterScale {
-        scale: at.0,
-        cap,
-        tried,
-    }
+    doubling_search(cap, band, || true)
 }
