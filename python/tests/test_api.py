@@ -74,6 +74,25 @@ def test_fit_and_tune_give_the_commands_rigs(cli, scooter, tmp_path):
     assert keys(tuned.to_toml()) == keys(want)
 
 
+def test_fit_and_tune_of_a_3d_log_give_the_commands_rigs(cli, scooter3d, tmp_path):
+    log, rig, _ = scooter3d
+    cli("fit", log, "--params", rig, "-o", tmp_path / "cli_fit3d.toml", "-q")
+    fitted = pendtilt.fit(log, params=pendtilt.read_rig(rig))
+    assert fitted.kind == "3d"
+    assert fitted == pendtilt.read_rig(tmp_path / "cli_fit3d.toml")
+    # The start rig's [mounting] is kept, so estimate reads the speed's point.
+    assert fitted.to_dict()["mounting"] == pendtilt.read_rig(rig).to_dict()["mounting"]
+    cli("tune", log, "--params", rig, "-o", tmp_path / "cli_tune3d.toml", "-q")
+    tuned = pendtilt.tune(log, params=pendtilt.read_rig(rig))
+    assert tuned == pendtilt.read_rig(tmp_path / "cli_tune3d.toml")
+    ekf3d = tuned.to_dict()["ekf3d"]
+    assert ekf3d["adapt"] is True and 0.0 < ekf3d["adapt_min_factor"] <= 1.0
+    assert ekf3d["adapt_max_factor"] > 1.0 and ekf3d["jerk_density"] > 0.0
+    # A 3-D log with the other's option is refused by name.
+    with pytest.raises(pendtilt.PendtiltError, match="--method newton: for planar logs only"):
+        pendtilt.fit(log, method="newton")
+
+
 def test_replay_of_a_table_runs_the_command(scooter3d, tmp_path):
     log, _, _ = scooter3d
     d = pendtilt.read_csv(log)

@@ -52,7 +52,7 @@ fn main() -> anyhow::Result<()> {
     let seconds: f64 = arg("--seconds", 60.0)?;
     let chosen: u64 = arg("--chosen", 9)?;
     println!("{rides} rides of {seconds} s at 1 kHz; ekf3d RMS inclination error [deg]");
-    println!("| ride | defaults | self-tuned | (adapt on) | reference | self/ref | best peer (truth-tuned) | tune [s] | rig |");
+    println!("| ride | defaults | self-tuned | (adapt off) | reference | self/ref | best peer (truth-tuned) | tune [s] | rig |");
     println!("|---|---|---|---|---|---|---|---|---|");
     let scores: Vec<Score3d> = (0..rides)
         .into_par_iter()
@@ -72,7 +72,7 @@ fn main() -> anyhow::Result<()> {
             s.ride.index,
             d(s.defaults),
             d(s.tuned),
-            d(s.tuned_adapted),
+            d(s.tuned_fixed),
             d(s.reference),
             s.tuned / s.reference,
             s.tune_seconds,

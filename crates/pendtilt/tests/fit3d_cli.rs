@@ -59,6 +59,13 @@ fn fit_writes_a_rig_that_estimate_reads() {
         assert!(out.contains(want), "{want}: {out}");
     }
     assert!(err.contains("held at the start rig's values: b_z"), "{err}");
+    // No --params: the written rig has no [mounting], and the log has a speed column.
+    let warned = "no --params was given, so the fit took the accelerometer as at P1";
+    assert_eq!(err.matches(warned).count(), 1, "{err}");
+    assert!(
+        err.contains("the point whose speed the log's `speed` column gives"),
+        "{err}"
+    );
     let text = std::fs::read_to_string(&rig).unwrap();
     assert!(
         text.contains("\na_x = ") && text.contains("\nb_ring = "),
@@ -69,6 +76,10 @@ fn fit_writes_a_rig_that_estimate_reads() {
     assert!(std::fs::read_to_string(&est).unwrap().starts_with("t,"));
 
     let (toml, err) = ok(&["fit", s(&log), "--target", "gyro", "-q", "-o", "-"]);
+    assert!(
+        err.contains(warned),
+        "a warning is said even with -q: {err}"
+    );
     assert!(
         toml.starts_with("# fitted by `pendtilt fit`") && toml.contains("[pendulum3d]"),
         "{toml}"
@@ -92,6 +103,8 @@ fn fit_writes_a_rig_that_estimate_reads() {
         s(&phys),
     ]);
     let text = std::fs::read_to_string(&phys).unwrap();
+    let (_, err) = ok(&["fit", s(&log), "--params", s(&start), "-o", s(&rig)]);
+    assert!(!err.contains("[mounting]"), "the start rig has one: {err}");
     assert!(
         text.contains("mass = 0.06") && text.contains("speed_at = [0.0, 0.0, -0.25]"),
         "{text}"

@@ -124,3 +124,58 @@ fn a_log_too_short_keeps_the_start_and_says_so() {
     assert!(text.contains("# doubts"), "{text}");
     pendtilt::bank3d::rig::Rig3dConfig::from_toml_str(&text, "t").unwrap();
 }
+
+/// The speed column sets the jerk density: a car's (ride3d, 30 s) most likely value lies
+/// well inside the search's range, with consistent innovations, and ekf3d with it does as
+/// well as with the start's; a standing scooter's speed never changes, so its jerk is at
+/// the range's floor and said to be a doubt. The adaptation is written on, from the tuned
+/// density up to the default's ceiling, its floor the tuned density on the moving car and
+/// lower on the standing scooter.
+#[test]
+fn the_jerk_and_the_adaptation_are_set_from_the_log() {
+    use pendtilt::tune::spatial::speed::JERK_RANGE;
+    use pendtilt::tune::spatial::{forcing_ceiling, STANDING_FLOOR};
+    let mut s = Scenario3d::named("ride3d", 1).unwrap();
+    s.duration = 30.0;
+    let log = Log3d::simulate(&s, 1);
+    let start = Start3d::default();
+    let t = tune3d(&log.samples, &start);
+    let j = t.jerk.clone().unwrap().unwrap();
+    assert!(!j.at_bound && j.density > 0.05 && j.density < 1.0, "{j:?}");
+    assert!((j.normalised_rms - 1.0).abs() < 0.1, "{j:?}");
+    assert_eq!(t.config.jerk_density, Some(j.density));
+    let note = t
+        .notes
+        .iter()
+        .find(|n| n.key == "ekf3d.jerk_density")
+        .unwrap();
+    assert!(
+        !note.kept_default && !note.how.contains("DOUBT"),
+        "{note:?}"
+    );
+    let mut with_start = t.settings;
+    with_start.speed.jerk_density = start.settings.speed.jerk_density;
+    let (tuned, kept) = (log.ekf_rms(&t.settings), log.ekf_rms(&with_start));
+    assert!(tuned < 1.05 * kept, "{tuned} vs {kept} rad");
+
+    let a = t.settings.adaptation;
+    let d = t.settings.environment.vibration_density;
+    assert!(a.enabled && a.min_factor == 1.0, "{a:?}");
+    assert!((d * a.max_factor.sqrt() / forcing_ceiling() - 1.0).abs() < 1e-12);
+    assert_eq!(t.config.adapt_max_factor, Some(a.max_factor));
+
+    let mut s = Scenario3d::named("scooter3d", 2).unwrap();
+    s.duration = 30.0;
+    let t = tune3d(&Log3d::simulate(&s, 2).samples, &start);
+    let j = t.jerk.clone().unwrap().unwrap();
+    assert!(j.at_bound && j.density < 1.1 * JERK_RANGE[0], "{j:?}");
+    // Standing: the floor comes down.
+    let a = t.settings.adaptation;
+    assert!(a.enabled && a.min_factor == STANDING_FLOOR, "{a:?}");
+    let note = t
+        .notes
+        .iter()
+        .find(|n| n.key == "ekf3d.jerk_density")
+        .unwrap();
+    assert!(note.how.contains("DOUBT"), "{note:?}");
+}

@@ -121,6 +121,16 @@ pub fn template() -> String {
                     "adapt the forcing to the log (docs/adaptation.md)",
                 ),
                 (
+                    "adapt_min_factor",
+                    f(e.adaptation.min_factor),
+                    "the adaptation's floor, times vibration_density^2",
+                ),
+                (
+                    "adapt_max_factor",
+                    f(e.adaptation.max_factor),
+                    "the adaptation's ceiling, times vibration_density^2",
+                ),
+                (
                     "encoder_jitter",
                     f(e.encoder_jitter),
                     "encoder jitter from vibration above the band [rad]",
@@ -382,6 +392,14 @@ pub struct Ekf3dConfig {
     /// [`ekf::Settings::adaptation`].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub adapt: Option<bool>,
+    /// [`pendtilt_core::spatial::ekf::Adaptation::min_factor`]: the lowest factor on
+    /// `vibration_density`'s variance the adaptation may reach.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub adapt_min_factor: Option<f64>,
+    /// [`pendtilt_core::spatial::ekf::Adaptation::max_factor`]: the highest factor on
+    /// `vibration_density`'s variance the adaptation may reach.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub adapt_max_factor: Option<f64>,
     /// [`ekf::Settings::guard_angle`] \[rad\] (`inf`: no guard).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub guard_angle: Option<f64>,
@@ -414,9 +432,18 @@ impl Ekf3dConfig {
             ("gyro_bias_walk", self.gyro_bias_walk),
             ("gyro_bias", self.gyro_bias),
             ("accel_density", self.accel_density),
+            ("adapt_min_factor", self.adapt_min_factor),
+            ("adapt_max_factor", self.adapt_max_factor),
         ] {
             if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
                 return Err(format!("ekf3d.{key}: {v} must be finite and > 0"));
+            }
+        }
+        if let (Some(lo), Some(hi)) = (self.adapt_min_factor, self.adapt_max_factor) {
+            if lo > hi {
+                return Err(format!(
+                    "ekf3d.adapt_min_factor {lo} is above adapt_max_factor {hi}"
+                ));
             }
         }
         for (key, v) in [
@@ -491,6 +518,12 @@ impl Ekf3dConfig {
         }
         if let Some(v) = self.adapt {
             s.adaptation.enabled = v;
+        }
+        if let Some(v) = self.adapt_min_factor {
+            s.adaptation.min_factor = v;
+        }
+        if let Some(v) = self.adapt_max_factor {
+            s.adaptation.max_factor = v;
         }
         if let Some(v) = self.guard_angle {
             s.guard_angle = v;

@@ -2,6 +2,7 @@
 //! and the values set from the measurements.
 use super::forcing::Forcing3d;
 use super::noise::Noise3d;
+use super::speed::Jerk;
 use crate::tune::Note;
 use pendtilt_core::spatial::ekf::Settings;
 
@@ -371,17 +372,7 @@ pub(super) fn kept(s: &Settings<f64>, n: &Noise3d, notes: &mut Vec<Note>) {
             the start's"
             .into(),
     );
-    if n.speed.is_some() {
-        push(
-            notes,
-            "jerk_density",
-            format!("{:.3} m/s^3/sqrt(Hz)", s.speed.jerk_density),
-            true,
-            "DOUBT: how fast the vehicle's acceleration changes is not told apart from the tilt \
-                without a true attitude: kept the start's"
-                .into(),
-        );
-    } else {
+    if n.speed.is_none() {
         push(
             notes,
             "speed_noise",
@@ -390,4 +381,85 @@ pub(super) fn kept(s: &Settings<f64>, n: &Noise3d, notes: &mut Vec<Note>) {
             "the log has no speed column: not used, kept the start's".into(),
         );
     }
+}
+
+/// The jerk density into `s` from the speed's likelihood, a note (nothing without a
+/// speed column).
+pub(super) fn jerk(s: &mut Settings<f64>, j: &Option<Result<Jerk, String>>, notes: &mut Vec<Note>) {
+    match j {
+        None => {}
+        Some(Ok(j)) => {
+            s.speed.jerk_density = j.density;
+            let bound = if j.at_bound {
+                " DOUBT: at the end of the search's range, which the log does not bound (a \
+                 vehicle at a steady speed has no jerk to find)"
+            } else {
+                ""
+            };
+            push(
+                notes,
+                "jerk_density",
+                format!("{:.4} m/s^3/sqrt(Hz)", j.density),
+                false,
+                format!(
+                    "the most likely for the {} speed readings under ekf3d's speed model \
+                     (white jerk, the measured speed noise); its normalised innovations' RMS \
+                     {:.2}, 1 for a model that fits{bound}",
+                    j.readings, j.normalised_rms
+                ),
+            );
+        }
+        Some(Err(why)) => push(
+            notes,
+            "jerk_density",
+            format!("{:.3} m/s^3/sqrt(Hz)", s.speed.jerk_density),
+            true,
+            format!("DOUBT: {why}: kept the start's"),
+        ),
+    }
+}
+
+/// The adaptation's start and bounds ([`super::adaptation`]), a note each.
+pub(super) fn adaptation(s: &Settings<f64>, standing: bool, notes: &mut Vec<Note>) {
+    let a = &s.adaptation;
+    let d = s.environment.vibration_density;
+    push(
+        notes,
+        "adapt",
+        a.enabled.to_string(),
+        false,
+        format!(
+            "the forcing adapts online from the vibration density above ({d:.3e} \
+             m/s^2/sqrt(Hz)), for motion this log did not show (a hand-held stretch, a \
+             tumble); on the simulated vehicles it changed one ride of 18 by more than 1 %"
+        ),
+    );
+    push(
+        notes,
+        "adapt_min_factor",
+        format!("{}", a.min_factor),
+        false,
+        if standing {
+            "the speed never changed, so nothing but vibration forces the pendulum: the \
+             innovations may bring the density down to a tenth of its variance (the tuned \
+             density is an upper bound, holding the filter's own error)"
+                .into()
+        } else {
+            "the floor is the tuned density itself: on a moving vehicle (or one without a \
+             speed column) the unpredicted accelerations are real, and a lower floor cost \
+             the simulated ships up to 1.6x"
+                .into()
+        },
+    );
+    push(
+        notes,
+        "adapt_max_factor",
+        format!("{:.4e}", a.max_factor),
+        false,
+        format!(
+            "up to {:.2} m/s^2/sqrt(Hz), ekf3d's default ceiling whatever the tuned density: \
+             beyond any body the pendulum still follows",
+            d * a.max_factor.sqrt()
+        ),
+    );
 }

@@ -47,6 +47,8 @@ fn keys(c: &Ekf3dConfig) -> Vec<(&'static str, String)> {
         ("path_pitch_hz", f(c.path_pitch_hz)),
         ("use_accel", b(c.use_accel)),
         ("adapt", b(c.adapt)),
+        ("adapt_min_factor", f(c.adapt_min_factor)),
+        ("adapt_max_factor", f(c.adapt_max_factor)),
         ("guard_angle", f(c.guard_angle)),
         ("pendulum_range", f(c.pendulum_range)),
     ]
@@ -149,6 +151,8 @@ mod tests {
             encoder_jitter: Some(1.0),
             use_accel: Some(true),
             adapt: Some(true),
+            adapt_min_factor: Some(1.0),
+            adapt_max_factor: Some(2.0),
             guard_angle: Some(1.0),
             pendulum_range: Some(1.0),
             encoder_bits: Some(1),

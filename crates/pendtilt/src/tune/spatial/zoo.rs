@@ -276,8 +276,9 @@ pub struct Score3d {
     pub defaults: f64,
     /// Self-tuned (no truth), through the written `[ekf3d]` table.
     pub tuned: f64,
-    /// Self-tuned with the adaptation on (`adapt = true`; the tune writes it off).
-    pub tuned_adapted: f64,
+    /// Self-tuned with the adaptation off (`adapt = false`; the tune writes it on, from
+    /// the tuned density up).
+    pub tuned_fixed: f64,
     /// Tuned against the truth (the reference).
     pub reference: f64,
     /// The best peer tuned against the truth (name, RMS), when asked for.
@@ -305,9 +306,9 @@ pub fn score(ride: &Ride3d, peers: bool) -> Score3d {
     };
     let tuned_s = Start3d::from_rig(&tuned_rig).settings;
     let tuned = log.ekf_rms(&tuned_s);
-    let mut adapted = tuned_s;
-    adapted.adaptation.enabled = true;
-    let tuned_adapted = log.ekf_rms(&adapted);
+    let mut fixed = tuned_s;
+    fixed.adaptation.enabled = false;
+    let tuned_fixed = log.ekf_rms(&fixed);
     // The reference: the better of the searches from the self-tuned point and from the
     // defaults (adaptation off, as a search of fixed figures), and never worse than the
     // self-tuned filter itself.
@@ -328,7 +329,7 @@ pub fn score(ride: &Ride3d, peers: bool) -> Score3d {
         ride: ride.clone(),
         defaults,
         tuned,
-        tuned_adapted,
+        tuned_fixed,
         reference,
         best_peer,
         tune_seconds,
