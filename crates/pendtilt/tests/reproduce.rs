@@ -35,14 +35,27 @@ fn short() -> ReproduceConfig {
 fn reproduce_end_to_end_on_a_short_ride() {
     let dir = tempfile::tempdir().unwrap();
     let out = reproduce(&short(), dir.path(), &NoProgress).unwrap();
+    check_files(dir.path(), &out);
+    let top = check_pages(dir.path(), &out);
+    check_claims(&out);
+    // and the Markdown shows it
+    let md = std::fs::read_to_string(&out.markdown).unwrap();
+    assert!(
+        md.contains(&out.claims[2].measured.replace('|', "\\|"))
+            || md.contains(&out.claims[2].measured)
+    );
+    spatial_part(dir.path(), &out, &top, &md);
+}
 
-    // the files
+/// The files: the top pages, one report per ride, every figure as SVG and PNG of its
+/// size.
+fn check_files(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome) {
     for p in [&out.index, &out.markdown, &out.json] {
         assert!(std::fs::metadata(p).unwrap().len() > 100, "{}", p.display());
     }
     for sub in ["scooter", "sigmoid"] {
         for f in ["index.html", "report.md", "report.json"] {
-            assert!(dir.path().join(sub).join(f).is_file(), "{sub}/{f}");
+            assert!(dir.join(sub).join(f).is_file(), "{sub}/{f}");
         }
     }
     let figures: Vec<_> = out
@@ -77,18 +90,19 @@ fn reproduce_end_to_end_on_a_short_ride() {
         "fig3_kalman_variance",
     ] {
         assert!(
-            dir.path()
-                .join("scooter")
-                .join(format!("{stem}.png"))
-                .is_file(),
+            dir.join("scooter").join(format!("{stem}.png")).is_file(),
             "{stem}"
         );
     }
-    assert!(dir.path().join("sigmoid/fig5_alg1_sigmoid.png").is_file());
+    assert!(dir.join("sigmoid/fig5_alg1_sigmoid.png").is_file());
+}
 
+/// Every page references only files that exist, and the top page shows figures, defines
+/// its metrics and says what was fitted; the top page's HTML.
+fn check_pages(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome) -> String {
     // every page references only files that exist, and the top page shows figures
     for page in ["index.html", "scooter/index.html", "sigmoid/index.html"] {
-        let path = dir.path().join(page);
+        let path = dir.join(page);
         let html = std::fs::read_to_string(&path).unwrap();
         let refs = referenced_paths(&html);
         assert!(!refs.is_empty(), "{page} references nothing");
@@ -106,8 +120,12 @@ fn reproduce_end_to_end_on_a_short_ride() {
     assert!(top.contains("beyond the ordinate axis, marked red on the frame."));
     // claim 4 says the gains were fitted in this run (they were)
     assert!(out.calibration.gains_fitted && top.contains("K, L, M, N fitted in this run"));
+    top
+}
 
-    // the claims table is computed from the metrics of this run
+/// The claims table is computed from the metrics of this run, and claims.json holds the
+/// same table.
+fn check_claims(out: &pendtilt::experiment::ReproduceOutcome) {
     assert_eq!(out.claims.len(), 6);
     assert_eq!(out.claims_view, FIR_VIEW);
     let scooter_json: serde_json::Value =
@@ -172,13 +190,6 @@ fn reproduce_end_to_end_on_a_short_ride() {
         assert_eq!(row["holds"].as_bool(), Some(c.holds));
         assert_eq!(row["measured"].as_str(), Some(c.measured.as_str()));
     }
-    // and the Markdown shows it
-    let md = std::fs::read_to_string(&out.markdown).unwrap();
-    assert!(
-        md.contains(&out.claims[2].measured.replace('|', "\\|"))
-            || md.contains(&out.claims[2].measured)
-    );
-    spatial_part(dir.path(), &out, &top, &md);
 }
 
 /// The 3-D part of the run above: one report per scenario with every estimator of the
