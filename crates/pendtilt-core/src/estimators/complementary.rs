@@ -116,7 +116,7 @@ impl<T: Real> SteadyOffset<T> {
 /// How long \[s\] the steady offset kept through a restart is averaged over: long enough
 /// that the accelerometer's errors from vibration and manoeuvres average out, short against
 /// the gyro bias's drift. 5, 10 and 20 s gave the same recoveries on the restarts of
-/// `tests/plausibility.rs` (their gaps start 5-8 s into the ride, so the mean covers at
+/// `tests/plausibility/` (their gaps start 5-8 s into the ride, so the mean covers at
 /// most 7 s there).
 pub const OFFSET_WINDOW: f64 = 10.0;
 

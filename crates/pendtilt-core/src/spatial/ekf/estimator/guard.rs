@@ -65,7 +65,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
         // the filter's inclination (the encoders carried it) and guards again from there.
         // Without the encoders nothing carried the filter better than the reference: it
         // runs on the held rate as the filter does (taking the filter's inclination after
-        // one missing gyro reading left imu3d 0.07 deg worse for 20 s, tests/faults3d.rs).
+        // one missing gyro reading left imu3d 0.07 deg worse for 20 s, tests/faults3d).
         let guard = &mut self.state.guard;
         if self.state.gyro.held_for > T::zero() && st.use_encoders {
             guard.held = true;

@@ -23,7 +23,7 @@ pub(super) const VIBRATION_TAU: f64 = 1.0;
 /// this long \[s\] after, the gyro bias stays where it was: the encoders' innovations then
 /// carry the rate the hold missed, which the filter would otherwise learn as bias through
 /// the attitude-bias correlation. Measured on scooter3d (seed 3, the gyro clipped at 0.1
-/// rad/s for 2 s, tests/faults3d.rs): learnt, the z bias moved by 0.005 rad/s and ekf3d
+/// rad/s for 2 s, tests/faults3d): learnt, the z bias moved by 0.005 rad/s and ekf3d
 /// took 8.3 s to come back within 0.05 deg of the fault-free run. 2 s rather than 0.5 s:
 /// after 100 missing readings of one gyro axis the attitude is still 0.1-0.2 deg off
 /// 0.5 s later, which went into the bias and took up to 10 s to wear off
@@ -33,7 +33,7 @@ pub(super) const BIAS_HOLD: f64 = 2.0;
 /// A hold at least this long \[s\] ends with [`ModelBased::reacquire`]: 50 ms, so that
 /// one missing reading (a hold of 1 ms, its error within the attitude's variance) does
 /// not loosen the attitude (with every hold: 1.04 s instead of 0 back after one missing
-/// gyro_x reading, tests/faults3d.rs).
+/// gyro_x reading, tests/faults3d).
 const REACQUIRE_AFTER: f64 = 0.05;
 
 /// The standard deviation \[rad\] roll and pitch are loosened to after a hold of missing
@@ -139,7 +139,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
             let t0 = st.held_for;
             st.held_for += dt;
             // On every axis, the ones read too: a rate missed about one axis turns the
-            // others through the motion (the 2 s gyro clip of tests/faults3d.rs: 6.06 s
+            // others through the motion (the 2 s gyro clip of tests/faults3d: 6.06 s
             // back with the missing axes' alone, 1.74 s with all three).
             let held_for = st.held_for;
             let extra = self.hold_variance() * (held_for * held_for - t0 * t0);
@@ -180,7 +180,7 @@ impl<T: Real, F: GaussianFilter<T, State<T>, N>> ModelBased<T, F> {
     /// up to 10 s (with the bias it moved), 0.9-1.96 s with this (tests/gyro_bursts3d.rs).
     /// A missing reading hides the rate's departure from its low-pass, the vibration's
     /// scale; a clip hides the rate beyond the clip, without bound. Loosened to the start's
-    /// 2 deg, the bursts took up to 2.08 s; to 0.5 deg after the clip of tests/faults3d.rs
+    /// 2 deg, the bursts took up to 2.08 s; to 0.5 deg after the clip of tests/faults3d
     /// (2 s at 0.1 rad/s), 6.06 s instead of 1.71. Loosening the pendulum's rates too
     /// moved the clip to 1.94 s; making them uncorrelated without loosening left some
     /// bursts beyond 3 s.
