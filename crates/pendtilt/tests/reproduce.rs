@@ -196,7 +196,6 @@ fn check_claims(out: &pendtilt::experiment::ReproduceOutcome) {
 /// registry and its figures, the table on the top page, still3d within its target,
 /// and scooter3d's numbers equal to `simulate` + `estimate` on the same scenario and seed.
 fn spatial_part(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome, top: &str, md: &str) {
-    let registry: Vec<&str> = REGISTRY3D.iter().map(|e| e.name).collect();
     // (name, a moving vehicle: a ride section and its figure first)
     let scenarios = [
         ("still3d", false),
@@ -207,49 +206,7 @@ fn spatial_part(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome, top: &
     assert_eq!(out.spatial.len(), scenarios.len());
     assert!(top.contains("3-D: inclination error") && md.contains("## 3-D: inclination error"));
     for (o, (name, ride)) in out.spatial.iter().zip(scenarios) {
-        let names: Vec<&str> = o.data.inclination.iter().map(|r| r.name.as_str()).collect();
-        assert_eq!(names, registry, "{name}");
-        assert_eq!(o.data.ride.is_some(), ride, "{name}");
-        let n_fig = 3 + usize::from(ride);
-        assert_eq!(o.figures.len(), n_fig, "{name}");
-        for (k, f) in o.figures.iter().enumerate() {
-            assert!(std::fs::metadata(&f.svg).unwrap().len() > 10_000);
-            assert_eq!(png_size(&f.png), (f.width, f.height), "{}", f.png.display());
-            if ride && k == 0 {
-                // roll, pitch, inclination error and the accelerations
-                assert_eq!(f.axes.len(), 4, "{name} ride figure");
-            } else {
-                assert_eq!(f.axes.len(), registry.len(), "one panel per estimator");
-            }
-        }
-        let json: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&o.json).unwrap()).unwrap();
-        assert_eq!(json["figures"].as_array().unwrap().len(), n_fig);
-        assert!(
-            top.contains(&format!("href=\"{name}/index.html\"")),
-            "{name}"
-        );
-        let page = dir.join(name).join("index.html");
-        for r in referenced_paths(&std::fs::read_to_string(&page).unwrap()) {
-            assert!(
-                dir.join(name).join(&r).is_file(),
-                "{name} references missing {r}"
-            );
-        }
-        let ekf = o
-            .data
-            .inclination
-            .iter()
-            .find(|r| r.name == "ekf3d")
-            .unwrap();
-        assert!(
-            top.contains(&format!(
-                "{} / {}",
-                fmt_sig(ekf.rms_deg),
-                fmt_sig(ekf.max_deg)
-            )),
-            "{name}: ekf3d's numbers not on the top page"
-        );
+        check_scenario(dir, o, name, ride, top);
     }
     let rms = |k: usize, n: &str| {
         out.spatial[k]
@@ -301,6 +258,62 @@ fn spatial_part(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome, top: &
             f[0]
         );
     }
+}
+
+/// One 3-D scenario's report: every estimator of the registry, its figures (a ride
+/// section's first on a moving vehicle), its page's references, and ekf3d's numbers on
+/// the top page.
+fn check_scenario(
+    dir: &Path,
+    o: &pendtilt::report::spatial::SpatialOutput,
+    name: &str,
+    ride: bool,
+    top: &str,
+) {
+    let registry: Vec<&str> = REGISTRY3D.iter().map(|e| e.name).collect();
+    let names: Vec<&str> = o.data.inclination.iter().map(|r| r.name.as_str()).collect();
+    assert_eq!(names, registry, "{name}");
+    assert_eq!(o.data.ride.is_some(), ride, "{name}");
+    let n_fig = 3 + usize::from(ride);
+    assert_eq!(o.figures.len(), n_fig, "{name}");
+    for (k, f) in o.figures.iter().enumerate() {
+        assert!(std::fs::metadata(&f.svg).unwrap().len() > 10_000);
+        assert_eq!(png_size(&f.png), (f.width, f.height), "{}", f.png.display());
+        if ride && k == 0 {
+            // roll, pitch, inclination error and the accelerations
+            assert_eq!(f.axes.len(), 4, "{name} ride figure");
+        } else {
+            assert_eq!(f.axes.len(), registry.len(), "one panel per estimator");
+        }
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&o.json).unwrap()).unwrap();
+    assert_eq!(json["figures"].as_array().unwrap().len(), n_fig);
+    assert!(
+        top.contains(&format!("href=\"{name}/index.html\"")),
+        "{name}"
+    );
+    let page = dir.join(name).join("index.html");
+    for r in referenced_paths(&std::fs::read_to_string(&page).unwrap()) {
+        assert!(
+            dir.join(name).join(&r).is_file(),
+            "{name} references missing {r}"
+        );
+    }
+    let ekf = o
+        .data
+        .inclination
+        .iter()
+        .find(|r| r.name == "ekf3d")
+        .unwrap();
+    assert!(
+        top.contains(&format!(
+            "{} / {}",
+            fmt_sig(ekf.rms_deg),
+            fmt_sig(ekf.max_deg)
+        )),
+        "{name}: ekf3d's numbers not on the top page"
+    );
 }
 
 /// The Newton fit finds a, b on a ride with the engine off; with the engine running the

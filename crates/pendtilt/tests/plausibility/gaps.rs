@@ -155,8 +155,48 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
         }
     }
     let bad = run(&text(&c), &rig);
-    assert!(bad.result.is_ok());
     assert_eq!(bad.est.len(), rows.len());
+    no_estimate_beyond_the_restart_gap(&bad, k0, k1);
+    // After the gap every estimator gives exactly what it gives when started there, but
+    // the EKF and the UKF, which resume: they keep their gyro bias (a gap cannot change it
+    // beyond its random walk) and start the rest afresh.
+    let tail = run(&text(&base[k1..]), &rig);
+    as_if_started_there(&bad, &tail, k1);
+    let rec = recovery(&clean, &bad, k1 as f64 * 1e-3);
+    print("10 s gap of every sensor", &rec);
+    let fresh = recovery(&clean, &shifted(&tail, &bad, k1), k1 as f64 * 1e-3);
+    print("the same rows started afresh", &fresh);
+    assert_nothing_poisoned("10 s gap", &clean, &bad, &rows, k1 as f64 * 1e-3 + 2.0);
+    for (r, f) in rec.iter().zip(&fresh) {
+        back_within_bounds(*r, f.1);
+    }
+
+    // The same gap as missing rows (the time jumps by 10 s).
+    let mut c = base[..k0].to_vec();
+    c.extend_from_slice(&base[k1..]);
+    let jumped = run(&text(&c), &rig);
+    assert_eq!(jumped.result.as_ref().unwrap().restarts, 1);
+    for (k, row) in bad.est[k1..].iter().enumerate() {
+        for (j, e) in row.iter().enumerate() {
+            let d = (e.theta - jumped.est[k0 + k][j].theta).abs();
+            // The resuming filters grow the bias variance by its walk over the gap either
+            // way (predicted through the empty rows, or added for the jump).
+            let tol = if resumes(bad.names[j]) { 1e-6 } else { 1e-12 };
+            assert!(d <= tol, "{} at row {}: {d}", bad.names[j], k1 + k);
+        }
+    }
+}
+
+/// The EKF, the UKF, the complementary filter and Mahony resume after a gap (they keep
+/// their gyro bias or steady offset); the others start afresh.
+fn resumes(name: &str) -> bool {
+    matches!(name, "ekf" | "ukf" | "complementary" | "mahony")
+}
+
+/// The gap of rows `k0..k1` restarted the estimators once, said so on the row after it,
+/// and beyond the restart gap no estimator gave an estimate.
+fn no_estimate_beyond_the_restart_gap(bad: &Run, k0: usize, k1: usize) {
+    assert!(bad.result.is_ok());
     let restarts: Vec<_> = bad
         .warnings
         .iter()
@@ -182,12 +222,11 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
             );
         }
     }
+}
 
-    // After the gap every estimator gives exactly what it gives when started there, but
-    // the EKF and the UKF, which resume: they keep their gyro bias (a gap cannot change it
-    // beyond its random walk) and start the rest afresh.
-    let resumes = |name: &str| matches!(name, "ekf" | "ukf" | "complementary" | "mahony");
-    let tail = run(&text(&base[k1..]), &rig);
+/// After the gap ending at row `k1`, every estimator that does not resume gives exactly
+/// what it gives on the rows after it alone (`tail`).
+fn as_if_started_there(bad: &Run, tail: &Run, k1: usize) {
     for (k, row) in tail.est.iter().enumerate() {
         for (j, e) in row.iter().enumerate() {
             if resumes(tail.names[j]) {
@@ -206,58 +245,41 @@ fn a_10_s_gap_of_every_sensor_restarts_every_estimator_as_if_started_there() {
             );
         }
     }
-    let rec = recovery(&clean, &bad, k1 as f64 * 1e-3);
-    print("10 s gap of every sensor", &rec);
-    let fresh = recovery(&clean, &shifted(&tail, &bad, k1), k1 as f64 * 1e-3);
-    print("the same rows started afresh", &fresh);
-    assert_nothing_poisoned("10 s gap", &clean, &bad, &rows, k1 as f64 * 1e-3 + 2.0);
-    for ((est, back, worst), (_, back_fresh, _)) in rec.iter().zip(&fresh) {
-        // Bounds measured (docs/reliability.md 7b). The complementary filter and Mahony
-        // restart as a running mean of the accelerometer angle (after the prefilter has
-        // settled) and keep their steady offset, the gyro bias times their time constant:
-        // the complementary filter is back after 1.98 s (2.36 s started afresh); Mahony
-        // (kp = 0.45 /s) after 7.24 s (10.95 s afresh, from one reading): what its clean
-        // run remembers of the accelerometer over the last seconds fades at kp, 0.41 of
-        // it in 2 s, and no restart can know it (the twins of
-        // `no_restart_meets_2_s_on_both_a_ride_and_its_twins_in_the_gap`). Madgwick: its
-        // resolution.
-        match *est {
-            "madgwick" => assert!(*worst <= madgwick_resolution_deg(), "{est}: {worst} deg"),
-            "mahony" => assert!(
-                *back <= 9.0 && *worst <= 0.8,
-                "{est}: back after {back} s, {worst} deg off 2 s after the gap"
-            ),
-            _ => assert!(*back <= 2.0, "{est} back after {back} s"),
-        }
-        match *est {
-            // Keeping the bias: back within 1.01 s; started afresh the bias re-converges
-            // over 5.6 s.
-            "ekf" | "ukf" => assert!(
-                *back <= 1.1 && *back_fresh > 5.0,
-                "{est}: {back} s, afresh {back_fresh} s"
-            ),
-            // Keeping the steady offset.
-            "complementary" | "mahony" => assert!(
-                *back < 0.9 * back_fresh,
-                "{est}: {back} s, afresh {back_fresh} s"
-            ),
-            _ => assert!(!resumes(est)),
-        }
-    }
+}
 
-    // The same gap as missing rows (the time jumps by 10 s).
-    let mut c = base[..k0].to_vec();
-    c.extend_from_slice(&base[k1..]);
-    let jumped = run(&text(&c), &rig);
-    assert_eq!(jumped.result.as_ref().unwrap().restarts, 1);
-    for (k, row) in bad.est[k1..].iter().enumerate() {
-        for (j, e) in row.iter().enumerate() {
-            let d = (e.theta - jumped.est[k0 + k][j].theta).abs();
-            // The resuming filters grow the bias variance by its walk over the gap either
-            // way (predicted through the empty rows, or added for the jump).
-            let tol = if resumes(bad.names[j]) { 1e-6 } else { 1e-12 };
-            assert!(d <= tol, "{} at row {}: {d}", bad.names[j], k1 + k);
-        }
+/// One estimator's recovery after the gap (`est`, `back` \[s\], `worst` \[deg\]) within
+/// its measured bound, and against `back_fresh`, its recovery started afresh there.
+fn back_within_bounds((est, back, worst): (&str, f64, f64), back_fresh: f64) {
+    // Bounds measured (docs/reliability.md 7b). The complementary filter and Mahony
+    // restart as a running mean of the accelerometer angle (after the prefilter has
+    // settled) and keep their steady offset, the gyro bias times their time constant:
+    // the complementary filter is back after 1.98 s (2.36 s started afresh); Mahony
+    // (kp = 0.45 /s) after 7.24 s (10.95 s afresh, from one reading): what its clean
+    // run remembers of the accelerometer over the last seconds fades at kp, 0.41 of
+    // it in 2 s, and no restart can know it (the twins of
+    // `no_restart_meets_2_s_on_both_a_ride_and_its_twins_in_the_gap`). Madgwick: its
+    // resolution.
+    match est {
+        "madgwick" => assert!(worst <= madgwick_resolution_deg(), "{est}: {worst} deg"),
+        "mahony" => assert!(
+            back <= 9.0 && worst <= 0.8,
+            "{est}: back after {back} s, {worst} deg off 2 s after the gap"
+        ),
+        _ => assert!(back <= 2.0, "{est} back after {back} s"),
+    }
+    match est {
+        // Keeping the bias: back within 1.01 s; started afresh the bias re-converges
+        // over 5.6 s.
+        "ekf" | "ukf" => assert!(
+            back <= 1.1 && back_fresh > 5.0,
+            "{est}: {back} s, afresh {back_fresh} s"
+        ),
+        // Keeping the steady offset.
+        "complementary" | "mahony" => assert!(
+            back < 0.9 * back_fresh,
+            "{est}: {back} s, afresh {back_fresh} s"
+        ),
+        _ => assert!(!resumes(est)),
     }
 }
 
@@ -310,67 +332,25 @@ fn a_gap_shorter_than_the_restart_gap_is_bridged_not_restarted() {
 /// `cargo test --release -p pendtilt --test plausibility -- --nocapture over_six`.
 #[test]
 fn restarts_over_six_rides_and_three_gap_positions() {
-    let (mut comp, mut mahony_back, mut mahony_truth) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut mahony_oracle, mut comp_oracle) = (Vec::new(), Vec::new());
     let comp_tau = pendtilt::peers::PeerSettings::default()
         .complementary
         .time_constant;
+    let mut cases = Vec::new();
     for seed in 1..=6u64 {
         let (rows, rig) = ride("scooter", 30.0, seed);
         let base = cells(&rows);
         let clean = run(&text(&base), &rig);
         for (k0, k1) in [(5000usize, 15000usize), (8000, 18000), (6000, 16500)] {
-            let mut c = base.clone();
-            for row in c.iter_mut().take(k1).skip(k0) {
-                for cell in row.iter_mut().take(5).skip(1) {
-                    cell.clear();
-                }
-            }
-            let bad = run(&text(&c), &rig);
-            let from = k1 as f64 * 1e-3 + 2.0;
+            let bad = run(&gapped(&base, k0, k1), &rig);
             let case = format!("seed {seed}, gap rows {k0}-{k1}");
-            // Mahony is held to its own bound below: on the rides where its own error is
-            // smallest (0.127 deg RMS, seed 1, the gap at 5 s) what its slow memory of the
-            // accelerometer leaves over the following 10 s is larger (0.189 deg RMS).
-            assert_nothing_poisoned_but(&case, &clean, &bad, &rows, from, &["mahony"]);
-            let rec = recovery(&clean, &bad, k1 as f64 * 1e-3);
-            let back = |name: &str| rec.iter().find(|r| r.0 == name).unwrap().1;
-            comp.push(back("complementary"));
-            mahony_back.push(back("mahony"));
-            let j = clean.names.iter().position(|n| *n == "mahony").unwrap();
-            let truth_rms = |r: &Run| {
-                let e: Vec<f64> = ((from * 1000.0).round() as usize..rows.len())
-                    .map(|k| (r.est[k][j].theta - rows[k].truth.theta).powi(2))
-                    .collect();
-                (e.iter().sum::<f64>() / e.len() as f64).sqrt().to_degrees()
-            };
-            let (b, c) = (truth_rms(&bad), truth_rms(&clean));
-            // The best a restart could do: start at the truth plus the fault-free run's
-            // mean offset over the next 10 s (an oracle). Two Mahony runs on the same
-            // readings differ by their difference at the start times exp(-kp t), so the
-            // oracle is back within 0.05 deg after ln(|d| / 0.05) / kp.
-            let kp = pendtilt::peers::ahrs_planar::MAHONY_GAINS[0];
-            let (d, oracle) = oracle_restart(&clean, &rows, "mahony", k1, kp);
-            println!(
-                "  mahony: an oracle restart {d:.3} deg from the fault-free run, back after \
-                 {oracle:.2} s"
-            );
-            mahony_oracle.push(oracle);
-            let (d, oracle) = oracle_restart(&clean, &rows, "complementary", k1, 1.0 / comp_tau);
-            println!(
-                "  complementary: an oracle restart {d:.3} deg from the fault-free run, back \
-                 after {oracle:.2} s"
-            );
-            comp_oracle.push(oracle);
-            println!(
-                "{case}: complementary back after {:.3} s, mahony {:.3} s, mahony against \
-                 the truth {b:.3} deg RMS (fault-free {c:.3})",
-                back("complementary"),
-                back("mahony")
-            );
-            mahony_truth.push(b - c);
+            cases.push(gap_case(&case, &rows, &clean, &bad, k1, comp_tau));
         }
     }
+    let comp: Vec<f64> = cases.iter().map(|c| c.comp).collect();
+    let mahony_back: Vec<f64> = cases.iter().map(|c| c.mahony_back).collect();
+    let mahony_truth: Vec<f64> = cases.iter().map(|c| c.mahony_truth).collect();
+    let mahony_oracle: Vec<f64> = cases.iter().map(|c| c.mahony_oracle).collect();
+    let comp_oracle: Vec<f64> = cases.iter().map(|c| c.comp_oracle).collect();
     let within_2 = comp.iter().filter(|b| **b <= 2.0).count();
     assert!(
         within_2 >= 14,
@@ -402,6 +382,75 @@ fn restarts_over_six_rides_and_three_gap_positions() {
     // Why 2 s is out of reach for Mahony at kp = 0.45 /s: even a restart knowing the truth
     // misses it in most cases (measured 11 of 18, up to 4.9 s).
     assert!(beyond >= 9, "{mahony_oracle:?}");
+}
+
+/// What one gap left: the complementary filter's and Mahony's recovery \[s\], Mahony's
+/// RMS from the truth over the fault-free run's \[deg\], and an oracle restart's recovery
+/// for Mahony and the complementary filter \[s\].
+struct GapCase {
+    comp: f64,
+    mahony_back: f64,
+    mahony_truth: f64,
+    mahony_oracle: f64,
+    comp_oracle: f64,
+}
+
+/// The gap ending at row `k1` of ride `rows`: nothing poisoned (but Mahony, held to its
+/// own bound), and the recoveries of the complementary filter and Mahony, theirs and an
+/// oracle restart's.
+fn gap_case(
+    case: &str,
+    rows: &[SimRow],
+    clean: &Run,
+    bad: &Run,
+    k1: usize,
+    comp_tau: f64,
+) -> GapCase {
+    let from = k1 as f64 * 1e-3 + 2.0;
+    // Mahony is held to its own bound below: on the rides where its own error is
+    // smallest (0.127 deg RMS, seed 1, the gap at 5 s) what its slow memory of the
+    // accelerometer leaves over the following 10 s is larger (0.189 deg RMS).
+    assert_nothing_poisoned_but(case, clean, bad, rows, from, &["mahony"]);
+    let rec = recovery(clean, bad, k1 as f64 * 1e-3);
+    let back = |name: &str| rec.iter().find(|r| r.0 == name).unwrap().1;
+    let j = clean.names.iter().position(|n| *n == "mahony").unwrap();
+    let truth_rms = |r: &Run| {
+        let e: Vec<f64> = ((from * 1000.0).round() as usize..rows.len())
+            .map(|k| (r.est[k][j].theta - rows[k].truth.theta).powi(2))
+            .collect();
+        (e.iter().sum::<f64>() / e.len() as f64).sqrt().to_degrees()
+    };
+    let (b, c) = (truth_rms(bad), truth_rms(clean));
+    // The best a restart could do: start at the truth plus the fault-free run's
+    // mean offset over the next 10 s (an oracle). Two Mahony runs on the same
+    // readings differ by their difference at the start times exp(-kp t), so the
+    // oracle is back within 0.05 deg after ln(|d| / 0.05) / kp.
+    let kp = pendtilt::peers::ahrs_planar::MAHONY_GAINS[0];
+    let (d, oracle) = oracle_restart(clean, rows, "mahony", k1, kp);
+    println!(
+        "  mahony: an oracle restart {d:.3} deg from the fault-free run, back after \
+         {oracle:.2} s"
+    );
+    let mahony_oracle = oracle;
+    let (d, oracle) = oracle_restart(clean, rows, "complementary", k1, 1.0 / comp_tau);
+    println!(
+        "  complementary: an oracle restart {d:.3} deg from the fault-free run, back \
+         after {oracle:.2} s"
+    );
+    let comp_oracle = oracle;
+    println!(
+        "{case}: complementary back after {:.3} s, mahony {:.3} s, mahony against \
+         the truth {b:.3} deg RMS (fault-free {c:.3})",
+        back("complementary"),
+        back("mahony")
+    );
+    GapCase {
+        comp: back("complementary"),
+        mahony_back: back("mahony"),
+        mahony_truth: b - c,
+        mahony_oracle,
+        comp_oracle,
+    }
 }
 
 /// The gap's text of a log: every sensor cell of rows `k0..k1` empty.

@@ -62,37 +62,8 @@ fn one_impossible_cell_per_sensor_is_missing_for_every_estimator_flagged_and_tol
         let bad = run(&text(&c), &rig);
         assert!(bad.result.is_ok());
         assert_eq!(bad.est.len(), rows.len(), "{value}: a row was lost");
-        let w = implausible_warnings(&bad);
-        assert_eq!(w.len(), 1, "{value}: told once: {:?}", bad.warnings);
-        let shown = w[0].to_string();
-        assert!(shown.starts_with("ride.csv:2502: "), "{shown}");
-        assert!(shown.contains(says), "{shown}");
-        assert!(!shown.contains("--deg"), "{shown}");
-        assert!(
-            !bad.warnings
-                .iter()
-                .any(|w| w.kind == WarningKind::LooksLikeDegrees),
-            "{value}: the degree hint must not fire: {:?}",
-            bad.warnings
-        );
-        // Flagged on exactly the estimators that read the sensor, on that row only.
-        let mut settings_needs = Vec::new();
-        for e in pendtilt::bank::REGISTRY {
-            if let Some(j) = bad.names.iter().position(|n| *n == e.name) {
-                settings_needs.push((j, e.needs()));
-            }
-        }
-        for (j, needs) in settings_needs {
-            let f = bad.est[k][j].flags;
-            let reads = needs.intersects(sensor);
-            assert_eq!(
-                f.contains(Flags::IMPLAUSIBLE),
-                reads,
-                "{value} {}",
-                bad.names[j]
-            );
-            assert!(!bad.est[k + 1][j].flags.contains(Flags::IMPLAUSIBLE));
-        }
+        told_once(&bad, value, says);
+        flagged_where_read(&bad, k, sensor, value);
         let rec = recovery(&clean, &bad, k as f64 * 1e-3);
         print(&format!("one cell {value} in column {col}"), &rec);
         assert_nothing_poisoned(
@@ -102,18 +73,63 @@ fn one_impossible_cell_per_sensor_is_missing_for_every_estimator_flagged_and_tol
             &rows,
             k as f64 * 1e-3 + 2.0,
         );
-        for (n, back, worst) in &rec {
-            if *n == "madgwick" {
-                // 0.05 deg is below Madgwick's resolution at this gain and rate (measured
-                // 0.14 deg after one missing ax, 0.26 after one missing gyro reading).
-                let bound = madgwick_resolution_deg();
-                assert!(
-                    *worst <= bound,
-                    "{value}: madgwick {worst} deg off 2 s after"
-                );
-            } else {
-                assert!(*back <= 2.0, "{value}: {n} back only after {back} s");
-            }
+        back_within_2_s(value, &rec);
+    }
+}
+
+/// The impossible cell `value` is told once, on its line, with what it `says`, and not
+/// taken for degrees.
+fn told_once(bad: &Run, value: &str, says: &str) {
+    let w = implausible_warnings(bad);
+    assert_eq!(w.len(), 1, "{value}: told once: {:?}", bad.warnings);
+    let shown = w[0].to_string();
+    assert!(shown.starts_with("ride.csv:2502: "), "{shown}");
+    assert!(shown.contains(says), "{shown}");
+    assert!(!shown.contains("--deg"), "{shown}");
+    assert!(
+        !bad.warnings
+            .iter()
+            .any(|w| w.kind == WarningKind::LooksLikeDegrees),
+        "{value}: the degree hint must not fire: {:?}",
+        bad.warnings
+    );
+}
+
+/// Flagged on exactly the estimators that read `sensor`, on row `k` only.
+fn flagged_where_read(bad: &Run, k: usize, sensor: Inputs, value: &str) {
+    let mut settings_needs = Vec::new();
+    for e in pendtilt::bank::REGISTRY {
+        if let Some(j) = bad.names.iter().position(|n| *n == e.name) {
+            settings_needs.push((j, e.needs()));
+        }
+    }
+    for (j, needs) in settings_needs {
+        let f = bad.est[k][j].flags;
+        let reads = needs.intersects(sensor);
+        assert_eq!(
+            f.contains(Flags::IMPLAUSIBLE),
+            reads,
+            "{value} {}",
+            bad.names[j]
+        );
+        assert!(!bad.est[k + 1][j].flags.contains(Flags::IMPLAUSIBLE));
+    }
+}
+
+/// Every estimator back within 0.05 deg of the clean run 2 s after the cell, Madgwick
+/// within its resolution.
+fn back_within_2_s(value: &str, rec: &[(&str, f64, f64)]) {
+    for (n, back, worst) in rec {
+        if *n == "madgwick" {
+            // 0.05 deg is below Madgwick's resolution at this gain and rate (measured
+            // 0.14 deg after one missing ax, 0.26 after one missing gyro reading).
+            let bound = madgwick_resolution_deg();
+            assert!(
+                *worst <= bound,
+                "{value}: madgwick {worst} deg off 2 s after"
+            );
+        } else {
+            assert!(*back <= 2.0, "{value}: {n} back only after {back} s");
         }
     }
 }
