@@ -95,28 +95,11 @@ fn quoted_decimal_commas_are_named_with_a_command_that_converts_the_log() {
         false,
     );
     let text = std::fs::read_to_string(&log).unwrap();
-    let quoted: String = text
-        .lines()
-        .map(|l| {
-            let cells: Vec<String> = l
-                .split(',')
-                .map(|c| format!("\"{}\"", c.replace('.', ",")))
-                .collect();
-            cells.join(",") + "\n"
-        })
-        .collect();
+    let quoted = spreadsheet_export(&text);
     assert!(quoted.contains("e-") || quoted.contains("E-") || quoted.contains("\"0\""));
     let comma = dir.path().join("comma.csv");
     std::fs::write(&comma, &quoted).unwrap();
-    let run = |command: &str, input: &Path, out: &str| {
-        bin()
-            .arg(command)
-            .arg(input)
-            .arg("-o")
-            .arg(dir.path().join(out))
-            .output()
-            .unwrap()
-    };
+    let run = |command: &str, input: &Path, out: &str| run_to(dir.path(), command, input, out);
     let fix = pendtilt::io::DECIMAL_COMMA_FIX;
     let o = run("estimate", &comma, "e.csv");
     let e = String::from_utf8_lossy(&o.stderr);
@@ -138,10 +121,47 @@ fn quoted_decimal_commas_are_named_with_a_command_that_converts_the_log() {
             && e.contains(fix),
         "{e}"
     );
-    // The command as given, on this log: the estimates of the comma log are the plain
-    // log's, byte for byte (the quoted header, and quoted cells without a comma, read as
-    // they are).
-    let converted = dir.path().join("log_points.csv");
+    the_fix_reads_as_the_plain_log(dir.path(), &comma, &log);
+    // A cell that is no number at all gets no such hint.
+    std::fs::write(&comma, text.replacen("\n0.0,", "\nabc,", 1)).unwrap();
+    let e = String::from_utf8_lossy(&run("estimate", &comma, "e.csv").stderr).into_owned();
+    assert!(
+        e.contains("not a number: `abc`") && !e.contains("decimal comma"),
+        "{e}"
+    );
+}
+
+/// `text` as a spreadsheet exports it: every cell quoted, numbers with a decimal comma.
+fn spreadsheet_export(text: &str) -> String {
+    text.lines()
+        .map(|l| {
+            let cells: Vec<String> = l
+                .split(',')
+                .map(|c| format!("\"{}\"", c.replace('.', ",")))
+                .collect();
+            cells.join(",") + "\n"
+        })
+        .collect()
+}
+
+/// Runs `pendtilt command input -o dir/out`.
+fn run_to(dir: &Path, command: &str, input: &Path, out: &str) -> std::process::Output {
+    bin()
+        .arg(command)
+        .arg(input)
+        .arg("-o")
+        .arg(dir.join(out))
+        .output()
+        .unwrap()
+}
+
+/// The command the hint gives, on the comma log: the estimates of the comma log are the
+/// plain log's, byte for byte (the quoted header, and quoted cells without a comma, read
+/// as they are).
+fn the_fix_reads_as_the_plain_log(dir: &Path, comma: &Path, log: &Path) {
+    let fix = pendtilt::io::DECIMAL_COMMA_FIX;
+    let run = |command: &str, input: &Path, out: &str| run_to(dir, command, input, out);
+    let converted = dir.join("log_points.csv");
     let cmd = fix
         .replace("log.csv", comma.to_str().unwrap())
         .replace("log_points.csv", converted.to_str().unwrap());
@@ -156,23 +176,16 @@ fn quoted_decimal_commas_are_named_with_a_command_that_converts_the_log() {
     );
     for (command, out) in [("estimate", "csv"), ("filter", "f.csv")] {
         let a = run(command, &converted, &format!("a.{out}"));
-        let b = run(command, &log, &format!("b.{out}"));
+        let b = run(command, log, &format!("b.{out}"));
         for o in [&a, &b] {
             assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         }
         let (a, b) = (
-            std::fs::read(dir.path().join(format!("a.{out}"))).unwrap(),
-            std::fs::read(dir.path().join(format!("b.{out}"))).unwrap(),
+            std::fs::read(dir.join(format!("a.{out}"))).unwrap(),
+            std::fs::read(dir.join(format!("b.{out}"))).unwrap(),
         );
         assert!(a.len() > 1000 && a == b, "{command}");
     }
-    // A cell that is no number at all gets no such hint.
-    std::fs::write(&comma, text.replacen("\n0.0,", "\nabc,", 1)).unwrap();
-    let e = String::from_utf8_lossy(&run("estimate", &comma, "e.csv").stderr).into_owned();
-    assert!(
-        e.contains("not a number: `abc`") && !e.contains("decimal comma"),
-        "{e}"
-    );
 }
 
 #[test]

@@ -226,40 +226,8 @@ fn a_mounting_not_finite_is_refused_and_one_in_millimetres_doubted() {
     let dir = tempfile::tempdir().unwrap();
     let log = simulate(dir.path(), "scooter3d", &["--duration", "1"]);
     let rig = std::fs::read_to_string(dir.path().join("scooter3d.rig.toml")).unwrap();
-    let sc = std::fs::read_to_string(dir.path().join("scooter3d.scenario.toml")).unwrap();
     let out = dir.path().join("e.csv");
-    for (from, to, key) in [
-        (
-            "accel_at = [0.0, 0.0, 0.0]",
-            "accel_at = [0.0, 0.0, nan]",
-            "accel_at",
-        ),
-        (
-            "speed_at = [0.0, 0.0, -0.25]",
-            "speed_at = [0.0, inf, -0.25]",
-            "speed_at",
-        ),
-    ] {
-        let r = write(dir.path(), "bad.rig.toml", &rig.replace(from, to));
-        let o = pendtilt(&["estimate", s(&log), "-p", s(&r), "-o", s(&out)]);
-        let e = stderr(&o);
-        assert_eq!(o.status.code(), Some(1), "{e}");
-        assert!(
-            e.contains(&format!("bad.rig.toml: mounting.{key}: must be finite [m]")),
-            "{e}"
-        );
-        let f = write(dir.path(), "bad.scenario.toml", &sc.replace(from, to));
-        let o = pendtilt(&["estimate", s(&log), "--scenario", s(&f), "-o", s(&out)]);
-        let e = stderr(&o);
-        assert_eq!(o.status.code(), Some(1), "{e}");
-        assert!(
-            e.contains(&format!(
-                "bad.scenario.toml: rig.mounting.{key}: must be finite [m]"
-            )),
-            "{e}"
-        );
-        assert!(!out.exists());
-    }
+    refused_not_finite(dir.path(), &log, &out);
     let r = write(
         dir.path(),
         "mm.rig.toml",
@@ -306,6 +274,45 @@ fn a_mounting_not_finite_is_refused_and_one_in_millimetres_doubted() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!stderr(&o).contains("speed_at"), "{}", stderr(&o));
+}
+
+/// A mounting point not finite, in the rig file or the scenario's rig: refused, naming
+/// the file and the key, and nothing written.
+fn refused_not_finite(dir: &Path, log: &Path, out: &Path) {
+    let rig = std::fs::read_to_string(dir.join("scooter3d.rig.toml")).unwrap();
+    let sc = std::fs::read_to_string(dir.join("scooter3d.scenario.toml")).unwrap();
+    for (from, to, key) in [
+        (
+            "accel_at = [0.0, 0.0, 0.0]",
+            "accel_at = [0.0, 0.0, nan]",
+            "accel_at",
+        ),
+        (
+            "speed_at = [0.0, 0.0, -0.25]",
+            "speed_at = [0.0, inf, -0.25]",
+            "speed_at",
+        ),
+    ] {
+        let r = write(dir, "bad.rig.toml", &rig.replace(from, to));
+        let o = pendtilt(&["estimate", s(log), "-p", s(&r), "-o", s(out)]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{e}");
+        assert!(
+            e.contains(&format!("bad.rig.toml: mounting.{key}: must be finite [m]")),
+            "{e}"
+        );
+        let f = write(dir, "bad.scenario.toml", &sc.replace(from, to));
+        let o = pendtilt(&["estimate", s(log), "--scenario", s(&f), "-o", s(out)]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{e}");
+        assert!(
+            e.contains(&format!(
+                "bad.scenario.toml: rig.mounting.{key}: must be finite [m]"
+            )),
+            "{e}"
+        );
+        assert!(!out.exists());
+    }
 }
 
 /// The 3-D log at `log` with its accelerometer columns divided by `per` (in g: 9.80665).

@@ -2,6 +2,7 @@
 //! is found and said.
 use crate::common::faults3d::{estimate, simulate, Csv, GYRO_CLIP, T_FAULT};
 use crate::common::{pendtilt, s, stderr};
+use std::path::{Path, PathBuf};
 
 /// The clip finder (`io::plateau`) never fires on a correct log: the four 3-D scenarios
 /// as simulated (noisy, and with ideal sensors: readings that repeat whenever the body is
@@ -35,8 +36,16 @@ fn correct_logs_never_look_clipped() {
             cases.push(log);
         }
     }
-    // still3d quantised: every gyro and accelerometer cell rounded to its step.
-    let still = dir.path().join("still3dfalse.csv");
+    cases.push(quantised_still(dir.path()));
+    for log in &cases {
+        never_clipped(dir.path(), log);
+    }
+}
+
+/// still3d quantised: every gyro and accelerometer cell of `still3dfalse.csv` rounded to
+/// its step, with its rig and scenario beside it; the log's path.
+fn quantised_still(dir: &Path) -> PathBuf {
+    let still = dir.join("still3dfalse.csv");
     let mut c = Csv::read(&still);
     let lsb_gyro = 0.061f64.to_radians();
     let q = |v: f64, lsb: f64| ((v / lsb).round() * lsb).to_string();
@@ -49,13 +58,13 @@ fn correct_logs_never_look_clipped() {
     c.edit(&["ax", "ay", "az"], f64::NEG_INFINITY, f64::INFINITY, |v| {
         q(v, 0.0024)
     });
-    let quantised = dir.path().join("still3d_quantised.csv");
+    let quantised = dir.join("still3d_quantised.csv");
     c.write(&quantised);
     // Copy the rig and scenario beside it under its name.
     for ext in ["rig.toml", "scenario.toml"] {
         std::fs::copy(
-            dir.path().join(format!("still3dfalse.{ext}")),
-            dir.path().join(format!("still3d_quantised.{ext}")),
+            dir.join(format!("still3dfalse.{ext}")),
+            dir.join(format!("still3d_quantised.{ext}")),
         )
         .unwrap();
     }
@@ -66,33 +75,36 @@ fn correct_logs_never_look_clipped() {
         repeats * 2 > c.rows.len(),
         "quantised, at rest: {repeats} repeats"
     );
-    cases.push(quantised);
-    for log in &cases {
-        let stem = log.file_stem().unwrap().to_str().unwrap();
-        let out = dir.path().join(format!("{stem}.est.csv"));
-        let o = pendtilt(&[
-            "estimate",
-            s(log),
-            "--params",
-            s(&dir.path().join(format!("{stem}.rig.toml"))),
-            "--scenario",
-            s(&dir.path().join(format!("{stem}.scenario.toml"))),
-            "--flags",
-            "-o",
-            s(&out),
-        ]);
-        assert!(o.status.success(), "{stem}: {}", stderr(&o));
-        assert!(
-            !stderr(&o).contains("unknown full scale"),
-            "{stem}: {}",
-            stderr(&o)
-        );
-        let text = std::fs::read_to_string(&out).unwrap();
-        assert!(
-            !text.contains("saturated"),
-            "{stem}: a row flagged saturated"
-        );
-    }
+    quantised
+}
+
+/// `pendtilt estimate --flags` on `log` with its rig and scenario: no unknown full scale
+/// said, no row flagged saturated.
+fn never_clipped(dir: &Path, log: &Path) {
+    let stem = log.file_stem().unwrap().to_str().unwrap();
+    let out = dir.join(format!("{stem}.est.csv"));
+    let o = pendtilt(&[
+        "estimate",
+        s(log),
+        "--params",
+        s(&dir.join(format!("{stem}.rig.toml"))),
+        "--scenario",
+        s(&dir.join(format!("{stem}.scenario.toml"))),
+        "--flags",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{stem}: {}", stderr(&o));
+    assert!(
+        !stderr(&o).contains("unknown full scale"),
+        "{stem}: {}",
+        stderr(&o)
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        !text.contains("saturated"),
+        "{stem}: a row flagged saturated"
+    );
 }
 
 /// A rig that overstates the gyro's range: the gyro clipped at 0.1 rad/s for 2 s (the

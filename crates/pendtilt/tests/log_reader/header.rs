@@ -255,30 +255,7 @@ fn a_header_line_in_the_middle_is_named_as_one() {
 
 #[test]
 fn a_header_that_names_the_other_unit_is_warned_about_on_line_1() {
-    use pendtilt::io::{ColumnMap, DegreeColumns};
-    let read = |header: &str, map: &str, deg: &str| -> Vec<String> {
-        let text = format!("{header}\n0,0.01,0.02,0,9.8\n0.001,0.01,0.02,0,9.8\n");
-        let options = ReaderOptions {
-            map: if map.is_empty() {
-                ColumnMap::new()
-            } else {
-                map.parse().unwrap()
-            },
-            degrees: if deg.is_empty() {
-                DegreeColumns::none()
-            } else {
-                deg.parse().unwrap()
-            },
-            ..ReaderOptions::default()
-        };
-        let (records, warnings, error) = read_all(&text, options);
-        assert!(error.is_none() && records.len() == 2, "{error:?}");
-        warnings
-            .iter()
-            .filter(|w| w.kind == WarningKind::UnitMismatch)
-            .map(|w| w.to_string())
-            .collect()
-    };
+    let read = unit_warnings;
     // Degrees in the name, read as radians: file, line 1, the column, the fix.
     let w = read(
         "t,phi (deg),gyro[deg/s],ax,ay",
@@ -339,6 +316,33 @@ fn a_header_that_names_the_other_unit_is_warned_about_on_line_1() {
     ] {
         assert!(read(header, map, deg).is_empty(), "{header} {map} {deg}");
     }
+}
+
+/// The unit warnings of a short log with `header`, read with `--map map` and `--deg deg`
+/// (empty: none).
+fn unit_warnings(header: &str, map: &str, deg: &str) -> Vec<String> {
+    use pendtilt::io::{ColumnMap, DegreeColumns};
+    let text = format!("{header}\n0,0.01,0.02,0,9.8\n0.001,0.01,0.02,0,9.8\n");
+    let options = ReaderOptions {
+        map: if map.is_empty() {
+            ColumnMap::new()
+        } else {
+            map.parse().unwrap()
+        },
+        degrees: if deg.is_empty() {
+            DegreeColumns::none()
+        } else {
+            deg.parse().unwrap()
+        },
+        ..ReaderOptions::default()
+    };
+    let (records, warnings, error) = read_all(&text, options);
+    assert!(error.is_none() && records.len() == 2, "{error:?}");
+    warnings
+        .iter()
+        .filter(|w| w.kind == WarningKind::UnitMismatch)
+        .map(|w| w.to_string())
+        .collect()
 }
 
 #[test]
