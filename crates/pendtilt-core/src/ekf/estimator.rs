@@ -57,8 +57,9 @@ pub const NOISE_GATE: f64 = 50.0;
 /// encoder's variance is at least its noise measured on the log (the second difference of
 /// consecutive accepted readings, [`ENCODER_NOISE_TAU`]): otherwise an encoder noisier than
 /// the settings say would raise the innovations and the forcing with them. Only readings
-/// the gate accepted count, and none within [`SETTLE_SECONDS`] of a start (a restart after
-/// a gap starts the factor again at 1), while the gate is held open after a gap or a
+/// the gate accepted count, and none within
+/// [`SETTLE_SECONDS`](crate::adaptation::SETTLE_SECONDS) of a start (a restart after a
+/// gap starts the factor again at 1), while the gate is held open after a gap or a
 /// re-acquisition, or on a sample without the gyro: those innovations are the filter's,
 /// not the motion's. A run of rejections is the re-acquisition's to handle.
 ///
