@@ -68,8 +68,35 @@ fn rows(n: usize) -> String {
 fn bad_files_end_to_end_never_panic_never_drop_a_row() {
     let dir = tempfile::tempdir().unwrap();
     let good = rows(40);
-    // Accepted files: (name, text). Every data row must come out.
+    for (name, text) in &accepted_files() {
+        check_accepted(dir.path(), name, text);
+    }
+    for (name, bytes, line) in &rejected_files() {
+        check_rejected(dir.path(), name, bytes, *line);
+    }
+
+    // An impossible rig file: the error names the file and the key.
+    let rig = dir.path().join("rig.toml");
+    std::fs::write(&rig, "[pendulum]\nmass = -0.05\n").unwrap();
+    let (o, _) = estimate(
+        dir.path(),
+        "good.csv",
+        good.as_bytes(),
+        &["--params", rig.to_str().unwrap()],
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_ne!(o.status.code(), Some(101), "{stderr}");
+    assert!(!o.status.success());
+    assert!(
+        stderr.contains("rig.toml") && stderr.contains("pendulum.mass"),
+        "{stderr}"
+    );
+}
+
+/// Files the reader accepts: (name, text). Every data row must come out.
+fn accepted_files() -> Vec<(&'static str, String)> {
     let mut accepted: Vec<(&str, String)> = Vec::new();
+    let good = rows(40);
     accepted.push(("nan_inf.csv", {
         let mut s = rows(10);
         s.push_str("0.010,nan,0,0.49,9.79,0.05\n0.011,0.05,inf,0.49,9.79,0.05\n");
@@ -132,34 +159,40 @@ fn bad_files_end_to_end_never_panic_never_drop_a_row() {
         }
         s
     }));
-    for (name, text) in &accepted {
-        let (o, out) = estimate(dir.path(), name, text.as_bytes(), &[]);
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert_ne!(o.status.code(), Some(101), "{name}: panicked: {stderr}");
-        assert!(o.status.success(), "{name}: {stderr}");
-        let out = out.unwrap();
-        assert_eq!(
-            out.lines().count() - 1,
-            data_rows(text),
-            "{name}: output rows != input data rows"
-        );
-        if *name == "degrees.csv" {
-            assert!(
-                stderr.contains("phi") && stderr.contains("--deg"),
-                "{stderr}"
-            );
-        }
-        if *name == "nan_inf.csv" {
-            // The NaN phi row is flagged on every phi estimator.
-            let header: Vec<&str> = out.lines().next().unwrap().split(',').collect();
-            let line: Vec<&str> = out.lines().nth(11).unwrap().split(',').collect();
-            let col = header.iter().position(|h| *h == "alg1_flags").unwrap();
-            assert!(line[col].contains("sample_missing"), "{out}");
-        }
-    }
+    accepted
+}
 
-    // Rejected files: (name, bytes, line expected in the message).
-    let rejected: Vec<(&str, Vec<u8>, Option<&str>)> = vec![
+/// Estimates accepted file `name`: no panic, one output row per data row, the degrees
+/// hint and the missing sample flagged where the file asks for them.
+fn check_accepted(dir: &Path, name: &str, text: &str) {
+    let (o, out) = estimate(dir, name, text.as_bytes(), &[]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_ne!(o.status.code(), Some(101), "{name}: panicked: {stderr}");
+    assert!(o.status.success(), "{name}: {stderr}");
+    let out = out.unwrap();
+    assert_eq!(
+        out.lines().count() - 1,
+        data_rows(text),
+        "{name}: output rows != input data rows"
+    );
+    if name == "degrees.csv" {
+        assert!(
+            stderr.contains("phi") && stderr.contains("--deg"),
+            "{stderr}"
+        );
+    }
+    if name == "nan_inf.csv" {
+        // The NaN phi row is flagged on every phi estimator.
+        let header: Vec<&str> = out.lines().next().unwrap().split(',').collect();
+        let line: Vec<&str> = out.lines().nth(11).unwrap().split(',').collect();
+        let col = header.iter().position(|h| *h == "alg1_flags").unwrap();
+        assert!(line[col].contains("sample_missing"), "{out}");
+    }
+}
+
+/// Files the reader refuses: (name, bytes, line expected in the message).
+fn rejected_files() -> Vec<(&'static str, Vec<u8>, Option<&'static str>)> {
+    vec![
         ("empty.csv", Vec::new(), None),
         ("header_only.csv", HEADER.as_bytes().to_vec(), Some(":1:")),
         ("no_time.csv", b"time,phi\n0,0.1\n".to_vec(), Some(":1:")),
@@ -183,40 +216,26 @@ fn bad_files_end_to_end_never_panic_never_drop_a_row() {
             [HEADER.as_bytes(), b"0,\xff\xfe,0,0,9.8,0\n"].concat(),
             Some(":2:"),
         ),
-    ];
-    for (name, bytes, line) in &rejected {
-        let (o, _) = estimate(dir.path(), name, bytes, &[]);
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert_ne!(o.status.code(), Some(101), "{name}: panicked: {stderr}");
-        assert!(!o.status.success(), "{name} accepted");
-        assert!(
-            stderr.contains(name),
-            "{name}: the error does not name the file: {stderr}"
-        );
-        if let Some(line) = line {
-            assert!(
-                stderr.contains(&format!("{name}{line}")),
-                "{name}: {stderr}"
-            );
-        }
-    }
+    ]
+}
 
-    // An impossible rig file: the error names the file and the key.
-    let rig = dir.path().join("rig.toml");
-    std::fs::write(&rig, "[pendulum]\nmass = -0.05\n").unwrap();
-    let (o, _) = estimate(
-        dir.path(),
-        "good.csv",
-        good.as_bytes(),
-        &["--params", rig.to_str().unwrap()],
-    );
+/// Estimates refused file `name`: no panic, an error naming the file and, if given, the
+/// line.
+fn check_rejected(dir: &Path, name: &str, bytes: &[u8], line: Option<&str>) {
+    let (o, _) = estimate(dir, name, bytes, &[]);
     let stderr = String::from_utf8_lossy(&o.stderr);
-    assert_ne!(o.status.code(), Some(101), "{stderr}");
-    assert!(!o.status.success());
+    assert_ne!(o.status.code(), Some(101), "{name}: panicked: {stderr}");
+    assert!(!o.status.success(), "{name} accepted");
     assert!(
-        stderr.contains("rig.toml") && stderr.contains("pendulum.mass"),
-        "{stderr}"
+        stderr.contains(name),
+        "{name}: the error does not name the file: {stderr}"
     );
+    if let Some(line) = line {
+        assert!(
+            stderr.contains(&format!("{name}{line}")),
+            "{name}: {stderr}"
+        );
+    }
 }
 
 // ---------------------------------------------------------------------------------------

@@ -35,14 +35,27 @@ fn short() -> ReproduceConfig {
 fn reproduce_end_to_end_on_a_short_ride() {
     let dir = tempfile::tempdir().unwrap();
     let out = reproduce(&short(), dir.path(), &NoProgress).unwrap();
+    check_files(dir.path(), &out);
+    let top = check_pages(dir.path(), &out);
+    check_claims(&out);
+    // and the Markdown shows it
+    let md = std::fs::read_to_string(&out.markdown).unwrap();
+    assert!(
+        md.contains(&out.claims[2].measured.replace('|', "\\|"))
+            || md.contains(&out.claims[2].measured)
+    );
+    spatial_part(dir.path(), &out, &top, &md);
+}
 
-    // the files
+/// The files: the top pages, one report per ride, every figure as SVG and PNG of its
+/// size.
+fn check_files(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome) {
     for p in [&out.index, &out.markdown, &out.json] {
         assert!(std::fs::metadata(p).unwrap().len() > 100, "{}", p.display());
     }
     for sub in ["scooter", "sigmoid"] {
         for f in ["index.html", "report.md", "report.json"] {
-            assert!(dir.path().join(sub).join(f).is_file(), "{sub}/{f}");
+            assert!(dir.join(sub).join(f).is_file(), "{sub}/{f}");
         }
     }
     let figures: Vec<_> = out
@@ -77,18 +90,19 @@ fn reproduce_end_to_end_on_a_short_ride() {
         "fig3_kalman_variance",
     ] {
         assert!(
-            dir.path()
-                .join("scooter")
-                .join(format!("{stem}.png"))
-                .is_file(),
+            dir.join("scooter").join(format!("{stem}.png")).is_file(),
             "{stem}"
         );
     }
-    assert!(dir.path().join("sigmoid/fig5_alg1_sigmoid.png").is_file());
+    assert!(dir.join("sigmoid/fig5_alg1_sigmoid.png").is_file());
+}
 
+/// Every page references only files that exist, and the top page shows figures, defines
+/// its metrics and says what was fitted; the top page's HTML.
+fn check_pages(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome) -> String {
     // every page references only files that exist, and the top page shows figures
     for page in ["index.html", "scooter/index.html", "sigmoid/index.html"] {
-        let path = dir.path().join(page);
+        let path = dir.join(page);
         let html = std::fs::read_to_string(&path).unwrap();
         let refs = referenced_paths(&html);
         assert!(!refs.is_empty(), "{page} references nothing");
@@ -106,8 +120,12 @@ fn reproduce_end_to_end_on_a_short_ride() {
     assert!(top.contains("beyond the ordinate axis, marked red on the frame."));
     // claim 4 says the gains were fitted in this run (they were)
     assert!(out.calibration.gains_fitted && top.contains("K, L, M, N fitted in this run"));
+    top
+}
 
-    // the claims table is computed from the metrics of this run
+/// The claims table is computed from the metrics of this run, and claims.json holds the
+/// same table.
+fn check_claims(out: &pendtilt::experiment::ReproduceOutcome) {
     assert_eq!(out.claims.len(), 6);
     assert_eq!(out.claims_view, FIR_VIEW);
     let scooter_json: serde_json::Value =
@@ -172,20 +190,12 @@ fn reproduce_end_to_end_on_a_short_ride() {
         assert_eq!(row["holds"].as_bool(), Some(c.holds));
         assert_eq!(row["measured"].as_str(), Some(c.measured.as_str()));
     }
-    // and the Markdown shows it
-    let md = std::fs::read_to_string(&out.markdown).unwrap();
-    assert!(
-        md.contains(&out.claims[2].measured.replace('|', "\\|"))
-            || md.contains(&out.claims[2].measured)
-    );
-    spatial_part(dir.path(), &out, &top, &md);
 }
 
 /// The 3-D part of the run above: one report per scenario with every estimator of the
 /// registry and its figures, the table on the top page, still3d within its target,
 /// and scooter3d's numbers equal to `simulate` + `estimate` on the same scenario and seed.
 fn spatial_part(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome, top: &str, md: &str) {
-    let registry: Vec<&str> = REGISTRY3D.iter().map(|e| e.name).collect();
     // (name, a moving vehicle: a ride section and its figure first)
     let scenarios = [
         ("still3d", false),
@@ -196,49 +206,7 @@ fn spatial_part(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome, top: &
     assert_eq!(out.spatial.len(), scenarios.len());
     assert!(top.contains("3-D: inclination error") && md.contains("## 3-D: inclination error"));
     for (o, (name, ride)) in out.spatial.iter().zip(scenarios) {
-        let names: Vec<&str> = o.data.inclination.iter().map(|r| r.name.as_str()).collect();
-        assert_eq!(names, registry, "{name}");
-        assert_eq!(o.data.ride.is_some(), ride, "{name}");
-        let n_fig = 3 + usize::from(ride);
-        assert_eq!(o.figures.len(), n_fig, "{name}");
-        for (k, f) in o.figures.iter().enumerate() {
-            assert!(std::fs::metadata(&f.svg).unwrap().len() > 10_000);
-            assert_eq!(png_size(&f.png), (f.width, f.height), "{}", f.png.display());
-            if ride && k == 0 {
-                // roll, pitch, inclination error and the accelerations
-                assert_eq!(f.axes.len(), 4, "{name} ride figure");
-            } else {
-                assert_eq!(f.axes.len(), registry.len(), "one panel per estimator");
-            }
-        }
-        let json: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&o.json).unwrap()).unwrap();
-        assert_eq!(json["figures"].as_array().unwrap().len(), n_fig);
-        assert!(
-            top.contains(&format!("href=\"{name}/index.html\"")),
-            "{name}"
-        );
-        let page = dir.join(name).join("index.html");
-        for r in referenced_paths(&std::fs::read_to_string(&page).unwrap()) {
-            assert!(
-                dir.join(name).join(&r).is_file(),
-                "{name} references missing {r}"
-            );
-        }
-        let ekf = o
-            .data
-            .inclination
-            .iter()
-            .find(|r| r.name == "ekf3d")
-            .unwrap();
-        assert!(
-            top.contains(&format!(
-                "{} / {}",
-                fmt_sig(ekf.rms_deg),
-                fmt_sig(ekf.max_deg)
-            )),
-            "{name}: ekf3d's numbers not on the top page"
-        );
+        check_scenario(dir, o, name, ride, top);
     }
     let rms = |k: usize, n: &str| {
         out.spatial[k]
@@ -290,6 +258,62 @@ fn spatial_part(dir: &Path, out: &pendtilt::experiment::ReproduceOutcome, top: &
             f[0]
         );
     }
+}
+
+/// One 3-D scenario's report: every estimator of the registry, its figures (a ride
+/// section's first on a moving vehicle), its page's references, and ekf3d's numbers on
+/// the top page.
+fn check_scenario(
+    dir: &Path,
+    o: &pendtilt::report::spatial::SpatialOutput,
+    name: &str,
+    ride: bool,
+    top: &str,
+) {
+    let registry: Vec<&str> = REGISTRY3D.iter().map(|e| e.name).collect();
+    let names: Vec<&str> = o.data.inclination.iter().map(|r| r.name.as_str()).collect();
+    assert_eq!(names, registry, "{name}");
+    assert_eq!(o.data.ride.is_some(), ride, "{name}");
+    let n_fig = 3 + usize::from(ride);
+    assert_eq!(o.figures.len(), n_fig, "{name}");
+    for (k, f) in o.figures.iter().enumerate() {
+        assert!(std::fs::metadata(&f.svg).unwrap().len() > 10_000);
+        assert_eq!(png_size(&f.png), (f.width, f.height), "{}", f.png.display());
+        if ride && k == 0 {
+            // roll, pitch, inclination error and the accelerations
+            assert_eq!(f.axes.len(), 4, "{name} ride figure");
+        } else {
+            assert_eq!(f.axes.len(), registry.len(), "one panel per estimator");
+        }
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&o.json).unwrap()).unwrap();
+    assert_eq!(json["figures"].as_array().unwrap().len(), n_fig);
+    assert!(
+        top.contains(&format!("href=\"{name}/index.html\"")),
+        "{name}"
+    );
+    let page = dir.join(name).join("index.html");
+    for r in referenced_paths(&std::fs::read_to_string(&page).unwrap()) {
+        assert!(
+            dir.join(name).join(&r).is_file(),
+            "{name} references missing {r}"
+        );
+    }
+    let ekf = o
+        .data
+        .inclination
+        .iter()
+        .find(|r| r.name == "ekf3d")
+        .unwrap();
+    assert!(
+        top.contains(&format!(
+            "{} / {}",
+            fmt_sig(ekf.rms_deg),
+            fmt_sig(ekf.max_deg)
+        )),
+        "{name}: ekf3d's numbers not on the top page"
+    );
 }
 
 /// The Newton fit finds a, b on a ride with the engine off; with the engine running the

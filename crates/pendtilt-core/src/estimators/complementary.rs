@@ -116,7 +116,7 @@ impl<T: Real> SteadyOffset<T> {
 /// How long \[s\] the steady offset kept through a restart is averaged over: long enough
 /// that the accelerometer's errors from vibration and manoeuvres average out, short against
 /// the gyro bias's drift. 5, 10 and 20 s gave the same recoveries on the restarts of
-/// `tests/plausibility.rs` (their gaps start 5-8 s into the ride, so the mean covers at
+/// `tests/plausibility/` (their gaps start 5-8 s into the ride, so the mean covers at
 /// most 7 s there).
 pub const OFFSET_WINDOW: f64 = 10.0;
 
@@ -168,6 +168,75 @@ impl<T: Real> Complementary<T> {
         }
         Some(a)
     }
+
+    /// Starts on the first accelerometer angle; after a restart, in its steady offset
+    /// from the start.
+    #[inline]
+    fn start(&mut self, s: &Sample<T>, flags: Flags) -> Estimate<T> {
+        match self.accel(s, T::one()) {
+            Some(a) => {
+                self.theta = a + self.kept;
+                self.elapsed = T::zero();
+                self.input.started();
+                Estimate {
+                    theta: self.theta,
+                    flags: flags | Flags::INITIALISING,
+                }
+            }
+            None => Estimate {
+                theta: T::nan(),
+                flags: flags | Flags::INITIALISING | Flags::SAMPLE_MISSING,
+            },
+        }
+    }
+
+    /// The angle carried by the gyro over `dt`, with the correction of the angle a gap in
+    /// the gyro held wrong, once the readings after it tell.
+    #[inline]
+    fn predict(&mut self, gyro: T, dt: T, flags: &mut Flags) -> T {
+        let gain = if self.tau > T::zero() {
+            T::one() / self.tau
+        } else {
+            T::zero()
+        };
+        let predicted = self.theta + gyro * dt + self.input.bridged(gain);
+        if !predicted.is_finite() {
+            // A rate near the type's largest value over a long step overflows (found by
+            // fuzzing): do not integrate it, keep the angle, flag the gyro.
+            *flags |= Flags::SATURATED;
+            return self.theta;
+        }
+        predicted
+    }
+
+    /// The gyro's angle `predicted` blended with the accelerometer angle `a`: followed
+    /// while the prefilter settles, then with the start-up time constant (the kept offset
+    /// read in during a restart), then with tau (the steady offset averaged).
+    #[inline]
+    fn blend(&mut self, predicted: T, a: T, dt: T, flags: &mut Flags) -> T {
+        // Blend on the circle: the accelerometer angle taken within half a turn.
+        let mut d = a - predicted;
+        if d.abs() > T::pi() {
+            d = d.sin().atan2(d.cos());
+        }
+        if self.settling > T::zero() {
+            // The prefilter still carries its first reading: follow it.
+            self.settling -= dt;
+            *flags |= Flags::INITIALISING;
+            return a + self.kept;
+        }
+        let steady = self.elapsed >= self.tau;
+        self.elapsed += dt;
+        let tau = self.tau.min(self.elapsed);
+        let alpha = tau / (tau + dt);
+        if steady {
+            self.offset.update(-d, dt);
+        } else if self.kept != T::zero() && self.tau > T::zero() {
+            // Restarting: the part of the kept offset the mean has not built up.
+            d += self.kept * (T::one() - self.elapsed / self.tau).max(T::zero());
+        }
+        predicted + (T::one() - alpha) * d
+    }
 }
 
 impl<T: Real> Estimator for Complementary<T> {
@@ -183,66 +252,12 @@ impl<T: Real> Estimator for Complementary<T> {
                     flags: Flags::BAD_TIME_STEP,
                 }
             }
-            // Start on the first accelerometer angle.
-            Step::First { flags, .. } => {
-                return match self.accel(s, T::one()) {
-                    Some(a) => {
-                        // After a restart, in its steady offset from the start.
-                        self.theta = a + self.kept;
-                        self.elapsed = T::zero();
-                        self.input.started();
-                        Estimate {
-                            theta: self.theta,
-                            flags: flags | Flags::INITIALISING,
-                        }
-                    }
-                    None => Estimate {
-                        theta: T::nan(),
-                        flags: flags | Flags::INITIALISING | Flags::SAMPLE_MISSING,
-                    },
-                };
-            }
+            Step::First { flags, .. } => return self.start(s, flags),
             Step::Next { dt, gyro, flags } => (dt, gyro, flags),
         };
-        // The angle a gap in the gyro held wrong, once the readings after it tell.
-        let gain = if self.tau > T::zero() {
-            T::one() / self.tau
-        } else {
-            T::zero()
-        };
-        let mut predicted = self.theta + gyro * dt + self.input.bridged(gain);
-        if !predicted.is_finite() {
-            // A rate near the type's largest value over a long step overflows (found by
-            // fuzzing): do not integrate it, keep the angle, flag the gyro.
-            flags |= Flags::SATURATED;
-            predicted = self.theta;
-        }
+        let predicted = self.predict(gyro, dt, &mut flags);
         self.theta = match self.accel(s, dt) {
-            Some(a) => {
-                // Blend on the circle: the accelerometer angle taken within half a turn.
-                let mut d = a - predicted;
-                if d.abs() > T::pi() {
-                    d = d.sin().atan2(d.cos());
-                }
-                if self.settling > T::zero() {
-                    // The prefilter still carries its first reading: follow it.
-                    self.settling -= dt;
-                    flags |= Flags::INITIALISING;
-                    a + self.kept
-                } else {
-                    let steady = self.elapsed >= self.tau;
-                    self.elapsed += dt;
-                    let tau = self.tau.min(self.elapsed);
-                    let alpha = tau / (tau + dt);
-                    if steady {
-                        self.offset.update(-d, dt);
-                    } else if self.kept != T::zero() && self.tau > T::zero() {
-                        // Restarting: the part of the kept offset the mean has not built up.
-                        d += self.kept * (T::one() - self.elapsed / self.tau).max(T::zero());
-                    }
-                    predicted + (T::one() - alpha) * d
-                }
-            }
+            Some(a) => self.blend(predicted, a, dt, &mut flags),
             None => {
                 flags |= Flags::MEASUREMENT_SKIPPED;
                 predicted

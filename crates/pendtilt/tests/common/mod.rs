@@ -1,6 +1,13 @@
 //! Shared by the sim_* and cli_* tests: running the binary, writing fixtures, an ideal
-//! simulated scenario and a sine fit.
+//! simulated scenario and a sine fit; and, one module per subject, what the tests split
+//! over a folder of files share.
 #![allow(dead_code)]
+pub mod cli_estimate;
+pub mod estimate3d;
+pub mod faults3d;
+pub mod log_reader;
+pub mod plausibility;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
