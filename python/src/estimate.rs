@@ -4,13 +4,14 @@
 //! The options are the command's (its command line, parsed by its definitions). A planar
 //! log goes through [`pendtilt::pipeline::run_parallel`] with the reader, the bank and
 //! the checks the command builds; the estimates are kept rather than formatted. A 3-D log
-//! goes through [`pendtilt::cli::estimate3d::pass`] (the command's pass) into arrays, a
-//! table in memory through [`pendtilt::cli::estimate3d::pass_on`] over its columns read
+//! goes through [`pendtilt::pipeline::spatial::pass`] (the command's pass) into arrays, a
+//! table in memory through [`pendtilt::pipeline::spatial::pass_on`] over its columns read
 //! as CSV text. Either way every estimate is the command's, bit for bit.
 use std::path::{Path, PathBuf};
 
 use numpy::{IntoPyArray, PyReadonlyArray1};
-use pendtilt::cli::estimate3d::{self, Feed, Options3d, Row, Sink3d};
+use pendtilt::cli::estimate3d;
+use pendtilt::pipeline::spatial::{self, Feed, Options3d, Row, Sink3d};
 use pendtilt::cli::Command;
 use pendtilt::io::{Column, Log3dReader, LogReader, LogRecord, LogWarning, ReaderOptions};
 use pendtilt::pipeline;
@@ -44,7 +45,7 @@ pub fn estimate<'py>(
     let args = estimate_args(&argv)?;
     let Some((names, columns)) = names.zip(columns) else {
         let map = &args.bank.columns.map;
-        return if estimate3d::is_3d_log(&args.log, map) || !map.spatial_only().is_empty() {
+        return if spatial::is_3d_log(&args.log, map) || !map.spatial_only().is_empty() {
             spatial(py, &args, None)
         } else {
             planar(py, &args, None)
@@ -127,7 +128,7 @@ fn planar<'py>(
     args: &pendtilt::cli::estimate::Args,
     table: Option<(&[String], Vec<&[f64]>)>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    estimate3d::refuse_3d_options(
+    spatial::refuse_3d_options(
         &[
             ("--quaternion", args.quaternion),
             ("--scenario", args.scenario.is_some()),
@@ -389,10 +390,10 @@ fn spatial<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let b = &args.bank;
     // The setup's notices go to standard error, as the command's.
-    let opts = Options3d::of_estimate(args, &args.log, None);
+    let opts = estimate3d::options(args, &args.log, None);
     let (pass, mut mem, score_from) = py
         .detach(|| -> anyhow::Result<_> {
-            let setup = estimate3d::setup(&opts)?;
+            let setup = spatial::setup(&opts)?;
             let mut mem = Memory {
                 scale: if b.out_deg {
                     180.0 / std::f64::consts::PI
@@ -409,9 +410,9 @@ fn spatial<'py>(
                     let source = ColumnsSource::new(names, cols);
                     let log = Log3dReader::new_mapped(source, &file, renames)?;
                     let q = args.quaternion;
-                    estimate3d::pass_on(log, &file, &opts, &setup, q, &mut mem, Feed::File)?
+                    spatial::pass_on(log, &file, &opts, &setup, q, &mut mem, Feed::File)?
                 }
-                None => estimate3d::pass(&opts, &setup, args.quaternion, &mut mem)?,
+                None => spatial::pass(&opts, &setup, args.quaternion, &mut mem)?,
             };
             let from = pass.window.from;
             Ok((pass, mem, from))

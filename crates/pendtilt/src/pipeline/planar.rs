@@ -1,4 +1,6 @@
-//! Log in, estimates out: the streaming loop shared by `estimate`, `stream` and `report`.
+//! The planar pass: a planar log through the bank ([`crate::bank`]), one estimate row per
+//! log row, on this thread ([`run`]) or with reading, estimating and writing on three
+//! ([`run_parallel`]).
 //!
 //! A clip of the gyro or the accelerometer at a full scale the rig does not give is found
 //! in the readings themselves ([`crate::io::plateau`], as on 3-D logs), warned once per
@@ -9,82 +11,12 @@ use std::sync::mpsc;
 
 use pendtilt_core::Estimate;
 
+use super::{ClipFinder, ErrorStats, PassSummary, Scorer};
 use crate::bank::check_settings_against_rate;
 use crate::bank::{Bank, Inputs, Restart};
 use crate::io::plateau::LOOK_AHEAD_ROWS;
 use crate::io::{Column, EstimatesWriter, LogError, LogReader, LogRecord, LogWarning, WarningKind};
 use crate::units::Finding;
-
-/// Which sensors a log's columns provide.
-pub fn inputs_of<R: BufRead>(log: &LogReader<R>) -> Inputs {
-    let c = log.columns();
-    Inputs {
-        phi: c.has(Column::Phi),
-        gyro: c.has(Column::Gyro),
-        accel: c.has(Column::Ax) && c.has(Column::Ay),
-    }
-}
-
-/// Running error statistics of one estimator against the true angle.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ErrorStats {
-    /// Samples with both a finite estimate and a finite truth.
-    pub count: u64,
-    /// Samples whose estimate was NaN while the truth was finite.
-    pub missing: u64,
-    sum_sq: f64,
-    /// Largest absolute error \[rad\].
-    pub max_abs: f64,
-}
-
-impl ErrorStats {
-    /// Adds one sample.
-    pub fn add(&mut self, estimate: f64, truth: f64) {
-        if !truth.is_finite() {
-            return;
-        }
-        if !estimate.is_finite() {
-            self.missing += 1;
-            return;
-        }
-        let e = estimate - truth;
-        self.count += 1;
-        self.sum_sq += e * e;
-        self.max_abs = self.max_abs.max(e.abs());
-    }
-
-    /// Root-mean-square error \[rad\] (NaN without samples).
-    pub fn rms(&self) -> f64 {
-        if self.count == 0 {
-            f64::NAN
-        } else {
-            (self.sum_sq / self.count as f64).sqrt()
-        }
-    }
-}
-
-/// What one pass over a log produced.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PassSummary {
-    /// Rows read (= rows written).
-    pub rows: u64,
-    /// Error statistics per estimator, in the bank's order, when the log has `theta`,
-    /// over the rows of `window`.
-    pub errors: Option<Vec<(String, ErrorStats)>>,
-    /// The rows scored ([`Window::resolve`]).
-    pub window: Window,
-    /// Restarts of estimators after long sensor gaps.
-    pub restarts: u64,
-    /// Columns whose scale disagrees with the physics (degrees read as radians), each
-    /// also handed to `warn`.
-    pub unit_findings: Vec<Finding>,
-}
-
-mod clips;
-pub(crate) use clips::ClipFinder;
-
-mod window;
-pub use window::{duration, Scorer, Window, DEFAULT_SCORE_FROM, SHORT_LOG};
 
 /// Reads every row of `log`, runs `bank` on it, writes one row per input row to `out`
 /// (when given, flushing after each row if `flush_each`), hands each reader warning to
@@ -571,6 +503,7 @@ impl Pass {
     }
 }
 
+/// Why a planar pass stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum PassError {
     /// The log could not be read further.
@@ -584,39 +517,12 @@ pub enum PassError {
     Settings(String),
 }
 
-/// The error table printed by `estimate`: RMS and max error per estimator, in degrees,
-/// over the rows of `window`.
-pub fn error_table(errors: &[(String, ErrorStats)], window: &Window) -> String {
-    let n = errors.first().map_or(0, |(_, e)| e.count + e.missing);
-    let score_from = window.from;
-    let mut s = format!(
-        "error against theta, {}:\n\
-         estimator        RMS [deg]   max [deg]   samples  missing\n",
-        window.heading(n)
-    );
-    for (name, e) in errors {
-        s.push_str(&format!(
-            "{name:<15} {:>10.4} {:>11.4} {:>9} {:>8}\n",
-            e.rms().to_degrees(),
-            e.max_abs.to_degrees(),
-            e.count,
-            e.missing
-        ));
-    }
-    if n == 0 {
-        s.push_str(&format!(
-            "no row scored: the log ends before t0 + {score_from} s (t0 its first time); \
-             score earlier with --score-from SECONDS\n"
-        ));
-    }
-    s
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::bank::BankSettings;
     use crate::io::{ReaderOptions, WriterOptions};
+    use crate::pipeline::{error_table, inputs_of};
     use pendtilt_core::PendulumParams;
     use std::io::Cursor;
 
