@@ -11,10 +11,10 @@ use std::path::{Path, PathBuf};
 
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pendtilt::cli::estimate3d;
-use pendtilt::pipeline::spatial::{self, Feed, Options3d, Row, Sink3d};
 use pendtilt::cli::Command;
 use pendtilt::io::{Column, Log3dReader, LogReader, LogRecord, LogWarning, ReaderOptions};
 use pendtilt::pipeline;
+use pendtilt::pipeline::spatial::{self, Feed, Row, Sink3d};
 use pendtilt_core::Estimate;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

@@ -70,7 +70,7 @@ pub fn own_files(args: &Args, log: &Path) -> (Option<PathBuf>, Option<PathBuf>) 
         let stem = log.file_stem()?.to_string_lossy().into_owned();
         Some(log.with_file_name(format!("{stem}.{suffix}.toml"))).filter(|p| p.is_file())
     };
-    let three_d = super::estimate3d::is_3d_log(log, &args.bank.columns.map);
+    let three_d = crate::pipeline::spatial::is_3d_log(log, &args.bank.columns.map);
     (beside("rig"), beside("scenario").filter(|_| three_d))
 }
 

@@ -171,35 +171,9 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
             }
             let mut rows = spare_rows.try_recv().unwrap_or_default();
             rows.clear();
-            // The last batch (the end of the log, or a read error) hands on every row held.
-            let last = batch.last;
-            let held = std::iter::from_fn(|| if last { Some(None) } else { None });
-            let records = batch.records.iter().map(|r| Some(*r)).chain(held);
-            for rec in records {
-                let next = match rec {
-                    Some(rec) => clips.push(rec),
-                    None => match clips.pop() {
-                        Some(r) => Some(r),
-                        None => break,
-                    },
-                };
-                for w in clips.drain_warnings() {
-                    warn(&w);
-                }
-                let Some((rec, clipped)) = next else {
-                    continue;
-                };
-                pass.row(
-                    &rec,
-                    clipped,
-                    bank,
-                    None::<&mut EstimatesWriter<W>>,
-                    false,
-                    &mut each,
-                    &mut warn,
-                )?;
-                rows.push(&rec, &pass.est);
-            }
+            estimate_batch::<W>(
+                &batch, &mut clips, &mut pass, bank, &mut rows, &mut warn, &mut each,
+            )?;
             // A send fails when the writer stopped on an error: it is reported below.
             if writer.is_some() && to_writer.send(rows).is_err() {
                 break;
@@ -227,6 +201,49 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
         &mut warn,
         log.unit_findings().to_vec(),
     )
+}
+
+/// One batch of [`run_parallel`] through the clip finder and the bank into `rows`; the
+/// last batch also hands on the rows the finder still holds.
+fn estimate_batch<W: Write>(
+    batch: &Batch,
+    clips: &mut ClipFinder,
+    pass: &mut Pass,
+    bank: &mut Bank,
+    rows: &mut Rows,
+    warn: &mut impl FnMut(&LogWarning),
+    each: &mut impl FnMut(u64, &LogRecord, &[Estimate<f64>]),
+) -> Result<(), PassError> {
+    // The last batch (the end of the log, or a read error) hands on every row held.
+    let last = batch.last;
+    let held = std::iter::from_fn(|| if last { Some(None) } else { None });
+    let records = batch.records.iter().map(|r| Some(*r)).chain(held);
+    for rec in records {
+        let next = match rec {
+            Some(rec) => clips.push(rec),
+            None => match clips.pop() {
+                Some(r) => Some(r),
+                None => break,
+            },
+        };
+        for w in clips.drain_warnings() {
+            warn(&w);
+        }
+        let Some((rec, clipped)) = next else {
+            continue;
+        };
+        pass.row(
+            &rec,
+            clipped,
+            bank,
+            None::<&mut EstimatesWriter<W>>,
+            false,
+            each,
+            warn,
+        )?;
+        rows.push(&rec, &pass.est);
+    }
+    Ok(())
 }
 
 /// The reading thread of [`run_parallel`]: the log in batches of [`BATCH_ROWS`] rows (in
