@@ -232,21 +232,7 @@ fn run_planar<R: std::io::BufRead + Send>(
     // t and theta as the reader read them: with the table's columns, in SI units (and
     // read as missing where the reader reads them so); from a file, as the pass read them.
     let (t, theta) = match table {
-        Some(cols) => {
-            let col = |c: Column| -> Option<Vec<f64>> {
-                let pos = log.columns().status(c).position?;
-                Some(
-                    cols[pos][..rows]
-                        .iter()
-                        .map(|&x| si(&log, ropts, c, x))
-                        .collect(),
-                )
-            };
-            (
-                col(Column::T).unwrap_or_default(),
-                if with_theta { col(Column::Theta) } else { None },
-            )
-        }
+        Some(cols) => table_time_and_truth(&log, cols, rows, ropts),
         None => (t_read, with_theta.then_some(theta_read)),
     };
     let theta = theta.map(|v| v.into_iter().map(|x| x * scale).collect());
@@ -261,6 +247,30 @@ fn run_planar<R: std::io::BufRead + Send>(
         warnings,
         notes,
     })
+}
+
+/// `t` and `theta` (when the log has it) of the table's columns `cols`, their first
+/// `rows` in SI units, read as missing where the reader reads them so.
+fn table_time_and_truth<R: std::io::BufRead>(
+    log: &LogReader<R>,
+    cols: &[&[f64]],
+    rows: usize,
+    ropts: &ReaderOptions,
+) -> (Vec<f64>, Option<Vec<f64>>) {
+    let col = |c: Column| -> Option<Vec<f64>> {
+        let pos = log.columns().status(c).position?;
+        Some(
+            cols[pos][..rows]
+                .iter()
+                .map(|&x| si(log, ropts, c, x))
+                .collect(),
+        )
+    };
+    let with_theta = log.columns().has(Column::Theta);
+    (
+        col(Column::T).unwrap_or_default(),
+        if with_theta { col(Column::Theta) } else { None },
+    )
 }
 
 /// `raw` of column `c` as the reader reads it: in SI units (`--time-unit`, `--deg`,
@@ -381,6 +391,30 @@ impl Sink3d for Memory {
     }
 }
 
+/// Each 3-D estimator's roll, pitch, flags and quaternion (when it has one), moved from
+/// `mem` into `d` as arrays.
+fn estimator_arrays(py: Python<'_>, d: &Bound<'_, PyDict>, mem: &mut Memory) -> PyResult<()> {
+    let roll = PyDict::new(py);
+    let pitch = PyDict::new(py);
+    let flags = PyDict::new(py);
+    let quats = PyDict::new(py);
+    for (i, n) in mem.names.iter().enumerate() {
+        roll.set_item(n, std::mem::take(&mut mem.roll[i]).into_pyarray(py))?;
+        pitch.set_item(n, std::mem::take(&mut mem.pitch[i]).into_pyarray(py))?;
+        flags.set_item(n, std::mem::take(&mut mem.flags[i]).into_pyarray(py))?;
+        if mem.quaternion[i] {
+            let q = std::mem::take(&mut mem.quats[i]);
+            let [w, x, y, z] = q.map(|v| v.into_pyarray(py));
+            quats.set_item(n, (w, x, y, z))?;
+        }
+    }
+    d.set_item("roll", roll)?;
+    d.set_item("pitch", pitch)?;
+    d.set_item("flags", flags)?;
+    d.set_item("quaternion", quats)?;
+    Ok(())
+}
+
 /// The 3-D branch of `pendtilt estimate` ([`pendtilt::cli::estimate3d`]): its setup and
 /// pass, the rows kept in memory.
 fn spatial<'py>(
@@ -422,25 +456,8 @@ fn spatial<'py>(
     d.set_item("model", "3d")?;
     d.set_item("names", mem.names.clone())?;
     d.set_item("rows", pass.rows)?;
-    d.set_item("t", mem.t.into_pyarray(py))?;
-    let roll = PyDict::new(py);
-    let pitch = PyDict::new(py);
-    let flags = PyDict::new(py);
-    let quats = PyDict::new(py);
-    for (i, n) in mem.names.iter().enumerate() {
-        roll.set_item(n, std::mem::take(&mut mem.roll[i]).into_pyarray(py))?;
-        pitch.set_item(n, std::mem::take(&mut mem.pitch[i]).into_pyarray(py))?;
-        flags.set_item(n, std::mem::take(&mut mem.flags[i]).into_pyarray(py))?;
-        if mem.quaternion[i] {
-            let q = std::mem::take(&mut mem.quats[i]);
-            let [w, x, y, z] = q.map(|v| v.into_pyarray(py));
-            quats.set_item(n, (w, x, y, z))?;
-        }
-    }
-    d.set_item("roll", roll)?;
-    d.set_item("pitch", pitch)?;
-    d.set_item("flags", flags)?;
-    d.set_item("quaternion", quats)?;
+    d.set_item("t", std::mem::take(&mut mem.t).into_pyarray(py))?;
+    estimator_arrays(py, &d, &mut mem)?;
     if mem.truth {
         d.set_item(
             "truth",
