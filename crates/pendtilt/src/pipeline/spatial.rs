@@ -18,9 +18,10 @@
 //! ahead of the next row's (one glitched stamp between two good ones) is a bad time step of
 //! that row alone, rather than making every following row up to it go back in time. A
 //! clip of the gyro (when the rig gives no full scale) or of the accelerometer is found in
-//! the readings themselves ([`crate::io::plateau`], [`LOOK_AHEAD_ROWS`](crate::io::plateau::LOOK_AHEAD_ROWS) rows ahead of the
-//! estimators), warned once per level, and every reading at it flagged `saturated` by the
-//! estimators reading that sensor ([`Bank3d::update_clipped`]); a clip is no gap. A
+//! the readings themselves ([`crate::io::plateau`],
+//! [`LOOK_AHEAD_ROWS`](crate::io::plateau::LOOK_AHEAD_ROWS) rows ahead of the estimators),
+//! warned once per level, and every reading at it flagged `saturated` by the estimators
+//! reading that sensor ([`Bank3d::update_clipped`]); a clip is no gap. A
 //! sensor missing for longer than the bank's restart gap (0.5 s) restarts the estimators
 //! reading it, with a warning. A cell that is not a number stops the run with its file,
 //! line and column; so does a time column whose steps no sensor rate explains.

@@ -286,7 +286,8 @@ impl<'a> RowInput<'a> {
         (t, s, roll, pitch)
     }
 
-    /// Looks for clips in record `r`, read [`LOOK_AHEAD_ROWS`](crate::io::plateau::LOOK_AHEAD_ROWS) before it reaches the
+    /// Looks for clips in record `r`, read
+    /// [`LOOK_AHEAD_ROWS`](crate::io::plateau::LOOK_AHEAD_ROWS) before it reaches the
     /// estimators. A reading at the rig's gyro full scale is a known clip (kept, flagged by
     /// the estimators); gyro clips at an unknown full scale, or below the rig's (a range
     /// smaller than the rig says), are found in the readings.
