@@ -6,7 +6,8 @@ use super::doubts::shown;
 /// Where a configuration error is: the file, the position in it, and the dotted key.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Location {
-    /// The file name (or the origin name given to [`RigConfig::from_toml_str`]).
+    /// The file name (or the origin name given to
+    /// [`RigConfig::from_toml_str`](super::RigConfig::from_toml_str)).
     pub file: String,
     /// 1-based line of the offending key or value, when it was in the file.
     pub line: Option<usize>,

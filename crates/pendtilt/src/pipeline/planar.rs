@@ -18,14 +18,13 @@ use crate::io::plateau::LOOK_AHEAD_ROWS;
 use crate::io::{Column, EstimatesWriter, LogError, LogReader, LogRecord, LogWarning, WarningKind};
 use crate::units::Finding;
 
-/// Reads every row of `log`, runs `bank` on it, writes one row per input row to `out`
-/// (when given, flushing after each row if `flush_each`), hands each reader warning to
-/// `warn`, and accumulates errors against `theta` when the log has it, from `score_from`
-/// \[s\] after the first row's time on (None: the rule of [`Window::resolve`]). Clips are found
-/// [`LOOK_AHEAD_ROWS`] rows ahead of the estimators, or, when `flush_each` (live input:
-/// nothing is read ahead), from the row that completes their run on. `each` is called
-/// after each row with the rows so far, the row as read and the estimates (not for a
-/// malformed line of a live stream).
+/// Reads every row of `log`, runs `bank` on it, writes one row per input row to `out` (when given,
+/// flushing after each row if `flush_each`), hands each reader warning to `warn`, and accumulates
+/// errors against `theta` when the log has it, from `score_from` \[s\] after the first row's time
+/// on (None: the rule of [`Window::resolve`](super::Window::resolve)). Clips are found
+/// [`LOOK_AHEAD_ROWS`] rows ahead of the estimators, or, when `flush_each` (live input: nothing is
+/// read ahead), from the row that completes their run on. `each` is called after each row with the
+/// rows so far, the row as read and the estimates (not for a malformed line of a live stream).
 pub fn run<R: BufRead, W: Write>(
     log: &mut LogReader<R>,
     bank: &mut Bank,

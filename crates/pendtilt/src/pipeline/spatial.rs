@@ -72,11 +72,11 @@ pub fn refuse_3d_options(given: &[(&str, bool)], log: &Path) -> anyhow::Result<(
     Ok(())
 }
 
-/// True when the first header line of the file at `path` has every 3-D column (comment
-/// and blank lines before it skipped). An unreadable file is not 3-D: the planar reader
-/// then reports it. Only a regular file is peeked at: a pipe (`<(cat log.csv)`,
-/// `/dev/stdin`, `-`) has its header peeked at instead ([`LogSource`]), as reading its
-/// first lines here would take them from the reader that follows.
+/// True when the first header line of the file at `path` has every 3-D column (comment and blank
+/// lines before it skipped). An unreadable file is not 3-D: the planar reader then reports it. Only
+/// a regular file is peeked at: a pipe (`<(cat log.csv)`, `/dev/stdin`, `-`) has its header peeked
+/// at instead ([`LogSource`](crate::io::input::LogSource)), as reading its first lines here would
+/// take them from the reader that follows.
 pub fn is_3d_log(path: &Path, map: &crate::io::ColumnMap) -> bool {
     if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
         return false;

@@ -18,8 +18,9 @@ fn f(x: f64) -> String {
 }
 
 /// A 3-D rig file with every key at its default and what it means: MODEL.md 7.6's rig,
-/// the sensors at P1, the filters' defaults. It reads back as [`Rig3dConfig::default`]
-/// with every `[ekf3d]` key given at its default.
+/// the sensors at P1, the filters' defaults. It reads back as
+/// [`Rig3dConfig::default`](super::Rig3dConfig::default) with every `[ekf3d]` key given at
+/// its default.
 pub fn template() -> String {
     let e = ekf::Settings::<f64>::default();
     let mut ekf3d = ekf3d_keys(&e);

@@ -42,9 +42,9 @@ pub trait ImuFilter {
     /// Takes over from `old`, the filter that ran before a restart after a long gap, what
     /// a gap cannot change. Default: nothing (the filter starts afresh).
     fn keep_from(&mut self, _old: &Self) {}
-    /// How long \[s\] the wrapper averages the accelerometer (carried by the gyro) before
-    /// it starts the filter after a restart ([`Estimator::resume`]), instead of starting
-    /// it at one reading. Default [`RESTART_AVERAGE`].
+    /// How long \[s\] the wrapper averages the accelerometer (carried by the gyro) before it starts
+    /// the filter after a restart ([`Estimator::resume`](pendtilt_core::Estimator::resume)),
+    /// instead of starting it at one reading. Default [`RESTART_AVERAGE`].
     fn restart_average(&self) -> f64 {
         RESTART_AVERAGE
     }
