@@ -4,16 +4,17 @@
 //! The options are the command's (its command line, parsed by its definitions). A planar
 //! log goes through [`pendtilt::pipeline::run_parallel`] with the reader, the bank and
 //! the checks the command builds; the estimates are kept rather than formatted. A 3-D log
-//! goes through [`pendtilt::cli::estimate3d::pass`] (the command's pass) into arrays, a
-//! table in memory through [`pendtilt::cli::estimate3d::pass_on`] over its columns read
+//! goes through [`pendtilt::pipeline::spatial::pass`] (the command's pass) into arrays, a
+//! table in memory through [`pendtilt::pipeline::spatial::pass_on`] over its columns read
 //! as CSV text. Either way every estimate is the command's, bit for bit.
 use std::path::{Path, PathBuf};
 
 use numpy::{IntoPyArray, PyReadonlyArray1};
-use pendtilt::cli::estimate3d::{self, Feed, Options3d, Row, Sink3d};
+use pendtilt::cli::estimate3d;
 use pendtilt::cli::Command;
 use pendtilt::io::{Column, Log3dReader, LogReader, LogRecord, LogWarning, ReaderOptions};
 use pendtilt::pipeline;
+use pendtilt::pipeline::spatial::{self, Feed, Row, Sink3d};
 use pendtilt_core::Estimate;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -44,7 +45,7 @@ pub fn estimate<'py>(
     let args = estimate_args(&argv)?;
     let Some((names, columns)) = names.zip(columns) else {
         let map = &args.bank.columns.map;
-        return if estimate3d::is_3d_log(&args.log, map) || !map.spatial_only().is_empty() {
+        return if spatial::is_3d_log(&args.log, map) || !map.spatial_only().is_empty() {
             spatial(py, &args, None)
         } else {
             planar(py, &args, None)
@@ -127,7 +128,7 @@ fn planar<'py>(
     args: &pendtilt::cli::estimate::Args,
     table: Option<(&[String], Vec<&[f64]>)>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    estimate3d::refuse_3d_options(
+    spatial::refuse_3d_options(
         &[
             ("--quaternion", args.quaternion),
             ("--scenario", args.scenario.is_some()),
@@ -231,21 +232,7 @@ fn run_planar<R: std::io::BufRead + Send>(
     // t and theta as the reader read them: with the table's columns, in SI units (and
     // read as missing where the reader reads them so); from a file, as the pass read them.
     let (t, theta) = match table {
-        Some(cols) => {
-            let col = |c: Column| -> Option<Vec<f64>> {
-                let pos = log.columns().status(c).position?;
-                Some(
-                    cols[pos][..rows]
-                        .iter()
-                        .map(|&x| si(&log, ropts, c, x))
-                        .collect(),
-                )
-            };
-            (
-                col(Column::T).unwrap_or_default(),
-                if with_theta { col(Column::Theta) } else { None },
-            )
-        }
+        Some(cols) => table_time_and_truth(&log, cols, rows, ropts),
         None => (t_read, with_theta.then_some(theta_read)),
     };
     let theta = theta.map(|v| v.into_iter().map(|x| x * scale).collect());
@@ -260,6 +247,30 @@ fn run_planar<R: std::io::BufRead + Send>(
         warnings,
         notes,
     })
+}
+
+/// `t` and `theta` (when the log has it) of the table's columns `cols`, their first
+/// `rows` in SI units, read as missing where the reader reads them so.
+fn table_time_and_truth<R: std::io::BufRead>(
+    log: &LogReader<R>,
+    cols: &[&[f64]],
+    rows: usize,
+    ropts: &ReaderOptions,
+) -> (Vec<f64>, Option<Vec<f64>>) {
+    let col = |c: Column| -> Option<Vec<f64>> {
+        let pos = log.columns().status(c).position?;
+        Some(
+            cols[pos][..rows]
+                .iter()
+                .map(|&x| si(log, ropts, c, x))
+                .collect(),
+        )
+    };
+    let with_theta = log.columns().has(Column::Theta);
+    (
+        col(Column::T).unwrap_or_default(),
+        if with_theta { col(Column::Theta) } else { None },
+    )
 }
 
 /// `raw` of column `c` as the reader reads it: in SI units (`--time-unit`, `--deg`,
@@ -380,48 +391,9 @@ impl Sink3d for Memory {
     }
 }
 
-/// The 3-D branch of `pendtilt estimate` ([`pendtilt::cli::estimate3d`]): its setup and
-/// pass, the rows kept in memory.
-fn spatial<'py>(
-    py: Python<'py>,
-    args: &pendtilt::cli::estimate::Args,
-    table: Option<(&[String], Vec<&[f64]>)>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let b = &args.bank;
-    // The setup's notices go to standard error, as the command's.
-    let opts = Options3d::of_estimate(args, &args.log, None);
-    let (pass, mut mem, score_from) = py
-        .detach(|| -> anyhow::Result<_> {
-            let setup = estimate3d::setup(&opts)?;
-            let mut mem = Memory {
-                scale: if b.out_deg {
-                    180.0 / std::f64::consts::PI
-                } else {
-                    1.0
-                },
-                ..Memory::default()
-            };
-            let pass = match table {
-                // The columns read as the 3-D reader reads a file of them.
-                Some((names, cols)) => {
-                    let file = args.log.display().to_string();
-                    let renames = b.columns.map.spatial();
-                    let source = ColumnsSource::new(names, cols);
-                    let log = Log3dReader::new_mapped(source, &file, renames)?;
-                    let q = args.quaternion;
-                    estimate3d::pass_on(log, &file, &opts, &setup, q, &mut mem, Feed::File)?
-                }
-                None => estimate3d::pass(&opts, &setup, args.quaternion, &mut mem)?,
-            };
-            let from = pass.window.from;
-            Ok((pass, mem, from))
-        })
-        .map_err(py_err)?;
-    let d = PyDict::new(py);
-    d.set_item("model", "3d")?;
-    d.set_item("names", mem.names.clone())?;
-    d.set_item("rows", pass.rows)?;
-    d.set_item("t", mem.t.into_pyarray(py))?;
+/// Each 3-D estimator's roll, pitch, flags and quaternion (when it has one), moved from
+/// `mem` into `d` as arrays.
+fn estimator_arrays(py: Python<'_>, d: &Bound<'_, PyDict>, mem: &mut Memory) -> PyResult<()> {
     let roll = PyDict::new(py);
     let pitch = PyDict::new(py);
     let flags = PyDict::new(py);
@@ -440,6 +412,52 @@ fn spatial<'py>(
     d.set_item("pitch", pitch)?;
     d.set_item("flags", flags)?;
     d.set_item("quaternion", quats)?;
+    Ok(())
+}
+
+/// The 3-D branch of `pendtilt estimate` ([`pendtilt::cli::estimate3d`]): its setup and
+/// pass, the rows kept in memory.
+fn spatial<'py>(
+    py: Python<'py>,
+    args: &pendtilt::cli::estimate::Args,
+    table: Option<(&[String], Vec<&[f64]>)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let b = &args.bank;
+    // The setup's notices go to standard error, as the command's.
+    let opts = estimate3d::options(args, &args.log, None);
+    let (pass, mut mem, score_from) = py
+        .detach(|| -> anyhow::Result<_> {
+            let setup = spatial::setup(&opts)?;
+            let mut mem = Memory {
+                scale: if b.out_deg {
+                    180.0 / std::f64::consts::PI
+                } else {
+                    1.0
+                },
+                ..Memory::default()
+            };
+            let pass = match table {
+                // The columns read as the 3-D reader reads a file of them.
+                Some((names, cols)) => {
+                    let file = args.log.display().to_string();
+                    let renames = b.columns.map.spatial();
+                    let source = ColumnsSource::new(names, cols);
+                    let log = Log3dReader::new_mapped(source, &file, renames)?;
+                    let q = args.quaternion;
+                    spatial::pass_on(log, &file, &opts, &setup, q, &mut mem, Feed::File)?
+                }
+                None => spatial::pass(&opts, &setup, args.quaternion, &mut mem)?,
+            };
+            let from = pass.window.from;
+            Ok((pass, mem, from))
+        })
+        .map_err(py_err)?;
+    let d = PyDict::new(py);
+    d.set_item("model", "3d")?;
+    d.set_item("names", mem.names.clone())?;
+    d.set_item("rows", pass.rows)?;
+    d.set_item("t", std::mem::take(&mut mem.t).into_pyarray(py))?;
+    estimator_arrays(py, &d, &mut mem)?;
     if mem.truth {
         d.set_item(
             "truth",

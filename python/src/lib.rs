@@ -5,7 +5,7 @@
 //! ([`pendtilt::cli::Cli`]), so options, defaults and error messages are the command's;
 //! `simulate`, `replay`, `fit` and `tune` run the command itself ([`run_cli`]); `estimate`
 //! runs the command's pipeline ([`pendtilt::pipeline::run_parallel`] for a planar log,
-//! [`pendtilt::cli::estimate3d::pass_on`] for a 3-D one) into NumPy arrays instead of a CSV
+//! [`pendtilt::pipeline::spatial::pass_on`] for a 3-D one) into NumPy arrays instead of a CSV
 //! file ([`estimate`]). The Python layer (`pendtilt/__init__.py`) turns keyword arguments
 //! into that command line. Long runs release the GIL.
 use pyo3::create_exception;

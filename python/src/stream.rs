@@ -12,10 +12,10 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1};
 use pendtilt::bank::Bank;
 use pendtilt::bank3d::Bank3d;
-use pendtilt::cli::estimate3d::{self, Options3d};
 use pendtilt::cli::options::{rig_bank_settings, LogColumns};
 use pendtilt::config::RigConfig;
 use pendtilt::io::ColumnMap;
+use pendtilt::pipeline::spatial::{self, Options3d};
 use pendtilt::sensors::Inputs;
 use pendtilt_core::spatial::SpatialSample;
 use pendtilt_core::{Estimate, Sample, StepGate};
@@ -189,7 +189,7 @@ impl Stream3d {
             only: estimators.as_deref(),
             quiet: true,
         };
-        let setup = estimate3d::setup(&opts).map_err(py_err)?;
+        let setup = spatial::setup(&opts).map_err(py_err)?;
         let bank =
             Bank3d::new(&setup.settings, estimators.as_deref()).map_err(PendtiltError::new_err)?;
         Ok(Self {

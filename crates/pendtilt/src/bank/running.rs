@@ -6,6 +6,7 @@ use pendtilt_core::kalman::tilt::UNUSABLE;
 use pendtilt_core::kalman::TiltKalman;
 use pendtilt_core::{Estimate, Flags, Sample};
 
+use super::registry::Entry;
 use super::{BankSettings, BoxedEstimator, Inputs, Kind, REGISTRY};
 use crate::sensors::union;
 
@@ -69,6 +70,33 @@ pub struct Bank {
     clip_gate: ClipGate<f64>,
 }
 
+/// An error for a name in `only` (as given to [`Bank::new`]) that the registry does not
+/// know, with the name meant when it is one (another case, a 3-D estimator).
+fn check_only(only: &[String]) -> Result<(), String> {
+    for n in only {
+        if !REGISTRY.iter().any(|e| e.name == n.trim()) {
+            let known: Vec<_> = REGISTRY.iter().map(|e| e.name).collect();
+            let spatial = crate::catalogue::listing(n.trim())
+                .is_some_and(|l| l.model == crate::catalogue::Model::Spatial);
+            let hint = if spatial {
+                "; it is a 3-D estimator, and this log is planar".to_string()
+            } else if let Some(e) = REGISTRY
+                .iter()
+                .find(|e| e.name.eq_ignore_ascii_case(n.trim()))
+            {
+                format!("; did you mean `{}`?", e.name)
+            } else {
+                String::new()
+            };
+            return Err(format!(
+                "unknown estimator `{n}`{hint} (known: {})",
+                known.join(", ")
+            ));
+        }
+    }
+    Ok(())
+}
+
 impl std::fmt::Debug for Bank {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Bank")
@@ -81,35 +109,13 @@ impl std::fmt::Debug for Bank {
 impl Bank {
     /// Every registry entry whose inputs are in `inputs` (and, if `only` is given, whose
     /// name is in it). Errors on a name in `only` that the registry does not know.
-    /// (Long, kept whole: one pass over the registry in which each entry's slot depends on
-    /// the slots built before it: a shared front end, a Kalman filter's sources.)
     pub fn new(
         settings: &BankSettings,
         inputs: Inputs,
         only: Option<&[String]>,
     ) -> Result<Self, String> {
         if let Some(only) = only {
-            for n in only {
-                if !REGISTRY.iter().any(|e| e.name == n.trim()) {
-                    let known: Vec<_> = REGISTRY.iter().map(|e| e.name).collect();
-                    let spatial = crate::catalogue::listing(n.trim())
-                        .is_some_and(|l| l.model == crate::catalogue::Model::Spatial);
-                    let hint = if spatial {
-                        "; it is a 3-D estimator, and this log is planar".to_string()
-                    } else if let Some(e) = REGISTRY
-                        .iter()
-                        .find(|e| e.name.eq_ignore_ascii_case(n.trim()))
-                    {
-                        format!("; did you mean `{}`?", e.name)
-                    } else {
-                        String::new()
-                    };
-                    return Err(format!(
-                        "unknown estimator `{n}`{hint} (known: {})",
-                        known.join(", ")
-                    ));
-                }
-            }
+            check_only(only)?;
         }
         // `--only "alg2, kf_alg2"`: the space after the comma is not part of a name.
         let asked = |name: &str| only.is_none_or(|o| o.iter().any(|n| n.trim() == name));
@@ -148,64 +154,70 @@ impl Bank {
             gated: Vec::new(),
             clip_gate: ClipGate::new(),
         };
-        'entries: for e in REGISTRY {
-            if !wanted(e.name) {
-                continue;
-            }
-            if !inputs.covers(e.needs()) {
-                bank.skipped.push(Skipped {
-                    name: e.name,
-                    lacking: inputs.lacking(e.needs()),
-                });
-                continue;
-            }
-            let slot = match &e.kind {
-                Kind::Direct(build) => Slot::Direct(build(settings)),
-                Kind::Inversion(build) => {
-                    let (fe, eq) = build(settings);
-                    if let Some(Slot::Shared(front)) = bank.slots.last_mut() {
-                        if *front.settings() == fe && front.push(eq) {
-                            bank.names.push(e.name);
-                            bank.needs.push(e.needs());
-                            if let Some(n) = bank.slot_needs.last_mut() {
-                                *n = union(*n, e.needs());
-                            }
-                            continue;
-                        }
-                    }
-                    match SharedFrontEnd::new(&fe, &[eq]) {
-                        Some(front) => Slot::Shared(Box::new(front)),
-                        None => return Err(format!("`{}`: cannot build its front end", e.name)),
-                    }
-                }
-                Kind::Kalman(sources) => {
-                    let kalman = settings.rig.kalman_settings();
-                    let mut idx = Vec::new();
-                    for (src, r) in sources.iter() {
-                        // Its sources come first in the registry and were pulled in: a
-                        // source is missing only when the log lacks its inputs.
-                        let Some(i) = bank.names.iter().position(|n| n == src) else {
-                            bank.skipped.push(Skipped {
-                                name: e.name,
-                                lacking: inputs.lacking(e.needs()),
-                            });
-                            continue 'entries;
-                        };
-                        idx.push((i, r(&kalman)));
-                    }
-                    Slot::Kalman {
-                        kf: TiltKalman::new(kalman),
-                        sources: idx,
-                    }
-                }
-            };
-            bank.names.push(e.name);
-            bank.needs.push(e.needs());
-            bank.slots.push(slot);
-            bank.slot_needs.push(e.needs());
-            bank.gated.push(e.gyro_gated);
+        for e in REGISTRY.iter().filter(|e| wanted(e.name)) {
+            bank.add(e, settings)?;
         }
         Ok(bank)
+    }
+
+    /// Adds registry entry `e`, or says it was skipped for the sensors it lacks. One pass
+    /// over the registry: each entry's slot depends on the slots built before it (a shared
+    /// front end, a Kalman filter's sources).
+    fn add(&mut self, e: &Entry, settings: &BankSettings) -> Result<(), String> {
+        let inputs = self.inputs;
+        if !inputs.covers(e.needs()) {
+            self.skipped.push(Skipped {
+                name: e.name,
+                lacking: inputs.lacking(e.needs()),
+            });
+            return Ok(());
+        }
+        let slot = match &e.kind {
+            Kind::Direct(build) => Slot::Direct(build(settings)),
+            Kind::Inversion(build) => {
+                let (fe, eq) = build(settings);
+                if let Some(Slot::Shared(front)) = self.slots.last_mut() {
+                    if *front.settings() == fe && front.push(eq) {
+                        self.names.push(e.name);
+                        self.needs.push(e.needs());
+                        if let Some(n) = self.slot_needs.last_mut() {
+                            *n = union(*n, e.needs());
+                        }
+                        return Ok(());
+                    }
+                }
+                match SharedFrontEnd::new(&fe, &[eq]) {
+                    Some(front) => Slot::Shared(Box::new(front)),
+                    None => return Err(format!("`{}`: cannot build its front end", e.name)),
+                }
+            }
+            Kind::Kalman(sources) => {
+                let kalman = settings.rig.kalman_settings();
+                let mut idx = Vec::new();
+                for (src, r) in sources.iter() {
+                    // Its sources come first in the registry and were pulled in: a
+                    // source is missing only when the log lacks its inputs.
+                    let Some(i) = self.names.iter().position(|n| n == src) else {
+                        self.skipped.push(Skipped {
+                            name: e.name,
+                            lacking: inputs.lacking(e.needs()),
+                        });
+                        return Ok(());
+                    };
+                    idx.push((i, r(&kalman)));
+                }
+                Slot::Kalman {
+                    kf: TiltKalman::new(kalman),
+                    sources: idx,
+                }
+            }
+        };
+        self.names.push(e.name);
+        self.needs.push(e.needs());
+        self.slots.push(slot);
+        self.slot_needs.push(e.needs());
+        self.gated.push(e.gyro_gated);
+        Ok(())
     }
 
     /// The output names, in column order.
@@ -343,8 +355,49 @@ impl Bank {
     ) {
         out.clear();
         self.restart_after_gaps(sample);
-        // The clip's level as the gyro's full scale for this row only: the estimators
-        // then take it exactly as the rig's full scale.
+        let fs = self.set_gyro_full_scale(sample, clipped);
+        // A gyro that clips heavily: its readings within range are the vibration's
+        // troughs, which the gated estimators take as missing.
+        let gyro_at_scale = fs.is_some_and(|f| sample.gyro.abs() >= f);
+        let heavy = self.clip_gate.offer(sample.dt, gyro_at_scale);
+        self.step_slots(sample, heavy, out);
+        // Beyond the restart gap a sensor's estimators have nothing to go on: what they
+        // would give (the gyro's last mean integrated for seconds, 170 deg off after a 10 s
+        // gap) is no estimate. They restart when it is back.
+        if !self.stale.is_empty() {
+            for (e, need) in out.iter_mut().zip(&self.needs) {
+                if need.intersects(self.stale) {
+                    e.theta = f64::NAN;
+                    e.flags |= Flags::SAMPLE_MISSING;
+                }
+            }
+        }
+        // Every estimator reading a clipped sensor says so, the peers too, whether the
+        // clip was found in the log or is at the rig's full scale.
+        let saturated = Inputs {
+            phi: false,
+            gyro: gyro_at_scale,
+            accel: clipped.accel
+                || self
+                    .settings
+                    .rig
+                    .accel
+                    .checked_full_scale()
+                    .is_some_and(|fs| sample.ax.abs() >= fs || sample.ay.abs() >= fs),
+        };
+        if !saturated.is_empty() {
+            for (e, need) in out.iter_mut().zip(&self.needs) {
+                if need.intersects(saturated) {
+                    e.flags |= Flags::SATURATED;
+                }
+            }
+        }
+    }
+
+    /// The gyro's full scale for this row, given to the estimators when it changed: the
+    /// clip's level when the gyro is `clipped` (the estimators then take it exactly as the
+    /// rig's full scale), else the rig's.
+    fn set_gyro_full_scale(&mut self, sample: &Sample<f64>, clipped: Inputs) -> Option<f64> {
         let fs = if clipped.gyro {
             Some(sample.gyro.abs())
         } else {
@@ -360,10 +413,12 @@ impl Bank {
                 }
             }
         }
-        // A gyro that clips heavily: its readings within range are the vibration's
-        // troughs, which the gated estimators take as missing.
-        let gyro_at_scale = fs.is_some_and(|f| sample.gyro.abs() >= f);
-        let heavy = self.clip_gate.offer(sample.dt, gyro_at_scale);
+        fs
+    }
+
+    /// Every slot's estimates of `sample` into `out`, in column order (a gated slot takes
+    /// the gyro as missing while it clips `heavy`ly).
+    fn step_slots(&mut self, sample: &Sample<f64>, heavy: bool, out: &mut Vec<Estimate<f64>>) {
         for (slot, &gated) in self.slots.iter_mut().zip(&self.gated) {
             let e = match slot {
                 Slot::Direct(est) if gated && heavy => {
@@ -398,37 +453,6 @@ impl Bank {
                 }
             };
             out.push(e);
-        }
-        // Beyond the restart gap a sensor's estimators have nothing to go on: what they
-        // would give (the gyro's last mean integrated for seconds, 170 deg off after a 10 s
-        // gap) is no estimate. They restart when it is back.
-        if !self.stale.is_empty() {
-            for (e, need) in out.iter_mut().zip(&self.needs) {
-                if need.intersects(self.stale) {
-                    e.theta = f64::NAN;
-                    e.flags |= Flags::SAMPLE_MISSING;
-                }
-            }
-        }
-        // Every estimator reading a clipped sensor says so, the peers too, whether the
-        // clip was found in the log or is at the rig's full scale.
-        let saturated = Inputs {
-            phi: false,
-            gyro: gyro_at_scale,
-            accel: clipped.accel
-                || self
-                    .settings
-                    .rig
-                    .accel
-                    .checked_full_scale()
-                    .is_some_and(|fs| sample.ax.abs() >= fs || sample.ay.abs() >= fs),
-        };
-        if !saturated.is_empty() {
-            for (e, need) in out.iter_mut().zip(&self.needs) {
-                if need.intersects(saturated) {
-                    e.flags |= Flags::SATURATED;
-                }
-            }
         }
     }
 

@@ -70,7 +70,7 @@ pub fn own_files(args: &Args, log: &Path) -> (Option<PathBuf>, Option<PathBuf>) 
         let stem = log.file_stem()?.to_string_lossy().into_owned();
         Some(log.with_file_name(format!("{stem}.{suffix}.toml"))).filter(|p| p.is_file())
     };
-    let three_d = super::estimate3d::is_3d_log(log, &args.bank.columns.map);
+    let three_d = crate::pipeline::spatial::is_3d_log(log, &args.bank.columns.map);
     (beside("rig"), beside("scenario").filter(|_| three_d))
 }
 
@@ -256,21 +256,7 @@ fn one(
 /// The summary as CSV (one row per log, an RMS column per estimator in degrees) and as a
 /// Markdown table.
 pub fn write_summary(entries: &[Entry], csv_path: &Path, md_path: &Path) -> anyhow::Result<()> {
-    // Every estimator that scored on some log, in order of first appearance.
-    let mut names: Vec<String> = Vec::new();
-    for o in entries.iter().filter_map(|e| e.result.as_ref().ok()) {
-        for s in &o.scores {
-            if !names.contains(&s.name) {
-                names.push(s.name.clone());
-            }
-        }
-    }
-    let rms = |o: &Outcome, n: &str| {
-        o.scores
-            .iter()
-            .find(|s| s.name == n)
-            .map(|s| s.rms.to_degrees())
-    };
+    let names = scored_names(entries);
     let mut csv = csv::Writer::from_path(csv_path)
         .with_context(|| format!("cannot write {}", csv_path.display()))?;
     let mut header = vec![
@@ -293,55 +279,10 @@ pub fn write_summary(entries: &[Entry], csv_path: &Path, md_path: &Path) -> anyh
     md.push('\n');
     let mut failures = String::new();
     for e in entries {
-        let log = e.log.display().to_string();
-        let out = e.output.display().to_string();
-        let rig = e
-            .rig
-            .as_ref()
-            .map_or("default".into(), |r| r.display().to_string());
-        match &e.result {
-            Ok(o) => {
-                let cells: Vec<String> = names
-                    .iter()
-                    .map(|n| rms(o, n).map_or(String::new(), |x| format!("{x}")))
-                    .collect();
-                let mut row = vec![
-                    log.clone(),
-                    out,
-                    rig.clone(),
-                    "ok".into(),
-                    o.rows.to_string(),
-                    o.warnings.to_string(),
-                    String::new(),
-                ];
-                row.extend(cells);
-                csv.write_record(&row)?;
-                md.push_str(&format!(
-                    "| {log} | {rig} | ok | {} | {} |",
-                    o.rows, o.warnings
-                ));
-                for n in &names {
-                    let cell = rms(o, n).map_or("".into(), |x| format!("{x:.4}"));
-                    md.push_str(&format!(" {cell} |"));
-                }
-            }
-            Err(msg) => {
-                let mut row = vec![
-                    log.clone(),
-                    String::new(),
-                    rig.clone(),
-                    "failed".into(),
-                    String::new(),
-                    String::new(),
-                    msg.clone(),
-                ];
-                row.extend(names.iter().map(|_| String::new()));
-                csv.write_record(&row)?;
-                md.push_str(&format!("| {log} | {rig} | failed | | |"));
-                md.push_str(&" |".repeat(names.len()));
-                failures.push_str(&format!("- `{log}`: {}\n", msg.replace('\n', " ")));
-            }
-        }
+        let (row, md_row, failure) = summary_row(e, &names);
+        csv.write_record(&row)?;
+        md.push_str(&md_row);
+        failures.push_str(&failure.unwrap_or_default());
         md.push('\n');
     }
     csv.flush()?;
@@ -350,6 +291,76 @@ pub fn write_summary(entries: &[Entry], csv_path: &Path, md_path: &Path) -> anyh
     }
     std::fs::write(md_path, md).with_context(|| format!("cannot write {}", md_path.display()))?;
     Ok(())
+}
+
+/// Every estimator that scored on some log, in order of first appearance.
+fn scored_names(entries: &[Entry]) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for o in entries.iter().filter_map(|e| e.result.as_ref().ok()) {
+        for s in &o.scores {
+            if !names.contains(&s.name) {
+                names.push(s.name.clone());
+            }
+        }
+    }
+    names
+}
+
+/// Log `e`'s row of the summary: the CSV record, the Markdown row, and the line of the
+/// list of failures when it failed.
+fn summary_row(e: &Entry, names: &[String]) -> (Vec<String>, String, Option<String>) {
+    let rms = |o: &Outcome, n: &str| {
+        o.scores
+            .iter()
+            .find(|s| s.name == n)
+            .map(|s| s.rms.to_degrees())
+    };
+    let log = e.log.display().to_string();
+    let out = e.output.display().to_string();
+    let rig = e
+        .rig
+        .as_ref()
+        .map_or("default".into(), |r| r.display().to_string());
+    match &e.result {
+        Ok(o) => {
+            let cells: Vec<String> = names
+                .iter()
+                .map(|n| rms(o, n).map_or(String::new(), |x| format!("{x}")))
+                .collect();
+            let mut row = vec![
+                log.clone(),
+                out,
+                rig.clone(),
+                "ok".into(),
+                o.rows.to_string(),
+                o.warnings.to_string(),
+                String::new(),
+            ];
+            row.extend(cells);
+            let mut md = format!("| {log} | {rig} | ok | {} | {} |", o.rows, o.warnings);
+            for n in names {
+                let cell = rms(o, n).map_or("".into(), |x| format!("{x:.4}"));
+                md.push_str(&format!(" {cell} |"));
+            }
+            (row, md, None)
+        }
+        Err(msg) => {
+            let mut row = vec![
+                log.clone(),
+                String::new(),
+                rig.clone(),
+                "failed".into(),
+                String::new(),
+                String::new(),
+                msg.clone(),
+            ];
+            row.extend(names.iter().map(|_| String::new()));
+            let mut md = format!("| {log} | {rig} | failed | | |");
+            md.push_str(&" |".repeat(names.len()));
+            let failure = format!("- `{log}`: {}\n", msg.replace('\n', " "));
+            (row, md, Some(failure))
+        }
+    }
 }
 
 #[cfg(test)]

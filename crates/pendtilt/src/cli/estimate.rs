@@ -110,7 +110,7 @@ pub fn estimate_with(args: &Args, parallel: bool) -> anyhow::Result<Outcome> {
     // A map onto 3-D columns says the log is 3-D: the 3-D reader names what is amiss.
     let map = &args.bank.columns.map;
     let spatial = match &source {
-        LogSource::File(p) => super::estimate3d::is_3d_log(p, map),
+        LogSource::File(p) => crate::pipeline::spatial::is_3d_log(p, map),
         LogSource::Stream { header, .. } => {
             (header.as_ref()).is_some_and(|h| crate::io::is_3d_header(&map.rename_spatial(h)))
         }
@@ -118,7 +118,7 @@ pub fn estimate_with(args: &Args, parallel: bool) -> anyhow::Result<Outcome> {
     if spatial || !map.spatial_only().is_empty() {
         return super::estimate3d::estimate(args, source, &name);
     }
-    super::estimate3d::refuse_3d_options(
+    crate::pipeline::spatial::refuse_3d_options(
         &[
             ("--quaternion", args.quaternion),
             ("--scenario", args.scenario.is_some()),

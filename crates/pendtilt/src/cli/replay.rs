@@ -207,26 +207,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(r) = &rig {
         settings.pendulum = physical(&r.pendulum3d);
     }
-    let vibration = match &args.vibration {
-        Some(name) => {
-            if !crate::sim3d::SCENARIO3D_NAMES.contains(&name.as_str()) {
-                bail!(
-                    "--vibration {name}: not a 3-D scenario (they are: {})",
-                    crate::sim3d::SCENARIO3D_NAMES.join(", ")
-                );
-            }
-            if !(args.accel_full_scale.is_finite() && args.accel_full_scale > 0.0) {
-                bail!(
-                    "--accel-full-scale {}: must be > 0 m/s^2",
-                    args.accel_full_scale
-                );
-            }
-            let mut v = AddedVibration::of_scenario(name, args.seed)?;
-            v.accel_full_scale = args.accel_full_scale;
-            Some(v)
-        }
-        None => None,
-    };
+    let vibration = added_vibration(&args)?;
     // A BROAD trial of 10 MB takes about 2 s.
     let bar = super::options::progress(&args.input, "replaying {spinner} {elapsed}", args.quiet);
     let replayed = Recording::open(&args.input, &options)
@@ -251,16 +232,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .iter()
         .map(|o| OutputFile::create(o.option, o.path))
         .collect::<Result<Vec<_>, _>>()?;
-    let rig_text = Rig3d {
-        pendulum3d: out.pendulum,
-        mounting: rig.map_or(Mounting::default(), |r| r.mounting),
-    }
-    .to_toml_string()?;
-    let rig_text = format!(
-        "# Written by `pendtilt replay` for {}: the virtual pendulum, its gravity the\n\
-         # recording's mean |a| at rest.\n{rig_text}",
-        args.input.display()
-    );
+    let rig_text = rig_text(&args, &out, rig.as_ref())?;
     (|| -> anyhow::Result<()> {
         write_log(
             &out,
@@ -288,6 +260,45 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// `--vibration`: the named 3-D scenario's vibration to add, at `--accel-full-scale`.
+fn added_vibration(args: &Args) -> anyhow::Result<Option<AddedVibration>> {
+    Ok(match &args.vibration {
+        Some(name) => {
+            if !crate::sim3d::SCENARIO3D_NAMES.contains(&name.as_str()) {
+                bail!(
+                    "--vibration {name}: not a 3-D scenario (they are: {})",
+                    crate::sim3d::SCENARIO3D_NAMES.join(", ")
+                );
+            }
+            if !(args.accel_full_scale.is_finite() && args.accel_full_scale > 0.0) {
+                bail!(
+                    "--accel-full-scale {}: must be > 0 m/s^2",
+                    args.accel_full_scale
+                );
+            }
+            let mut v = AddedVibration::of_scenario(name, args.seed)?;
+            v.accel_full_scale = args.accel_full_scale;
+            Some(v)
+        }
+        None => None,
+    })
+}
+
+/// The rig file written beside the log: the virtual pendulum (its gravity the recording's
+/// at rest) and the `--params` rig's mounting.
+fn rig_text(args: &Args, out: &Replay, rig: Option<&Rig3dConfig>) -> anyhow::Result<String> {
+    let rig_text = Rig3d {
+        pendulum3d: out.pendulum,
+        mounting: rig.map_or(Mounting::default(), |r| r.mounting),
+    }
+    .to_toml_string()?;
+    Ok(format!(
+        "# Written by `pendtilt replay` for {}: the virtual pendulum, its gravity the\n\
+         # recording's mean |a| at rest.\n{rig_text}",
+        args.input.display()
+    ))
+}
+
 /// A warning when the specific force at rest is not gravity's in size (an accelerometer in
 /// g or mg, read as m/s^2), with the option that fixes it.
 fn accel_unit_doubt(args: &Args, gravity: f64) -> Option<String> {
@@ -309,22 +320,10 @@ fn accel_unit_doubt(args: &Args, gravity: f64) -> Option<String> {
     ))
 }
 
-/// What the replay found, on standard error (or in the `--summary` file).
-fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, started: Instant) {
+/// The initial rest the replay found (the gyro's bias and gravity), or its absence.
+fn rest_summary(args: &Args, rec: &Recording, out: &Replay) {
     let r = &out.report;
     let n = out.rows.len();
-    let secs = rec.t[n - 1] - rec.t[0];
-    super::summary::say_err!(
-        "replayed {n} rows ({secs:.1} s at {:.1} Hz) of {} through the pendulum in {:.2} s; \
-         wrote {} (rig: {})",
-        (n - 1) as f64 / secs,
-        args.input.display(),
-        started.elapsed().as_secs_f64(),
-        args.output.display(),
-        rig.map_or("none: give --rig-out FILE".into(), |p| p
-            .display()
-            .to_string())
-    );
     match r.rest {
         Some(rest) => super::summary::say_err!(
             "initial rest: {:.2} s; gyro bias removed ({:.3}, {:.3}, {:.3}) deg/s; gravity \
@@ -343,6 +342,25 @@ fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, start
             r.gravity
         ),
     }
+}
+
+/// What the replay found, on standard error (or in the `--summary` file).
+fn summary(args: &Args, rec: &Recording, out: &Replay, rig: Option<&Path>, started: Instant) {
+    let r = &out.report;
+    let n = out.rows.len();
+    let secs = rec.t[n - 1] - rec.t[0];
+    super::summary::say_err!(
+        "replayed {n} rows ({secs:.1} s at {:.1} Hz) of {} through the pendulum in {:.2} s; \
+         wrote {} (rig: {})",
+        (n - 1) as f64 / secs,
+        args.input.display(),
+        started.elapsed().as_secs_f64(),
+        args.output.display(),
+        rig.map_or("none: give --rig-out FILE".into(), |p| p
+            .display()
+            .to_string())
+    );
+    rest_summary(args, rec, out);
     if r.filled.iter().any(|&k| k > 0) {
         super::summary::say_err!(
             "warning: {}: {} gyro and {} accelerometer values missing, interpolated across \

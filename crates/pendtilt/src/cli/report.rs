@@ -142,10 +142,13 @@ pub fn read_log(
 /// moves them in only when the whole report was made, after checking that none of them is
 /// the log or the rig file.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    if super::estimate3d::is_3d_log(&args.log, &args.columns.map) {
+    if crate::pipeline::spatial::is_3d_log(&args.log, &args.columns.map) {
         return super::report3d::run(args);
     }
-    super::estimate3d::refuse_3d_options(&[("--scenario", args.scenario.is_some())], &args.log)?;
+    crate::pipeline::spatial::refuse_3d_options(
+        &[("--scenario", args.scenario.is_some())],
+        &args.log,
+    )?;
     let bars = Bars::new(args.quiet);
     let out = OutputDir::create("-o", &args.output)?;
     let result = report(&args, out.staging(), &bars);

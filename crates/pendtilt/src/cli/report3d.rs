@@ -1,5 +1,5 @@
 //! `pendtilt report` on a 3-D log (MODEL.md 7.6 columns, with the truth `roll`, `pitch`):
-//! the same pass over the log as `pendtilt estimate` (`estimate3d::pass`, so the
+//! the same pass over the log as `pendtilt estimate` (`pipeline::spatial::pass`, so the
 //! same rig, sensor figures, scoring start and row handling), kept in memory and drawn by
 //! [`crate::report::spatial::SpatialReport`]: roll, pitch and inclination error figures, the
 //! RMS / max / mean table, `report.md`, `report.json`, `index.html`. On a log with a
@@ -10,10 +10,10 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
-use super::estimate3d::{pass, setup, Options3d, Row, Sink3d};
 use super::report::Args;
 use crate::bank3d::ride::WithoutSpeed;
 use crate::io::output::{self, OutputDir};
+use crate::pipeline::spatial::{pass, setup, Options3d, Row, Sink3d};
 use crate::report::markdown::text_table_markdown;
 use crate::report::spatial::page::inclination_table;
 use crate::report::spatial::{Ride, RollPitch, SpatialReport};

@@ -64,41 +64,7 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario3d, String, u64)> {
         );
     }
     let (mut s, name, seed) = match &args.config {
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read --config {}", path.display()))?;
-            let table = text.parse::<toml::Table>().ok();
-            let file_name = table
-                .as_ref()
-                .and_then(|t| t.get("scenario")?.as_str().map(String::from));
-            let origin = path.display().to_string();
-            if let (Some(n), Some(f)) = (&args.scenario, &file_name) {
-                if n != f {
-                    bail!(
-                        "--scenario {n}: the --config file {origin} is a {f} scenario (its \
-                         `scenario` key): give one of them"
-                    );
-                }
-            }
-            // The file's keys on top of the named scenario, key by key as a planar file's:
-            // a file of some keys was read as a whole scenario, and refused (`is a  scenario`
-            // with --scenario; `missing field `duration`` with its own `scenario` key).
-            let Some(name) = args.scenario.clone().or(file_name) else {
-                bail!(
-                    "{origin}: no base scenario: give --scenario NAME or a top-level \
-                     `scenario = \"NAME\"` (a 3-D one: {})",
-                    SCENARIO3D_NAMES.join(", ")
-                );
-            };
-            // The seed draws the base's random parts: the file's, if it has one.
-            let file_seed = match &table {
-                Some(t) => crate::sim::scenario::seed_of(t, &origin)?,
-                None => None,
-            };
-            let seed = args.seed.or(file_seed).unwrap_or(DEFAULT_SEED);
-            let (s, _) = Scenario3d::named(&name, seed)?.merged(&text, &origin)?;
-            (s, name, seed)
-        }
+        Some(path) => of_config(args, path)?,
         None => {
             let name = args.scenario.clone().unwrap_or_default();
             let seed = args.seed.unwrap_or(DEFAULT_SEED);
@@ -136,6 +102,44 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario3d, String, u64)> {
             );
         }
     }
+    Ok((s, name, seed))
+}
+
+/// The scenario of the `--config` file at `path`: its keys on top of the named scenario
+/// (`--scenario`, else the file's `scenario` key), with its name and the seed.
+fn of_config(args: &Args, path: &std::path::Path) -> anyhow::Result<(Scenario3d, String, u64)> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read --config {}", path.display()))?;
+    let table = text.parse::<toml::Table>().ok();
+    let file_name = table
+        .as_ref()
+        .and_then(|t| t.get("scenario")?.as_str().map(String::from));
+    let origin = path.display().to_string();
+    if let (Some(n), Some(f)) = (&args.scenario, &file_name) {
+        if n != f {
+            bail!(
+                "--scenario {n}: the --config file {origin} is a {f} scenario (its \
+                 `scenario` key): give one of them"
+            );
+        }
+    }
+    // The file's keys on top of the named scenario, key by key as a planar file's:
+    // a file of some keys was read as a whole scenario, and refused (`is a  scenario`
+    // with --scenario; `missing field `duration`` with its own `scenario` key).
+    let Some(name) = args.scenario.clone().or(file_name) else {
+        bail!(
+            "{origin}: no base scenario: give --scenario NAME or a top-level \
+             `scenario = \"NAME\"` (a 3-D one: {})",
+            SCENARIO3D_NAMES.join(", ")
+        );
+    };
+    // The seed draws the base's random parts: the file's, if it has one.
+    let file_seed = match &table {
+        Some(t) => crate::sim::scenario::seed_of(t, &origin)?,
+        None => None,
+    };
+    let seed = args.seed.or(file_seed).unwrap_or(DEFAULT_SEED);
+    let (s, _) = Scenario3d::named(&name, seed)?.merged(&text, &origin)?;
     Ok((s, name, seed))
 }
 

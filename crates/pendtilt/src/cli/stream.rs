@@ -21,11 +21,11 @@
 use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
 
-use super::estimate3d::{self, Feed, Options3d, Row, Sink3d};
 use super::options::BankOptions;
 use crate::io::input::{peek_header, STDIN_NAME};
 use crate::io::{Column, Estimates3dWriter, EstimatesWriter, LogReader, LogWarning};
 use crate::pipeline;
+use crate::pipeline::spatial::{self, Feed, Options3d, Row, Sink3d};
 
 /// Options of `pendtilt stream`.
 #[derive(Debug, clap::Args)]
@@ -60,7 +60,7 @@ pub fn run_on<R: BufRead, W: Write>(args: Args, input: R, output: W) -> anyhow::
     if spatial || !map.spatial_only().is_empty() {
         return run_3d(&args, input, output);
     }
-    estimate3d::refuse_3d_options(
+    spatial::refuse_3d_options(
         &[
             ("--quaternion", args.quaternion),
             ("--scenario", args.scenario.is_some()),
@@ -109,14 +109,14 @@ fn run_3d<R: BufRead, W: Write>(args: &Args, input: R, output: W) -> anyhow::Res
         only: b.only.as_deref(),
         quiet: b.quiet,
     };
-    let setup = estimate3d::setup(&opts)?;
+    let setup = spatial::setup(&opts)?;
     let log = crate::io::Log3dReader::new_mapped(input, STDIN_NAME, b.columns.map.spatial())?;
     let mut sink = LiveSink {
         out: Some(output),
         options: b.writer_options(),
         writer: None,
     };
-    let pass = estimate3d::pass_on(
+    let pass = spatial::pass_on(
         log,
         STDIN_NAME,
         &opts,
@@ -148,7 +148,7 @@ impl<W: Write> Sink3d for LiveSink<W> {
         quaternion: &[bool],
         truth: bool,
     ) -> anyhow::Result<()> {
-        let columns = estimate3d::columns(names, quaternion);
+        let columns = spatial::columns(names, quaternion);
         if let Some(out) = self.out.take() {
             let mut w = Estimates3dWriter::new(out, columns, truth, self.options)?;
             w.flush()?;

@@ -76,23 +76,13 @@ pub enum Alg3Gains {
 /// The five claims of the paper, numbered as in the issue, on pooled metrics (see [`pool`]):
 /// with `has_step`, claim 4's overshoot is taken from the step ride; `gains` says where
 /// Algorithm 3's gains came from (claim 4 is not applicable without them).
-// Long because it is a table: the five claims' wording, one builder per claim in the
-// paper's order, sharing the metric look-ups above it.
 pub fn paper_claims(
     pooled: &[Metrics],
     has_step: bool,
     diff: &DifferentiatorInfo,
     gains: Alg3Gains,
 ) -> Vec<ClaimSpec> {
-    let m = pooled;
-    let rms = |n: &str| num(get(m, n, MetricKind::Rms));
-    let lag = |n: &str| num(get(m, n, MetricKind::LagMs));
-    let (s2, s3) = if has_step {
-        (format!("alg2{STEP_SUFFIX}"), format!("alg3{STEP_SUFFIX}"))
-    } else {
-        ("alg2".to_string(), "alg3".to_string())
-    };
-    let over = |n: &str| num(get(m, n, MetricKind::OvershootPct));
+    let l = Pooled(pooled);
     let diff_words = format!(
         "every pendulum algorithm takes phi' and phi'' from a 4th-order low-pass at {:.2} Hz \
          ({:.2} x the pendulum's {:.2} Hz), whose DC delay is {:.0} ms",
@@ -102,97 +92,147 @@ pub fn paper_claims(
         diff.delay_ms
     );
     vec![
-        ClaimSpec::new("1. The pendulum beats the accelerometer under vibration")
-            .expect("pendulum", MetricKind::Rms, Expect::Lower, "accel")
-            .because(
-                "The pendulum's own dynamics low-pass the floor vibration that Eq (1) turns \
-                 straight into tilt",
-                &format!(
-                    "The raw pendulum lags the body (lag {} ms) and swings after every \
-                     manoeuvre; here that costs more than the accelerometer's vibration error",
-                    lag("pendulum")
-                ),
-            ),
-        ClaimSpec::new("2. Algorithm 1 (Eq 20) beats the raw pendulum")
-            .expect("alg1", MetricKind::Rms, Expect::Lower, "pendulum")
-            .because(
-                &format!(
-                    "Inverting Eq (18) removes most of the pendulum's swing and lag (lag {} ms \
-                     vs {} ms)",
-                    lag("alg1"),
-                    lag("pendulum")
-                ),
-                &format!(
-                    "Eq (20) needs phi' and phi''; {diff_words}, and the residual vibration \
-                     that gets through is amplified by b phi''"
-                ),
-            ),
-        ClaimSpec::new("3. Algorithm 2 (Eq 21, gyro) beats Algorithm 1")
-            .expect("alg2", MetricKind::Rms, Expect::Lower, "alg1")
-            .because(
-                &format!(
-                    "Adding theta'' from the gyro removes the inertial error Algorithm 1 \
-                     neglects; {diff_words}"
-                ),
-                &format!(
-                    "{diff_words}: Eq (21)'s correction a phi' + b (phi'' - theta'') arrives \
-                     that late, and the estimate lags (alg2 {} ms vs alg1 {} ms). Algorithm 1's missing \
-                     -b theta'' term happens to cancel most of that delay error. Removing the \
-                     first-order delay with the gyro ({ALG2_DELAY_COMPENSATED}, not in the \
-                     paper) gives {} deg RMS (lag {} ms) against Algorithm 1's {} deg",
-                    lag("alg2"),
-                    lag("alg1"),
-                    rms(ALG2_DELAY_COMPENSATED),
-                    lag(ALG2_DELAY_COMPENSATED),
-                    rms("alg1")
-                ),
-            ),
-        claim4(gains)
-            .expect("alg3", MetricKind::LagMs, Expect::Lower, "alg2")
-            .expect(&s3, MetricKind::OvershootPct, Expect::Higher, &s2)
-            .because(
-                &format!(
-                    "The fitted gains (N G_k in particular) take up part of the \
-                     differentiator's delay; the price is overshoot ({} % vs {} % on the \
-                     sigmoid)",
-                    over(&s3),
-                    over(&s2)
-                ),
-                &format!(
-                    "Measured: lag alg3 {} ms vs alg2 {} ms; overshoot alg3 {} % vs alg2 {} % \
-                     (overshoot needs a step-like truth: {})",
-                    lag("alg3"),
-                    lag("alg2"),
-                    over(&s3),
-                    over(&s2),
-                    if has_step {
-                        "taken on the sigmoid ride"
-                    } else {
-                        "n/a when this log is not one step"
-                    }
-                ),
-            ),
-        ClaimSpec::new("5. A Kalman filter fed by the pendulum (Algorithm 2) beats one fed by the accelerometer")
-            .expect("kf_alg2", MetricKind::Rms, Expect::Lower, "kf_accel")
-            .because(
-                &format!(
-                    "Eq (12): a better measurement gives a better posterior; the \
-                     accelerometer's vibration error ({} deg RMS) passes into kf_accel, \
-                     Algorithm 2's ({} deg) into kf_alg2",
-                    rms("accel"),
-                    rms("alg2")
-                ),
-                &format!(
-                    "kf_accel {} deg vs kf_alg2 {} deg RMS, from measurements of {} deg \
-                     (accel) and {} deg (alg2) RMS: the filter weighs each by its \
-                     configured R (r_accel, r_pendulum), not by the measured quality",
-                    rms("kf_accel"),
-                    rms("kf_alg2"),
-                    rms("accel"),
-                    rms("alg2")
-                ),
-            ),
+        claim1(&l),
+        claim2(&l, &diff_words),
+        claim3(&l, &diff_words),
+        claim4_measured(&l, gains, has_step),
+        claim5(&l),
     ]
+}
+
+/// The pooled metrics, looked up by estimator as the claims print them.
+struct Pooled<'a>(&'a [Metrics]);
+
+impl Pooled<'_> {
+    fn rms(&self, n: &str) -> String {
+        num(get(self.0, n, MetricKind::Rms))
+    }
+
+    fn lag(&self, n: &str) -> String {
+        num(get(self.0, n, MetricKind::LagMs))
+    }
+
+    fn over(&self, n: &str) -> String {
+        num(get(self.0, n, MetricKind::OvershootPct))
+    }
+}
+
+/// Claim 1: the pendulum against the accelerometer.
+fn claim1(l: &Pooled) -> ClaimSpec {
+    ClaimSpec::new("1. The pendulum beats the accelerometer under vibration")
+        .expect("pendulum", MetricKind::Rms, Expect::Lower, "accel")
+        .because(
+            "The pendulum's own dynamics low-pass the floor vibration that Eq (1) turns \
+             straight into tilt",
+            &format!(
+                "The raw pendulum lags the body (lag {} ms) and swings after every \
+                 manoeuvre; here that costs more than the accelerometer's vibration error",
+                l.lag("pendulum")
+            ),
+        )
+}
+
+/// Claim 2: Algorithm 1 against the raw pendulum.
+fn claim2(l: &Pooled, diff_words: &str) -> ClaimSpec {
+    ClaimSpec::new("2. Algorithm 1 (Eq 20) beats the raw pendulum")
+        .expect("alg1", MetricKind::Rms, Expect::Lower, "pendulum")
+        .because(
+            &format!(
+                "Inverting Eq (18) removes most of the pendulum's swing and lag (lag {} ms \
+                 vs {} ms)",
+                l.lag("alg1"),
+                l.lag("pendulum")
+            ),
+            &format!(
+                "Eq (20) needs phi' and phi''; {diff_words}, and the residual vibration \
+                 that gets through is amplified by b phi''"
+            ),
+        )
+}
+
+/// Claim 3: Algorithm 2 against Algorithm 1.
+fn claim3(l: &Pooled, diff_words: &str) -> ClaimSpec {
+    ClaimSpec::new("3. Algorithm 2 (Eq 21, gyro) beats Algorithm 1")
+        .expect("alg2", MetricKind::Rms, Expect::Lower, "alg1")
+        .because(
+            &format!(
+                "Adding theta'' from the gyro removes the inertial error Algorithm 1 \
+                 neglects; {diff_words}"
+            ),
+            &format!(
+                "{diff_words}: Eq (21)'s correction a phi' + b (phi'' - theta'') arrives \
+                 that late, and the estimate lags (alg2 {} ms vs alg1 {} ms). Algorithm 1's missing \
+                 -b theta'' term happens to cancel most of that delay error. Removing the \
+                 first-order delay with the gyro ({ALG2_DELAY_COMPENSATED}, not in the \
+                 paper) gives {} deg RMS (lag {} ms) against Algorithm 1's {} deg",
+                l.lag("alg2"),
+                l.lag("alg1"),
+                l.rms(ALG2_DELAY_COMPENSATED),
+                l.lag(ALG2_DELAY_COMPENSATED),
+                l.rms("alg1")
+            ),
+        )
+}
+
+/// Claim 4: Algorithm 3's lag and overshoot against Algorithm 2's (the overshoot on the
+/// step ride with `has_step`).
+fn claim4_measured(l: &Pooled, gains: Alg3Gains, has_step: bool) -> ClaimSpec {
+    let (s2, s3) = if has_step {
+        (format!("alg2{STEP_SUFFIX}"), format!("alg3{STEP_SUFFIX}"))
+    } else {
+        ("alg2".to_string(), "alg3".to_string())
+    };
+    claim4(gains)
+        .expect("alg3", MetricKind::LagMs, Expect::Lower, "alg2")
+        .expect(&s3, MetricKind::OvershootPct, Expect::Higher, &s2)
+        .because(
+            &format!(
+                "The fitted gains (N G_k in particular) take up part of the \
+                 differentiator's delay; the price is overshoot ({} % vs {} % on the \
+                 sigmoid)",
+                l.over(&s3),
+                l.over(&s2)
+            ),
+            &format!(
+                "Measured: lag alg3 {} ms vs alg2 {} ms; overshoot alg3 {} % vs alg2 {} % \
+                 (overshoot needs a step-like truth: {})",
+                l.lag("alg3"),
+                l.lag("alg2"),
+                l.over(&s3),
+                l.over(&s2),
+                if has_step {
+                    "taken on the sigmoid ride"
+                } else {
+                    "n/a when this log is not one step"
+                }
+            ),
+        )
+}
+
+/// Claim 5: the Kalman filter fed by Algorithm 2 against the one fed by the accelerometer.
+fn claim5(l: &Pooled) -> ClaimSpec {
+    ClaimSpec::new(
+        "5. A Kalman filter fed by the pendulum (Algorithm 2) beats one fed by the accelerometer",
+    )
+    .expect("kf_alg2", MetricKind::Rms, Expect::Lower, "kf_accel")
+    .because(
+        &format!(
+            "Eq (12): a better measurement gives a better posterior; the \
+                 accelerometer's vibration error ({} deg RMS) passes into kf_accel, \
+                 Algorithm 2's ({} deg) into kf_alg2",
+            l.rms("accel"),
+            l.rms("alg2")
+        ),
+        &format!(
+            "kf_accel {} deg vs kf_alg2 {} deg RMS, from measurements of {} deg \
+                 (accel) and {} deg (alg2) RMS: the filter weighs each by its \
+                 configured R (r_accel, r_pendulum), not by the measured quality",
+            l.rms("kf_accel"),
+            l.rms("kf_alg2"),
+            l.rms("accel"),
+            l.rms("alg2")
+        ),
+    )
 }
 
 /// Claim 4's wording for the gains that were run, marked not applicable without fitted

@@ -225,23 +225,11 @@ pub fn reproduce(
     let calibration = calibration_step(cfg, progress, &mut timings)?;
     let settings = calibration.bank_settings(cfg.kalman);
     // 2. the rides, estimated and reported
-    let scooter = ride_report(
-        "scooter",
-        (&cfg.scooter, cfg.scooter_seed),
-        (&settings, &calibration),
-        out,
-        progress,
-        &mut timings,
-    )?
-    .0;
-    let (sigmoid, fig5) = ride_report(
-        "sigmoid",
-        (&cfg.sigmoid, cfg.sigmoid_seed),
-        (&settings, &calibration),
-        out,
-        progress,
-        &mut timings,
-    )?;
+    let rig = (&settings, &calibration);
+    let scooter = (&cfg.scooter, cfg.scooter_seed);
+    let scooter = ride_report("scooter", scooter, rig, out, progress, &mut timings)?.0;
+    let sigmoid = (&cfg.sigmoid, cfg.sigmoid_seed);
+    let (sigmoid, fig5) = ride_report("sigmoid", sigmoid, rig, out, progress, &mut timings)?;
     // 3. the 3-D scenarios
     let spatial_out = cfg
         .spatial
@@ -255,16 +243,6 @@ pub fn reproduce(
     let pooled = claims::pool(&main_view.metrics, Some(&step_view.metrics));
     let info = claims::DifferentiatorInfo::of(&settings);
     let claims_table = evaluate_claims(&pooled, &info, calibration.gains_fitted);
-    let mut links = vec![
-        ("scooter/index.html".into(), "scooter test ride".into()),
-        ("sigmoid/index.html".into(), "sigmoid (Fig. 5)".into()),
-    ];
-    links.extend(cfg.spatial.iter().map(|r| {
-        (
-            format!("{}/index.html", r.name),
-            format!("{} (3-D)", r.name),
-        )
-    }));
     let mut intro = intro(cfg, &calibration, &settings, &info, &scooter);
     let mut figures = figure_picks(&scooter, &sigmoid);
     let mut text_tables = Vec::new();
@@ -276,7 +254,7 @@ pub fn reproduce(
     let top = page::TopPage {
         title: "pendtilt reproduce: the paper's claims on simulated data".into(),
         intro,
-        links,
+        links: links(cfg),
         tables: vec![
             view_table("scooter test ride", main_view),
             view_table("sigmoid", step_view),
@@ -297,13 +275,7 @@ pub fn reproduce(
         &info,
         &timings,
     );
-    body["spatial"] = serde_json::json!(spatial_out
-        .iter()
-        .map(
-            |o| serde_json::json!({"title": o.data.title, "score_from_s": o.data.score_from_s,
-                                    "inclination": o.data.inclination})
-        )
-        .collect::<Vec<_>>());
+    body["spatial"] = spatial_json(&spatial_out);
     std::fs::write(&json, serde_json::to_string_pretty(&body)?)
         .with_context(|| format!("cannot write {}", json.display()))?;
     Ok(ReproduceOutcome {
@@ -319,6 +291,32 @@ pub fn reproduce(
         spatial: spatial_out,
         timings,
     })
+}
+
+/// The top page's links: the rides' reports, planar and 3-D.
+fn links(cfg: &ReproduceConfig) -> Vec<(String, String)> {
+    let mut links = vec![
+        ("scooter/index.html".into(), "scooter test ride".into()),
+        ("sigmoid/index.html".into(), "sigmoid (Fig. 5)".into()),
+    ];
+    links.extend(cfg.spatial.iter().map(|r| {
+        (
+            format!("{}/index.html", r.name),
+            format!("{} (3-D)", r.name),
+        )
+    }));
+    links
+}
+
+/// The 3-D scenarios' part of `claims.json`.
+fn spatial_json(outputs: &[SpatialOutput]) -> serde_json::Value {
+    serde_json::json!(outputs
+        .iter()
+        .map(
+            |o| serde_json::json!({"title": o.data.title, "score_from_s": o.data.score_from_s,
+                                    "inclination": o.data.inclination})
+        )
+        .collect::<Vec<_>>())
 }
 
 /// The top page's paragraph on the 3-D part.

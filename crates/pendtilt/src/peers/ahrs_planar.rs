@@ -126,18 +126,16 @@ impl<F: PlanarAhrs> Planar<F> {
     }
 }
 
-impl<F: PlanarAhrs> Estimator for Planar<F> {
-    type Input = Sample<f64>;
-    type Output = Estimate<f64>;
-
-    fn update(&mut self, s: &Sample<f64>) -> Estimate<f64> {
+impl<F: PlanarAhrs> Planar<F> {
+    /// The accelerometer reading to use, and whether there is one. One missing reading is
+    /// the last one held: Madgwick's step is the same whenever the reading stays on the
+    /// same side of its tilt, so a run that skipped it joins the fault-free run again,
+    /// where one step skipped kept it 2 beta dt (0.14 deg) away for seconds. Longer gaps
+    /// integrate the gyro alone: Madgwick would race to a stale reading at 135 deg/s.
+    #[inline]
+    fn accel_reading(&mut self, s: &Sample<f64>) -> (bool, Sample<f64>) {
         let read_ok = s.ax.is_finite() && s.ay.is_finite() && (s.ax != 0.0 || s.ay != 0.0);
-        // One missing reading is the last one held: Madgwick's step is the same whenever
-        // the reading stays on the same side of its tilt, so a run that skipped it joins
-        // the fault-free run again, where one step skipped kept it 2 beta dt (0.14 deg)
-        // away for seconds. Longer gaps integrate the gyro alone: Madgwick would race to a
-        // stale reading at 135 deg/s.
-        let (accel_ok, s) = match (read_ok, self.last_accel) {
+        match (read_ok, self.last_accel) {
             (true, _) => {
                 self.last_accel = Some((s.ax, s.ay));
                 self.held = false;
@@ -148,7 +146,45 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
                 (true, Sample { ax, ay, ..*s })
             }
             _ => (false, *s),
-        };
+        }
+    }
+
+    /// The first sample (of the log, or after a restart): the filter built at the
+    /// accelerometer's angle (with the kept steady offset, after a restart).
+    fn start(&mut self, s: &Sample<f64>, accel_ok: bool, flags: Flags) -> Estimate<f64> {
+        if !accel_ok {
+            return Estimate {
+                theta: f64::NAN,
+                flags: flags | Flags::INITIALISING | Flags::SAMPLE_MISSING,
+            };
+        }
+        let mut th = accel_angle(s.ax, s.ay);
+        let mut f = (self.make)(th, &self.gains);
+        match self.kept {
+            // A restart, in its steady offset from the start.
+            Some(kept) if f.gain_mut().is_some() => {
+                th += kept;
+                f = (self.make)(th, &self.gains);
+            }
+            _ => self.kept = None,
+        }
+        self.filter = Some(f);
+        self.elapsed = 0.0;
+        self.input.started();
+        self.last = th;
+        Estimate {
+            theta: th,
+            flags: flags | Flags::INITIALISING,
+        }
+    }
+}
+
+impl<F: PlanarAhrs> Estimator for Planar<F> {
+    type Input = Sample<f64>;
+    type Output = Estimate<f64>;
+
+    fn update(&mut self, s: &Sample<f64>) -> Estimate<f64> {
+        let (accel_ok, s) = self.accel_reading(s);
         let s = &s;
         let (dt, gyro, mut flags) = match self.input.begin(s) {
             Step::BadTime => {
@@ -157,32 +193,7 @@ impl<F: PlanarAhrs> Estimator for Planar<F> {
                     flags: Flags::BAD_TIME_STEP,
                 }
             }
-            Step::First { flags, .. } => {
-                if !accel_ok {
-                    return Estimate {
-                        theta: f64::NAN,
-                        flags: flags | Flags::INITIALISING | Flags::SAMPLE_MISSING,
-                    };
-                }
-                let mut th = accel_angle(s.ax, s.ay);
-                let mut f = (self.make)(th, &self.gains);
-                match self.kept {
-                    // A restart, in its steady offset from the start.
-                    Some(kept) if f.gain_mut().is_some() => {
-                        th += kept;
-                        f = (self.make)(th, &self.gains);
-                    }
-                    _ => self.kept = None,
-                }
-                self.filter = Some(f);
-                self.elapsed = 0.0;
-                self.input.started();
-                self.last = th;
-                return Estimate {
-                    theta: th,
-                    flags: flags | Flags::INITIALISING,
-                };
-            }
+            Step::First { flags, .. } => return self.start(s, accel_ok, flags),
             Step::Next { dt, gyro, flags } => (dt, gyro, flags),
         };
         let Some(f) = self.filter.as_mut() else {

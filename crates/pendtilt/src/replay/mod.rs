@@ -388,16 +388,7 @@ pub fn replay_with(
     let (roll0, pitch0) = initial_tilt(t, &accel, 0.5);
     let start = JointState::hanging_still(roll0, pitch0, drive.rate(0));
     let stops = settings.travel.map(|tr| (tr, settings.restitution));
-    let substeps = match vibration {
-        // 1 kHz or more, fine enough for the vibration's tones.
-        Some(v) => {
-            let longest = (1..n).map(|k| t[k] - t[k - 1]).fold(0.0, f64::max);
-            settings
-                .substeps
-                .max((longest / v.max_step).ceil().min(10_000.0) as u32)
-        }
-        None => settings.substeps,
-    };
+    let substeps = substeps(settings, vibration, t);
     let vib = vibration.map(|v| (v, fs));
     let (joints, stop_hits, largest_swing) = integrate(&drive, &pend, start, substeps, stops, vib);
     let (fine, _, _) = integrate(&drive, &pend, start, 2 * substeps, stops, vib);
@@ -410,26 +401,7 @@ pub fn replay_with(
     // The accelerometer: as recorded, or with the vibration read at the log's times and
     // clipped at the full scale.
     let mut accel_out = rec.accel.clone();
-    let vibration_report = vibration.map(|v| {
-        let (mut clipped, mut sq) = (0usize, [0.0; 3]);
-        for (k, a) in accel_out.iter_mut().enumerate() {
-            let add = v.grid(t[k], 0.0, 1, fs)[0];
-            let mut clip = false;
-            for i in 0..3 {
-                sq[i] += add[i] * add[i];
-                let x = a[i] + add[i];
-                a[i] = x.clamp(-v.accel_full_scale, v.accel_full_scale);
-                clip |= x.abs() > v.accel_full_scale;
-            }
-            clipped += usize::from(clip);
-        }
-        let tone = fs - v.alias_offset_hz;
-        VibrationReport {
-            tone_hz: [tone, (tone - fs * (tone / fs).round()).abs()],
-            clipped_rows: clipped,
-            added_rms: sq.map(|s| (s / n as f64).sqrt()),
-        }
-    });
+    let vibration_report = vibration.map(|v| add_vibration(&mut accel_out, v, t, fs));
     let rows = (0..n)
         .map(|k| {
             let truth = rec.truth.as_ref().map(|r| r[k]);
@@ -459,6 +431,48 @@ pub fn replay_with(
         },
         pendulum: pend,
     })
+}
+
+/// The integrator's substeps per row: the settings', or with a vibration 1 kHz or more,
+/// fine enough for its tones.
+fn substeps(settings: &ReplaySettings, vibration: Option<&AddedVibration>, t: &[f64]) -> u32 {
+    match vibration {
+        Some(v) => {
+            let longest = (1..t.len()).map(|k| t[k] - t[k - 1]).fold(0.0, f64::max);
+            settings
+                .substeps
+                .max((longest / v.max_step).ceil().min(10_000.0) as u32)
+        }
+        None => settings.substeps,
+    }
+}
+
+/// Adds vibration `v`, read at the log's times `t` (rate `fs`), to the accelerometer
+/// readings `accel`, clipped at its full scale.
+fn add_vibration(
+    accel: &mut [[f64; 3]],
+    v: &AddedVibration,
+    t: &[f64],
+    fs: f64,
+) -> VibrationReport {
+    let (mut clipped, mut sq) = (0usize, [0.0; 3]);
+    for (k, a) in accel.iter_mut().enumerate() {
+        let add = v.grid(t[k], 0.0, 1, fs)[0];
+        let mut clip = false;
+        for i in 0..3 {
+            sq[i] += add[i] * add[i];
+            let x = a[i] + add[i];
+            a[i] = x.clamp(-v.accel_full_scale, v.accel_full_scale);
+            clip |= x.abs() > v.accel_full_scale;
+        }
+        clipped += usize::from(clip);
+    }
+    let tone = fs - v.alias_offset_hz;
+    VibrationReport {
+        tone_hz: [tone, (tone - fs * (tone / fs).round()).abs()],
+        clipped_rows: clipped,
+        added_rms: sq.map(|s| (s / t.len() as f64).sqrt()),
+    }
 }
 
 #[cfg(test)]

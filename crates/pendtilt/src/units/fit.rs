@@ -3,7 +3,7 @@
 use super::*;
 
 /// Running least squares of `y = k x + c`: the unit checks' comparisons, planar here and
-/// of the 3-D truth against its encoders (`cli::estimate3d`).
+/// of the 3-D truth against its encoders (`pipeline::spatial`).
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Pair {
     n: f64,
@@ -186,7 +186,7 @@ pub(crate) fn reversed(f: &Fit) -> Option<bool> {
 }
 
 /// A fourth-order low-pass: two second-order sections (the unit checks' and the 3-D
-/// turn check's, `cli::estimate3d`).
+/// turn check's, `pipeline::spatial`).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Smooth([LowPass2<f64>; 2]);
 

@@ -379,116 +379,133 @@ impl UnitCheck {
     /// 3.8 (Mahony) deg RMS with nothing said.
     fn sign_findings(&self) -> Vec<Finding> {
         let phi = self.reversed(Comparison::EncoderAccel);
+        let truth = self.reversed(Comparison::TruthAccel);
+        let mut out: Vec<Finding> = self.reversed_sensor().into_iter().collect();
+        // The true angle against the accelerometer (whose sign the sensors agree with).
+        if truth == Some(true) && phi != Some(true) {
+            out.push(self.finding(
+                "theta",
+                Comparison::TruthAccel,
+                format!(
+                    "theta counts the other way from the accelerometer's angle atan2(ax, ay) \
+                     ({}): every score against it is wrong; read it with --negate theta \
+                     ({SIGN})",
+                    self.how(Comparison::TruthAccel)
+                ),
+            ));
+        }
+        out
+    }
+
+    /// The sensor (phi, the gyro, ax, or two of them) whose sign disagrees with the others',
+    /// when the comparisons tell.
+    fn reversed_sensor(&self) -> Option<Finding> {
+        let phi = self.reversed(Comparison::EncoderAccel);
         let gyro = self.reversed(Comparison::GyroAccelRate);
         let pair = self.reversed(Comparison::GyroEncoderRate);
         let truth = self.reversed(Comparison::TruthAccel);
-        let fit = |c| {
-            self.fit(c).unwrap_or(Fit {
-                factor: f64::NAN,
-                correlation: f64::NAN,
-                samples: 0,
-            })
-        };
-        let how = |c: Comparison| {
-            let f = fit(c);
-            format!(
-                "factor {:.2}, r = {:.2}, over {} rows below f_n / 4",
-                f.factor, f.correlation, f.samples
-            )
-        };
-        let sign = "MODEL.md section 1: theta, phi and gyro count counter-clockwise, and \
-                    (ax, ay) = (g sin theta, g cos theta) at rest";
-        let finding = |column: &'static str, c: Comparison, message: String| Finding {
-            column,
-            comparison: c,
-            fit: fit(c),
-            message,
-        };
-        let mut out = Vec::new();
         match (phi, gyro, pair) {
             // Both against the accelerometer, and with each other: the true angle, when the
             // log has it, tells which.
-            (Some(true), Some(true), Some(false)) if truth == Some(true) => out.push(finding(
+            (Some(true), Some(true), Some(false)) if truth == Some(true) => Some(self.finding(
                 "ax",
                 Comparison::TruthAccel,
                 format!(
                     "the accelerometer's angle atan2(ax, ay) counts the other way from phi, \
                      the gyro and theta (theta against it: {}): is ax reversed? read it with \
-                     --negate ax ({sign})",
-                    how(Comparison::TruthAccel)
+                     --negate ax ({SIGN})",
+                    self.how(Comparison::TruthAccel)
                 ),
             )),
-            (Some(true), Some(true), Some(false)) if truth == Some(false) => out.push(finding(
+            (Some(true), Some(true), Some(false)) if truth == Some(false) => Some(self.finding(
                 "phi, gyro",
                 Comparison::EncoderAccel,
                 format!(
                     "phi and gyro both count the other way from the accelerometer's angle \
                      atan2(ax, ay) and from theta ({}): are the encoder and the gyro both \
-                     mounted the other way round? read them with --negate phi,gyro ({sign})",
-                    how(Comparison::EncoderAccel)
+                     mounted the other way round? read them with --negate phi,gyro ({SIGN})",
+                    self.how(Comparison::EncoderAccel)
                 ),
             )),
-            (Some(true), Some(true), Some(false)) => out.push(finding(
+            (Some(true), Some(true), Some(false)) => Some(self.finding(
                 "phi, gyro",
                 Comparison::EncoderAccel,
                 format!(
                     "phi and gyro both count the other way from the accelerometer's angle \
                      atan2(ax, ay) ({}; the gyro against its derivative: {}): either ax is \
                      reversed (read it with --negate ax) or both are (--negate phi,gyro) \
-                     ({sign})",
-                    how(Comparison::EncoderAccel),
-                    how(Comparison::GyroAccelRate)
+                     ({SIGN})",
+                    self.how(Comparison::EncoderAccel),
+                    self.how(Comparison::GyroAccelRate)
                 ),
             )),
-            (Some(true), _, Some(true)) => out.push(finding(
+            (Some(true), _, Some(true)) => Some(self.finding(
                 "phi",
                 Comparison::EncoderAccel,
                 format!(
                     "phi counts the other way from the accelerometer's angle atan2(ax, ay) and \
                      from the gyro ({}): is the encoder mounted the other way round? read it \
-                     with --negate phi ({sign})",
-                    how(Comparison::EncoderAccel)
+                     with --negate phi ({SIGN})",
+                    self.how(Comparison::EncoderAccel)
                 ),
             )),
-            (_, Some(true), Some(true)) => out.push(finding(
+            (_, Some(true), Some(true)) => Some(self.finding(
                 "gyro",
                 Comparison::GyroAccelRate,
                 format!(
                     "gyro counts the other way from the derivative of the accelerometer's \
                      angle and from the encoder's d(phi)/dt ({}): is the gyro mounted the \
-                     other way round (clockwise positive)? read it with --negate gyro ({sign})",
-                    how(Comparison::GyroAccelRate)
+                     other way round (clockwise positive)? read it with --negate gyro ({SIGN})",
+                    self.how(Comparison::GyroAccelRate)
                 ),
             )),
             // Without an accelerometer to tell which.
-            (None, None, Some(true)) => out.push(finding(
+            (None, None, Some(true)) => Some(self.finding(
                 "gyro",
                 Comparison::GyroEncoderRate,
                 format!(
                     "gyro and the encoder's derivative d(phi)/dt count opposite ways ({}): \
                      one of them is mounted the other way round; read it with --negate gyro \
-                     or --negate phi ({sign})",
-                    how(Comparison::GyroEncoderRate)
+                     or --negate phi ({SIGN})",
+                    self.how(Comparison::GyroEncoderRate)
                 ),
             )),
-            _ => {}
+            _ => None,
         }
-        // The true angle against the accelerometer (whose sign the sensors agree with).
-        if truth == Some(true) && phi != Some(true) {
-            out.push(finding(
-                "theta",
-                Comparison::TruthAccel,
-                format!(
-                    "theta counts the other way from the accelerometer's angle atan2(ax, ay) \
-                     ({}): every score against it is wrong; read it with --negate theta \
-                     ({sign})",
-                    how(Comparison::TruthAccel)
-                ),
-            ));
+    }
+
+    /// Comparison `c`'s fit, NaN when there is none.
+    fn fit_or_nan(&self, c: Comparison) -> Fit {
+        self.fit(c).unwrap_or(Fit {
+            factor: f64::NAN,
+            correlation: f64::NAN,
+            samples: 0,
+        })
+    }
+
+    /// Comparison `c`'s fit as a message gives it.
+    fn how(&self, c: Comparison) -> String {
+        let f = self.fit_or_nan(c);
+        format!(
+            "factor {:.2}, r = {:.2}, over {} rows below f_n / 4",
+            f.factor, f.correlation, f.samples
+        )
+    }
+
+    /// A finding on `column` from comparison `c`.
+    fn finding(&self, column: &'static str, c: Comparison, message: String) -> Finding {
+        Finding {
+            column,
+            comparison: c,
+            fit: self.fit_or_nan(c),
+            message,
         }
-        out
     }
 }
+
+/// The sign convention the sign findings cite.
+const SIGN: &str = "MODEL.md section 1: theta, phi and gyro count counter-clockwise, and \
+                    (ax, ay) = (g sin theta, g cos theta) at rest";
 
 /// `col` (the gyro or the true angle) follows phi (or its rate) one to one while phi is
 /// in degrees: it probably is too.

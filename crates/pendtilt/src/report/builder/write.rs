@@ -28,7 +28,6 @@ impl Report {
     /// Draws every figure of the plot view `pv` (in degrees) into `dir`: the family
     /// overview and its errors, each figure group (one per estimator beside the reference
     /// when asked) with its errors, and Fig. 3. Returns the figures and their captions.
-    /// (Long, kept whole: the figures in page order, each a plot call and its caption.)
     fn draw_figures(
         &self,
         dir: &Path,
@@ -39,7 +38,6 @@ impl Report {
         let (truth, est) = self.view_series(pv)?;
         let f = self.config.input_unit.to_deg_factor();
         let deg = |v: &[f64]| v.iter().map(|x| x * f).collect::<Vec<f64>>();
-        let truth_deg = deg(&truth);
         let est_deg: Vec<(String, Vec<f64>)> =
             est.iter().map(|(n, v)| (n.clone(), deg(v))).collect();
         let find = |n: &str| {
@@ -48,149 +46,188 @@ impl Report {
                 .find(|(m, _)| m == n)
                 .map(|(_, v)| v.as_slice())
         };
-        let suffix = if pv == 0 {
-            String::new()
-        } else {
-            format!(" ({pv_name})")
+        let v = PlotView {
+            dir,
+            suffix: if pv == 0 {
+                String::new()
+            } else {
+                format!(" ({pv_name})")
+            },
+            pv_name,
+            truth_deg: deg(&truth),
         };
+        let mut d = Drawn::default();
+        self.draw_overview(&v, &est_deg, &mut d)?;
+        if let Some((g, peer)) = comparison_group(&self.title, &v.suffix, &data.views[pv]) {
+            self.draw_comparison(&v, &g, peer, &find, &mut d)?;
+        }
+        for g in &self.figure_groups(&est_deg, &find) {
+            self.draw_group(&v, g, &find, &mut d)?;
+        }
+        if let Some(fig3) = &data.fig3 {
+            d.figures
+                .push(plot_fig3(dir, "fig3_kalman_variance", fig3, &self.palette)?);
+            d.captions.push(format!(
+                "Fig. 3: Eq (12) posterior variance against R, with a seeded Monte-Carlo check \
+                 ({} draws per point; largest deviation {:.2} standard errors).",
+                fig3.config.draws,
+                fig3.worst_z()
+            ));
+        }
+        Ok((d.figures, d.captions))
+    }
 
-        let mut figures = Vec::new();
-        let mut captions = Vec::new();
-        // overview: small multiples, one panel per estimator family (17 overlaid lines
-        // cannot be told apart)
+    /// The overview: small multiples, one panel per estimator family (17 overlaid lines
+    /// cannot be told apart), of the angles and of the errors.
+    fn draw_overview(
+        &self,
+        v: &PlotView,
+        est_deg: &[(String, Vec<f64>)],
+        d: &mut Drawn,
+    ) -> Result<(), ReportError> {
         let all: Vec<(&str, &[f64])> = est_deg
             .iter()
             .map(|(n, v)| (n.as_str(), v.as_slice()))
             .collect();
         let (angles, errors) = family_panels(
             &self.title,
-            &suffix,
+            &v.suffix,
             &self.t,
-            &truth_deg,
+            &v.truth_deg,
             &all,
-            dir,
+            v.dir,
             &self.palette,
         )?;
         let n_fam = angles.axes.len();
-        figures.push(angles);
-        captions.push(format!(
+        d.figures.push(angles);
+        d.captions.push(format!(
             "Every estimate against the true angle (theta, black), one panel per estimator \
              family ({n_fam} panels). Ordinate ranges: 0.5-99.5 % of the data after the \
              first second, widened by a quarter, and the whole true angle; points beyond are \
              cut at the frame, marked red and counted on the panel."
         ));
-        figures.push(errors);
-        captions.push(
+        d.figures.push(errors);
+        d.captions.push(
             "Error (estimate - truth) of every estimate, one panel per estimator family, \
              ranges as above."
                 .to_string(),
         );
+        Ok(())
+    }
 
-        if let Some((g, peer)) = comparison_group(&self.title, &suffix, &data.views[pv]) {
-            let (t, truth_w, series) = windowed(&self.t, &truth_deg, &g.names, &find, None)?;
-            let mut lines: Vec<(&str, &[f64])> = vec![("theta", &truth_w)];
-            lines.extend(series.iter().map(|(n, v)| (n.as_str(), v.as_slice())));
-            figures.push(plot_time_series(
-                dir,
-                &g.stem,
-                &g.title,
-                &t,
-                &lines,
-                &self.palette,
-            )?);
-            let why = peer
-                .map(|(p, rms)| {
-                    format!(
-                        " {p} is the best peer here: the lowest RMS error ({rms:.3} deg) of \
-                         the peers on the {pv_name} series."
-                    )
-                })
-                .unwrap_or_default();
-            captions.push(format!(
-                "{} against the true angle, on one set of axes.{why}{}",
-                g.names.join(", "),
-                beyond_caption(figures.last())
-            ));
-            figures.push(plot_errors(
-                dir,
-                &format!("{}_error", g.stem),
-                &format!("{}: error", g.title),
-                &t,
-                &truth_w,
-                &lines[1..],
-                &self.palette,
-            )?);
-            captions.push(format!(
-                "Error of {}, on one set of axes, the ordinate scaled to them.{}",
-                g.names.join(", "),
-                beyond_caption(figures.last())
-            ));
-        }
+    /// The comparison group `g` (with the best `peer` and its RMS error, when there is one):
+    /// its angles and its errors on one set of axes each.
+    fn draw_comparison<'a>(
+        &self,
+        v: &PlotView,
+        g: &FigureGroup,
+        peer: Option<(String, f64)>,
+        find: &dyn Fn(&str) -> Option<&'a [f64]>,
+        d: &mut Drawn,
+    ) -> Result<(), ReportError> {
+        let (t, truth_w, series) = windowed(&self.t, &v.truth_deg, &g.names, find, None)?;
+        let mut lines: Vec<(&str, &[f64])> = vec![("theta", &truth_w)];
+        lines.extend(series.iter().map(|(n, v)| (n.as_str(), v.as_slice())));
+        d.figures.push(plot_time_series(
+            v.dir,
+            &g.stem,
+            &g.title,
+            &t,
+            &lines,
+            &self.palette,
+        )?);
+        let pv_name = &v.pv_name;
+        let why = peer
+            .map(|(p, rms)| {
+                format!(
+                    " {p} is the best peer here: the lowest RMS error ({rms:.3} deg) of \
+                     the peers on the {pv_name} series."
+                )
+            })
+            .unwrap_or_default();
+        d.captions.push(format!(
+            "{} against the true angle, on one set of axes.{why}{}",
+            g.names.join(", "),
+            beyond_caption(d.figures.last())
+        ));
+        d.figures.push(plot_errors(
+            v.dir,
+            &format!("{}_error", g.stem),
+            &format!("{}: error", g.title),
+            &t,
+            &truth_w,
+            &lines[1..],
+            &self.palette,
+        )?);
+        d.captions.push(format!(
+            "Error of {}, on one set of axes, the ordinate scaled to them.{}",
+            g.names.join(", "),
+            beyond_caption(d.figures.last())
+        ));
+        Ok(())
+    }
 
-        let groups = self.figure_groups(&est_deg, &find);
-        for g in &groups {
-            let (t, truth_w, series) = windowed(&self.t, &truth_deg, &g.names, &find, g.window)?;
-            let mut lines: Vec<(&str, &[f64])> = vec![("theta", &truth_w)];
-            lines.extend(series.iter().map(|(n, v)| (n.as_str(), v.as_slice())));
-            figures.push(plot_time_series(
-                dir,
-                &g.stem,
-                &format!("{}{suffix}", g.title),
-                &t,
-                &lines,
-                &self.palette,
-            )?);
-            captions.push(format!(
-                "{} against the true angle.{}",
-                g.names.join(", "),
-                beyond_caption(figures.last())
-            ));
-            // The reference's error (the accelerometer's, +-15 deg on a ride) would set
-            // the ordinate and flatten a sub-degree estimator's: it is in the overview.
-            let errors: Vec<(&str, &[f64])> = lines[1..]
-                .iter()
-                .filter(|(n, _)| lines.len() == 2 || Some(*n) != self.reference.as_deref())
-                .copied()
-                .collect();
-            let error_names: Vec<&str> = errors.iter().map(|(n, _)| *n).collect();
-            let error_title = if errors.len() + 1 < lines.len() {
-                format!("{}: {}: error{suffix}", self.title, error_names.join(", "))
-            } else {
-                format!("{}: error{suffix}", g.title)
-            };
-            figures.push(plot_errors(
-                dir,
-                &format!("{}_error", g.stem),
-                &error_title,
-                &t,
-                &truth_w,
-                &errors,
-                &self.palette,
-            )?);
-            let left_out = match &self.reference {
-                Some(r) if errors.len() + 1 < lines.len() => format!(
-                    " The ordinate is scaled to {}; {r}'s error is in the overview of errors.",
-                    error_names.join(", ")
-                ),
-                _ => String::new(),
-            };
-            captions.push(format!(
-                "Error of {}.{left_out}{}",
-                error_names.join(", "),
-                beyond_caption(figures.last())
-            ));
-        }
-        if let Some(d) = &data.fig3 {
-            figures.push(plot_fig3(dir, "fig3_kalman_variance", d, &self.palette)?);
-            captions.push(format!(
-                "Fig. 3: Eq (12) posterior variance against R, with a seeded Monte-Carlo check \
-                 ({} draws per point; largest deviation {:.2} standard errors).",
-                d.config.draws,
-                d.worst_z()
-            ));
-        }
-
-        Ok((figures, captions))
+    /// Figure group `g`: its estimates against the truth, and their errors (the reference's
+    /// left out when it would set the ordinate).
+    fn draw_group<'a>(
+        &self,
+        v: &PlotView,
+        g: &FigureGroup,
+        find: &dyn Fn(&str) -> Option<&'a [f64]>,
+        d: &mut Drawn,
+    ) -> Result<(), ReportError> {
+        let suffix = &v.suffix;
+        let (t, truth_w, series) = windowed(&self.t, &v.truth_deg, &g.names, find, g.window)?;
+        let mut lines: Vec<(&str, &[f64])> = vec![("theta", &truth_w)];
+        lines.extend(series.iter().map(|(n, v)| (n.as_str(), v.as_slice())));
+        d.figures.push(plot_time_series(
+            v.dir,
+            &g.stem,
+            &format!("{}{suffix}", g.title),
+            &t,
+            &lines,
+            &self.palette,
+        )?);
+        d.captions.push(format!(
+            "{} against the true angle.{}",
+            g.names.join(", "),
+            beyond_caption(d.figures.last())
+        ));
+        // The reference's error (the accelerometer's, +-15 deg on a ride) would set
+        // the ordinate and flatten a sub-degree estimator's: it is in the overview.
+        let errors: Vec<(&str, &[f64])> = lines[1..]
+            .iter()
+            .filter(|(n, _)| lines.len() == 2 || Some(*n) != self.reference.as_deref())
+            .copied()
+            .collect();
+        let error_names: Vec<&str> = errors.iter().map(|(n, _)| *n).collect();
+        let error_title = if errors.len() + 1 < lines.len() {
+            format!("{}: {}: error{suffix}", self.title, error_names.join(", "))
+        } else {
+            format!("{}: error{suffix}", g.title)
+        };
+        d.figures.push(plot_errors(
+            v.dir,
+            &format!("{}_error", g.stem),
+            &error_title,
+            &t,
+            &truth_w,
+            &errors,
+            &self.palette,
+        )?);
+        let left_out = match &self.reference {
+            Some(r) if errors.len() + 1 < lines.len() => format!(
+                " The ordinate is scaled to {}; {r}'s error is in the overview of errors.",
+                error_names.join(", ")
+            ),
+            _ => String::new(),
+        };
+        d.captions.push(format!(
+            "Error of {}.{left_out}{}",
+            error_names.join(", "),
+            beyond_caption(d.figures.last())
+        ));
+        Ok(())
     }
 
     /// The figure groups to draw: the ones added, then (with per-estimator figures) one
@@ -328,6 +365,23 @@ impl Report {
         };
         page.write(dir, "index.html", &self.palette)
     }
+}
+
+/// What every figure of the plot view shares.
+struct PlotView<'a> {
+    dir: &'a Path,
+    /// ` (name)` after a title, for a view other than the first.
+    suffix: String,
+    pv_name: String,
+    /// The true angle \[deg\].
+    truth_deg: Vec<f64>,
+}
+
+/// The figures drawn so far, and their captions.
+#[derive(Default)]
+struct Drawn {
+    figures: Vec<FigureFiles>,
+    captions: Vec<String>,
 }
 
 /// " n points beyond the axis (marked red)." for a figure that cut any, else "".

@@ -6,7 +6,6 @@
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use plotters::coord::Shift;
 use plotters::prelude::*;
 use serde::Serialize;
 
@@ -14,11 +13,13 @@ use super::interactive::{Plot, PlotShade};
 use super::palette::Palette;
 use super::ReportError;
 
+mod draw;
 mod prepare;
 mod range;
+use draw::{render, Axis};
 pub use prepare::decimate_min_max;
-use prepare::{prepare, Prepared};
-use range::{clip_runs, count_beyond, data_extent, excursion_marks, padded, robust_y};
+use prepare::prepare;
+use range::{count_beyond, data_extent, excursion_marks, padded, robust_y};
 pub use range::{Beyond, RobustRange};
 
 /// The embedded font (DejaVu Sans, see `assets/LICENSE-DejaVuSans.txt`).
@@ -251,16 +252,6 @@ fn check_stem(stem: &str) -> Result<(), ReportError> {
     }
 }
 
-/// One set of axes, ready to draw.
-struct Axis {
-    spec: FigureSpec,
-    prepared: Vec<Prepared>,
-    ranges: ((f64, f64), (f64, f64)),
-    beyond: Beyond,
-    marks: Vec<(f64, bool)>,
-    plot: Option<Plot>,
-}
-
 /// Tick labels as plotters writes them, but never "-0.0" (a tick a rounding error below
 /// zero).
 pub fn tick_label(v: &f64) -> String {
@@ -359,292 +350,6 @@ fn build_axis(
         marks,
         plot: interactive_plot(spec, curves, palette),
     })
-}
-
-/// One entry of a legend drawn outside the plot area.
-enum Entry {
-    /// A curve: its label, colour, and whether it is drawn as points.
-    Curve(String, RGBColor, bool),
-    /// A shade's label and colour.
-    Shade(String, RGBColor),
-}
-
-/// Draws one set of axes on `area`. Lines are cut at the frame ([`clip_runs`]) and drawn as
-/// `width` one-pixel polylines stacked a pixel apart: a thick polyline's mitred corners
-/// on a spiky signal would reach far outside the plot (through the title and the axis).
-// Long because it is one linear drawing routine on one chart: mesh, shades, curves,
-// excursion marks, the note, the legend, in drawing order; split, each piece would need
-// the chart's full plotters type and the same ranges and pixel sizes handed back and forth.
-fn draw_axis<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    axis: &Axis,
-    caption_px: u32,
-) -> Result<(), String> {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("{e:?}");
-    let spec = &axis.spec;
-    let (xr, yr) = axis.ranges;
-    let outside = spec.legend == LegendPosition::Outside;
-    let mut chart = ChartBuilder::on(area)
-        .caption(&spec.title, (FAMILY, caption_px).into_font())
-        .margin(18)
-        .margin_right(if outside { 18 + OUTSIDE_W } else { 18 })
-        .x_label_area_size(60)
-        .y_label_area_size(80)
-        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
-        .map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc(spec.x_label.as_str())
-        .y_desc(spec.y_label.as_str())
-        .axis_desc_style((FAMILY, 20))
-        .label_style((FAMILY, 16))
-        .x_label_formatter(&tick_label)
-        .y_label_formatter(&tick_label)
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(210, 210, 210))
-        .draw()
-        .map_err(e)?;
-    chart
-        .draw_series(
-            spec.shades
-                .iter()
-                .filter(|s| s.to > xr.0 && s.from < xr.1)
-                .map(|s| {
-                    Rectangle::new(
-                        [(s.from.max(xr.0), yr.0), (s.to.min(xr.1), yr.1)],
-                        s.colour.mix(SHADE_ALPHA).filled(),
-                    )
-                }),
-        )
-        .map_err(e)?;
-    let (w_px, h_px) = chart.plotting_area().dim_in_pixel();
-    let dx = (xr.1 - xr.0) / f64::from(w_px.max(1));
-    let dy = (yr.1 - yr.0) / f64::from(h_px.max(1));
-    let mut entries = Vec::new();
-    for p in &axis.prepared {
-        let colour = p.colour;
-        let mut labelled = false;
-        match p.kind {
-            CurveKind::Line => {
-                let w = p.width.max(1);
-                let runs = clip_runs(&p.runs, (yr.0 + f64::from(w - 1) * dy, yr.1));
-                for run in &runs {
-                    for k in 0..w {
-                        let shift = f64::from(k) * dy;
-                        let ann = chart
-                            .draw_series(LineSeries::new(
-                                run.iter().map(|&(x, y)| (x, y - shift)),
-                                colour.stroke_width(1),
-                            ))
-                            .map_err(e)?;
-                        // one legend entry per curve, on its first run
-                        if !labelled {
-                            ann.label(p.name.as_str()).legend(move |(x, y)| {
-                                PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
-                            });
-                            labelled = true;
-                            entries.push(Entry::Curve(p.name.clone(), colour, false));
-                        }
-                    }
-                }
-            }
-            CurveKind::Points => {
-                chart
-                    .draw_series(p.bars.iter().map(|&(x, lo, hi)| {
-                        PathElement::new(
-                            vec![(x, lo.max(yr.0)), (x, hi.min(yr.1))],
-                            colour.stroke_width(1),
-                        )
-                    }))
-                    .map_err(e)?;
-                let r = p.width;
-                let ann = chart
-                    .draw_series(
-                        p.runs
-                            .iter()
-                            .flatten()
-                            .map(|&pt| Circle::new(pt, r, colour.filled())),
-                    )
-                    .map_err(e)?;
-                ann.label(p.name.as_str())
-                    .legend(move |(x, y)| Circle::new((x + 12, y), 4, colour.filled()));
-                labelled = true;
-                entries.push(Entry::Curve(p.name.clone(), colour, true));
-            }
-        }
-        if !labelled {
-            // a curve with no point on the plot still appears in the legend, so it is
-            // not silently missing
-            let why = if p.runs.iter().all(Vec::is_empty) {
-                "no data"
-            } else {
-                "beyond the axis"
-            };
-            let label = format!("{} ({why})", p.name);
-            entries.push(Entry::Curve(label.clone(), colour, true));
-            chart
-                .draw_series(std::iter::empty::<Circle<(f64, f64), u32>>())
-                .map_err(e)?
-                .label(label)
-                .legend(move |(x, y)| Circle::new((x + 12, y), 4, colour.stroke_width(1)));
-        }
-    }
-    // Excursions: a red triangle at the edge, pointing out, for each stretch beyond.
-    let mark = RGBColor(200, 0, 0);
-    let (tw, th) = (5.0 * dx, 9.0 * dy);
-    chart
-        .draw_series(axis.marks.iter().map(|&(x, up)| {
-            let (edge, tip) = if up {
-                (yr.1 - th, yr.1)
-            } else {
-                (yr.0 + th, yr.0)
-            };
-            Polygon::new(
-                vec![(x - tw, edge), (x + tw, edge), (x, tip)],
-                mark.filled(),
-            )
-        }))
-        .map_err(e)?;
-    let note = axis.beyond.note().map(|n| format!("{n} (red marks)"));
-    if outside {
-        for s in &spec.shades {
-            let seen = entries
-                .iter()
-                .any(|x| matches!(x, Entry::Shade(l, _) if *l == s.label));
-            if !seen && s.to > xr.0 && s.from < xr.1 {
-                entries.push(Entry::Shade(s.label.clone(), s.colour));
-            }
-        }
-        let plot = chart.plotting_area();
-        let origin = (
-            plot.get_base_pixel().0 - area.get_base_pixel().0 + w_px as i32 + 14,
-            plot.get_base_pixel().1 - area.get_base_pixel().1,
-        );
-        return draw_outside_legend(area, origin, &entries, note.as_deref());
-    }
-    if let Some(note) = note {
-        let font = (FAMILY, 16).into_font().color(&mark);
-        let (tw_px, th_px) = area.estimate_text_size(&note, &font).map_err(e)?;
-        let x_right = xr.1 - 8.0 * dx;
-        let y_top = yr.1 - 14.0 * dy;
-        let x_left = x_right - f64::from(tw_px + 8) * dx;
-        let y_bottom = y_top - f64::from(th_px + 6) * dy;
-        chart
-            .draw_series(std::iter::once(Rectangle::new(
-                [(x_left, y_top), (x_right, y_bottom)],
-                WHITE.mix(0.9).filled(),
-            )))
-            .map_err(e)?;
-        chart
-            .draw_series(std::iter::once(Text::new(
-                note,
-                (x_left + 4.0 * dx, y_top - 3.0 * dy),
-                font,
-            )))
-            .map_err(e)?;
-    }
-    let pos = match spec.legend {
-        LegendPosition::UpperLeft | LegendPosition::Outside => SeriesLabelPosition::UpperLeft,
-        LegendPosition::UpperRight => SeriesLabelPosition::UpperRight,
-        LegendPosition::LowerLeft => SeriesLabelPosition::LowerLeft,
-        LegendPosition::LowerRight => SeriesLabelPosition::LowerRight,
-    };
-    chart
-        .configure_series_labels()
-        .position(pos)
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(120, 120, 120))
-        .label_font((FAMILY, 18))
-        .draw()
-        .map_err(e)?;
-    Ok(())
-}
-
-/// The legend of [`LegendPosition::Outside`]: one line per entry from `origin` (pixels in
-/// `area`, the top left of the column), then the note on points beyond the axis in red,
-/// wrapped to the column: beside the plot, it covers neither the data nor the red marks.
-fn draw_outside_legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    (x0, mut y): (i32, i32),
-    entries: &[Entry],
-    note: Option<&str>,
-) -> Result<(), String> {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("{e:?}");
-    let font = (FAMILY, 15).into_font();
-    const LINE: i32 = 19;
-    for entry in entries {
-        let label = match entry {
-            Entry::Curve(label, colour, points) => {
-                if *points {
-                    area.draw(&Circle::new((x0 + 12, y + 8), 4, colour.filled()))
-                } else {
-                    area.draw(&PathElement::new(
-                        vec![(x0, y + 8), (x0 + 24, y + 8)],
-                        colour.stroke_width(3),
-                    ))
-                }
-                .map_err(e)?;
-                label
-            }
-            Entry::Shade(label, colour) => {
-                area.draw(&Rectangle::new(
-                    [(x0, y + 1), (x0 + 24, y + 15)],
-                    colour.mix(SHADE_ALPHA * 2.0).filled(),
-                ))
-                .map_err(e)?;
-                label
-            }
-        };
-        area.draw(&Text::new(label.clone(), (x0 + 32, y), font.clone()))
-            .map_err(e)?;
-        y += LINE;
-    }
-    if let Some(note) = note {
-        let red = (FAMILY, 14).into_font().color(&RGBColor(200, 0, 0));
-        let width = OUTSIDE_W - 20;
-        let mut line = String::new();
-        let mut lines = Vec::new();
-        for word in note.split_whitespace() {
-            let trial = if line.is_empty() {
-                word.to_string()
-            } else {
-                format!("{line} {word}")
-            };
-            let (w, _) = area.estimate_text_size(&trial, &red).map_err(e)?;
-            if w > width && !line.is_empty() {
-                lines.push(std::mem::replace(&mut line, word.to_string()));
-            } else {
-                line = trial;
-            }
-        }
-        lines.push(line);
-        y += 6;
-        for l in lines {
-            area.draw(&Text::new(l, (x0, y), red.clone())).map_err(e)?;
-            y += LINE - 2;
-        }
-    }
-    Ok(())
-}
-
-/// Draws the axes top to bottom on `root` (under `title`, when given) and presents it.
-fn render<DB: DrawingBackend>(
-    root: DrawingArea<DB, Shift>,
-    title: Option<&str>,
-    axes: &[Axis],
-) -> Result<(), String> {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("{e:?}");
-    root.fill(&WHITE).map_err(e)?;
-    let area = match title {
-        Some(t) => root.titled(t, (FAMILY, 28)).map_err(e)?,
-        None => root.clone(),
-    };
-    let caption = if axes.len() > 1 { 20 } else { 26 };
-    for (axis, part) in axes.iter().zip(area.split_evenly((axes.len(), 1))) {
-        draw_axis(&part, axis, caption)?;
-    }
-    root.present().map_err(e)?;
-    Ok(())
 }
 
 /// Writes `dir/stem.png` and `dir/stem.svg` of `axes`.
@@ -871,6 +576,7 @@ pub fn plot_xy(
 
 #[cfg(test)]
 mod tests {
+    use super::range::clip_runs;
     use super::*;
 
     #[test]

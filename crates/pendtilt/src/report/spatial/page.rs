@@ -1,6 +1,6 @@
 //! Writing a 3-D report: the figures, the inclination error table, `report.md`,
 //! `report.json` and `index.html`.
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::ride::{phase_shades, ride_table};
 use super::{InclinationRow, SpatialData, SpatialFigure, SpatialOutput, SpatialReport};
@@ -191,6 +191,26 @@ impl SpatialReport {
         write_file(&markdown, self.markdown(&intro, &tables, &data).as_bytes())?;
         let json = dir.join("report.json");
         write_file(&json, serde_json::to_string_pretty(&data)?.as_bytes())?;
+        let html = self.write_html(dir, intro, tables, &data, &drawn)?;
+        Ok(SpatialOutput {
+            html,
+            markdown,
+            json,
+            figures: drawn.into_iter().map(|(f, _)| f).collect(),
+            data,
+        })
+    }
+
+    /// Writes `index.html`: the intro, the tables and the `drawn` figures (with their
+    /// interactive plots), the ride table's swatches in its phases' shades.
+    fn write_html(
+        &self,
+        dir: &Path,
+        intro: Vec<String>,
+        tables: Vec<TextTable>,
+        data: &SpatialData,
+        drawn: &[(FigureFiles, String)],
+    ) -> Result<PathBuf, ReportError> {
         let page = HtmlPage {
             title: self.title.clone(),
             intro,
@@ -198,7 +218,7 @@ impl SpatialReport {
             figures: data
                 .figures
                 .iter()
-                .zip(&drawn)
+                .zip(drawn)
                 .map(|(f, (files, _))| FigureRef {
                     caption: f.caption.clone(),
                     png: f.png.clone(),
@@ -218,13 +238,7 @@ impl SpatialReport {
             palette.set(blank, plotters::style::RGBColor(255, 255, 255));
         }
         let html = page.write(dir, "index.html", &palette)?;
-        Ok(SpatialOutput {
-            html,
-            markdown,
-            json,
-            figures: drawn.into_iter().map(|(f, _)| f).collect(),
-            data,
-        })
+        Ok(html)
     }
 
     fn markdown(&self, intro: &[String], tables: &[TextTable], data: &SpatialData) -> String {

@@ -294,6 +294,20 @@ impl SpatialReport {
         })
     }
 
+    /// Run `e`'s roll, pitch and inclination errors against the truth \[deg\].
+    fn errors_deg(&self, e: &RollPitch) -> [Vec<f64>; 3] {
+        let deg = |v: Vec<f64>| -> Vec<f64> { v.into_iter().map(f64::to_degrees).collect() };
+        let tr = &self.truth;
+        let n = self.t.len();
+        [
+            deg((0..n).map(|k| angle_diff(e.roll[k], tr.roll[k])).collect()),
+            deg((0..n)
+                .map(|k| angle_diff(e.pitch[k], tr.pitch[k]))
+                .collect()),
+            self.inclination_deg(e),
+        ]
+    }
+
     /// The ride figure: roll, pitch and inclination error of the runs, and the
     /// accelerations the phases come from, the phases and the start-up shaded.
     pub(super) fn ride_figure(
@@ -308,21 +322,7 @@ impl SpatialReport {
             .as_ref()
             .ok_or_else(|| ReportError::Empty("ride".into()))?;
         let runs = self.ride_runs(r, data.best_peer.as_deref());
-        let deg = |v: Vec<f64>| -> Vec<f64> { v.into_iter().map(f64::to_degrees).collect() };
-        let tr = &self.truth;
-        let n = self.t.len();
-        let errors: Vec<[Vec<f64>; 3]> = runs
-            .iter()
-            .map(|e| {
-                [
-                    deg((0..n).map(|k| angle_diff(e.roll[k], tr.roll[k])).collect()),
-                    deg((0..n)
-                        .map(|k| angle_diff(e.pitch[k], tr.pitch[k]))
-                        .collect()),
-                    self.inclination_deg(e),
-                ]
-            })
-            .collect();
+        let errors: Vec<[Vec<f64>; 3]> = runs.iter().map(|e| self.errors_deg(e)).collect();
         let mut palette = self.palette.clone();
         palette.set(&r.uncompensated.name, UNCOMPENSATED);
         palette.set("v w_z", RGBColor(60, 120, 230));

@@ -1,4 +1,6 @@
-//! Log in, estimates out: the streaming loop shared by `estimate`, `stream` and `report`.
+//! The planar pass: a planar log through the bank ([`crate::bank`]), one estimate row per
+//! log row, on this thread ([`run`]) or with reading, estimating and writing on three
+//! ([`run_parallel`]).
 //!
 //! A clip of the gyro or the accelerometer at a full scale the rig does not give is found
 //! in the readings themselves ([`crate::io::plateau`], as on 3-D logs), warned once per
@@ -9,91 +11,20 @@ use std::sync::mpsc;
 
 use pendtilt_core::Estimate;
 
+use super::{ClipFinder, ErrorStats, PassSummary, Scorer};
 use crate::bank::check_settings_against_rate;
 use crate::bank::{Bank, Inputs, Restart};
 use crate::io::plateau::LOOK_AHEAD_ROWS;
 use crate::io::{Column, EstimatesWriter, LogError, LogReader, LogRecord, LogWarning, WarningKind};
 use crate::units::Finding;
 
-/// Which sensors a log's columns provide.
-pub fn inputs_of<R: BufRead>(log: &LogReader<R>) -> Inputs {
-    let c = log.columns();
-    Inputs {
-        phi: c.has(Column::Phi),
-        gyro: c.has(Column::Gyro),
-        accel: c.has(Column::Ax) && c.has(Column::Ay),
-    }
-}
-
-/// Running error statistics of one estimator against the true angle.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ErrorStats {
-    /// Samples with both a finite estimate and a finite truth.
-    pub count: u64,
-    /// Samples whose estimate was NaN while the truth was finite.
-    pub missing: u64,
-    sum_sq: f64,
-    /// Largest absolute error \[rad\].
-    pub max_abs: f64,
-}
-
-impl ErrorStats {
-    /// Adds one sample.
-    pub fn add(&mut self, estimate: f64, truth: f64) {
-        if !truth.is_finite() {
-            return;
-        }
-        if !estimate.is_finite() {
-            self.missing += 1;
-            return;
-        }
-        let e = estimate - truth;
-        self.count += 1;
-        self.sum_sq += e * e;
-        self.max_abs = self.max_abs.max(e.abs());
-    }
-
-    /// Root-mean-square error \[rad\] (NaN without samples).
-    pub fn rms(&self) -> f64 {
-        if self.count == 0 {
-            f64::NAN
-        } else {
-            (self.sum_sq / self.count as f64).sqrt()
-        }
-    }
-}
-
-/// What one pass over a log produced.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PassSummary {
-    /// Rows read (= rows written).
-    pub rows: u64,
-    /// Error statistics per estimator, in the bank's order, when the log has `theta`,
-    /// over the rows of `window`.
-    pub errors: Option<Vec<(String, ErrorStats)>>,
-    /// The rows scored ([`Window::resolve`]).
-    pub window: Window,
-    /// Restarts of estimators after long sensor gaps.
-    pub restarts: u64,
-    /// Columns whose scale disagrees with the physics (degrees read as radians), each
-    /// also handed to `warn`.
-    pub unit_findings: Vec<Finding>,
-}
-
-mod clips;
-pub(crate) use clips::ClipFinder;
-
-mod window;
-pub use window::{duration, Scorer, Window, DEFAULT_SCORE_FROM, SHORT_LOG};
-
-/// Reads every row of `log`, runs `bank` on it, writes one row per input row to `out`
-/// (when given, flushing after each row if `flush_each`), hands each reader warning to
-/// `warn`, and accumulates errors against `theta` when the log has it, from `score_from`
-/// \[s\] after the first row's time on (None: the rule of [`Window::resolve`]). Clips are found
-/// [`LOOK_AHEAD_ROWS`] rows ahead of the estimators, or, when `flush_each` (live input:
-/// nothing is read ahead), from the row that completes their run on. `each` is called
-/// after each row with the rows so far, the row as read and the estimates (not for a
-/// malformed line of a live stream).
+/// Reads every row of `log`, runs `bank` on it, writes one row per input row to `out` (when given,
+/// flushing after each row if `flush_each`), hands each reader warning to `warn`, and accumulates
+/// errors against `theta` when the log has it, from `score_from` \[s\] after the first row's time
+/// on (None: the rule of [`Window::resolve`](super::Window::resolve)). Clips are found
+/// [`LOOK_AHEAD_ROWS`] rows ahead of the estimators, or, when `flush_each` (live input: nothing is
+/// read ahead), from the row that completes their run on. `each` is called after each row with the
+/// rows so far, the row as read and the estimates (not for a malformed line of a live stream).
 pub fn run<R: BufRead, W: Write>(
     log: &mut LogReader<R>,
     bank: &mut Bank,
@@ -239,35 +170,9 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
             }
             let mut rows = spare_rows.try_recv().unwrap_or_default();
             rows.clear();
-            // The last batch (the end of the log, or a read error) hands on every row held.
-            let last = batch.last;
-            let held = std::iter::from_fn(|| if last { Some(None) } else { None });
-            let records = batch.records.iter().map(|r| Some(*r)).chain(held);
-            for rec in records {
-                let next = match rec {
-                    Some(rec) => clips.push(rec),
-                    None => match clips.pop() {
-                        Some(r) => Some(r),
-                        None => break,
-                    },
-                };
-                for w in clips.drain_warnings() {
-                    warn(&w);
-                }
-                let Some((rec, clipped)) = next else {
-                    continue;
-                };
-                pass.row(
-                    &rec,
-                    clipped,
-                    bank,
-                    None::<&mut EstimatesWriter<W>>,
-                    false,
-                    &mut each,
-                    &mut warn,
-                )?;
-                rows.push(&rec, &pass.est);
-            }
+            estimate_batch::<W>(
+                &batch, &mut clips, &mut pass, bank, &mut rows, &mut warn, &mut each,
+            )?;
             // A send fails when the writer stopped on an error: it is reported below.
             if writer.is_some() && to_writer.send(rows).is_err() {
                 break;
@@ -295,6 +200,49 @@ pub fn run_parallel<R: BufRead + Send, W: Write + Send>(
         &mut warn,
         log.unit_findings().to_vec(),
     )
+}
+
+/// One batch of [`run_parallel`] through the clip finder and the bank into `rows`; the
+/// last batch also hands on the rows the finder still holds.
+fn estimate_batch<W: Write>(
+    batch: &Batch,
+    clips: &mut ClipFinder,
+    pass: &mut Pass,
+    bank: &mut Bank,
+    rows: &mut Rows,
+    warn: &mut impl FnMut(&LogWarning),
+    each: &mut impl FnMut(u64, &LogRecord, &[Estimate<f64>]),
+) -> Result<(), PassError> {
+    // The last batch (the end of the log, or a read error) hands on every row held.
+    let last = batch.last;
+    let held = std::iter::from_fn(|| if last { Some(None) } else { None });
+    let records = batch.records.iter().map(|r| Some(*r)).chain(held);
+    for rec in records {
+        let next = match rec {
+            Some(rec) => clips.push(rec),
+            None => match clips.pop() {
+                Some(r) => Some(r),
+                None => break,
+            },
+        };
+        for w in clips.drain_warnings() {
+            warn(&w);
+        }
+        let Some((rec, clipped)) = next else {
+            continue;
+        };
+        pass.row(
+            &rec,
+            clipped,
+            bank,
+            None::<&mut EstimatesWriter<W>>,
+            false,
+            each,
+            warn,
+        )?;
+        rows.push(&rec, &pass.est);
+    }
+    Ok(())
 }
 
 /// The reading thread of [`run_parallel`]: the log in batches of [`BATCH_ROWS`] rows (in
@@ -571,6 +519,7 @@ impl Pass {
     }
 }
 
+/// Why a planar pass stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum PassError {
     /// The log could not be read further.
@@ -584,39 +533,12 @@ pub enum PassError {
     Settings(String),
 }
 
-/// The error table printed by `estimate`: RMS and max error per estimator, in degrees,
-/// over the rows of `window`.
-pub fn error_table(errors: &[(String, ErrorStats)], window: &Window) -> String {
-    let n = errors.first().map_or(0, |(_, e)| e.count + e.missing);
-    let score_from = window.from;
-    let mut s = format!(
-        "error against theta, {}:\n\
-         estimator        RMS [deg]   max [deg]   samples  missing\n",
-        window.heading(n)
-    );
-    for (name, e) in errors {
-        s.push_str(&format!(
-            "{name:<15} {:>10.4} {:>11.4} {:>9} {:>8}\n",
-            e.rms().to_degrees(),
-            e.max_abs.to_degrees(),
-            e.count,
-            e.missing
-        ));
-    }
-    if n == 0 {
-        s.push_str(&format!(
-            "no row scored: the log ends before t0 + {score_from} s (t0 its first time); \
-             score earlier with --score-from SECONDS\n"
-        ));
-    }
-    s
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::bank::BankSettings;
     use crate::io::{ReaderOptions, WriterOptions};
+    use crate::pipeline::{error_table, inputs_of};
     use pendtilt_core::PendulumParams;
     use std::io::Cursor;
 
