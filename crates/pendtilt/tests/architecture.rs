@@ -144,3 +144,58 @@ fn the_reader_of_imports_finds_plain_and_grouped_paths() {
     // A module above its importer is caught: the layer table orders them.
     assert!(layer_of("cli") > layer_of("report") && layer_of("sensors") < layer_of("io"));
 }
+
+/// Every `(importer, imported, where)` of the crate's own code (unit tests left out),
+/// by top-level module.
+fn edges() -> Vec<(String, String, String)> {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    sources(&src, &mut files);
+    files.sort();
+    let mut out = Vec::new();
+    for f in &files {
+        let rel = f.strip_prefix(&src).unwrap();
+        let first = rel.components().next().unwrap().as_os_str();
+        let module = first.to_string_lossy().trim_end_matches(".rs").to_string();
+        let text = std::fs::read_to_string(f).unwrap();
+        for (k, line) in text.lines().enumerate() {
+            if line.starts_with("#[cfg(test)]") {
+                break;
+            }
+            if line.trim_start().starts_with("//") {
+                continue;
+            }
+            for m in named(line) {
+                if m != module && layer_of(&m).is_some() {
+                    out.push((module.clone(), m, format!("{}:{}", rel.display(), k + 1)));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Within a layer modules may import each other one way only: two that import each
+/// other are one module in two places (the pairs io/units, config/io, bank/peers and
+/// sim/sim3d once did).
+#[test]
+fn no_two_modules_import_each_other() {
+    let e = edges();
+    assert!(e.len() > 100, "{} imports read", e.len());
+    let mut circles = Vec::new();
+    for (a, b, at) in &e {
+        if a < b {
+            if let Some((_, _, back)) = e.iter().find(|(x, y, _)| x == b && y == a) {
+                circles.push(format!(
+                    "`{a}` imports `{b}` ({at}) and `{b}` imports `{a}` ({back})"
+                ));
+            }
+        }
+    }
+    circles.dedup_by(|x, y| x.split(" (").next() == y.split(" (").next());
+    assert!(
+        circles.is_empty(),
+        "import circles:\n{}",
+        circles.join("\n")
+    );
+}

@@ -18,11 +18,13 @@
 //! from a rig ([`BankSettings`]); `registry.rs` the table of estimators ([`REGISTRY`],
 //! [`build_alone`]); `running.rs` the running bank ([`Bank`]).
 
+mod by_name;
 mod registry;
 mod running;
 mod settings;
 
 pub use crate::sensors::Inputs;
+pub use by_name::{build, build_physical};
 pub use registry::{
     build_alone, BoxedEstimator, Entry, InversionSpec, KalmanSource, Kind, RSelector, REGISTRY,
 };

@@ -222,15 +222,6 @@ pub const IN_MEMORY: &str = "<rig parameters>";
 pub const TABLES_3D: [&str; 4] = ["pendulum3d", "mounting", "ekf3d", "gyro"];
 
 impl RigConfig {
-    /// The bounds of plausible readings the log reader applies: the sensors' full scales
-    /// (`[gyro]`, `[accel]`), or the default physical bounds where they are unset.
-    pub fn limits(&self) -> crate::io::SensorLimits {
-        crate::io::SensorLimits {
-            gyro_full_scale: self.gyro.full_scale,
-            accel_full_scale: self.accel.full_scale,
-        }
-    }
-
     /// Reads and checks a rig file. Errors name `path`.
     pub fn load(path: impl AsRef<Path>) -> Result<Self, ConfigError> {
         let path = path.as_ref();

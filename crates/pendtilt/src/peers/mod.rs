@@ -2,7 +2,8 @@
 //! [`pendtilt_core::ekf`], Algorithm 2 with the pivot-offset term, and the peers users
 //! would pick instead of a pendulum (Madgwick and Mahony from the `ahrs` crate, a
 //! complementary filter), each built by name from the rig and the sensors' noise figures
-//! through the bank's registry ([`crate::bank::REGISTRY`]), the one table of names.
+//! through the bank's registry (`bank::REGISTRY`, the one table of names; `bank::build`
+//! builds one alone).
 //!
 //! | column | estimator | inputs |
 //! |---|---|---|
@@ -22,10 +23,9 @@ pub mod spatial;
 pub mod steady;
 pub mod tune;
 
-use crate::bank::{self, BankSettings};
 use pendtilt_core::ekf::{Environment, ModelSettings, SensorNoise};
 use pendtilt_core::estimators::complementary::ComplementarySettings;
-use pendtilt_core::{PendulumParams, PhysicalParams};
+use pendtilt_core::PendulumParams;
 
 /// The columns this module provides, in report order.
 pub const COLUMNS: [&str; 6] = [
@@ -36,8 +36,6 @@ pub const COLUMNS: [&str; 6] = [
     "mahony",
     "complementary",
 ];
-
-pub use crate::bank::BoxedEstimator;
 
 /// Everything the estimators of this module are built from besides the rig.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,54 +71,4 @@ pub fn model_settings(
     peer: &PeerSettings,
 ) -> ModelSettings<f64> {
     ModelSettings::derived(*params, gravity, peer.sensors, &peer.environment)
-}
-
-/// Builds the estimator of column `name` (one of [`COLUMNS`], or any other stand-alone
-/// entry of [`crate::bank::REGISTRY`], the one name-to-constructor table) for normalised
-/// parameters `params` under gravity `gravity`, every other setting at its default;
-/// `None` for an unknown name.
-pub fn build(
-    name: &str,
-    params: &PendulumParams<f64>,
-    gravity: f64,
-    peer: &PeerSettings,
-) -> Option<BoxedEstimator> {
-    let settings = BankSettings {
-        gravity: Some(gravity),
-        peers: *peer,
-        ..BankSettings::from_params(*params)
-    };
-    bank::build_alone(name, &settings)
-}
-
-/// [`build`] from the rig's physical parameters.
-pub fn build_physical(
-    name: &str,
-    rig: &PhysicalParams<f64>,
-    peer: &PeerSettings,
-) -> Option<BoxedEstimator> {
-    build(name, &rig.normalised(), rig.gravity, peer)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_column_builds_and_unknown_names_do_not() {
-        let rig = PhysicalParams::<f64>::default();
-        for name in COLUMNS {
-            let mut e = build_physical(name, &rig, &PeerSettings::default()).unwrap();
-            let s = pendtilt_core::Sample {
-                dt: 0.0,
-                phi: 0.1,
-                gyro: 0.0,
-                ax: 9.81 * 0.1f64.sin(),
-                ay: 9.81 * 0.1f64.cos(),
-            };
-            let est = e.update(&s);
-            assert!((est.theta - 0.1).abs() < 1e-9, "{name}: {}", est.theta);
-        }
-        assert!(build_physical("alg9", &rig, &PeerSettings::default()).is_none());
-    }
 }

@@ -67,15 +67,15 @@ impl AccelMagnitude {
     }
 
     /// A finding when the median is not gravity's (outside [`ACCEL_MAGNITUDE_BAND`] of
-    /// [`crate::io::STANDARD_GRAVITY`]), for the accelerometer `columns` read with `given`
+    /// [`crate::units::STANDARD_GRAVITY`]), for the accelerometer `columns` read with `given`
     /// (`--accel-unit`, `None`: m/s^2): the unit that explains it, or the question. `None`
     /// for a log that is right or has fewer than [`MIN_ACCEL_READINGS`] readings.
     pub fn finding(
         &self,
         columns: &'static str,
-        given: Option<crate::io::AccelUnit>,
+        given: Option<crate::units::AccelUnit>,
     ) -> Option<Finding> {
-        use crate::io::{AccelUnit, STANDARD_GRAVITY};
+        use crate::units::{AccelUnit, STANDARD_GRAVITY};
         if self.n < MIN_ACCEL_READINGS {
             return None;
         }
@@ -109,8 +109,8 @@ impl AccelMagnitude {
             "{columns}: the specific force's median magnitude is {} m/s^2{read}, where \
              gravity alone gives {STANDARD_GRAVITY} m/s^2 ({} g): {fix} (median over \
              {} readings; a body's specific force is gravity's most of the time)",
-            crate::io::plausibility::fmt_sig(median),
-            crate::io::plausibility::fmt_sig(ratio),
+            crate::units::fmt_sig(median),
+            crate::units::fmt_sig(ratio),
             self.n
         );
         Some(Finding {

@@ -66,8 +66,11 @@ pub const MIN_DIFF_CUTOFF_TIMES_NATURAL: f64 = 0.5;
 
 mod accel;
 mod fit;
+mod scale;
 pub use accel::*;
 pub use fit::*;
+pub(crate) use scale::fmt_sig;
+pub use scale::{AccelUnit, STANDARD_GRAVITY};
 
 /// Which pair a finding comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -122,7 +125,7 @@ pub struct UnitCheck {
     warm: Vec<(Sample<f64>, f64)>,
     /// The accelerometer's magnitude against gravity, and the unit it was read in.
     accel: AccelMagnitude,
-    accel_unit: Option<crate::io::AccelUnit>,
+    accel_unit: Option<AccelUnit>,
 }
 
 impl UnitCheck {
@@ -152,7 +155,7 @@ impl UnitCheck {
 
     /// The check of a log whose accelerometer was read with `--accel-unit unit`, so that a
     /// finding names what was given.
-    pub fn with_accel_unit(mut self, unit: Option<crate::io::AccelUnit>) -> Self {
+    pub fn with_accel_unit(mut self, unit: Option<AccelUnit>) -> Self {
         self.accel_unit = unit;
         self
     }

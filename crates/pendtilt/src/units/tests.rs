@@ -1,6 +1,6 @@
 //! The unit checks against logs with a known mistake, and against correct ones.
 use super::*;
-use crate::io::{AccelUnit, STANDARD_GRAVITY};
+use crate::units::{AccelUnit, STANDARD_GRAVITY};
 
 /// A vibrating body's specific force: gravity tilted by `tilt` plus a vibration of
 /// `vib` m/s^2 (a deterministic spread of tones), in `unit`.

@@ -1,10 +1,11 @@
 //! Shared by the ekf_* tests: the scooter ride with a pivot offset, and running estimators
 //! over it.
 #![allow(dead_code)]
+use pendtilt::bank::build;
 use pendtilt::core::estimators::{alg1::*, alg2::*, alg3::*};
 use pendtilt::core::kalman::{KalmanOn, KalmanSettings};
 use pendtilt::core::{PendulumParams, PlanarEstimator, Sample};
-use pendtilt::peers::{build, PeerSettings};
+use pendtilt::peers::PeerSettings;
 use pendtilt::report::metrics::{lag_by_xcorr, ErrorSamples};
 use pendtilt::sim::{simulate, Scenario, SimRow};
 

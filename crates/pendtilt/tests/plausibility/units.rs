@@ -26,7 +26,7 @@ fn time_in_ms_or_us_is_an_error_with_the_fix_and_the_fix_works() {
             &log,
             &rig,
             ReaderOptions {
-                limits: rig.limits(),
+                limits: pendtilt::io::SensorLimits::of_rig(&rig),
                 time_unit: Some(unit),
                 ..ReaderOptions::default()
             },
@@ -141,7 +141,7 @@ fn degrees_are_found_from_the_physics_with_the_factor_and_correct_logs_are_quiet
             &degrees(&rows, &[1, 2, 5]),
             &rig,
             ReaderOptions {
-                limits: rig.limits(),
+                limits: pendtilt::io::SensorLimits::of_rig(&rig),
                 degrees: "phi,gyro,theta".parse().unwrap(),
                 ..ReaderOptions::default()
             },
@@ -347,7 +347,7 @@ fn degree_mistakes_on_a_4_s_log_are_found_and_correct_short_logs_are_quiet() {
                 &text(&cells(&rows)),
                 &rig,
                 ReaderOptions {
-                    limits: rig.limits(),
+                    limits: pendtilt::io::SensorLimits::of_rig(&rig),
                     degrees: "phi,gyro,theta".parse().unwrap(),
                     ..ReaderOptions::default()
                 },

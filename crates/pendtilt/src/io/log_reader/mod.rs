@@ -85,7 +85,7 @@ impl ReaderOptions {
     /// ([`ReaderOptions::natural_frequency`]).
     pub fn for_rig(rig: &crate::config::RigConfig) -> Self {
         Self {
-            limits: rig.limits(),
+            limits: SensorLimits::of_rig(rig),
             natural_frequency: Some(rig.params().natural_frequency_hz()),
             ..Self::default()
         }

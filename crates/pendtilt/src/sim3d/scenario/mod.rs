@@ -29,15 +29,9 @@ use super::simulator::{Simulator3d, Truth3d};
 use super::vehicle::{MotionSpec, VehicleMotion};
 use crate::sim::{SimError, SCENARIO_NAMES};
 
-/// The names [`Scenario3d::named`] knows.
-pub const SCENARIO3D_NAMES: &[&str] = &[
-    "still3d",
-    "scooter3d",
-    "ship3d",
-    "ride3d",
-    "ride3d_yawbias",
-    "ride3d_slip",
-];
+/// The names [`Scenario3d::named`] knows (listed beside the planar ones, so that the
+/// planar simulator names both without importing this one).
+pub use crate::sim::scenario::SCENARIO3D_NAMES;
 
 /// Where the sensors sit (MODEL.md 7.6 `[mounting]`): the core's type, one definition.
 pub type Mounting = pendtilt_core::spatial::Mounting<f64>;
