@@ -58,6 +58,7 @@ pub mod filters;
 mod flags;
 pub mod kalman;
 pub(crate) mod linalg;
+pub mod model;
 pub mod params;
 pub mod prelude;
 mod real;

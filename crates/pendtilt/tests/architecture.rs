@@ -199,3 +199,45 @@ fn no_two_modules_import_each_other() {
         circles.join("\n")
     );
 }
+
+/// The simulators build on the core's model alone (its parameters, samples, mounting and
+/// the encoder's range), never on an estimator's module: a change to a filter cannot
+/// change what is simulated.
+#[test]
+fn the_simulators_import_only_the_cores_model() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    for m in ["sim", "sim3d"] {
+        sources(&src.join(m), &mut files);
+    }
+    assert!(files.len() > 10, "{} simulator files", files.len());
+    let mut wrong = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        for (k, line) in text.lines().enumerate() {
+            if line.starts_with("#[cfg(test)]") {
+                break;
+            }
+            if line.trim_start().starts_with("//") {
+                continue;
+            }
+            let mut rest = line;
+            while let Some(i) = rest.find("pendtilt_core::") {
+                rest = &rest[i + "pendtilt_core::".len()..];
+                if !rest.starts_with("model::") {
+                    wrong.push(format!(
+                        "{}:{}: {}",
+                        f.strip_prefix(&src).unwrap().display(),
+                        k + 1,
+                        line.trim()
+                    ));
+                }
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "the simulators reach past the model:\n{}",
+        wrong.join("\n")
+    );
+}

@@ -2,10 +2,7 @@
 //! unwrapping, and the wrap back of an estimate into (-pi, pi].
 use crate::Real;
 
-/// Largest encoder reading taken as an angle \[rad\] (about 1600 turns): beyond it (or not
-/// finite) the sample is missing. A reading near the type's largest value would otherwise
-/// break the wrap-around unwrapping (found by fuzzing in f32 with 3e38).
-pub const PHI_LIMIT: f64 = 1e4;
+pub use crate::model::PHI_LIMIT;
 
 /// True when `phi` is a usable encoder reading.
 #[inline]

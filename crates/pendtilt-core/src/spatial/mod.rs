@@ -24,11 +24,11 @@
 //! - [`ekf`]: `ekf3d`/`ukf3d`, the quaternion filter on the engine.
 pub mod accel;
 pub mod attitude;
-pub mod cardan;
+pub use crate::model::cardan;
 pub mod ekf;
 pub mod imu;
 pub mod inv;
-pub mod mounting;
+pub use crate::model::mounting;
 pub mod pendulum;
 pub mod sample;
 pub mod travel;

@@ -237,7 +237,7 @@ impl ImuFilter for Fusion {
     type Params = FusionSettings;
 
     /// None: its own start-up ramp averages the first readings (with the wrapper's mean
-    /// of 1 s before it, the 10 s gap of tests/faults3d.rs left it 11.3 deg from the
+    /// of 1 s before it, the 10 s gap of tests/faults3d/ left it 11.3 deg from the
     /// fault-free run 2 s on, against 9.9 without).
     fn restart_average(&self) -> f64 {
         0.0

@@ -10,7 +10,7 @@
 /// How long \[s\] a filter's steady disagreement with the accelerometer is averaged over
 /// for its restart: the fit forgets at this time constant, so that it follows a bias that
 /// drifts with temperature. 5 s, 10 s and no forgetting measured alike (Mahony after the
-/// 10 s gap of tests/faults3d.rs: 0.36, 0.38, 0.40 deg from the fault-free run 2 s on).
+/// 10 s gap of tests/faults3d/: 0.36, 0.38, 0.40 deg from the fault-free run 2 s on).
 pub const RESTART_OFFSET_WINDOW: f64 = 30.0;
 
 /// A least-squares fit of `e(t) = c + A exp(-k t)` per component to a filter's

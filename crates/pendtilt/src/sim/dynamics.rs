@@ -12,7 +12,7 @@
 //! and no vibration this is the paper's Eq (18), and with l12 != 0 it carries the coupling
 //! term the paper's Lagrangian omits.
 
-use pendtilt_core::PhysicalParams;
+use pendtilt_core::model::PhysicalParams;
 
 use super::motion::Kinematics;
 

@@ -32,7 +32,7 @@ pub mod vibration;
 
 pub use scenario::{load_config, load_rig, rig_toml, PendulumTable, Scenario, SCENARIO_NAMES};
 
-use pendtilt_core::Sample;
+use pendtilt_core::model::Sample;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 

@@ -29,10 +29,10 @@ pub fn write_row<W: Write>(w: &mut W, row: &SimRow) -> io::Result<()> {
 }
 
 /// Refuses a row whose simulated angle `name` = `x` \[rad\] is not finite or beyond
-/// [`pendtilt_core::estimators::PHI_LIMIT`]: settings no integrator step can follow
+/// [`pendtilt_core::model::PHI_LIMIT`]: settings no integrator step can follow
 /// (`vibration.broadband.rms = [1e300, 1e300]`) wrote phi 5.8e294 rad with exit 0.
 pub fn check_angle(t: f64, name: &str, x: f64) -> io::Result<()> {
-    let limit = pendtilt_core::estimators::PHI_LIMIT;
+    let limit = pendtilt_core::model::PHI_LIMIT;
     if x.is_finite() && x.abs() <= limit {
         return Ok(());
     }

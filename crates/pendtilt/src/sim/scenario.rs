@@ -34,7 +34,7 @@
 //!
 //! Angles are in rad, as everywhere in pendtilt (10 deg = 0.1745 rad).
 
-use pendtilt_core::PhysicalParams;
+use pendtilt_core::model::PhysicalParams;
 use serde::{Deserialize, Serialize};
 
 use crate::config::RigConfig;

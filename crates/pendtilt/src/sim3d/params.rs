@@ -1,7 +1,7 @@
 //! The Cardan pendulum's constants (MODEL.md 7.2, 7.3, 7.6): physical form, the normalised
 //! form of 7.3, and the linearised natural frequencies and damping ratios of 7.2.
 
-use pendtilt_core::spatial::cardan::CardanParams;
+use pendtilt_core::model::cardan::CardanParams;
 use serde::{Deserialize, Serialize};
 
 use crate::sim::SimError;

@@ -80,7 +80,7 @@ pub fn run(log: &str, rig: &RigConfig) -> Run {
         log,
         rig,
         ReaderOptions {
-            limits: pendtilt::io::SensorLimits::of_rig(&rig),
+            limits: pendtilt::io::SensorLimits::of_rig(rig),
             ..ReaderOptions::default()
         },
     )

@@ -329,7 +329,7 @@ impl<F: ImuFilter> Imu6<F> {
     /// After a restart: one sample into the mean accelerometer direction (the old mean
     /// turned by the gyro over `dt`, then `a`'s direction averaged in, as the filters use
     /// it: the mean of the raw vector measured worse, Mahony 10.7 s instead of 8.5 s back
-    /// after the 10 s gap of tests/faults3d.rs); `true` once it has been averaged for the
+    /// after the 10 s gap of tests/faults3d/); `true` once it has been averaged for the
     /// filter's [`ImuFilter::restart_average`].
     fn average(&mut self, a: [f64; 3], gyro: Option<[f64; 3]>, dt: f64, window: f64) -> bool {
         let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();

@@ -116,7 +116,7 @@ impl ImuFilter for vqf_rs::VQF {
     /// Yes: VQF low-passes the accelerometer per reading (tau_acc), so skipped readings
     /// leave out their share of the vibration, which the low-pass forgets only at tau_acc
     /// (one missing ax axis for 100 ms left it 0.066 deg off the fault-free run 2 s later,
-    /// back after 3.48 s, on the ride of tests/faults3d.rs; bridged: 0).
+    /// back after 3.48 s, on the ride of tests/faults3d/; bridged: 0).
     fn bridges_accel(&self) -> bool {
         true
     }
@@ -138,7 +138,7 @@ impl ImuFilter for vqf_rs::VQF {
 
 /// A clip of the gyro at least this long \[s\] restarts a peer when it ends
 /// ([`Imu6::update_clipped`]): 50 ms, as ekf3d's re-acquisition after a hold, so that the
-/// vibration's peaks clipped a few ms at a time restart nothing (tests/faults3d.rs, `gyro
+/// vibration's peaks clipped a few ms at a time restart nothing (tests/faults3d/, `gyro
 /// range`: restarting after every clip of 3 ms or more took Mahony 6.71 s instead of 1.45 s
 /// back to its fault-free run; 50 ms and 300 ms gave the same as no restart there). After
 /// 2 s clipped at 0.1 rad/s (`gyro clipped`): VQF 0.557 deg RMS from the truth instead of

@@ -34,7 +34,7 @@ use crate::sim::{SimError, SCENARIO_NAMES};
 pub use crate::sim::scenario::SCENARIO3D_NAMES;
 
 /// Where the sensors sit (MODEL.md 7.6 `[mounting]`): the core's type, one definition.
-pub type Mounting = pendtilt_core::spatial::Mounting<f64>;
+pub type Mounting = pendtilt_core::model::Mounting<f64>;
 
 /// The rig file of MODEL.md 7.6 (physical form).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
