@@ -21,6 +21,17 @@
 //! For long runs iterate a [`Simulator`] (or use [`output::write_log`]): rows are produced
 //! one at a time and memory stays flat. Same scenario and seed give the same rows, bit for bit.
 
+/// The names the 3-D simulator's `Scenario3d::named` knows (its scenarios of MODEL.md
+/// 7.8), listed here beside the planar ones: each simulator's errors name both.
+pub const SCENARIO3D_NAMES: &[&str] = &[
+    "still3d",
+    "scooter3d",
+    "ship3d",
+    "ride3d",
+    "ride3d_yawbias",
+    "ride3d_slip",
+];
+
 pub mod dynamics;
 pub mod integrator;
 pub mod motion;

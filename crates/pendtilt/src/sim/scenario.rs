@@ -48,17 +48,6 @@ use super::SimError;
 /// The names [`Scenario::named`] knows.
 pub const SCENARIO_NAMES: &[&str] = &["still", "sigmoid", "step", "sine", "chirp", "scooter"];
 
-/// The names the 3-D simulator's `Scenario3d::named` knows (its scenarios of MODEL.md
-/// 7.8), listed here beside the planar ones: each simulator's errors name both.
-pub const SCENARIO3D_NAMES: &[&str] = &[
-    "still3d",
-    "scooter3d",
-    "ship3d",
-    "ride3d",
-    "ride3d_yawbias",
-    "ride3d_slip",
-];
-
 /// The `[pendulum]` table of the rig TOML (MODEL.md section 5), SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -557,7 +546,7 @@ pub fn load_config(path: &Path, name: Option<&str>) -> Result<(Scenario, Option<
                 "no base scenario: give --scenario NAME or a top-level `scenario = \"NAME\"` \
                  (one of {}, or a 3-D one: {})",
                 SCENARIO_NAMES.join(", "),
-                SCENARIO3D_NAMES.join(", ")
+                super::SCENARIO3D_NAMES.join(", ")
             ),
         });
     };

@@ -52,6 +52,7 @@ pub mod accel;
 pub mod cutoff;
 pub mod ekf;
 pub mod encoder;
+mod filters;
 pub mod forcing;
 pub mod gyro;
 pub mod kalman;
@@ -67,15 +68,16 @@ pub mod zoo;
 
 use crate::config::RigConfig;
 use crate::peers::{self, PeerSettings};
-use pendtilt_core::ekf::{Ekf, ModelSettings};
-use pendtilt_core::estimators::accel::{Accel, AccelSettings};
+use filters::{fit_filters, FilterFits, FitData};
+use pendtilt_core::ekf::ModelSettings;
+use pendtilt_core::estimators::accel::AccelSettings;
 use pendtilt_core::estimators::alg1::Alg1Settings;
-use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
+use pendtilt_core::estimators::alg2::Alg2Settings;
 use pendtilt_core::filters::diff::DiffSettings;
 use pendtilt_core::kalman::tilt::UNUSABLE;
 use pendtilt_core::kalman::KalmanSettings;
 use pendtilt_core::params::STANDARD_GRAVITY;
-use pendtilt_core::{Estimator, PendulumParams, PlanarEstimator, Sample};
+use pendtilt_core::{PendulumParams, PlanarEstimator, Sample};
 use search::Budget;
 use std::time::{Duration, Instant};
 
@@ -401,218 +403,44 @@ fn adopted_differentiator(
     }
 }
 
-/// The filters' settings after fitting (or as they started) and the fits made.
-struct FilterFits {
-    kalman: KalmanSettings<f64>,
-    ekf: ModelSettings<f64>,
-    kalman_fit: Option<kalman::Fitted>,
-    kalman_surrogate: Option<surrogate::Fitted>,
-    accel_fit: Option<AccelFit>,
-    fused_fit: Option<AccelFit>,
-    ekf_fit: Option<ekf::EkfFitted>,
-    ekf_band: Option<(f64, f64)>,
+/// Why the log is too still for a cutoff: the gyro's integral (less `bias`) above the
+/// reference's corner moves less than [`MIN_BAND_MOTION`]; `None` when it moves enough.
+fn too_still(samples: &[Sample<f64>], bias: f64, skip: usize) -> Option<String> {
+    let motion = reference::band_motion(samples, bias, skip);
+    (motion < MIN_BAND_MOTION).then(|| {
+        format!(
+            "log too still for a cutoff (the gyro's integral above {} Hz moves {:.4} deg \
+             RMS, at least {:.1} deg needed to see the delay)",
+            reference::CORNER_HZ,
+            motion.to_degrees(),
+            MIN_BAND_MOTION.to_degrees()
+        )
+    })
 }
 
-/// What [`fit_filters`] fits on.
-struct FitData<'a> {
-    /// The rows fitted on.
-    samples: &'a [Sample<f64>],
-    /// Their steps \[s\].
-    dt: Vec<f64>,
-    /// Their gyro \[rad/s\].
-    gyro: &'a [f64],
-    /// Rows left out of the costs at the start.
-    skip: usize,
-    /// Sample rate \[Hz\].
-    rate: f64,
-    /// True when the log has an accelerometer reading.
-    has_accel: bool,
-    /// The gyro's error figures when estimated (then the surrogate fit runs).
-    gyro_errors: Option<surrogate::GyroErrors>,
-}
-
-/// Fits the `kf_*` filters' Q and R on Algorithm 2's angle (with `differentiator`),
-/// `kf_accel`'s R when the log has an accelerometer, and the EKF from `ekf_start`,
-/// within `budget`.
-fn fit_filters(
+/// The gyro's errors the surrogate fits draw, when its bias was measured.
+fn gyro_errors(
+    gyr: &Result<gyro::GyroNoise, String>,
     start: &Start,
-    ekf_start: ModelSettings<f64>,
-    differentiator: DiffSettings<f64>,
-    d: &FitData,
-    opts: &Options,
-    budget: &mut Budget,
-) -> FilterFits {
-    let kf = fit_kalman(start, differentiator, d, opts, budget);
-    let mut kalman_s = kf.settings;
-    let (mut accel_fit, mut fused_fit) = (None, None);
-    if d.has_accel {
-        let za = measurements(&mut Accel::new(start.accel), d.samples);
-        let data = kalman::KalmanData {
-            dt: &d.dt,
-            gyro: d.gyro,
-            z: &za,
-        };
-        let r0 = start.kalman.r_accel;
-        let r0_fused = start.kalman.r_accel_fused.unwrap_or(r0);
-        let q = kalman_s;
-        let fit = |(r, before, after), surrogate| AccelFit {
-            r,
-            before,
-            after,
-            surrogate,
-        };
-        match (opts.target, d.gyro_errors, &kf.surrogate_fit, &kf.surrogate) {
-            // On the surrogate as kf_alg2's R, with the gyro's errors it drew, the
-            // accelerometer's error below the corner its difference from Algorithm 2;
-            // kf_fused's on both surrogates together, Algorithm 2's R as fitted.
-            (Target::Likelihood, Some(g), Some(k), Some(sp)) => {
-                let g = surrogate::GyroErrors {
-                    bias_walk: k.bias_walk,
-                    ..g
-                };
-                let sa = surrogate::Surrogate::against(d.samples, &za, &kf.z, &g);
-                let alone = |r| surrogate::rms_of(&q, &[(&sa, r)], d.skip);
-                accel_fit = Some(fit(surrogate::fit_r(r0, alone, budget), true));
-                let fused = |r| surrogate::rms_of(&q, &[(&sa, r), (sp, q.r_pendulum)], d.skip);
-                fused_fit = Some(fit(surrogate::fit_r(r0_fused, fused, budget), true));
-            }
-            (Target::Truth(truth), ..) => {
-                accel_fit = Some(fit(
-                    targets::kalman_r(&q, r0, &data, d.skip, opts, budget),
-                    false,
-                ));
-                let both = [(za.as_slice(), r0_fused), (kf.z.as_slice(), q.r_pendulum)];
-                let fused = targets::kalman_fused_r(&q, &both, &data, truth, d.skip, budget);
-                fused_fit = Some(fit(fused, false));
-            }
-            _ => {
-                accel_fit = Some(fit(
-                    targets::kalman_r(&q, r0, &data, d.skip, opts, budget),
-                    false,
-                ));
-            }
-        }
-        if let Some(a) = &accel_fit {
-            kalman_s.r_accel = a.r;
-        }
-        if let Some(a) = &fused_fit {
-            kalman_s.r_accel_fused = Some(a.r);
-        }
-    }
-    let e = targets::ekf(&ekf_start, d.samples, d.skip, opts, budget);
-    // The EKF's error against the gyro's integral above 0.2 Hz with the start and the
-    // fit, reported in the notes.
-    let ekf_band = match (opts.target, d.gyro_errors) {
-        (Target::Likelihood, Some(g)) if e.settings != ekf_start => {
-            let reference = reference::integral(d.samples, g.bias);
-            let band = |s: ModelSettings<f64>| {
-                let mut f = Ekf::new(s);
-                let est: Vec<f64> = d.samples.iter().map(|x| f.update(x).theta).collect();
-                reference::band_error(&est, &reference, d.samples, d.skip)
-            };
-            Some((band(ekf_start), band(e.settings)))
-        }
-        _ => None,
-    };
-    // The likelihood fit is adopted only when it takes process noise out (see
-    // `ekf::only_lowers`); the band error is reported.
-    let ekf = match opts.target {
-        Target::Truth(_) => e.settings,
-        Target::Likelihood if ekf::only_lowers(&ekf_start, &e.settings) => e.settings,
-        Target::Likelihood => ekf_start,
-    };
-    FilterFits {
-        kalman: kalman_s,
-        ekf,
-        kalman_fit: Some(kf.fitted),
-        kalman_surrogate: kf.surrogate_fit,
-        accel_fit,
-        fused_fit,
-        ekf_band,
-        ekf_fit: Some(e),
-    }
+) -> Option<surrogate::GyroErrors> {
+    gyr.as_ref().ok().and_then(|g| {
+        g.bias.map(|bias| surrogate::GyroErrors {
+            bias,
+            density: g.density,
+            bias_walk: start.ekf.sensors.gyro_bias_walk,
+        })
+    })
 }
 
-/// The Kalman filters' Q and R fitted on Algorithm 2's angle: the settings adopted, the
-/// likelihood (or truth) fit, and the surrogate fit (adopted when made: likelihood target
-/// and a gyro).
-fn fit_kalman(
-    start: &Start,
-    differentiator: DiffSettings<f64>,
-    d: &FitData,
-    opts: &Options,
-    budget: &mut Budget,
-) -> KalmanFit {
-    let mut alg2_s = start.alg2;
-    alg2_s.front_end.differentiator = differentiator;
-    let z_all = measurements(&mut Alg2::<f64>::new(alg2_s), d.samples);
-    // Alg 2's errors are coloured (band-limited by the differentiator): the
-    // likelihood sees them as independent only a Nyquist interval of the cutoff
-    // apart, so it is fitted on every m-th angle and R scaled back by m.
-    let m = match opts.target {
-        Target::Likelihood => decimation(d.rate, differentiator.cutoff_hz(&start.params)),
-        Target::Truth(_) => 1,
-    };
-    let z: Vec<f64> = z_all
-        .iter()
-        .enumerate()
-        .map(|(k, v)| if k % m == 0 { *v } else { f64::NAN })
-        .collect();
-    let data = kalman::KalmanData {
-        dt: &d.dt,
-        gyro: d.gyro,
-        z: &z,
-    };
-    let r0 = start.kalman.r_pendulum / m as f64;
-    let mut f = targets::kalman(&start.kalman, r0, &data, d.skip, opts, budget);
-    f.r *= m as f64;
-    let mut kalman_s = start.kalman;
-    kalman_s.q_angle = f.q_angle;
-    kalman_s.q_bias = f.q_bias;
-    kalman_s.r_pendulum = f.r;
-    let sur = match (opts.target, d.gyro_errors) {
-        (Target::Likelihood, Some(g)) => {
-            // The bias walk: the start's, or the log's upper bound if larger.
-            let bound = surrogate::walk_bound(d.samples, &z_all, g.bias, d.skip);
-            let g = surrogate::GyroErrors {
-                bias_walk: bound.map_or(g.bias_walk, |w| w.max(g.bias_walk)),
-                ..g
-            };
-            let s = surrogate::Surrogate::new(d.samples, &z_all, &g);
-            let r0 = start.kalman.r_pendulum;
-            let mut fit = surrogate::fit(&start.kalman, r0, &s, d.skip, budget);
-            let [q_angle, q_bias, r] = fit.x;
-            kalman_s.q_angle = q_angle;
-            kalman_s.q_bias = q_bias;
-            kalman_s.r_pendulum = r;
-            fit.nll_at = kalman::nll(&kalman_s, r / m as f64, &data, d.skip);
-            fit.bias_walk = g.bias_walk;
-            Some((fit, s))
+/// The process noise "kept" by the filters' notes is the start's, whose pendulum forcing
+/// was measured: not a default.
+fn forcing_measured(notes: &mut [Note]) {
+    for n in notes.iter_mut().filter(|n| n.key == "ekf.process.pendulum") {
+        if n.kept_default {
+            n.kept_default = false;
+            n.how += " (the start's value is the accelerometer's measured forcing)";
         }
-        _ => None,
-    };
-    let (surrogate_fit, surrogate) = sur.unzip();
-    KalmanFit {
-        settings: kalman_s,
-        fitted: f,
-        surrogate_fit,
-        surrogate,
-        z: z_all,
     }
-}
-
-/// What [`fit_kalman`] found, with what the accelerometer's fits reuse.
-struct KalmanFit {
-    /// The `kf_*` settings with kf_alg2's Q and R fitted.
-    settings: KalmanSettings<f64>,
-    /// The likelihood (or truth) fit.
-    fitted: kalman::Fitted,
-    /// The surrogate fit (adopted when present).
-    surrogate_fit: Option<surrogate::Fitted>,
-    /// Its surrogate of Algorithm 2's error.
-    surrogate: Option<surrogate::Surrogate>,
-    /// Algorithm 2's angle per row.
-    z: Vec<f64>,
 }
 
 /// Tunes every estimator's settings on `samples` (one log, rows in order), starting from
@@ -688,18 +516,7 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
     // Without tilt in the reference's band there is no delay to trade against noise:
     // any cutoff scores alike, and the lowest was taken (a still log tuned to 0.61 f_n
     // took alg1 on a scooter ride from 0.61 to 1.00 deg RMS).
-    let too_still = bias.and_then(|b| {
-        let motion = reference::band_motion(fit_samples, b, skip);
-        (motion < MIN_BAND_MOTION).then(|| {
-            format!(
-                "log too still for a cutoff (the gyro's integral above {} Hz moves {:.4} deg \
-                 RMS, at least {:.1} deg needed to see the delay)",
-                reference::CORNER_HZ,
-                motion.to_degrees(),
-                MIN_BAND_MOTION.to_degrees()
-            )
-        })
-    });
+    let too_still = bias.and_then(|b| too_still(fit_samples, b, skip));
     let cut = match &too_still {
         Some(why) => Err(why.clone()),
         None => cut,
@@ -723,26 +540,11 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
                 skip,
                 rate,
                 has_accel: ax.iter().any(|v| v.is_finite()),
-                gyro_errors: gyr.as_ref().ok().and_then(|g| {
-                    g.bias.map(|bias| surrogate::GyroErrors {
-                        bias,
-                        density: g.density,
-                        bias_walk: start.ekf.sensors.gyro_bias_walk,
-                    })
-                }),
+                gyro_errors: gyro_errors(&gyr, start),
             };
             fit_filters(start, ekf_start, differentiator, &data, opts, &mut budget)
         }
-        Some(_) => FilterFits {
-            kalman: start.kalman,
-            ekf: ekf_start,
-            kalman_fit: None,
-            kalman_surrogate: None,
-            accel_fit: None,
-            fused_fit: None,
-            ekf_band: None,
-            ekf_fit: None,
-        },
+        Some(_) => FilterFits::unfitted(start.kalman, ekf_start),
     };
     notes::filters(
         &start.kalman,
@@ -759,14 +561,7 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         &mut notes,
     );
     if force.is_ok() {
-        // The process noise "kept" by the filters' notes is the start's, whose pendulum
-        // forcing was measured: not a default.
-        for n in notes.iter_mut().filter(|n| n.key == "ekf.process.pendulum") {
-            if n.kept_default {
-                n.kept_default = false;
-                n.how += " (the start's value is the accelerometer's measured forcing)";
-            }
-        }
+        forcing_measured(&mut notes);
     }
     Tuned {
         encoder: enc,

@@ -31,7 +31,7 @@ use crate::sim::{SimError, SCENARIO_NAMES};
 
 /// The names [`Scenario3d::named`] knows (listed beside the planar ones, so that the
 /// planar simulator names both without importing this one).
-pub use crate::sim::scenario::SCENARIO3D_NAMES;
+pub use crate::sim::SCENARIO3D_NAMES;
 
 /// Where the sensors sit (MODEL.md 7.6 `[mounting]`): the core's type, one definition.
 pub type Mounting = pendtilt_core::model::Mounting<f64>;
