@@ -391,7 +391,7 @@ pub(super) fn jerk(s: &mut Settings<f64>, j: &Option<Result<Jerk, String>>, note
         Some(Ok(j)) => {
             s.speed.jerk_density = j.density;
             let bound = if j.at_bound {
-                " DOUBT: at the end of the search's range, which the log does not bound (a \
+                "; DOUBT: at the end of the search's range, which the log does not bound (a \
                  vehicle at a steady speed has no jerk to find)"
             } else {
                 ""
