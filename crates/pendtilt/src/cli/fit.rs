@@ -12,6 +12,7 @@ use crate::io::{Column, LogReader};
 use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::filters::diff::Cutoff;
 use pendtilt_core::supervision::Objective;
+use pendtilt_core::PendulumParams;
 
 /// Options of `pendtilt fit`.
 #[derive(Debug, clap::Args)]
@@ -160,6 +161,34 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// A slow median step is the usual sign of time in ms: said beside any failure.
+fn time_hint(span: Option<fit::plausibility::LogSpan>) -> String {
+    match span {
+        Some(s) if s.median_step >= 0.05 => format!(
+            " (the log's median time step is {:.3} s, i.e. {:.2} Hz: if its time column is in \
+             ms, divide it by 1000)",
+            s.median_step,
+            1.0 / s.median_step
+        ),
+        _ => String::new(),
+    }
+}
+
+/// The output cost's smoothing must lie below the log's Nyquist frequency.
+fn check_smoothing(args: &Args, s: &fit::plausibility::LogSpan) -> anyhow::Result<()> {
+    // Seven significant digits, written plainly (500, not 499.99999999999955).
+    let tidy = |x: f64| format!("{x:.6e}").parse::<f64>().unwrap_or(x);
+    let nyquist = tidy(0.5 / s.median_step);
+    anyhow::ensure!(
+        args.smoothing_hz < nyquist,
+        "--smoothing-hz {} Hz is at or above the Nyquist frequency {nyquist} Hz of this log \
+         (median time step {} s): valid above 0 up to below {nyquist} Hz",
+        args.smoothing_hz,
+        tidy(s.median_step)
+    );
+    Ok(())
+}
+
 /// Reads the log, fits, prints the iterations and the result, and returns the fitted rig:
 /// the command's steps, in order.
 fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
@@ -168,13 +197,11 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
         Some(p) => super::options::load_rig(p, args.quiet)?,
         None => RigConfig::default(),
     };
-    let mut start = rig.params();
-    if let Some(a) = args.a {
-        start.a = a;
-    }
-    if let Some(b) = args.b {
-        start.b = b;
-    }
+    let start = PendulumParams {
+        a: args.a.unwrap_or(rig.params().a),
+        b: args.b.unwrap_or(rig.params().b),
+        ..rig.params()
+    };
     let log = read_log(args, &rig)?;
     // Said before any work, with the way out (it used to come after the iteration header).
     anyhow::ensure!(
@@ -193,27 +220,9 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     );
     let span = fit::plausibility::LogSpan::of(log.stamps.iter().copied());
     let truth_opt = log.has_theta.then_some(&log.truth[..]);
-    // A slow median step is the usual sign of time in ms: said beside any failure.
-    let hint = match span {
-        Some(s) if s.median_step >= 0.05 => format!(
-            " (the log's median time step is {:.3} s, i.e. {:.2} Hz: if its time column is in \
-             ms, divide it by 1000)",
-            s.median_step,
-            1.0 / s.median_step
-        ),
-        _ => String::new(),
-    };
+    let hint = time_hint(span);
     if let (Cost::Output, Some(s)) = (cost, span) {
-        // Seven significant digits, written plainly (500, not 499.99999999999955).
-        let tidy = |x: f64| format!("{x:.6e}").parse::<f64>().unwrap_or(x);
-        let nyquist = tidy(0.5 / s.median_step);
-        anyhow::ensure!(
-            args.smoothing_hz < nyquist,
-            "--smoothing-hz {} Hz is at or above the Nyquist frequency {nyquist} Hz of this log \
-             (median time step {} s): valid above 0 up to below {nyquist} Hz",
-            args.smoothing_hz,
-            tidy(s.median_step)
-        );
+        check_smoothing(args, &s)?;
     }
     let with_hint = |e: fit::FitError| anyhow::anyhow!("{e}{hint}");
     let problem = match cost {

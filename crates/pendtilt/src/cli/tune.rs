@@ -213,8 +213,8 @@ fn tuned_text(args: &Args) -> anyhow::Result<String> {
 }
 
 /// What the file's first comment lines and standard output say: the log, the target, the
-/// likelihood (or error) before and after each fit, and whether the time limit cut in.
-/// (A list of lines, one per fit: long but flat.)
+/// likelihood (or error) before and after each fit ([`fit_lines`]), and whether the time
+/// limit cut in.
 fn header(args: &Args, log: &TuneLog, t: &Tuned) -> Vec<String> {
     let rate = tune::sample_rate(&log.samples).unwrap_or(f64::NAN);
     let start = args
@@ -238,6 +238,30 @@ fn header(args: &Args, log: &TuneLog, t: &Tuned) -> Vec<String> {
                 .to_string(),
         },
     ];
+    h.extend(fit_lines(t));
+    if t.kalman_fit.is_none() {
+        h.push("the filters were not fitted (see the notes): their noise kept as given".into());
+    }
+    h.push(format!("the log: {}", log.summary));
+    for f in &log.units {
+        h.push(format!(
+            "NOT TO BE TRUSTED: tuned on a log whose units look wrong: {}",
+            f.message
+        ));
+    }
+    if t.stopped_by_time_limit {
+        h.push(format!(
+            "STOPPED EARLY by --time-limit {} s: the best values found so far are written",
+            args.time_limit.unwrap_or(0.0)
+        ));
+    }
+    h
+}
+
+/// One line per fit: the Kalman filters' Q and R, the accelerometer's R alone and beside
+/// Algorithm 2, the EKF's process noise ([`ekf_line`]).
+fn fit_lines(t: &Tuned) -> Vec<String> {
+    let mut h = Vec::new();
     let what = if t.target == "truth" {
         "RMS error"
     } else {
@@ -291,41 +315,30 @@ fn header(args: &Args, log: &TuneLog, t: &Tuned) -> Vec<String> {
         ));
     }
     if let Some(e) = &t.ekf_fit {
-        let adopted = match (t.target, t.ekf_band) {
-            ("truth", _) => "adopted".to_string(),
-            (_, Some((k, f))) if f < k => format!(
-                "adopted: error against the gyro's integral above 0.2 Hz {:.4} -> {:.4} deg",
-                k.to_degrees(),
-                f.to_degrees()
-            ),
-            (_, Some((k, f))) => format!(
-                "not adopted: error against the gyro's integral above 0.2 Hz {:.4} deg with \
-                 it, {:.4} without",
-                f.to_degrees(),
-                k.to_degrees()
-            ),
-            _ => "not adopted (no gyro bias estimate to check it against)".to_string(),
-        };
-        h.push(format!(
-            "ekf {what}: before {:.5}, after {:.5} ({adopted})",
-            e.nll_before, e.nll_after
-        ));
-    }
-    if t.kalman_fit.is_none() {
-        h.push("the filters were not fitted (see the notes): their noise kept as given".into());
-    }
-    h.push(format!("the log: {}", log.summary));
-    for f in &log.units {
-        h.push(format!(
-            "NOT TO BE TRUSTED: tuned on a log whose units look wrong: {}",
-            f.message
-        ));
-    }
-    if t.stopped_by_time_limit {
-        h.push(format!(
-            "STOPPED EARLY by --time-limit {} s: the best values found so far are written",
-            args.time_limit.unwrap_or(0.0)
-        ));
+        h.push(ekf_line(t, e, what));
     }
     h
+}
+
+/// The EKF's fit: its cost before and after, and whether it was adopted and why.
+fn ekf_line(t: &Tuned, e: &tune::ekf::EkfFitted, what: &str) -> String {
+    let adopted = match (t.target, t.ekf_band) {
+        ("truth", _) => "adopted".to_string(),
+        (_, Some((k, f))) if f < k => format!(
+            "adopted: error against the gyro's integral above 0.2 Hz {:.4} -> {:.4} deg",
+            k.to_degrees(),
+            f.to_degrees()
+        ),
+        (_, Some((k, f))) => format!(
+            "not adopted: error against the gyro's integral above 0.2 Hz {:.4} deg with \
+             it, {:.4} without",
+            f.to_degrees(),
+            k.to_degrees()
+        ),
+        _ => "not adopted (no gyro bias estimate to check it against)".to_string(),
+    };
+    format!(
+        "ekf {what}: before {:.5}, after {:.5} ({adopted})",
+        e.nll_before, e.nll_after
+    )
 }
