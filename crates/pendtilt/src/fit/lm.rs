@@ -121,12 +121,29 @@ pub fn levenberg_marquardt(
     minimise(problem, p0, active, s, on_iteration)
 }
 
+/// Refuses settings the loop cannot run with.
+fn check_settings(s: &LmSettings) -> Result<(), FitError> {
+    let ok = |v: f64| v.is_finite() && v > 0.0;
+    if !(ok(s.lambda) && s.decrease > 1.0 && s.increase > 1.0 && s.ftol >= 0.0 && s.xtol >= 0.0) {
+        return Err(FitError::BadSettings(
+            "LM: lambda > 0, decrease and increase > 1, tolerances >= 0".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// `jtj` with Marquardt's damping: each diagonal entry times `1 + lambda`.
+fn damped<const N: usize>(jtj: &SMatrix<f64, N, N>, lambda: f64) -> SMatrix<f64, N, N> {
+    let mut a = *jtj;
+    for j in 0..N {
+        a[(j, j)] += lambda * jtj[(j, j)].max(f64::MIN_POSITIVE);
+    }
+    a
+}
+
 /// The Levenberg-Marquardt loop (Marquardt's diagonal scaling) on any [`LeastSquares`]
 /// cost from `p0`, moving the `active` parameters; `on_iteration` logs each accepted step
 /// and the last try of a stop on no descent.
-///
-/// (Long, kept whole: one loop whose state, lambda, the linearisation and the counts,
-/// every branch updates; split, the pieces would hand all of it back and forth.)
 pub fn minimise<const N: usize, P: LeastSquares<N>>(
     problem: &P,
     p0: &SVector<f64, N>,
@@ -134,12 +151,7 @@ pub fn minimise<const N: usize, P: LeastSquares<N>>(
     s: &LmSettings,
     mut on_iteration: impl FnMut(&LmIteration<N>),
 ) -> Result<LmOutcome<N>, FitError> {
-    let ok = |v: f64| v.is_finite() && v > 0.0;
-    if !(ok(s.lambda) && s.decrease > 1.0 && s.increase > 1.0 && s.ftol >= 0.0 && s.xtol >= 0.0) {
-        return Err(FitError::BadSettings(
-            "LM: lambda > 0, decrease and increase > 1, tolerances >= 0".into(),
-        ));
-    }
+    check_settings(s)?;
     let n = problem.residual_count() as f64;
     let mut p = *p0;
     let (mut jtj, mut jtr, mut sum) = problem.linearise(&p);
@@ -153,12 +165,8 @@ pub fn minimise<const N: usize, P: LeastSquares<N>>(
         let mut tries = 0usize;
         loop {
             tries += 1;
-            let mut a = jtj;
-            for j in 0..N {
-                a[(j, j)] += lambda * jtj[(j, j)].max(f64::MIN_POSITIVE);
-            }
             // A singular damped system is retried with more damping, like a failed step.
-            if let Some(step) = solve_active(&a, &(-jtr), active) {
+            if let Some(step) = solve_active(&damped(&jtj, lambda), &(-jtr), active) {
                 let q = p + step;
                 let (sum1, normal1) = problem.trial(&q);
                 evaluations += 1;
