@@ -403,6 +403,48 @@ fn adopted_differentiator(
     }
 }
 
+/// The differentiator's cutoffs the log tells ([`cutoffs`]).
+struct Cutoffs {
+    /// The spectral rule's choice, or why there is none.
+    cut: Result<cutoff::CutoffChoice, String>,
+    /// Algorithm 2's cutoff against the gyro's reference and its band error.
+    by_gyro: Option<(f64, f64)>,
+    /// Algorithm 1's, the same way.
+    alg1: Option<(f64, f64)>,
+    /// Why the log is too still to choose any.
+    too_still: Option<String>,
+}
+
+/// The cutoffs against the gyro's reference (with the gyro's `bias`, on a log `long_enough`
+/// to fit), and the spectral rule's `cut` unless the log is too still. Without tilt in the
+/// reference's band there is no delay to trade against noise: any cutoff scores alike, and
+/// the lowest was taken (a still log tuned to 0.61 f_n took alg1 on a scooter ride from
+/// 0.61 to 1.00 deg RMS).
+fn cutoffs(
+    start: &Start,
+    fit_samples: &[Sample<f64>],
+    bias: Option<f64>,
+    long_enough: bool,
+    skip: usize,
+    cut: Result<cutoff::CutoffChoice, String>,
+    budget: &mut Budget,
+) -> Cutoffs {
+    let too_still = bias.and_then(|b| too_still(fit_samples, b, skip));
+    let cut = match &too_still {
+        Some(why) => Err(why.clone()),
+        None => cut,
+    };
+    let by_gyro = bias
+        .filter(|_| long_enough && too_still.is_none())
+        .map(|b| cutoff::by_gyro_reference(fit_samples, &start.alg1, &start.alg2, b, skip, budget));
+    Cutoffs {
+        cut,
+        by_gyro: by_gyro.map(|c| c.alg2).filter(|(_, e)| e.is_finite()),
+        alg1: by_gyro.map(|c| c.alg1).filter(|(_, e)| e.is_finite()),
+        too_still,
+    }
+}
+
 /// Why the log is too still for a cutoff: the gyro's integral (less `bias`) above the
 /// reference's corner moves less than [`MIN_BAND_MOTION`]; `None` when it moves enough.
 fn too_still(samples: &[Sample<f64>], bias: f64, skip: usize) -> Option<String> {
@@ -513,24 +555,25 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         ekf_start.encoder_jitter *= js.scale;
         notes::jitter_scale(ekf_start.encoder_jitter, js, &mut notes);
     }
-    // Without tilt in the reference's band there is no delay to trade against noise:
-    // any cutoff scores alike, and the lowest was taken (a still log tuned to 0.61 f_n
-    // took alg1 on a scooter ride from 0.61 to 1.00 deg RMS).
-    let too_still = bias.and_then(|b| too_still(fit_samples, b, skip));
-    let cut = match &too_still {
-        Some(why) => Err(why.clone()),
-        None => cut,
-    };
-    let by_gyro = bias
-        .filter(|_| duration >= MIN_FIT_SECONDS && too_still.is_none())
-        .map(|b| {
-            cutoff::by_gyro_reference(fit_samples, &start.alg1, &start.alg2, b, skip, &mut budget)
-        });
-    let cutoff_by_gyro = by_gyro.map(|c| c.alg2).filter(|(_, e)| e.is_finite());
-    let alg1_cutoff = by_gyro.map(|c| c.alg1).filter(|(_, e)| e.is_finite());
+    let long_enough = duration >= MIN_FIT_SECONDS;
+    let cuts = cutoffs(
+        start,
+        fit_samples,
+        bias,
+        long_enough,
+        skip,
+        cut,
+        &mut budget,
+    );
+    let (cut, cutoff_by_gyro, alg1_cutoff) = (cuts.cut, cuts.by_gyro, cuts.alg1);
     let differentiator = adopted_differentiator(start, cutoff_by_gyro, &cut);
     notes::cutoff(&cut, cutoff_by_gyro, &start_diff, &start.params, &mut notes);
-    notes::alg1_cutoff(alg1_cutoff, too_still.as_deref(), &start.params, &mut notes);
+    notes::alg1_cutoff(
+        alg1_cutoff,
+        cuts.too_still.as_deref(),
+        &start.params,
+        &mut notes,
+    );
     let fits = match why_not {
         None => {
             let data = FitData {

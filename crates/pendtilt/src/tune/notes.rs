@@ -384,29 +384,7 @@ pub(super) fn filters(
         ),
     }
     if let Some(a) = fused {
-        let how = if a.surrogate {
-            format!(
-                "kf_fused's accelerometer R, fitted on the surrogates of the accelerometer's and \
-                 Algorithm 2's errors together, q_angle, q_bias and r_pendulum as above; RMS \
-                 {:.4} -> {:.4} deg",
-                a.before.to_degrees(),
-                a.after.to_degrees()
-            )
-        } else {
-            format!(
-                "kf_fused's accelerometer R, fitted on its error against the truth, q_angle, \
-                 q_bias and r_pendulum as above; RMS {:.4} -> {:.4} deg",
-                a.before.to_degrees(),
-                a.after.to_degrees()
-            )
-        };
-        note(
-            notes,
-            "kalman.r_accel_fused",
-            format!("{:.4e} rad^2", a.r),
-            false,
-            how,
-        );
+        fused_note(a, notes);
     }
     ekf_notes(ekf_start, ekf, ekf_band, truth, &why, notes);
 }
@@ -526,4 +504,31 @@ fn ekf_notes(
     note(notes, "ekf.process.jerk", jerk, kept, how.clone());
     let pendulum = format!("{:.4e} 1/s^3", p.pendulum);
     note(notes, "ekf.process.pendulum", pendulum, kept, how);
+}
+
+/// `kf_fused`'s accelerometer R as fitted.
+fn fused_note(a: &super::AccelFit, notes: &mut Vec<Note>) {
+    let how = if a.surrogate {
+        format!(
+            "kf_fused's accelerometer R, fitted on the surrogates of the accelerometer's and \
+             Algorithm 2's errors together, q_angle, q_bias and r_pendulum as above; RMS \
+             {:.4} -> {:.4} deg",
+            a.before.to_degrees(),
+            a.after.to_degrees()
+        )
+    } else {
+        format!(
+            "kf_fused's accelerometer R, fitted on its error against the truth, q_angle, \
+             q_bias and r_pendulum as above; RMS {:.4} -> {:.4} deg",
+            a.before.to_degrees(),
+            a.after.to_degrees()
+        )
+    };
+    note(
+        notes,
+        "kalman.r_accel_fused",
+        format!("{:.4e} rad^2", a.r),
+        false,
+        how,
+    );
 }
