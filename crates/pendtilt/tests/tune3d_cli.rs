@@ -155,3 +155,62 @@ fn a_truth_target_is_refused_and_nothing_written() {
     assert!(stderr(&o).contains("without its truth"), "{}", stderr(&o));
     assert!(!out.exists());
 }
+
+/// An accelerometer read in the wrong unit (`--accel-unit g` on a log in m/s^2): the 3-D
+/// tune and fit say so on standard error with the fix, and the tuned file carries it.
+#[test]
+fn a_wrong_accelerometer_unit_is_said_by_tune_and_fit() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("sc.csv");
+    let out = pendtilt(&[
+        "simulate",
+        "--scenario",
+        "scooter3d",
+        "--duration",
+        "12",
+        "-q",
+        "-o",
+        s(&log),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let rig = dir.path().join("sc.rig.toml");
+    let tuned = dir.path().join("t.toml");
+    let out = pendtilt(&[
+        "tune",
+        s(&log),
+        "--params",
+        s(&rig),
+        "--accel-unit",
+        "g",
+        "-q",
+        "-o",
+        s(&tuned),
+    ]);
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("warning: ") && err.contains("leave out --accel-unit g"),
+        "{err}"
+    );
+    let text = std::fs::read_to_string(&tuned).unwrap();
+    assert!(text.contains("# NOT TO BE TRUSTED: tuned on a log whose units look wrong"));
+    let out = pendtilt(&[
+        "fit",
+        s(&log),
+        "--params",
+        s(&rig),
+        "--accel-unit",
+        "g",
+        "-q",
+        "-o",
+        "-",
+    ]);
+    assert!(
+        stderr(&out).contains("leave out --accel-unit g"),
+        "{}",
+        stderr(&out)
+    );
+    // Read as it is, neither says anything of the unit.
+    let out = pendtilt(&["tune", s(&log), "--params", s(&rig), "-q", "-o", s(&tuned)]);
+    assert!(!stderr(&out).contains("--accel-unit"), "{}", stderr(&out));
+}

@@ -214,6 +214,12 @@ fn fit(args: &Args) -> anyhow::Result<String> {
     if let Some(w) = mounting_warning(args, &rig, speed) {
         eprintln!("{w}");
     }
+    // The fit is driven by the specific force: a wrong unit is said before it runs.
+    let unit = crate::units::AccelMagnitude::of_vectors(&log.accel)
+        .finding("ax, ay, az", args.columns.accel_unit);
+    if let Some(f) = unit {
+        eprintln!("warning: {}: {}", args.log.display(), f.message);
+    }
     ensure!(
         args.target != Target::Truth || log.has_truth(),
         "{} has no finite `roll` and `pitch` in every row, which --target truth (the default) \

@@ -11,6 +11,7 @@ use crate::bank3d::rig::Rig3dConfig;
 use crate::io::Log3dReader;
 use crate::sim3d::Pendulum3d;
 use crate::tune::spatial::{self, rig_file, Start3d, Tuned3d};
+use crate::units::AccelMagnitude;
 
 /// The rig file written when no `--params` is given: MODEL.md 7.6's pendulum alone.
 fn default_rig_text() -> anyhow::Result<String> {
@@ -84,7 +85,17 @@ pub fn tuned_text(args: &Args) -> anyhow::Result<String> {
     };
     let samples = read_log(args)?;
     let t = spatial::tune3d(&samples, &Start3d::from_rig(&rig));
-    let header = header(args, &samples, &from, &t);
+    let mut header = header(args, &samples, &from, &t);
+    // A log in the wrong unit is tuned all the same, and says so (as the planar tune does).
+    let unit = AccelMagnitude::of_vectors(samples.iter().map(|s| &s.accel))
+        .finding("ax, ay, az", args.columns.accel_unit);
+    if let Some(f) = unit {
+        eprintln!("warning: {}: {}", args.log.display(), f.message);
+        header.push(format!(
+            "NOT TO BE TRUSTED: tuned on a log whose units look wrong: {}",
+            f.message
+        ));
+    }
     if !args.quiet {
         let on_stdout = crate::io::output::is_stdout(&args.output);
         for h in &header {

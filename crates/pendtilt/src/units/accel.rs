@@ -32,6 +32,16 @@ impl Default for AccelMagnitude {
 }
 
 impl AccelMagnitude {
+    /// The magnitudes of 3-axis readings \[m/s^2 as read, after `--accel-unit`\] (each as
+    /// [`Self::add`] takes it).
+    pub fn of_vectors<'a>(readings: impl IntoIterator<Item = &'a [f64; 3]>) -> Self {
+        let mut m = Self::default();
+        for a in readings {
+            m.add(a.iter().map(|v| v * v).sum::<f64>().sqrt());
+        }
+        m
+    }
+
     /// One reading's magnitude \[m/s^2 as read, after `--accel-unit`\]; zero, non-finite
     /// or beyond the histogram is left out (a missing reading, a logger's zero fill).
     pub fn add(&mut self, magnitude: f64) {
