@@ -223,11 +223,13 @@ impl Stream3d {
         speed: f64,
     ) -> Vec<(f64, f64)> {
         let s = SpatialSample {
-            dt: self.gate.step(t),
-            phi: [phi_x, phi_y],
-            gyro: [gyro_x, gyro_y, gyro_z],
-            accel: [ax, ay, az],
             speed,
+            ..SpatialSample::new(
+                self.gate.step(t),
+                [phi_x, phi_y],
+                [gyro_x, gyro_y, gyro_z],
+                [ax, ay, az],
+            )
         };
         self.bank
             .update(&s)

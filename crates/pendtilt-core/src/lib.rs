@@ -63,6 +63,7 @@ pub mod params;
 pub mod prelude;
 mod real;
 mod sample;
+mod sensor;
 pub mod spatial;
 pub mod step;
 pub mod supervision;

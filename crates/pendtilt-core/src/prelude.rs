@@ -33,13 +33,7 @@
 //! let mut imu3d = Ekf3d::<f64>::new(Ekf3dSettings::default().imu_only());
 //! for k in 0..100 {
 //!     let dt = if k == 0 { 0.0 } else { 1e-3 };
-//!     let s = SpatialSample {
-//!         dt,
-//!         phi: [0.0, 0.0],
-//!         gyro: [0.0; 3],
-//!         accel: [0.0, 0.0, 9.81],
-//!         speed: f64::NAN,
-//!     };
+//!     let s = SpatialSample::new(dt, [0.0, 0.0], [0.0; 3], [0.0, 0.0, 9.81]);
 //!     let (a, b) = (ekf3d.update(&s), imu3d.update(&s));
 //!     assert!(a.roll.abs() < 1e-6 && a.pitch.abs() < 1e-6);
 //!     assert!(b.roll.abs() < 1e-6 && b.pitch.abs() < 1e-6);

@@ -36,6 +36,22 @@ impl<T: Real> Sample<T> {
         }
     }
 
+    /// True when `sensor` gave a finite reading on every axis; a sensor a planar log does
+    /// not carry (no planar columns in [`crate::model::SENSORS`]) is never complete.
+    pub fn complete(&self, sensor: crate::sensor::Sensor) -> bool {
+        use crate::sensor::Sensor;
+        // Not a `match`: a sensor added to the table for 3-D logs only needs no arm here.
+        if sensor == Sensor::Encoder {
+            self.phi.is_finite()
+        } else if sensor == Sensor::Gyro {
+            self.gyro.is_finite()
+        } else if sensor == Sensor::Accel {
+            self.ax.is_finite() && self.ay.is_finite()
+        } else {
+            false
+        }
+    }
+
     /// The same readings in another scalar type (`f64` logs into an `f32` estimator).
     pub fn cast<U: Real>(&self) -> Sample<U> {
         let c = |x: T| U::lit(x.to_f64());

@@ -26,20 +26,19 @@ fn samples(t0: f64) -> Vec<SpatialSample<f64>> {
             let (roll, pitch) = (0.15 * (TAU * 0.3 * t).sin(), 0.1 * (TAU * 0.45 * t).cos());
             let vib = (TAU * 40.0 * t).sin();
             let f = up_from_roll_pitch(roll, pitch).map(|v| 9.81 * v + 2.0 * vib);
-            SpatialSample {
-                dt: 1e-3,
-                phi: [
+            SpatialSample::new(
+                1e-3,
+                [
                     0.15 * (TAU * 0.3 * (t - 0.05)).sin() + 1e-3 * vib,
                     0.1 * (TAU * 0.45 * (t - 0.05)).cos(),
                 ],
-                gyro: [
+                [
                     0.15 * TAU * 0.3 * (TAU * 0.3 * t).cos() + 0.01,
                     -0.1 * TAU * 0.45 * (TAU * 0.45 * t).sin() - 0.005,
                     0.05 + 0.2 * vib,
                 ],
-                accel: f,
-                speed: f64::NAN,
-            }
+                f,
+            )
         })
         .collect()
 }

@@ -14,6 +14,7 @@ use std::process::{Command, Output};
 
 use pendtilt::bank::{Bank, BankSettings, Inputs};
 use pendtilt::core::{Estimate, Flags, Sample};
+use pendtilt::sensors::Sensor;
 use pendtilt::sim::{simulate, Scenario};
 
 // ---------------------------------------------------------------------------------------
@@ -285,11 +286,13 @@ fn run(
 /// Which sensors each estimator reads, directly or through its Kalman sources.
 fn needs(name: &str) -> Inputs {
     let p = name.contains("alg") || name == "pendulum" || name == "kf_fused";
-    Inputs {
-        phi: p,
-        gyro: name.starts_with("kf_") || name.starts_with("alg2") || name == "alg3",
-        accel: name == "accel" || name == "kf_accel" || name == "kf_fused",
-    }
+    let g = name.starts_with("kf_") || name.starts_with("alg2") || name == "alg3";
+    let a = name == "accel" || name == "kf_accel" || name == "kf_fused";
+    Inputs::from_fn(|s| match s {
+        Sensor::Encoder => p,
+        Sensor::Gyro => g,
+        Sensor::Accel => a,
+    })
 }
 
 /// A fault: which rows it touches and how.
@@ -332,9 +335,7 @@ fn check(fault: &Fault) -> Vec<(String, f64, f64)> {
     let mut report = Vec::new();
     for (j, name) in names.iter().enumerate() {
         let need = needs(name);
-        let affected = (need.phi && fault.sensors.phi)
-            || (need.gyro && fault.sensors.gyro)
-            || (need.accel && fault.sensors.accel);
+        let affected = need.intersects(fault.sensors);
         for (k, row) in out.iter().enumerate() {
             let e = row[j];
             assert!(
@@ -400,21 +401,9 @@ fn check(fault: &Fault) -> Vec<(String, f64, f64)> {
     report
 }
 
-const PHI_ONLY: Inputs = Inputs {
-    phi: true,
-    gyro: false,
-    accel: false,
-};
-const GYRO_ONLY: Inputs = Inputs {
-    phi: false,
-    gyro: true,
-    accel: false,
-};
-const ACCEL_ONLY: Inputs = Inputs {
-    phi: false,
-    gyro: false,
-    accel: true,
-};
+const PHI_ONLY: Inputs = Inputs::PHI;
+const GYRO_ONLY: Inputs = Inputs::GYRO;
+const ACCEL_ONLY: Inputs = Inputs::ACCEL;
 
 #[test]
 fn single_missing_phi_sample() {

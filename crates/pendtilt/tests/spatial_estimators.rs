@@ -354,13 +354,12 @@ fn a_two_hour_log_in_f32_stays_within_a_hundredth_of_a_degree_of_f64() {
         let d = |f: &dyn Fn(f64) -> f64| (f(t + 1e-4) - f(t - 1e-4)) / 2e-4;
         let vib = (TAU * 40.0 * t).sin();
         let f = up_from_roll_pitch(roll(t), pitch(t)).map(|v| 9.80665 * v + 0.3 * vib);
-        let s = SpatialSample {
-            dt: gate.step(t),
-            phi: [roll(t - 0.01) + 0.002 * vib, pitch(t - 0.01)],
-            gyro: [d(&roll) + 0.003, d(&pitch) - 0.002, 0.01 + 0.05 * vib],
-            accel: f,
-            speed: f64::NAN,
-        };
+        let s = SpatialSample::new(
+            gate.step(t),
+            [roll(t - 0.01) + 0.002 * vib, pitch(t - 0.01)],
+            [d(&roll) + 0.003, d(&pitch) - 0.002, 0.01 + 0.05 * vib],
+            f,
+        );
         let s32 = s.cast::<f32>();
         for (j, (e64, e32)) in b64.iter_mut().zip(b32.iter_mut()).enumerate() {
             let a = e64.update(&s);

@@ -1,7 +1,8 @@
 //! The model's types, apart from the estimators that read them: the planar pendulum's
 //! parameters ([`PendulumParams`], [`PhysicalParams`]) and sample ([`Sample`]), the Cardan
 //! pendulum's ([`cardan`], MODEL.md 7.3), where the sensors sit ([`mounting`]), the 3-D
-//! sample ([`SpatialSample`]) and the encoder's range ([`PHI_LIMIT`]). The simulators and
+//! sample ([`SpatialSample`]), the table of sensors a log carries ([`SENSORS`]) and the
+//! encoder's range ([`PHI_LIMIT`]). The simulators and
 //! the readers build on this module alone; the estimators' modules (`estimators`, `ekf`,
 //! `kalman`, `spatial`) build on it too.
 pub mod cardan;
@@ -10,6 +11,7 @@ mod spatial_sample;
 
 pub use crate::params::{PendulumParams, PhysicalParams};
 pub use crate::sample::Sample;
+pub use crate::sensor::{Sensor, SensorSpec, SENSORS, SENSOR_COUNT};
 pub use mounting::Mounting;
 pub use spatial_sample::SpatialSample;
 

@@ -1,4 +1,5 @@
 //! One row of the 3-D log (MODEL.md 7.6) as the estimators read it.
+use super::Sensor;
 use crate::Real;
 
 /// One row of spatial sensor data, SI units, body axes (MODEL.md 7.6). A sensor that is
@@ -20,6 +21,17 @@ pub struct SpatialSample<T> {
 }
 
 impl<T: Real> SpatialSample<T> {
+    /// A sample `dt` seconds after the previous one with the encoders, the gyro and the
+    /// accelerometer read, and every other sensor (the speed) missing.
+    pub fn new(dt: T, phi: [T; 2], gyro: [T; 3], accel: [T; 3]) -> Self {
+        Self {
+            phi,
+            gyro,
+            accel,
+            ..Self::after(dt)
+        }
+    }
+
     /// A sample `dt` seconds after the previous one with every sensor missing.
     pub fn after(dt: T) -> Self {
         let n = T::nan();
@@ -30,6 +42,29 @@ impl<T: Real> SpatialSample<T> {
             accel: [n; 3],
             speed: n,
         }
+    }
+
+    /// The readings of `sensor`, one per axis (MODEL.md 7.6's column order).
+    pub fn reading(&self, sensor: Sensor) -> &[T] {
+        match sensor {
+            Sensor::Encoder => &self.phi,
+            Sensor::Gyro => &self.gyro,
+            Sensor::Accel => &self.accel,
+        }
+    }
+
+    /// The readings of `sensor`, to fill or to mark missing.
+    pub fn reading_mut(&mut self, sensor: Sensor) -> &mut [T] {
+        match sensor {
+            Sensor::Encoder => &mut self.phi,
+            Sensor::Gyro => &mut self.gyro,
+            Sensor::Accel => &mut self.accel,
+        }
+    }
+
+    /// True when every axis of `sensor` is finite.
+    pub fn complete(&self, sensor: Sensor) -> bool {
+        self.reading(sensor).iter().all(|v| v.is_finite())
     }
 
     /// The same readings in another scalar type.

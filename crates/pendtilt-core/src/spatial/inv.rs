@@ -294,11 +294,8 @@ mod tests {
             let phi = 0.2 * (tau * 0.7 * (t - 0.03)).sin() + 0.01 * (tau * 3.0 * t).sin();
             let dt = if k == 0 { 0.0 } else { 1e-3 };
             let s = SpatialSample {
-                dt,
-                phi: [phi, 0.0],
-                gyro: [rate, 0.0, 0.0],
-                accel: [nan(); 3],
                 speed: nan(),
+                ..SpatialSample::new(dt, [phi, 0.0], [rate, 0.0, 0.0], [nan(); 3])
             };
             let a = inv.update(&s);
             let e = alg2.update(&Sample {
@@ -337,11 +334,13 @@ mod travel_tests {
             for k in 0..6000 {
                 let t = k as f64 * 1e-3;
                 let s = SpatialSample {
-                    dt: if k == 0 { 0.0 } else { 1e-3 },
-                    phi: [0.0, apparent],
-                    gyro: [0.0; 3],
-                    accel: [f64::NAN; 3],
                     speed: if speed { 2.0 + acc * t } else { f64::NAN },
+                    ..SpatialSample::new(
+                        if k == 0 { 0.0 } else { 1e-3 },
+                        [0.0, apparent],
+                        [0.0; 3],
+                        [f64::NAN; 3],
+                    )
                 };
                 last = inv.update(&s);
             }
@@ -368,11 +367,13 @@ mod travel_tests {
             let mut last = Attitude::unknown();
             for k in 0..6000 {
                 let s = SpatialSample {
-                    dt: if k == 0 { 0.0 } else { 1e-3 },
-                    phi: [apparent, 0.0],
-                    gyro: [0.0, 0.0, w],
-                    accel: [f64::NAN; 3],
                     speed: if speed { v } else { f64::NAN },
+                    ..SpatialSample::new(
+                        if k == 0 { 0.0 } else { 1e-3 },
+                        [apparent, 0.0],
+                        [0.0, 0.0, w],
+                        [f64::NAN; 3],
+                    )
                 };
                 last = inv.update(&s);
             }

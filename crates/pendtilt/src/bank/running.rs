@@ -8,7 +8,7 @@ use pendtilt_core::{Estimate, Flags, Sample};
 
 use super::registry::Entry;
 use super::{BankSettings, BoxedEstimator, Inputs, Kind, REGISTRY};
-use crate::sensors::union;
+use crate::sensors::{GapEnd, GapWatch, Sensor};
 
 enum Slot {
     Direct(BoxedEstimator),
@@ -50,12 +50,8 @@ pub struct Bank {
     slot_needs: Vec<Inputs>,
     inputs: Inputs,
     settings: BankSettings,
-    /// Time since the first row, the sum of the rows' steps [s].
-    now: f64,
-    /// Time (on `now`'s clock) of the last finite reading of phi, gyro, ax/ay.
-    last_good: [Option<f64>; 3],
-    /// The sensors missing on this row for longer than the restart gap.
-    stale: Inputs,
+    /// The time since each sensor's last reading, for the restart rule.
+    gaps: GapWatch,
     restart: Option<Restart>,
     skipped: Vec<Skipped>,
     /// Outputs not asked for by `only` but read by one that was: (output, reader).
@@ -139,9 +135,7 @@ impl Bank {
             slot_needs: Vec::new(),
             inputs,
             settings: settings.clone(),
-            now: 0.0,
-            last_good: [None; 3],
-            stale: Inputs::default(),
+            gaps: GapWatch::new(),
             restart: None,
             skipped: Vec::new(),
             pulled: pulled.clone(),
@@ -181,7 +175,7 @@ impl Bank {
                         self.names.push(e.name);
                         self.needs.push(e.needs());
                         if let Some(n) = self.slot_needs.last_mut() {
-                            *n = union(*n, e.needs());
+                            *n = n.union(e.needs());
                         }
                         return Ok(());
                     }
@@ -264,49 +258,12 @@ impl Bank {
     /// resuming from a state the gap has made stale.
     fn restart_after_gaps(&mut self, sample: &Sample<f64>) {
         self.restart = None;
-        if !sample.dt.is_finite() {
+        // Only the sensors some estimator reads: a gap of another restarts nothing.
+        let good = Inputs::from_fn(|s| self.inputs.has(s) && sample.complete(s));
+        let restart_gap = self.settings.restart_gap;
+        let Some(GapEnd { sensors, gap }) = self.gaps.observe(sample.dt, good, restart_gap) else {
             return;
-        }
-        self.now += sample.dt;
-        let t = self.now;
-        let used = [self.inputs.phi, self.inputs.gyro, self.inputs.accel];
-        let good = [
-            sample.phi.is_finite(),
-            sample.gyro.is_finite(),
-            sample.ax.is_finite() && sample.ay.is_finite(),
-        ];
-        let stale = |i: usize| {
-            used[i]
-                && !good[i]
-                && self.last_good[i].is_some_and(|l| t - l > self.settings.restart_gap)
         };
-        self.stale = Inputs {
-            phi: stale(0),
-            gyro: stale(1),
-            accel: stale(2),
-        };
-        let mut back = [false; 3];
-        let mut gap = 0.0f64;
-        for i in 0..3 {
-            if !(used[i] && good[i]) {
-                continue;
-            }
-            if let Some(last) = self.last_good[i] {
-                if t - last > self.settings.restart_gap {
-                    back[i] = true;
-                    gap = gap.max(t - last);
-                }
-            }
-            self.last_good[i] = Some(self.last_good[i].map_or(t, |l| l.max(t)));
-        }
-        let sensors = Inputs {
-            phi: back[0],
-            gyro: back[1],
-            accel: back[2],
-        };
-        if sensors.is_empty() {
-            return;
-        }
         let mut outputs = 0;
         let mut first_output = 0;
         for (slot, need) in self.slots.iter_mut().zip(&self.slot_needs) {
@@ -338,7 +295,7 @@ impl Bank {
     /// after a gap longer than [`BankSettings::restart_gap`] first restarts the estimators
     /// that read it ([`Bank::restarted`]).
     pub fn update(&mut self, sample: &Sample<f64>, out: &mut Vec<Estimate<f64>>) {
-        self.update_clipped(sample, Inputs::default(), out);
+        self.update_clipped(sample, Inputs::NONE, out);
     }
 
     /// [`Bank::update`] on a row whose `clipped` sensors read a clip found in the log
@@ -364,9 +321,10 @@ impl Bank {
         // Beyond the restart gap a sensor's estimators have nothing to go on: what they
         // would give (the gyro's last mean integrated for seconds, 170 deg off after a 10 s
         // gap) is no estimate. They restart when it is back.
-        if !self.stale.is_empty() {
+        let stale = self.gaps.stale();
+        if !stale.is_empty() {
             for (e, need) in out.iter_mut().zip(&self.needs) {
-                if need.intersects(self.stale) {
+                if need.intersects(stale) {
                     e.theta = f64::NAN;
                     e.flags |= Flags::SAMPLE_MISSING;
                 }
@@ -374,17 +332,13 @@ impl Bank {
         }
         // Every estimator reading a clipped sensor says so, the peers too, whether the
         // clip was found in the log or is at the rig's full scale.
-        let saturated = Inputs {
-            phi: false,
-            gyro: gyro_at_scale,
-            accel: clipped.accel
-                || self
-                    .settings
-                    .rig
-                    .accel
-                    .checked_full_scale()
-                    .is_some_and(|fs| sample.ax.abs() >= fs || sample.ay.abs() >= fs),
-        };
+        let accel_at_scale = (self.settings.rig.accel.checked_full_scale())
+            .is_some_and(|fs| sample.ax.abs() >= fs || sample.ay.abs() >= fs);
+        let saturated = Inputs::from_fn(|s| match s {
+            Sensor::Gyro => gyro_at_scale,
+            Sensor::Accel => clipped.has(Sensor::Accel) || accel_at_scale,
+            _ => false,
+        });
         if !saturated.is_empty() {
             for (e, need) in out.iter_mut().zip(&self.needs) {
                 if need.intersects(saturated) {
@@ -398,7 +352,7 @@ impl Bank {
     /// clip's level when the gyro is `clipped` (the estimators then take it exactly as the
     /// rig's full scale), else the rig's.
     fn set_gyro_full_scale(&mut self, sample: &Sample<f64>, clipped: Inputs) -> Option<f64> {
-        let fs = if clipped.gyro {
+        let fs = if clipped.has(Sensor::Gyro) {
             Some(sample.gyro.abs())
         } else {
             self.settings.rig.gyro.checked_full_scale()
@@ -483,16 +437,7 @@ mod tests {
     #[test]
     fn skips_what_the_inputs_do_not_allow() {
         let s = BankSettings::from_params(PendulumParams::default());
-        let b = Bank::new(
-            &s,
-            Inputs {
-                phi: true,
-                gyro: false,
-                accel: false,
-            },
-            None,
-        )
-        .unwrap();
+        let b = Bank::new(&s, Inputs::PHI, None).unwrap();
         assert_eq!(b.names(), &["pendulum", "alg1"]);
         let sk: Vec<_> = b.skipped().iter().map(|s| s.name).collect();
         assert!(sk.contains(&"alg2") && sk.contains(&"kf_accel") && sk.contains(&"accel"));
@@ -566,10 +511,7 @@ mod tests {
             assert_eq!(one[1].theta.to_bits(), every[k].theta.to_bits(), "row {i}");
         }
         // Without the pendulum, kf_alg2 is skipped as alg2 is, not an error.
-        let imu = Inputs {
-            phi: false,
-            ..Inputs::ALL
-        };
+        let imu = Inputs::ALL.without(Sensor::Encoder);
         let only = vec!["kf_alg2".to_string()];
         let b = Bank::new(&s, imu, Some(&only)).unwrap();
         assert!(b.names().is_empty());

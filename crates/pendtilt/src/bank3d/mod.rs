@@ -13,8 +13,7 @@
 //! good reading, with [`Estimator::resume`], as the planar bank does.
 //!
 //! - [`rig`]: the rig file's `[pendulum3d]` (physical or normalised) and `[mounting]`;
-//! - [`score`]: the inclination error of MODEL.md 7.9 accumulated per estimator;
-//! - [`gaps`]: which sensor comes back after a long gap.
+//! - [`score`]: the inclination error of MODEL.md 7.9 accumulated per estimator.
 use pendtilt_core::spatial::accel::{Accel, AccelSettings};
 use pendtilt_core::spatial::cardan::CardanParams;
 use pendtilt_core::spatial::ekf::{self, Ekf, Ukf};
@@ -29,12 +28,9 @@ use crate::peers::spatial::{
     fusion3d, madgwick3d, mahony3d, vqf, Imu6, ImuFilter, MADGWICK3D_BETA, MAHONY3D_GAINS,
     VQF_TAU_ACC,
 };
-use crate::sensors::Inputs;
-use crate::sensors::RESTART_GAP;
+use crate::sensors::{GapEnd, GapWatch, Inputs, Sensor, RESTART_GAP};
 use crate::sim3d::Sensors3d;
-use gaps::{GapWatch, Restart3d};
 
-pub mod gaps;
 pub mod ride;
 pub mod rig;
 pub mod score;
@@ -136,11 +132,14 @@ pub struct Clips {
 impl Clips {
     /// The sensors it concerns.
     pub fn sensors(&self) -> Inputs {
-        Inputs {
-            phi: false,
-            gyro: self.gyro.contains(&true),
-            accel: self.accel,
+        let mut clipped = Inputs::NONE;
+        if self.gyro.contains(&true) {
+            clipped = clipped.with(Sensor::Gyro);
         }
+        if self.accel {
+            clipped = clipped.with(Sensor::Accel);
+        }
+        clipped
     }
 }
 
@@ -313,7 +312,7 @@ pub struct Bank3d {
     /// its next good reading. Default [`RESTART_GAP`].
     pub restart_gap: f64,
     gaps: GapWatch,
-    restart: Option<(Restart3d, usize)>,
+    restart: Option<(GapEnd, usize)>,
 }
 
 impl std::fmt::Debug for Bank3d {
@@ -384,7 +383,8 @@ impl Bank3d {
     pub fn update_clipped(&mut self, s: &SpatialSample<f64>, clips: Clips) -> &[Attitude<f64>] {
         self.restart = None;
         let clipped = clips.sensors();
-        if let Some(r) = self.gaps.observe(s, clipped, self.restart_gap) {
+        let good = Inputs::from_fn(|sensor| clipped.has(sensor) || s.complete(sensor));
+        if let Some(r) = self.gaps.observe(s.dt, good, self.restart_gap) {
             let mut n = 0;
             for (reads, run) in self.reads.iter().zip(&mut self.runners) {
                 if reads.intersects(r.sensors) {
@@ -396,7 +396,7 @@ impl Bank3d {
         }
         self.out.clear();
         for r in &mut self.runners {
-            let a = if clipped.gyro {
+            let a = if clipped.has(Sensor::Gyro) {
                 r.step_clipped(s, clips.gyro)
             } else {
                 r.step(s)
@@ -422,7 +422,7 @@ impl Bank3d {
 
     /// The restart the last [`Self::update`] made, if any, and how many estimators it
     /// restarted.
-    pub fn restarted(&self) -> Option<(Restart3d, usize)> {
+    pub fn restarted(&self) -> Option<(GapEnd, usize)> {
         self.restart
     }
 
@@ -491,14 +491,12 @@ mod tests {
         let mut b = Bank3d::new(&s, None).unwrap();
         let g = 9.80665;
         for k in 0..50 {
-            let x = SpatialSample {
-                dt: if k == 0 { 0.0 } else { 1e-3 },
-                phi: [0.1, -0.05],
-                gyro: [0.0; 3],
-                accel: pendtilt_core::spatial::attitude::up_from_roll_pitch(0.1, -0.05)
-                    .map(|u| u * g),
-                speed: f64::NAN,
-            };
+            let x = SpatialSample::new(
+                if k == 0 { 0.0 } else { 1e-3 },
+                [0.1, -0.05],
+                [0.0; 3],
+                pendtilt_core::spatial::attitude::up_from_roll_pitch(0.1, -0.05).map(|u| u * g),
+            );
             b.update(&x);
         }
         for (i, e) in REGISTRY3D.iter().enumerate() {

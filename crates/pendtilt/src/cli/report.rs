@@ -176,7 +176,7 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
     let settings = rig_bank_settings(&rig);
     let options = args.columns.reader_options(&rig);
     let (ride, inputs, warnings, total) = read_log(&args.log, options, &settings, bars)?;
-    let extras = if inputs.phi && inputs.gyro {
+    let extras = if inputs.covers(crate::bank::Inputs::PHI_GYRO) {
         vec![alg2_delay_compensated(&settings)]
     } else {
         Vec::new()

@@ -51,11 +51,13 @@ fn read_log(args: &Args) -> anyhow::Result<Vec<SpatialSample<f64>>> {
     while let Some(r) = log.next_record()? {
         let dt = gate.step(r.t * time);
         out.push(SpatialSample {
-            dt,
-            phi: r.phi.map(|v| v * angle),
-            gyro: r.gyro.map(|v| v * angle),
-            accel: r.accel.map(|v| v * accel),
             speed: r.speed.unwrap_or(f64::NAN),
+            ..SpatialSample::new(
+                dt,
+                r.phi.map(|v| v * angle),
+                r.gyro.map(|v| v * angle),
+                r.accel.map(|v| v * accel),
+            )
         });
     }
     Ok(out)

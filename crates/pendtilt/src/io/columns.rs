@@ -3,6 +3,8 @@
 use std::fmt;
 use std::str::FromStr;
 
+use crate::sensors::Sensor;
+
 /// A column of the sensor log contract (MODEL.md section 5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Column {
@@ -65,6 +67,21 @@ impl Column {
 
     pub(crate) fn index(self) -> usize {
         self as usize
+    }
+
+    /// The sensor whose reading this column holds (`None`: the time and the truth).
+    pub fn sensor(self) -> Option<Sensor> {
+        Sensor::ALL
+            .into_iter()
+            .find(|s| s.spec().planar_columns.contains(&self.name()))
+    }
+
+    /// True when `present` holds every column of `sensor`: a planar log provides it
+    /// (never a sensor a planar log has no column of).
+    pub fn provides(sensor: Sensor, present: impl Fn(Column) -> bool) -> bool {
+        let columns = sensor.spec().planar_columns;
+        !columns.is_empty()
+            && (columns.iter()).all(|name| Column::from_name(name).is_some_and(&present))
     }
 }
 

@@ -13,14 +13,65 @@ use super::csv_lines::CsvLines;
 use super::log_reader::{
     new_time_base, not_a_number_hint, CellRef, LogError, LogErrorKind, TimeBack,
 };
+use crate::sensors::{Sensor, SENSORS};
 
-/// The columns of a 3-D log, in [`Log3dRecord`] order (MODEL.md 7.6).
-pub const LOG3D_COLUMNS: [&str; 12] = [
-    "t", "phi_x", "phi_y", "gyro_x", "gyro_y", "gyro_z", "ax", "ay", "az", "speed", "roll", "pitch",
-];
+/// The columns of a 3-D log after the sensors' (MODEL.md 7.6), all optional: the speed
+/// and the truth.
+const LOG3D_TAIL: [&str; 3] = ["speed", "roll", "pitch"];
 
-/// How many of [`LOG3D_COLUMNS`] (the first ones) a 3-D log must have.
-pub const LOG3D_REQUIRED: usize = 9;
+/// How many columns a 3-D log can have: the time, the sensors', [`LOG3D_TAIL`].
+const LOG3D_COUNT: usize = {
+    let mut n = 1 + LOG3D_TAIL.len();
+    let mut i = 0;
+    while i < SENSORS.len() {
+        n += SENSORS[i].spatial_columns.len();
+        i += 1;
+    }
+    n
+};
+
+/// The columns of a 3-D log (MODEL.md 7.6): `t`, then each sensor's of the table
+/// ([`SENSORS`], the required ones first), then [`LOG3D_TAIL`].
+pub const LOG3D_COLUMNS: [&str; LOG3D_COUNT] = {
+    let mut all = ["t"; LOG3D_COUNT];
+    let mut k = 1;
+    let mut i = 0;
+    while i < SENSORS.len() {
+        let columns = SENSORS[i].spatial_columns;
+        let mut j = 0;
+        while j < columns.len() {
+            all[k] = columns[j];
+            k += 1;
+            j += 1;
+        }
+        i += 1;
+    }
+    let mut j = 0;
+    while j < LOG3D_TAIL.len() {
+        all[k] = LOG3D_TAIL[j];
+        k += 1;
+        j += 1;
+    }
+    all
+};
+
+/// How many of [`LOG3D_COLUMNS`] (the first ones) a 3-D log must have: the time and the
+/// required sensors' (which the table lists first).
+pub const LOG3D_REQUIRED: usize = {
+    let mut n = 1;
+    let mut i = 0;
+    while i < SENSORS.len() {
+        if SENSORS[i].spatial_required {
+            assert!(
+                i == 0 || SENSORS[i - 1].spatial_required,
+                "required sensors first"
+            );
+            n += SENSORS[i].spatial_columns.len();
+        }
+        i += 1;
+    }
+    n
+};
 
 /// True when a header has every required 3-D column (how `estimate` can tell a 3-D log).
 pub fn is_3d_header<S: AsRef<str>>(header: &[S]) -> bool {
@@ -61,6 +112,25 @@ pub struct Log3dRecord {
     pub issues: Row3dIssues,
 }
 
+impl Log3dRecord {
+    /// The readings of `sensor`, one per axis (its columns' order in the table).
+    pub fn reading(&self, sensor: Sensor) -> &[f64] {
+        match sensor {
+            Sensor::Encoder => &self.phi,
+            Sensor::Gyro => &self.gyro,
+            Sensor::Accel => &self.accel,
+        }
+    }
+
+    fn reading_mut(&mut self, sensor: Sensor) -> &mut [f64] {
+        match sensor {
+            Sensor::Encoder => &mut self.phi,
+            Sensor::Gyro => &mut self.gyro,
+            Sensor::Accel => &mut self.accel,
+        }
+    }
+}
+
 /// Streaming 3-D log reader over any [`BufRead`]; after an error it is finished.
 #[derive(Debug)]
 pub struct Log3dReader<R> {
@@ -68,7 +138,7 @@ pub struct Log3dReader<R> {
     file: String,
     header: Vec<String>,
     /// Field position of each of [`LOG3D_COLUMNS`].
-    positions: [Option<usize>; 12],
+    positions: [Option<usize>; LOG3D_COUNT],
     last_t: Option<f64>,
     /// The latest time so far (the one the estimators' step gates hold).
     max_t: Option<f64>,
@@ -128,7 +198,7 @@ impl<R: BufRead> Log3dReader<R> {
             lines: CsvLines::new(input, b','),
             file: origin.to_string(),
             header: Vec::new(),
-            positions: [None; 12],
+            positions: [None; LOG3D_COUNT],
             last_t: None,
             max_t: None,
             went_back: None,
@@ -351,7 +421,7 @@ impl<R: BufRead> Log3dReader<R> {
             self.lines.drop_last_field();
         }
         let mut missing = false;
-        let mut v = [f64::NAN; 12];
+        let mut v = [f64::NAN; LOG3D_COUNT];
         for (k, x) in v.iter_mut().enumerate() {
             let mut m = false;
             *x = self.value(k, &mut m)?;
@@ -365,20 +435,29 @@ impl<R: BufRead> Log3dReader<R> {
         }
         self.rows += 1;
         let optional = |k: usize| self.positions[k].map(|_| v[k]);
-        Ok(Some(Log3dRecord {
+        let tail = LOG3D_COUNT - LOG3D_TAIL.len();
+        let mut record = Log3dRecord {
             line: self.lines.line(),
             t: v[0],
-            phi: [v[1], v[2]],
-            gyro: [v[3], v[4], v[5]],
-            accel: [v[6], v[7], v[8]],
-            speed: optional(9),
-            roll: optional(10),
-            pitch: optional(11),
+            phi: [f64::NAN; 2],
+            gyro: [f64::NAN; 3],
+            accel: [f64::NAN; 3],
+            speed: optional(tail),
+            roll: optional(tail + 1),
+            pitch: optional(tail + 2),
             issues: Row3dIssues {
                 missing,
                 time_not_increasing,
             },
-        }))
+        };
+        let mut k = 1;
+        for sensor in Sensor::ALL {
+            for x in record.reading_mut(sensor) {
+                *x = v[k];
+                k += 1;
+            }
+        }
+        Ok(Some(record))
     }
 }
 
@@ -398,6 +477,17 @@ mod tests {
 
     fn read(text: &str) -> Result<Vec<Log3dRecord>, LogError> {
         Log3dReader::new(text.as_bytes(), "log.csv")?.collect()
+    }
+
+    /// The table gives MODEL.md 7.6's columns, in its order.
+    #[test]
+    fn the_columns_are_the_contracts() {
+        let contract = [
+            "t", "phi_x", "phi_y", "gyro_x", "gyro_y", "gyro_z", "ax", "ay", "az", "speed", "roll",
+            "pitch",
+        ];
+        assert_eq!(LOG3D_COLUMNS, contract);
+        assert_eq!(LOG3D_REQUIRED, 9);
     }
 
     #[test]

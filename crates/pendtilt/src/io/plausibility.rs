@@ -10,14 +10,14 @@ pub(crate) use crate::units::fmt_sig;
 pub use crate::units::{AccelUnit, STANDARD_GRAVITY};
 
 use super::columns::Column;
+use crate::sensors::Sensor;
 
-/// Gyro bound \[rad/s\] when the rig file gives no `[gyro] full_scale`: 100 rad/s
-/// (5730 deg/s, 16 turns a second), well beyond the largest full scale of MEMS rate gyros
-/// (2000 to 4000 deg/s) and beyond any tilt a body carrying a pendulum survives.
-pub const DEFAULT_GYRO_LIMIT: f64 = 100.0;
-/// Accelerometer bound \[m/s^2\] when the rig file gives no `[accel] full_scale`: 500 m/s^2
-/// (51 g), beyond the 16 g of common MEMS accelerometers and the shocks a rig survives.
-pub const DEFAULT_ACCEL_LIMIT: f64 = 500.0;
+/// Gyro bound \[rad/s\] when the rig file gives no `[gyro] full_scale`: the sensor
+/// table's (100 rad/s, 5730 deg/s, beyond any MEMS rate gyro's full scale).
+pub const DEFAULT_GYRO_LIMIT: f64 = Sensor::Gyro.spec().spatial_limit;
+/// Accelerometer bound \[m/s^2\] when the rig file gives no `[accel] full_scale`: the
+/// sensor table's (500 m/s^2, 51 g, beyond the 16 g of common MEMS accelerometers).
+pub const DEFAULT_ACCEL_LIMIT: f64 = Sensor::Accel.spec().spatial_limit;
 /// A reading beyond its full scale by less than this fraction is rounding (a value written
 /// with fewer digits, or converted from degrees) and counts as at full scale: clipped but
 /// real, flagged `saturated` by the estimators as before.

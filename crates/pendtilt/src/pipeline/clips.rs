@@ -8,6 +8,7 @@ use std::collections::VecDeque;
 use crate::bank::{BankSettings, Inputs};
 use crate::io::plateau::{NewLevel, PlateauWatch};
 use crate::io::{Column, LogReader, LogRecord, LogWarning, WarningKind};
+use crate::sensors::Sensor;
 
 /// A watched column: where it is, for the warning.
 struct Watched {
@@ -91,17 +92,14 @@ impl ClipFinder {
     pub(crate) fn pop(&mut self) -> Option<(LogRecord, Inputs)> {
         let rec = self.queue.pop_front()?;
         let s = &rec.sample;
-        let clipped = Inputs {
-            phi: false,
-            gyro: self
-                .gyro
-                .as_ref()
-                .is_some_and(|(w, _)| w.clipped([s.gyro])[0]),
-            accel: self
-                .accel
-                .as_ref()
-                .is_some_and(|(w, _)| w.clipped([s.ax, s.ay]).contains(&true)),
-        };
+        let gyro = (self.gyro.as_ref()).is_some_and(|(w, _)| w.clipped([s.gyro])[0]);
+        let accel =
+            (self.accel.as_ref()).is_some_and(|(w, _)| w.clipped([s.ax, s.ay]).contains(&true));
+        let clipped = Inputs::from_fn(|sensor| match sensor {
+            Sensor::Gyro => gyro,
+            Sensor::Accel => accel,
+            _ => false,
+        });
         Some((rec, clipped))
     }
 

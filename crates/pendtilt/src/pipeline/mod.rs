@@ -25,11 +25,7 @@ pub use window::{duration, Scorer, Window, DEFAULT_SCORE_FROM, SHORT_LOG};
 /// Which sensors a log's columns provide.
 pub fn inputs_of<R: BufRead>(log: &LogReader<R>) -> Inputs {
     let c = log.columns();
-    Inputs {
-        phi: c.has(Column::Phi),
-        gyro: c.has(Column::Gyro),
-        accel: c.has(Column::Ax) && c.has(Column::Ay),
-    }
+    Inputs::from_fn(|s| Column::provides(s, |col| c.has(col)))
 }
 
 /// Running error statistics of one estimator against the true angle.

@@ -414,11 +414,9 @@ impl Pass {
         self.check_rate(rec.t, bank, false)?;
         bank.update_clipped(&rec.sample, clipped, &mut self.est);
         let i = &rec.issues;
-        let bad = Inputs {
-            phi: i.is_implausible(Column::Phi),
-            gyro: i.is_implausible(Column::Gyro),
-            accel: i.is_implausible(Column::Ax) || i.is_implausible(Column::Ay),
-        };
+        let bad = Inputs::from_fn(|s| {
+            (Column::ALL.into_iter()).any(|c| c.sensor() == Some(s) && i.is_implausible(c))
+        });
         bank.flag_implausible(bad, &mut self.est);
         if let Some(r) = bank.restarted() {
             if let Some(w) = self.restart_warning(rec.line, r, bank.settings().restart_gap) {

@@ -273,11 +273,8 @@ impl LogRow3d {
     /// The sensor readings as the 3-D estimators take them, `dt` after the previous row.
     pub fn sample(&self, dt: f64) -> pendtilt_core::model::SpatialSample<f64> {
         pendtilt_core::model::SpatialSample {
-            dt,
-            phi: self.phi,
-            gyro: self.gyro,
-            accel: self.accel,
             speed: self.speed,
+            ..pendtilt_core::model::SpatialSample::new(dt, self.phi, self.gyro, self.accel)
         }
     }
 

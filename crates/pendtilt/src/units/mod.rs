@@ -25,7 +25,7 @@ use pendtilt_core::estimators::equations::accel_angle;
 use pendtilt_core::filters::biquad::LowPass2;
 use pendtilt_core::Sample;
 
-use crate::sensors::Inputs;
+use crate::sensors::{Inputs, Sensor};
 
 /// 180 / pi: a column in degrees read as radians is this many times too large.
 pub const DEG: f64 = 180.0 / std::f64::consts::PI;
@@ -171,7 +171,7 @@ impl UnitCheck {
 
     /// Adds one row (`theta`: the true angle, `None` or NaN when absent).
     pub fn add(&mut self, s: &Sample<f64>, theta: Option<f64>) {
-        if self.inputs.accel {
+        if self.inputs.has(Sensor::Accel) {
             self.accel.add(s.ax.hypot(s.ay));
         }
         let th = theta.unwrap_or(f64::NAN);
@@ -179,9 +179,9 @@ impl UnitCheck {
         // a rad/s full scale), unless absurd in any unit.
         let ok = |v: f64| v.abs() < ABSURD;
         let usable = s.dt.is_finite()
-            && (!self.inputs.phi || ok(s.phi))
-            && (!self.inputs.gyro || ok(s.gyro))
-            && (!self.inputs.accel || (ok(s.ax) && ok(s.ay)));
+            && (!self.inputs.has(Sensor::Encoder) || ok(s.phi))
+            && (!self.inputs.has(Sensor::Gyro) || ok(s.gyro))
+            && (!self.inputs.has(Sensor::Accel) || (ok(s.ax) && ok(s.ay)));
         let dt = self.prev.map_or(f64::NAN, |_| s.dt);
         // A missing reading or a gap starts the filters again.
         if !usable || (self.prev.is_some() && !(dt > 0.0 && dt < 0.1)) {
@@ -223,7 +223,7 @@ impl UnitCheck {
     }
 
     fn accel_angle(&self, s: &Sample<f64>) -> f64 {
-        if self.inputs.accel {
+        if self.inputs.has(Sensor::Accel) {
             accel_angle(s.ax, s.ay)
         } else {
             0.0
@@ -251,7 +251,11 @@ impl UnitCheck {
         self.duration += step;
         let dphi = (phi - last_phi) / step;
         let dacc = (acc - last_acc) / step;
-        let (p, g, a) = (self.inputs.phi, self.inputs.gyro, self.inputs.accel);
+        let (p, g, a) = (
+            self.inputs.has(Sensor::Encoder),
+            self.inputs.has(Sensor::Gyro),
+            self.inputs.has(Sensor::Accel),
+        );
         if p && g {
             self.pairs[Comparison::GyroEncoderRate as usize].add(dphi, gyro);
             // gyro'' at the previous row, against the rate between it and this one.

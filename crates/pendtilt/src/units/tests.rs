@@ -105,15 +105,7 @@ fn the_lever_fit_takes_out_the_height_above_the_centre_of_rotation() {
     let (h, g, dt) = (5.0, 9.80665, 1e-3);
     let parts = [(5f64.to_radians(), 0.14), (1f64.to_radians(), 0.31)];
     for scale in [1.0, DEG] {
-        let mut check = UnitCheck::with_natural_frequency(
-            2.19,
-            Inputs {
-                phi: true,
-                gyro: true,
-                accel: false,
-            },
-        )
-        .with_lever();
+        let mut check = UnitCheck::with_natural_frequency(2.19, Inputs::PHI_GYRO).with_lever();
         for k in 0..60_000 {
             let t = k as f64 * dt;
             let (mut th, mut rate, mut acc) = (0.0, 0.0, 0.0);

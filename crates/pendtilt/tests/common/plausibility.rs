@@ -193,17 +193,11 @@ pub fn print(case: &str, rec: &[(&str, f64, f64)]) {
 }
 
 pub fn gyro() -> Inputs {
-    Inputs {
-        gyro: true,
-        ..Inputs::default()
-    }
+    Inputs::GYRO
 }
 
 pub fn phi() -> Inputs {
-    Inputs {
-        phi: true,
-        ..Inputs::default()
-    }
+    Inputs::PHI
 }
 
 pub fn retimed(rows: &[SimRow], scale: f64) -> String {

@@ -7,6 +7,7 @@ use crate::common::faults3d::{
 
 use pendtilt::bank::Inputs;
 use pendtilt::bank3d::REGISTRY3D;
+use pendtilt::sensors::Sensor;
 
 const ACCEL_CLIP: f64 = 12.0;
 
@@ -75,7 +76,7 @@ const FAULTS: [Fault; 12] = [
         apply: |c| one_row(c, "gyro_x", |_| "1e6".into()),
         warns: "column 4 (`gyro_x`): 1e6 rad/s is beyond 100 rad/s, impossible: read as missing",
         never_warns: &["--deg"],
-        flag: Some(("implausible", |r| r.gyro)),
+        flag: Some(("implausible", |r| r.has(Sensor::Gyro))),
         rig: "",
     },
     Fault {
@@ -84,7 +85,7 @@ const FAULTS: [Fault; 12] = [
         apply: |c| one_row(c, "ax", |_| "-1e308".into()),
         warns: "column 7 (`ax`): -1e308 m/s^2 is beyond 500 m/s^2, impossible: read as missing",
         never_warns: &[],
-        flag: Some(("implausible", |r| r.accel)),
+        flag: Some(("implausible", |r| r.has(Sensor::Accel))),
         rig: "",
     },
     Fault {
@@ -94,7 +95,7 @@ const FAULTS: [Fault; 12] = [
         warns: "column 4 (`gyro_x`): 1e6 rad/s is beyond 100 rad/s, impossible: read as missing",
         // 100 identical impossible readings are no clip; 1e6 deg/s is impossible too.
         never_warns: &["unknown full scale", "--deg"],
-        flag: Some(("implausible", |r| r.gyro)),
+        flag: Some(("implausible", |r| r.has(Sensor::Gyro))),
         rig: "",
     },
     Fault {
@@ -103,7 +104,7 @@ const FAULTS: [Fault; 12] = [
         apply: |c| burst(c, "ax", "-1e308"),
         warns: "column 7 (`ax`): -1e308 m/s^2 is beyond 500 m/s^2, impossible: read as missing",
         never_warns: &["unknown full scale"],
-        flag: Some(("implausible", |r| r.accel)),
+        flag: Some(("implausible", |r| r.has(Sensor::Accel))),
         rig: "",
     },
     Fault {
@@ -112,7 +113,7 @@ const FAULTS: [Fault; 12] = [
         apply: |c| burst(c, "phi_x", "1e300"),
         warns: "column 2 (`phi_x`): 1e300 rad is beyond 3.14",
         never_warns: &["--deg"],
-        flag: Some(("implausible", |r| r.phi)),
+        flag: Some(("implausible", |r| r.has(Sensor::Encoder))),
         rig: "",
     },
     Fault {
@@ -141,7 +142,7 @@ const FAULTS: [Fault; 12] = [
                 noise never writes: a clip at an unknown full scale",
         never_warns: &[],
         // Found 500 rows ahead: flagged from the clip's first row on.
-        flag: Some(("saturated", |r| r.gyro)),
+        flag: Some(("saturated", |r| r.has(Sensor::Gyro))),
         rig: "",
     },
     Fault {
@@ -167,7 +168,7 @@ const FAULTS: [Fault; 12] = [
         },
         warns: "",
         never_warns: &[],
-        flag: Some(("saturated", |r| r.gyro)),
+        flag: Some(("saturated", |r| r.has(Sensor::Gyro))),
         rig: "[gyro]\nfull_scale = 0.35\n",
     },
     Fault {
@@ -180,7 +181,7 @@ const FAULTS: [Fault; 12] = [
         warns: "(`az`): 12 m/s^2 on 5 rows in a row up to here, which a sensor with noise \
                 never writes: a clip at an unknown full scale",
         never_warns: &[],
-        flag: Some(("saturated", |r| r.accel)),
+        flag: Some(("saturated", |r| r.has(Sensor::Accel))),
         rig: "",
     },
     Fault {

@@ -309,7 +309,7 @@ fn a_gap_shorter_than_the_restart_gap_is_bridged_not_restarted() {
     // Only the estimators reading the gyro restarted: accel and pendulum did not.
     let n_gyro = pendtilt::bank::REGISTRY
         .iter()
-        .filter(|e| r.names.contains(&e.name) && e.needs().gyro)
+        .filter(|e| r.names.contains(&e.name) && e.needs().has(pendtilt::sensors::Sensor::Gyro))
         .count();
     // alg1 shares its front end with alg2, so it restarts with it.
     assert!(

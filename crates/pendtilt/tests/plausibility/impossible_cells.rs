@@ -135,10 +135,7 @@ fn back_within_2_s(value: &str, rec: &[(&str, f64, f64)]) {
 }
 
 fn accel() -> Inputs {
-    Inputs {
-        accel: true,
-        ..Inputs::default()
-    }
+    Inputs::ACCEL
 }
 
 #[test]

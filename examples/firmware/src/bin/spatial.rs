@@ -34,13 +34,12 @@ fn read_sensors(gate: &mut StepGate<Micros>) -> SpatialSample<f32> {
             read_volatile(addr_of!(SENSORS)),
         )
     };
-    SpatialSample {
-        dt: gate.step(Micros(ticks)),
-        phi: [s[0], s[1]],
-        gyro: [s[2], s[3], s[4]],
-        accel: [s[5], s[6], s[7]],
-        speed: f32::NAN,
-    }
+    SpatialSample::new(
+        gate.step(Micros(ticks)),
+        [s[0], s[1]],
+        [s[2], s[3], s[4]],
+        [s[5], s[6], s[7]],
+    )
 }
 
 fn publish(i: usize, a: Attitude<f32>) {

@@ -275,11 +275,7 @@ impl<R: BufRead> LogReader<R> {
         };
         reader.read_header()?;
         let has = |c: Column| reader.positions[c.index()].is_some();
-        let inputs = Inputs {
-            phi: has(Column::Phi),
-            gyro: has(Column::Gyro),
-            accel: has(Column::Ax) && has(Column::Ay),
-        };
+        let inputs = Inputs::from_fn(|s| Column::provides(s, has));
         reader.units = reader.options.natural_frequency.map(|f_n| {
             UnitCheck::with_natural_frequency(f_n, inputs)
                 .with_accel_unit(reader.options.accel_unit)

@@ -241,17 +241,13 @@ mod tests {
         let (roll, pitch): (f64, f64) = (0.3, -0.2);
         let f = up_from_roll_pitch(roll, pitch).map(|v| v * 9.81);
         let mut e = mahony3d(MAHONY3D_GAINS[0], MAHONY3D_GAINS[1]);
-        let sample = |k: usize| SpatialSample {
-            dt: if k == 0 { 0.0 } else { 1e-3 },
-            phi: [f64::NAN; 2],
-            gyro: [0.0; 3],
-            accel: {
+        let sample = |k: usize| {
+            SpatialSample::new(if k == 0 { 0.0 } else { 1e-3 }, [f64::NAN; 2], [0.0; 3], {
                 // Across the vertical: (up x x) / |up x x| = (0, u_z, -u_y) / |..|.
                 let n = (f[1] * f[1] + f[2] * f[2]).sqrt();
                 let v = if k % 2 == 0 { 3.0 } else { -3.0 };
                 [f[0], f[1] + v * f[2] / n, f[2] - v * f[1] / n]
-            },
-            speed: f64::NAN,
+            })
         };
         for k in 0..100 {
             e.update(&sample(k));
@@ -281,12 +277,13 @@ mod tests {
     fn after_a_restart_mahony_starts_in_its_own_steady_state() {
         let (roll, pitch): (f64, f64) = (0.3, -0.2);
         let f = up_from_roll_pitch(roll, pitch).map(|v| v * 9.81);
-        let sample = |k: usize| SpatialSample {
-            dt: if k == 0 { 0.0 } else { 1e-3 },
-            phi: [f64::NAN; 2],
-            gyro: [0.01, 0.0, 0.0],
-            accel: f,
-            speed: f64::NAN,
+        let sample = |k: usize| {
+            SpatialSample::new(
+                if k == 0 { 0.0 } else { 1e-3 },
+                [f64::NAN; 2],
+                [0.01, 0.0, 0.0],
+                f,
+            )
         };
         let mut e = mahony3d(MAHONY3D_GAINS[0], MAHONY3D_GAINS[1]);
         let mut before = Attitude::unknown();
@@ -348,13 +345,12 @@ mod tests {
                     accel[i] = f64::NAN;
                 }
             }
-            SpatialSample {
-                dt: if k == 0 { 0.0 } else { 1e-3 },
-                phi: [f64::NAN; 2],
-                gyro: [0.0; 3],
+            SpatialSample::new(
+                if k == 0 { 0.0 } else { 1e-3 },
+                [f64::NAN; 2],
+                [0.0; 3],
                 accel,
-                speed: f64::NAN,
-            }
+            )
         };
         let run = |missing: &[usize]| {
             let mut e = vqf(VQF_TAU_ACC);
@@ -394,13 +390,12 @@ mod tests {
             let roll = 0.5 * t.min(2.0);
             let gyro = [w, 0.0, 0.0];
             let accel = up_from_roll_pitch(roll, 0.1).map(|v| v * 9.81);
-            let a = wrapped.update(&SpatialSample {
-                dt: if k == 0 { 0.0 } else { 0.01 },
-                phi: [f64::NAN; 2],
+            let a = wrapped.update(&SpatialSample::new(
+                if k == 0 { 0.0 } else { 0.01 },
+                [f64::NAN; 2],
                 gyro,
                 accel,
-                speed: f64::NAN,
-            });
+            ));
             plain.update(gyro, accel, None);
             if k > 0 {
                 worst = worst.max(angle(
@@ -432,13 +427,12 @@ mod tests {
                     0.0
                 };
                 roll += w * 1e-3;
-                let s = SpatialSample {
-                    dt: if k == 0 { 0.0 } else { 1e-3 },
-                    phi: [f64::NAN; 2],
-                    gyro: [w.min(0.1), 0.0, 0.0],
-                    accel: up_from_roll_pitch(roll, 0.0).map(|v| v * 9.81),
-                    speed: f64::NAN,
-                };
+                let s = SpatialSample::new(
+                    if k == 0 { 0.0 } else { 1e-3 },
+                    [f64::NAN; 2],
+                    [w.min(0.1), 0.0, 0.0],
+                    up_from_roll_pitch(roll, 0.0).map(|v| v * 9.81),
+                );
                 last = if restart {
                     e.update(&s)
                 } else {
@@ -478,13 +472,12 @@ mod tests {
                 let w = 0.5 * t;
                 roll += w * 1e-3;
                 let missing = gap && (1000..1100).contains(&k);
-                last = e.update(&SpatialSample {
-                    dt: if k == 0 { 0.0 } else { 1e-3 },
-                    phi: [f64::NAN; 2],
-                    gyro: [if missing { f64::NAN } else { w }, 0.0, 0.0],
-                    accel: up_from_roll_pitch(roll, 0.0).map(|v| v * 9.81),
-                    speed: f64::NAN,
-                });
+                last = e.update(&SpatialSample::new(
+                    if k == 0 { 0.0 } else { 1e-3 },
+                    [f64::NAN; 2],
+                    [if missing { f64::NAN } else { w }, 0.0, 0.0],
+                    up_from_roll_pitch(roll, 0.0).map(|v| v * 9.81),
+                ));
             }
             last
         };
@@ -507,13 +500,8 @@ mod tests {
         for (name, mut e) in peers() {
             let mut a = None;
             for k in 0..20_000 {
-                let s = SpatialSample {
-                    dt: if k == 0 { 0.0 } else { 1e-3 },
-                    phi: [f64::NAN; 2],
-                    gyro: [0.0; 3],
-                    accel: f,
-                    speed: f64::NAN,
-                };
+                let s =
+                    SpatialSample::new(if k == 0 { 0.0 } else { 1e-3 }, [f64::NAN; 2], [0.0; 3], f);
                 a = Some(e.update(&s));
             }
             let a = a.unwrap();

@@ -12,6 +12,7 @@ use crate::bank3d::Clips;
 use crate::io::plateau::{NewLevel, PlateauWatch};
 use crate::io::plausibility::FULL_SCALE_ROUNDING;
 use crate::io::Log3dRecord;
+use crate::sensors::Sensor;
 use crate::units::Pair;
 
 /// A value as the log wrote it: 1e308, not 309 digits.
@@ -123,17 +124,12 @@ impl<'a> RowInput<'a> {
     }
 
     /// Says that the bank restarted `n` estimators at `line`.
-    pub(super) fn restart_warning(
-        &mut self,
-        line: u64,
-        r: crate::bank3d::gaps::Restart3d,
-        n: usize,
-    ) {
+    pub(super) fn restart_warning(&mut self, line: u64, r: crate::sensors::GapEnd, n: usize) {
         self.warn(format!(
             "{}:{line}: {} back after a gap of {:.3} s (longer than the restart gap {} s): \
              {n} estimators reading it restart from this row",
             self.file,
-            sensor_names(r.sensors),
+            r.sensors.spatial_names(),
             r.gap,
             crate::bank::RESTART_GAP
         ));
@@ -179,8 +175,9 @@ impl<'a> RowInput<'a> {
     }
 
     /// `x` when plausible, else NaN and a warning naming its place.
-    fn plausible(&mut self, line: u64, name: &str, x: f64, bound: f64, unit: &str) -> f64 {
-        if unit == "rad/s" {
+    fn plausible(&mut self, line: u64, name: &str, x: f64, sensor: Sensor) -> f64 {
+        let (bound, unit) = (sensor.spec().spatial_limit, sensor.spec().unit);
+        if sensor == Sensor::Gyro {
             if let Some(fs) = self.gyro_full_scale {
                 return self.beyond_full_scale(line, name, x, fs);
             }
@@ -191,7 +188,7 @@ impl<'a> RowInput<'a> {
         let col = self.column(name);
         // Degrees only where the reading in degrees would be possible (1e6 is impossible
         // either way: the hint would point the user the wrong way).
-        let hint = if unit == "m/s^2" || x.to_radians().abs() > bound {
+        let hint = if !sensor.spec().angular || x.to_radians().abs() > bound {
             ""
         } else {
             " (in degrees? give --deg)"
@@ -232,30 +229,27 @@ impl<'a> RowInput<'a> {
         let t = r.t * self.time_scale;
         let k = self.angle_scale;
         let line = r.line;
-        let phi: [f64; 2] = std::array::from_fn(|i| hair_beyond_pi(r.phi[i] * k));
-        let phi = [
-            self.plausible(line, "phi_x", phi[0], std::f64::consts::PI, "rad"),
-            self.plausible(line, "phi_y", phi[1], std::f64::consts::PI, "rad"),
-        ];
-        let gyro: [f64; 3] = std::array::from_fn(|i| r.gyro[i] * k);
-        let gyro = [
-            self.plausible(line, "gyro_x", gyro[0], MAX_RATE, "rad/s"),
-            self.plausible(line, "gyro_y", gyro[1], MAX_RATE, "rad/s"),
-            self.plausible(line, "gyro_z", gyro[2], MAX_RATE, "rad/s"),
-        ];
-        let accel = [
-            self.plausible(line, "ax", r.accel[0], MAX_ACCEL, "m/s^2"),
-            self.plausible(line, "ay", r.accel[1], MAX_ACCEL, "m/s^2"),
-            self.plausible(line, "az", r.accel[2], MAX_ACCEL, "m/s^2"),
-        ];
-        // NaN out of a finite cell: the bound refused it.
-        let refused =
-            |raw: &[f64], v: &[f64]| raw.iter().zip(v).any(|(a, b)| !a.is_nan() && b.is_nan());
-        self.implausible = Inputs {
-            phi: refused(&r.phi, &phi),
-            gyro: refused(&r.gyro, &gyro),
-            accel: refused(&r.accel, &accel),
-        };
+        // Each sensor's readings in SI, within its bounds, as the table gives them.
+        let mut s = SpatialSample::after(f64::NAN);
+        self.implausible = Inputs::NONE;
+        for sensor in Sensor::ALL {
+            let spec = sensor.spec();
+            let scale = if spec.angular { k } else { 1.0 };
+            let raw = r.reading(sensor);
+            let names = spec.spatial_columns;
+            for (i, (x, name)) in raw.iter().zip(names).enumerate() {
+                let mut v = x * scale;
+                if sensor == Sensor::Encoder {
+                    v = hair_beyond_pi(v);
+                }
+                let v = self.plausible(line, name, v, sensor);
+                s.reading_mut(sensor)[i] = v;
+                // NaN out of a finite cell: the bound refused it.
+                if !x.is_nan() && v.is_nan() {
+                    self.implausible = self.implausible.with(sensor);
+                }
+            }
+        }
         // A reading at the rig's full scale is its known clip, not one found here.
         let (k, fs) = (self.angle_scale, self.gyro_full_scale);
         let found = self.gyro_clips.clipped(r.gyro);
@@ -271,13 +265,8 @@ impl<'a> RowInput<'a> {
         } else {
             gate.step(t)
         };
-        let s = SpatialSample {
-            dt,
-            phi,
-            gyro,
-            accel,
-            speed: r.speed.unwrap_or(f64::NAN),
-        };
+        s.dt = dt;
+        s.speed = r.speed.unwrap_or(f64::NAN);
         let (roll, pitch) = (r.roll.map(|v| v * k), r.pitch.map(|v| v * k));
         let roll = roll.map_or(f64::NAN, |v| self.truth(line, 0, v));
         let pitch = pitch.map_or(f64::NAN, |v| self.truth(line, 1, v));
@@ -451,20 +440,6 @@ impl<'a> RowInput<'a> {
         }
         w
     }
-}
-
-/// The 3-D log's columns of `sensors`, for messages.
-fn sensor_names(sensors: Inputs) -> String {
-    [
-        (sensors.phi, "phi_x/phi_y"),
-        (sensors.gyro, "gyro_x/y/z"),
-        (sensors.accel, "ax/ay/az"),
-    ]
-    .iter()
-    .filter(|(on, _)| *on)
-    .map(|(_, n)| *n)
-    .collect::<Vec<_>>()
-    .join(", ")
 }
 
 /// How far beyond +-pi \[rad\] an encoder reading is taken for +-pi as a logger rounded

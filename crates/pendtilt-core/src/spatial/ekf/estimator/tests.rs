@@ -8,13 +8,12 @@ use crate::spatial::ekf::Ekf;
 use nalgebra::{Vector2, Vector4};
 
 fn still(k: usize, gyro: [f64; 3]) -> SpatialSample<f64> {
-    SpatialSample {
-        dt: if k == 0 { 0.0 } else { 1e-3 },
-        phi: [0.0, 0.0],
+    SpatialSample::new(
+        if k == 0 { 0.0 } else { 1e-3 },
+        [0.0, 0.0],
         gyro,
-        accel: [f64::NAN; 3],
-        speed: f64::NAN,
-    }
+        [f64::NAN; 3],
+    )
 }
 
 /// imu3d ([`Settings::imu_only`]) needs no encoders: on a body resting tilted, with no
@@ -28,13 +27,7 @@ fn imu3d_runs_on_the_accelerometer_alone() {
     let up = crate::spatial::attitude::up_from_roll_pitch(roll, pitch);
     let sample = |k: usize, push: f64| {
         let f = [9.81 * up[0] + push, 9.81 * up[1], 9.81 * up[2]];
-        SpatialSample {
-            dt: if k == 0 { 0.0 } else { 1e-3 },
-            phi: [f64::NAN; 2],
-            gyro: [0.0; 3],
-            accel: f,
-            speed: f64::NAN,
-        }
+        SpatialSample::new(if k == 0 { 0.0 } else { 1e-3 }, [f64::NAN; 2], [0.0; 3], f)
     };
     let mut imu = Ekf::<f64>::new(Settings::default().imu_only());
     let mut ekf = Ekf::<f64>::new(Settings::default());
@@ -143,13 +136,12 @@ fn the_unobserved_heading_variance_is_bounded() {
     let mut e = Ekf::<f64>::new(Settings::default());
     let mut worst = 0.0f64;
     for k in 0..300_000 {
-        let s = SpatialSample {
-            dt: if k == 0 { 0.0 } else { 1e-3 },
-            phi: [0.0, 0.0],
-            gyro: [0.0; 3],
-            accel: [f64::NAN; 3],
-            speed: f64::NAN,
-        };
+        let s = SpatialSample::new(
+            if k == 0 { 0.0 } else { 1e-3 },
+            [0.0, 0.0],
+            [0.0; 3],
+            [f64::NAN; 3],
+        );
         let a = e.update(&s);
         worst = worst.max(a.roll.abs()).max(a.pitch.abs());
     }
@@ -213,11 +205,13 @@ fn the_speed_column_tells_acceleration_from_tilt() {
             joints = model.joint_step(&joints, &Vector3::zeros(), &drive, (&up, &travel), 1e-3);
         }
         let mut s = SpatialSample {
-            dt: if k == 0 { 0.0 } else { 1e-3 },
-            phi: [-joints[0], -joints[1]],
-            gyro: [0.0; 3],
-            accel: [f64::NAN; 3],
             speed: speed(t) + noise(k),
+            ..SpatialSample::new(
+                if k == 0 { 0.0 } else { 1e-3 },
+                [-joints[0], -joints[1]],
+                [0.0; 3],
+                [f64::NAN; 3],
+            )
         };
         let a = with.update(&s);
         let u = with_ukf.update(&s);
