@@ -16,27 +16,25 @@ use pendtilt::cli::options::{rig_bank_settings, LogColumns};
 use pendtilt::config::RigConfig;
 use pendtilt::io::ColumnMap;
 use pendtilt::pipeline::spatial::{self, Options3d};
-use pendtilt::sensors::Inputs;
+use pendtilt::sensors::{Inputs, SENSORS};
 use pendtilt_core::spatial::SpatialSample;
 use pendtilt_core::{Estimate, Sample, StepGate};
 use pyo3::prelude::*;
 
 use crate::{py_err, PendtiltError};
 
-/// The sensors named in `sensors` (`phi`, `gyro`, `accel`).
+/// The sensors named in `sensors` (`phi`, `gyro`, `accel`: the table's names).
 fn inputs_of(sensors: &[String]) -> PyResult<Inputs> {
-    let mut i = Inputs::default();
+    let mut i = Inputs::NONE;
     for s in sensors {
-        match s.as_str() {
-            "phi" => i.phi = true,
-            "gyro" => i.gyro = true,
-            "accel" => i.accel = true,
-            other => {
-                return Err(PendtiltError::new_err(format!(
-                    "unknown sensor `{other}` (known: phi, gyro, accel)"
-                )))
-            }
-        }
+        let Some(spec) = SENSORS.iter().find(|spec| spec.name == s.as_str()) else {
+            let known: Vec<_> = SENSORS.iter().map(|spec| spec.name).collect();
+            return Err(PendtiltError::new_err(format!(
+                "unknown sensor `{s}` (known: {})",
+                known.join(", ")
+            )));
+        };
+        i = i.with(spec.sensor);
     }
     Ok(i)
 }

@@ -20,6 +20,8 @@ pub enum Sensor {
 pub struct SensorSpec {
     /// The sensor.
     pub sensor: Sensor,
+    /// Its short name, as an API names it (`phi`, `gyro`, `accel`).
+    pub name: &'static str,
     /// Its columns in a planar log (MODEL.md 5); empty when a planar log has none.
     pub planar_columns: &'static [&'static str],
     /// Its name in planar messages (`ax/ay`).
@@ -43,6 +45,7 @@ pub struct SensorSpec {
 pub const SENSORS: [SensorSpec; 3] = [
     SensorSpec {
         sensor: Sensor::Encoder,
+        name: "phi",
         planar_columns: &["phi"],
         planar_label: "phi",
         spatial_columns: &["phi_x", "phi_y"],
@@ -55,6 +58,7 @@ pub const SENSORS: [SensorSpec; 3] = [
     },
     SensorSpec {
         sensor: Sensor::Gyro,
+        name: "gyro",
         planar_columns: &["gyro"],
         planar_label: "gyro",
         spatial_columns: &["gyro_x", "gyro_y", "gyro_z"],
@@ -68,6 +72,7 @@ pub const SENSORS: [SensorSpec; 3] = [
     },
     SensorSpec {
         sensor: Sensor::Accel,
+        name: "accel",
         planar_columns: &["ax", "ay"],
         planar_label: "ax/ay",
         spatial_columns: &["ax", "ay", "az"],

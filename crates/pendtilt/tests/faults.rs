@@ -288,11 +288,10 @@ fn needs(name: &str) -> Inputs {
     let p = name.contains("alg") || name == "pendulum" || name == "kf_fused";
     let g = name.starts_with("kf_") || name.starts_with("alg2") || name == "alg3";
     let a = name == "accel" || name == "kf_accel" || name == "kf_fused";
-    Inputs::from_fn(|s| match s {
-        Sensor::Encoder => p,
-        Sensor::Gyro => g,
-        Sensor::Accel => a,
-    })
+    [(p, Sensor::Encoder), (g, Sensor::Gyro), (a, Sensor::Accel)]
+        .into_iter()
+        .filter(|(on, _)| *on)
+        .fold(Inputs::NONE, |set, (_, s)| set.with(s))
 }
 
 /// A fault: which rows it touches and how.

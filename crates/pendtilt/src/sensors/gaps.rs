@@ -67,11 +67,14 @@ mod tests {
     use super::*;
 
     fn good(phi: bool, gyro: bool, accel: bool) -> Inputs {
-        Inputs::from_fn(|s| match s {
-            Sensor::Encoder => phi,
-            Sensor::Gyro => gyro,
-            Sensor::Accel => accel,
-        })
+        [
+            (phi, Sensor::Encoder),
+            (gyro, Sensor::Gyro),
+            (accel, Sensor::Accel),
+        ]
+        .into_iter()
+        .filter(|(on, _)| *on)
+        .fold(Inputs::NONE, |set, (_, s)| set.with(s))
     }
 
     #[test]
