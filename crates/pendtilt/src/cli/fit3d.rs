@@ -12,7 +12,6 @@ use crate::fit::cardan::{
 use crate::fit::plausibility::LogSpan;
 use crate::fit::{Algorithm, Cost, Iteration, Method, Target};
 use crate::io::output::{self, NamedPath};
-use crate::io::Log3dReader;
 
 /// Runs the 3-D fit: refuses an output that is an input, fits, and writes the rig file
 /// all at once (an earlier file stays as it was when the fit fails or is implausible).
@@ -74,35 +73,16 @@ fn refuse_planar_options(args: &Args) -> anyhow::Result<()> {
 /// Reads the whole 3-D log with the column options (`--map`'s 3-D names, `--deg`,
 /// `--time-unit`, `--accel-unit`).
 fn read_log(args: &Args) -> anyhow::Result<(Log3dColumns, bool)> {
-    let c = &args.columns;
-    if let Some(p) = c.map.planar_only().first() {
-        bail!("--map {p}=...: a column of a planar log; a 3-D log's columns are MODEL.md 7.6's");
-    }
-    ensure!(
-        c.negate.is_none(),
-        "--negate: for planar logs only; a 3-D log's columns follow MODEL.md 7.6's axes and signs"
-    );
-    let angle = match c.deg {
-        None => 1.0,
-        Some(d) if d == crate::io::DegreeColumns::all() => std::f64::consts::PI / 180.0,
-        Some(_) => bail!(
-            "--deg with a list: for planar logs only; on a 3-D log --deg alone reads every \
-             angular column (phi_x, phi_y, gyro_*, roll, pitch) in degrees"
-        ),
-    };
-    let time = c.time_unit.map_or(1.0, |u| u.seconds());
-    let accel = c.accel_unit.map_or(1.0, |u| u.metres_per_second_squared());
     let name = args.log.display().to_string();
-    let mut reader = Log3dReader::open_as(&args.log, &name, c.map.spatial())?;
-    let speed = reader.has("speed");
+    let (records, speed) = crate::pipeline::spatial::read_si(&args.log, &name, &args.columns)?;
     let mut log = Log3dColumns::default();
-    while let Some(r) = reader.next_record()? {
-        log.t.push(r.t * time);
-        log.phi.push(r.phi.map(|v| v * angle));
-        log.gyro.push(r.gyro.map(|v| v * angle));
-        log.accel.push(r.accel.map(|v| v * accel));
-        let truth = |v: Option<f64>| v.map_or(f64::NAN, |v| v * angle);
-        log.truth.push([truth(r.roll), truth(r.pitch)]);
+    for r in &records {
+        log.t.push(r.t);
+        log.phi.push(r.phi);
+        log.gyro.push(r.gyro);
+        log.accel.push(r.accel);
+        log.truth
+            .push([r.roll.unwrap_or(f64::NAN), r.pitch.unwrap_or(f64::NAN)]);
     }
     if !args.quiet {
         eprintln!("{name}: read {} rows of a 3-D log", log.t.len());

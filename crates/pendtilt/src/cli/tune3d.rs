@@ -8,7 +8,6 @@ use pendtilt_core::StepGate;
 
 use super::tune::{Args, TuneTarget};
 use crate::bank3d::rig::Rig3dConfig;
-use crate::io::Log3dReader;
 use crate::sim3d::Pendulum3d;
 use crate::tune::spatial::{self, rig_file, Start3d, Tuned3d};
 use crate::units::AccelMagnitude;
@@ -22,45 +21,18 @@ fn default_rig_text() -> anyhow::Result<String> {
 }
 
 /// The log's rows as ekf3d takes them, with `--map`, `--deg`, `--time-unit` and
-/// `--accel-unit` applied, and the rows read.
+/// `--accel-unit` applied.
 fn read_log(args: &Args) -> anyhow::Result<Vec<SpatialSample<f64>>> {
-    let c = &args.columns;
-    if let Some(col) = c.map.planar_only().first() {
-        bail!(
-            "--map {col}=...: a column of a planar log; a 3-D log's columns are t, phi_x, \
-             phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az, speed, roll, pitch (MODEL.md 7.6)"
-        );
-    }
-    if c.negate.is_some() {
-        bail!("--negate: for planar logs only; a 3-D log's columns follow MODEL.md 7.6's axes");
-    }
-    let angle = match c.deg {
-        None => 1.0,
-        Some(d) if d == crate::io::DegreeColumns::all() => std::f64::consts::PI / 180.0,
-        Some(_) => bail!(
-            "--deg with a list: for planar logs only; on a 3-D log --deg alone reads every \
-             angular column in degrees"
-        ),
-    };
-    let time = c.time_unit.map_or(1.0, |u| u.seconds());
-    let accel = c.accel_unit.map_or(1.0, |u| u.metres_per_second_squared());
     let name = args.log.display().to_string();
-    let mut log = Log3dReader::open_as(&args.log, &name, c.map.spatial())?;
+    let (records, _) = crate::pipeline::spatial::read_si(&args.log, &name, &args.columns)?;
     let mut gate = StepGate::new();
-    let mut out = Vec::new();
-    while let Some(r) = log.next_record()? {
-        let dt = gate.step(r.t * time);
-        out.push(SpatialSample {
+    Ok(records
+        .iter()
+        .map(|r| SpatialSample {
             speed: r.speed.unwrap_or(f64::NAN),
-            ..SpatialSample::new(
-                dt,
-                r.phi.map(|v| v * angle),
-                r.gyro.map(|v| v * angle),
-                r.accel.map(|v| v * accel),
-            )
-        });
-    }
-    Ok(out)
+            ..SpatialSample::new(gate.step(r.t), r.phi, r.gyro, r.accel)
+        })
+        .collect())
 }
 
 /// Reads the 3-D log and the rig, tunes, prints what was found (each value with its

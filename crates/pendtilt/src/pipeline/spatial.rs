@@ -42,11 +42,13 @@ mod checks;
 mod gyro_units;
 mod rows;
 mod run;
+mod scales;
 mod setup;
 mod turn;
 
 use checks::check_time_unit;
 use run::Run;
+pub use scales::{read_si, Scales3d};
 pub use setup::{setup, Setup};
 
 /// Rows read before the first estimate, for the time-unit check.

@@ -3,7 +3,7 @@
 //! columns' units, with a warning for every doubtful figure.
 use std::path::Path;
 
-use anyhow::{bail, Context};
+use anyhow::Context;
 
 use super::Options3d;
 use crate::bank3d::rig::{mounting_doubts, Pendulum3dConfig, Rig3dConfig};
@@ -33,7 +33,7 @@ pub struct Setup {
 
 /// Reads the rig and scenario files and checks the options.
 pub fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
-    let angle_scale = angle_scale(opts)?;
+    let angle_scale = super::Scales3d::of(opts.columns)?.angle;
     let scenario = match opts.scenario {
         Some(p) => Some(read_scenario(p)?),
         None => None,
@@ -66,31 +66,6 @@ pub fn setup(opts: &Options3d) -> anyhow::Result<Setup> {
         angle_scale,
         accel_unit: opts.columns.accel_unit,
         speed_at_given,
-    })
-}
-
-/// Radians per unit of the angular columns, after refusing the column options that only
-/// planar logs take.
-fn angle_scale(opts: &Options3d) -> anyhow::Result<f64> {
-    if let Some(c) = opts.columns.map.planar_only().first() {
-        bail!(
-            "--map {c}=...: a column of a planar log; a 3-D log's columns are t, phi_x, phi_y, \
-             gyro_x, gyro_y, gyro_z, ax, ay, az, speed, roll, pitch (MODEL.md 7.6)"
-        );
-    }
-    if opts.columns.negate.is_some() {
-        bail!(
-            "--negate: for planar logs only; a 3-D log's columns follow MODEL.md 7.6's axes \
-             (FLU) and signs"
-        );
-    }
-    Ok(match opts.columns.deg {
-        None => 1.0,
-        Some(d) if d == crate::io::DegreeColumns::all() => std::f64::consts::PI / 180.0,
-        Some(_) => bail!(
-            "--deg with a list: for planar logs only; on a 3-D log --deg alone reads every \
-             angular column (phi_x, phi_y, gyro_*, roll, pitch) in degrees"
-        ),
     })
 }
 
