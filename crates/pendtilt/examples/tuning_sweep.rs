@@ -10,8 +10,8 @@ use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
 use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::estimators::theta_dd::ThetaDdSource;
 use pendtilt_core::estimators::PhiSource;
-use pendtilt_core::filters::diff::{Cutoff, Response};
-use pendtilt_core::PlanarEstimator;
+use pendtilt_core::filters::diff::{Cutoff, DiffSettings, Response};
+use pendtilt_core::{PendulumParams, PlanarEstimator};
 
 fn rms(est: &mut dyn PlanarEstimator<f64>, rows: &[pendtilt::sim::SimRow]) -> f64 {
     let (mut acc, mut n) = (0.0, 0usize);
@@ -25,8 +25,55 @@ fn rms(est: &mut dyn PlanarEstimator<f64>, rows: &[pendtilt::sim::SimRow]) -> f6
     (acc / n as f64).sqrt().to_degrees()
 }
 
-fn main() -> anyhow::Result<()> {
-    let args: Vec<String> = std::env::args().collect();
+/// Mean over `rides` of the RMS error \[deg\] of the estimator `make` builds, one fresh per
+/// ride.
+fn mean_rms<E: PlanarEstimator<f64>>(
+    rides: &[Vec<pendtilt::sim::SimRow>],
+    make: impl Fn() -> E,
+) -> f64 {
+    rides.iter().map(|r| rms(&mut make(), r)).sum::<f64>() / rides.len() as f64
+}
+
+/// One row of the table: alg1, alg2 with each theta'' source and alg2 with delay
+/// compensation, all with the front end `fe`.
+fn row(
+    rides: &[Vec<pendtilt::sim::SimRow>],
+    params: PendulumParams<f64>,
+    fe: FrontEndSettings<f64>,
+) -> [f64; 6] {
+    let mut cols = [0.0; 6];
+    let s1 = Alg1Settings { front_end: fe };
+    cols[0] = mean_rms(rides, || Alg1::new(s1));
+    for (k, src) in [
+        ThetaDdSource::Matched,
+        ThetaDdSource::Window { span: 0.010 },
+        ThetaDdSource::Window { span: 0.030 },
+        ThetaDdSource::Window { span: 0.060 },
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let s2 = Alg2Settings {
+            front_end: FrontEndSettings {
+                theta_dd: src,
+                ..fe
+            },
+            ..Alg2Settings::from_params(params)
+        };
+        cols[1 + k] = mean_rms(rides, || Alg2::<f64>::new(s2));
+    }
+    let s2 = Alg2Settings {
+        front_end: fe,
+        delay_compensation: true,
+        ..Alg2Settings::from_params(params)
+    };
+    cols[5] = mean_rms(rides, || Alg2::<f64>::new(s2));
+    cols
+}
+
+/// The scooter ride from the command line: `[SECONDS] [SEEDS] [SCENARIO TOML]`; returns
+/// it with its length and seed count.
+fn scenario(args: &[String]) -> anyhow::Result<(Scenario, f64, u64)> {
     let secs: f64 = args.get(1).map(|s| s.parse()).transpose()?.unwrap_or(60.0);
     let seeds: u64 = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(2);
     let mut sc = Scenario::named("scooter")?;
@@ -36,6 +83,12 @@ fn main() -> anyhow::Result<()> {
         sc = sc.merged(&std::fs::read_to_string(text)?, text)?.0;
         sc.duration = secs;
     }
+    Ok((sc, secs, seeds))
+}
+
+fn main() -> anyhow::Result<()> {
+    let args: Vec<String> = std::env::args().collect();
+    let (sc, secs, seeds) = scenario(&args)?;
     let rides: Vec<_> = (1..=seeds)
         .map(|s| simulate(&sc, s))
         .collect::<Result<_, _>>()?;
@@ -55,57 +108,15 @@ fn main() -> anyhow::Result<()> {
     ] {
         for phi in [PhiSource::Raw, PhiSource::Filtered] {
             for ratio in [0.8, 1.0, 1.3, 1.7, 2.2, 3.0, 5.0, 10.0] {
-                let diff = pendtilt_core::filters::diff::DiffSettings {
-                    response,
-                    cutoff: Cutoff::TimesNatural(ratio),
-                };
-                let mut cols = Vec::new();
                 let fe = FrontEndSettings {
-                    differentiator: diff,
+                    differentiator: DiffSettings {
+                        response,
+                        cutoff: Cutoff::TimesNatural(ratio),
+                    },
                     phi,
                     ..FrontEndSettings::from_params(params)
                 };
-                let s1 = Alg1Settings { front_end: fe };
-                cols.push(
-                    rides
-                        .iter()
-                        .map(|r| rms(&mut Alg1::new(s1), r))
-                        .sum::<f64>()
-                        / seeds as f64,
-                );
-                for src in [
-                    ThetaDdSource::Matched,
-                    ThetaDdSource::Window { span: 0.010 },
-                    ThetaDdSource::Window { span: 0.030 },
-                    ThetaDdSource::Window { span: 0.060 },
-                ] {
-                    let s2 = Alg2Settings {
-                        front_end: FrontEndSettings {
-                            theta_dd: src,
-                            ..fe
-                        },
-                        ..Alg2Settings::from_params(params)
-                    };
-                    cols.push(
-                        rides
-                            .iter()
-                            .map(|r| rms(&mut Alg2::<f64>::new(s2), r))
-                            .sum::<f64>()
-                            / seeds as f64,
-                    );
-                }
-                let s2 = Alg2Settings {
-                    front_end: fe,
-                    delay_compensation: true,
-                    ..Alg2Settings::from_params(params)
-                };
-                cols.push(
-                    rides
-                        .iter()
-                        .map(|r| rms(&mut Alg2::<f64>::new(s2), r))
-                        .sum::<f64>()
-                        / seeds as f64,
-                );
+                let cols = row(&rides, params, fe);
                 println!(
                     "{:<17} {:<9} {:>6.1} {:>8.4} {:>8.4} {:>8.4} {:>8.4} {:>8.4} {:>8.4}",
                     format!("{response:?}"),

@@ -22,10 +22,9 @@ fn simulate(dir: &Path, scenario: &str, seed: &str, name: &str) {
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
-#[test]
-fn every_log_gets_estimates_byte_for_byte_and_a_bad_one_is_skipped() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
+/// Three simulated logs (two planar, one 3-D) under `d/logs/a` and `d/logs/b`, and a bad
+/// one (a cell that is not a number) beside them.
+fn logs_and_a_bad_one(d: &Path) {
     std::fs::create_dir_all(d.join("logs/a")).unwrap();
     std::fs::create_dir_all(d.join("logs/b")).unwrap();
     simulate(d, "scooter", "1", "logs/a/ride.csv");
@@ -36,18 +35,11 @@ fn every_log_gets_estimates_byte_for_byte_and_a_bad_one_is_skipped() {
         "t,phi,gyro\n0,0.1,0\n0.001,abc,0\n",
     )
     .unwrap();
-    let out = d.join("out");
-    let pattern = format!("{}/logs/**/*.csv", d.display());
-    let o = pendtilt(&["batch", &pattern, "-j", "2", "-o", s(&out)]);
-    let e = stderr(&o);
-    assert_eq!(o.status.code(), Some(1), "{e}");
-    assert!(e.contains("1 of 4 logs failed"), "{e}");
-    assert!(
-        e.contains("bad.csv:3: column 2 (`phi`): not a number: `abc`"),
-        "{e}"
-    );
-    // The others, each as `estimate` writes it with the rig (and a 3-D log's scenario)
-    // that simulate wrote beside it.
+}
+
+/// Each good log's estimates in `out` are, byte for byte, what `estimate` writes with the
+/// rig (and a 3-D log's scenario) that simulate wrote beside it; the bad log has none.
+fn assert_estimates_as_estimate_writes_them(d: &Path, out: &Path) {
     for (log, est) in [
         ("logs/a/ride.csv", "a/ride.est.csv"),
         ("logs/b/ride.csv", "b/ride.est.csv"),
@@ -71,7 +63,11 @@ fn every_log_gets_estimates_byte_for_byte_and_a_bad_one_is_skipped() {
         );
     }
     assert!(!out.join("b/bad.est.csv").exists());
-    // The summary: one row per log, the RMS of the table `estimate` prints.
+}
+
+/// The summary in `out`: one row per log, the bad one failed, the RMS of the table
+/// `estimate` prints, and its markdown twin.
+fn assert_summary(d: &Path, out: &Path) {
     let text = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     let mut rows = csv::Reader::from_reader(text.as_bytes());
     let header = rows.headers().unwrap().clone();
@@ -106,6 +102,25 @@ fn every_log_gets_estimates_byte_for_byte_and_a_bad_one_is_skipped() {
         md.contains("| ekf RMS [deg] |") && md.contains("Failed (skipped)"),
         "{md}"
     );
+}
+
+#[test]
+fn every_log_gets_estimates_byte_for_byte_and_a_bad_one_is_skipped() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    logs_and_a_bad_one(d);
+    let out = d.join("out");
+    let pattern = format!("{}/logs/**/*.csv", d.display());
+    let o = pendtilt(&["batch", &pattern, "-j", "2", "-o", s(&out)]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(e.contains("1 of 4 logs failed"), "{e}");
+    assert!(
+        e.contains("bad.csv:3: column 2 (`phi`): not a number: `abc`"),
+        "{e}"
+    );
+    assert_estimates_as_estimate_writes_them(d, &out);
+    assert_summary(d, &out);
 
     // A second run leaves the first one's estimates alone (they are under -o), and
     // one job gives the same files as two.

@@ -256,22 +256,8 @@ fn default_settings_stay_bounded_from_50_percent_off_and_follow_a_damping_step()
     );
 }
 
-/// Sample-time drift: the rig's true sample interval drifts from 1 ms
-/// (1 kHz) to 1.25 ms (800 Hz) over 60 s while the log's time stamps keep claiming 1 ms
-/// (a clock that drifts against the stamps). The estimator's derivatives are then scaled
-/// by the interval ratio r = 1.25 (phi', G_d by r, phi'' by r^2); the supervisor can absorb
-/// that into K, L, M. Built by interpolating a 1 kHz simulated run of chirps at the
-/// drifting true times; all three estimators start at the rig's true gains.
-///
-/// Measured (RMS error against the true angle, 2-10 s at 1 kHz / the last 8 s at 800 Hz):
-/// fixed gains 3.72 / 4.24 deg, supervised Newton 3.70 / 3.67 deg, supervised RLS
-/// 3.71 / 3.38 deg (the error at 1 kHz is mostly the 1.7 f_n differentiator's delay on
-/// the 3 Hz end of the chirp). Newton's gains end at K/a 0.53, L/b 0.44, M/-b 0.53: down,
-/// and L further than K as r^2 against r predicts, but by more than the 1/r = 0.8 and
-/// 1/r^2 = 0.64 that would undo the scaling.
-#[test]
-fn supervised_alg3_follows_a_drifting_sample_time() {
-    let t = PendulumParams::<f64>::default();
+/// Eight 10 s chirps 0.2 -> 3 Hz end to end at 1 kHz: (sample, true angle) per row.
+fn chirp_rows() -> Vec<(Sample<f64>, f64)> {
     let motion = Motion::Chirp(Chirp {
         f0: 0.2,
         f1: 3.0,
@@ -285,7 +271,12 @@ fn supervised_alg3_follows_a_drifting_sample_time() {
             rows.push((r.sample(), r.theta));
         }
     }
-    // True interval: 1 ms for 10 s, then drifting linearly to 1.25 ms at 70 s.
+    rows
+}
+
+/// `rows` read at true times whose interval is 1 ms for 10 s, then drifts linearly to
+/// 1.25 ms at 70 s, while the stamps keep claiming 1 ms (64 s of log at most).
+fn drifting_log(rows: &[(Sample<f64>, f64)]) -> Vec<(Sample<f64>, f64)> {
     let n = 64_000;
     let mut t_true: f64 = 0.0;
     let mut log = Vec::with_capacity(n);
@@ -309,22 +300,20 @@ fn supervised_alg3_follows_a_drifting_sample_time() {
         let drift = ((stamp - 10.0) / 50.0).clamp(0.0, 1.0);
         t_true += 1e-3 * (1.0 + 0.25 * drift);
     }
-    // All three start at the rig's true gains, with the same differentiator.
-    let mut set = *supervised(Method::Newton).settings();
-    set.alg3.gains = Alg3Gains::from_params(&t);
-    let mut fixed = Alg3::<f64>::new(set.alg3);
-    let mut sup = SupervisedAlg3::<f64, 1024>::new(set).unwrap();
-    set.supervisor.method = Method::Rls;
-    let mut rls = SupervisedAlg3::<f64, 1024>::new(set).unwrap();
+    log
+}
+
+/// RMS error \[deg\] against the true angle of the three angles `update` gives per row of
+/// `log`: [estimator][2-10 s (1 kHz), the last 8 s (800 Hz)].
+fn rms_at_both_rates(
+    log: &[(Sample<f64>, f64)],
+    mut update: impl FnMut(&Sample<f64>) -> [f64; 3],
+) -> [[f64; 2]; 3] {
     let mut err = [[0.0f64; 2]; 3]; // [estimator][first 10 s after warm-up, last 10 s] sum sq
     let mut cnt = [0usize; 2];
     for (k, (s, th)) in log.iter().enumerate() {
         let t = k as f64 * 1e-3;
-        let e = [
-            fixed.update(s).theta,
-            sup.update_supervised(s).estimate.theta,
-            rls.update_supervised(s).estimate.theta,
-        ];
+        let e = update(s);
         let seg = if (2.0..10.0).contains(&t) {
             0
         } else if t >= log.len() as f64 * 1e-3 - 8.0 {
@@ -338,14 +327,47 @@ fn supervised_alg3_follows_a_drifting_sample_time() {
         }
     }
     let rms = |j: usize, seg: usize| (err[j][seg] / cnt[seg] as f64).sqrt().to_degrees();
+    [0, 1, 2].map(|j| [rms(j, 0), rms(j, 1)])
+}
+
+/// Sample-time drift: the rig's true sample interval drifts from 1 ms
+/// (1 kHz) to 1.25 ms (800 Hz) over 60 s while the log's time stamps keep claiming 1 ms
+/// (a clock that drifts against the stamps). The estimator's derivatives are then scaled
+/// by the interval ratio r = 1.25 (phi', G_d by r, phi'' by r^2); the supervisor can absorb
+/// that into K, L, M. Built by interpolating a 1 kHz simulated run of chirps at the
+/// drifting true times; all three estimators start at the rig's true gains.
+///
+/// Measured (RMS error against the true angle, 2-10 s at 1 kHz / the last 8 s at 800 Hz):
+/// fixed gains 3.72 / 4.24 deg, supervised Newton 3.70 / 3.67 deg, supervised RLS
+/// 3.71 / 3.38 deg (the error at 1 kHz is mostly the 1.7 f_n differentiator's delay on
+/// the 3 Hz end of the chirp). Newton's gains end at K/a 0.53, L/b 0.44, M/-b 0.53: down,
+/// and L further than K as r^2 against r predicts, but by more than the 1/r = 0.8 and
+/// 1/r^2 = 0.64 that would undo the scaling.
+#[test]
+fn supervised_alg3_follows_a_drifting_sample_time() {
+    let t = PendulumParams::<f64>::default();
+    let log = drifting_log(&chirp_rows());
+    // All three start at the rig's true gains, with the same differentiator.
+    let mut set = *supervised(Method::Newton).settings();
+    set.alg3.gains = Alg3Gains::from_params(&t);
+    let mut fixed = Alg3::<f64>::new(set.alg3);
+    let mut sup = SupervisedAlg3::<f64, 1024>::new(set).unwrap();
+    set.supervisor.method = Method::Rls;
+    let mut rls = SupervisedAlg3::<f64, 1024>::new(set).unwrap();
+    let rms = rms_at_both_rates(&log, |s| {
+        [
+            fixed.update(s).theta,
+            sup.update_supervised(s).estimate.theta,
+            rls.update_supervised(s).estimate.theta,
+        ]
+    });
     for (j, name) in ["alg3 fixed gains", "supervised Newton", "supervised RLS"]
         .iter()
         .enumerate()
     {
         eprintln!(
             "{name:<18} RMS error {:.3} deg at 1 kHz, {:.3} deg at 800 Hz",
-            rms(j, 0),
-            rms(j, 1)
+            rms[j][0], rms[j][1]
         );
     }
     let g = sup.gains();

@@ -58,61 +58,70 @@ fn recorded() -> BTreeMap<String, String> {
         .collect()
 }
 
-#[test]
-fn outputs_equal_the_recorded_digests() {
-    let dir = tempfile::tempdir().unwrap();
-    let mut now = BTreeMap::new();
+/// The digest of `estimate log --params rig --flags` written to `est`; `what` names the
+/// run when it fails.
+fn estimate_digest(log: &Path, rig: &Path, est: &Path, what: &str) -> String {
+    let o = pendtilt(&[
+        "estimate",
+        s(log),
+        "--params",
+        s(rig),
+        "--flags",
+        "-q",
+        "-o",
+        s(est),
+    ]);
+    assert!(o.status.success(), "{what}: {}", stderr(&o));
+    digest(est)
+}
+
+/// `rig` with the ekf's adaptation off, as `dir/scooter_fixed.rig.toml`.
+fn adaptation_off(rig: &Path, dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(rig).unwrap();
+    let fixed = dir.join("scooter_fixed.rig.toml");
+    let text = if text.contains("[ekf]") {
+        text.replace("[ekf]", "[ekf]\nadapt = false")
+    } else {
+        format!("{text}\n[ekf]\nadapt = false\n")
+    };
+    std::fs::write(&fixed, text).unwrap();
+    fixed
+}
+
+/// The digests of `estimate` on each of [`LOGS`] simulated in `dir`, and on the scooter's
+/// with the ekf's adaptation off, into `now`.
+fn estimate_digests(dir: &Path, now: &mut BTreeMap<String, String>) {
     for (name, args) in LOGS {
-        let log = dir.path().join(format!("{name}.csv"));
+        let log = dir.join(format!("{name}.csv"));
         let mut a = vec!["simulate", "-o", s(&log)];
         a.extend_from_slice(args);
         let o = pendtilt(&a);
         assert!(o.status.success(), "simulate {name}: {}", stderr(&o));
-        let rig = dir.path().join(format!("{name}.rig.toml"));
-        let est = dir.path().join(format!("{name}.est.csv"));
-        let o = pendtilt(&[
-            "estimate",
-            s(&log),
-            "--params",
-            s(&rig),
-            "--flags",
-            "-q",
-            "-o",
-            s(&est),
-        ]);
-        assert!(o.status.success(), "estimate {name}: {}", stderr(&o));
-        now.insert(format!("estimate/{name}"), digest(&est));
+        let rig = dir.join(format!("{name}.rig.toml"));
+        let est = dir.join(format!("{name}.est.csv"));
+        let what = format!("estimate {name}");
+        now.insert(
+            format!("estimate/{name}"),
+            estimate_digest(&log, &rig, &est, &what),
+        );
         if name == "scooter" {
             // The ekf's adaptation off: the outputs from before it, to the bit (the digest
             // equals estimate/scooter's as recorded before the adaptation).
-            let text = std::fs::read_to_string(&rig).unwrap();
-            let fixed = dir.path().join("scooter_fixed.rig.toml");
-            let text = if text.contains("[ekf]") {
-                text.replace("[ekf]", "[ekf]\nadapt = false")
-            } else {
-                format!("{text}\n[ekf]\nadapt = false\n")
-            };
-            std::fs::write(&fixed, text).unwrap();
-            let est = dir.path().join("scooter_fixed.est.csv");
-            let o = pendtilt(&[
-                "estimate",
-                s(&log),
-                "--params",
-                s(&fixed),
-                "--flags",
-                "-q",
-                "-o",
-                s(&est),
-            ]);
-            assert!(
-                o.status.success(),
-                "estimate scooter, adapt off: {}",
-                stderr(&o)
+            let fixed = adaptation_off(&rig, dir);
+            let est = dir.join("scooter_fixed.est.csv");
+            let what = "estimate scooter, adapt off";
+            now.insert(
+                "estimate/scooter_adapt_off".to_string(),
+                estimate_digest(&log, &fixed, &est, what),
             );
-            now.insert("estimate/scooter_adapt_off".to_string(), digest(&est));
         }
     }
-    let rep = dir.path().join("reproduce");
+}
+
+/// The digests of each part's `report.json` that `reproduce` writes under `dir`, into
+/// `now`.
+fn reproduce_digests(dir: &Path, now: &mut BTreeMap<String, String>) {
+    let rep = dir.join("reproduce");
     let o = pendtilt(&["reproduce", "--out", s(&rep)]);
     assert!(o.status.success(), "reproduce: {}", stderr(&o));
     for part in [
@@ -128,15 +137,27 @@ fn outputs_equal_the_recorded_digests() {
             digest(&rep.join(part).join("report.json")),
         );
     }
+}
 
+/// Records `now` as the digests to keep (`PENDTILT_BLESS=1`).
+fn bless(now: &BTreeMap<String, String>) {
+    let mut text = String::from(
+        "# SHA-256 of outputs that refactors must not change (tests/golden_outputs.rs)\n",
+    );
+    for (n, h) in now {
+        text.push_str(&format!("{h}  {n}\n"));
+    }
+    std::fs::write(record_path(), text).unwrap();
+}
+
+#[test]
+fn outputs_equal_the_recorded_digests() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut now = BTreeMap::new();
+    estimate_digests(dir.path(), &mut now);
+    reproduce_digests(dir.path(), &mut now);
     if std::env::var_os("PENDTILT_BLESS").is_some() {
-        let mut text = String::from(
-            "# SHA-256 of outputs that refactors must not change (tests/golden_outputs.rs)\n",
-        );
-        for (n, h) in &now {
-            text.push_str(&format!("{h}  {n}\n"));
-        }
-        std::fs::write(record_path(), text).unwrap();
+        bless(&now);
         return;
     }
     let old = recorded();

@@ -70,12 +70,9 @@ fn a_broad_trial_replays_into_a_log_that_estimate_reads() {
     assert_eq!(rows, 11428);
 }
 
-/// A user's IMU CSV with other names and units; a corrupt cell names the file, the line
-/// and the column; the output may not be the input.
-#[test]
-fn an_imu_csv_with_its_own_names_and_a_corrupt_cell() {
-    let dir = tempfile::tempdir().unwrap();
-    let imu = dir.path().join("imu.csv");
+/// A user's IMU CSV at 200 Hz with its own names and units (time in ms, gyro in deg/s,
+/// accelerometer in g): still for 1 s, then rolling 0.2 rad over 0.25 s and holding it.
+fn imu_csv_text() -> String {
     let mut text = String::from("time_ms,gx,gy,gz,ax,ay,az\n");
     for k in 0..400 {
         let t = k as f64 * 5.0;
@@ -95,7 +92,15 @@ fn an_imu_csv_with_its_own_names_and_a_corrupt_cell() {
             9.81 * roll.cos() / 9.80665
         );
     }
-    std::fs::write(&imu, &text).unwrap();
+    text
+}
+
+/// A user's IMU CSV with other names and units, mapped and converted on the command line.
+#[test]
+fn an_imu_csv_with_its_own_names_and_units() {
+    let dir = tempfile::tempdir().unwrap();
+    let imu = dir.path().join("imu.csv");
+    std::fs::write(&imu, imu_csv_text()).unwrap();
     let out = dir.path().join("log.csv");
     let o = pendtilt(&[
         "replay",
@@ -124,8 +129,15 @@ fn an_imu_csv_with_its_own_names_and_a_corrupt_cell() {
         .map(|x| x.parse().unwrap())
         .collect();
     assert!((row[1] - 0.2).abs() < 0.01, "{row:?}");
+}
 
-    // The same log without --accel-unit g: gravity's size at rest says so.
+/// The same log without --accel-unit g: gravity's size at rest says so.
+#[test]
+fn an_imu_csv_in_g_without_accel_unit_g_is_doubted() {
+    let dir = tempfile::tempdir().unwrap();
+    let imu = dir.path().join("imu.csv");
+    std::fs::write(&imu, imu_csv_text()).unwrap();
+    let out = dir.path().join("log.csv");
     let o = pendtilt(&[
         "replay",
         s(&imu),
@@ -141,8 +153,16 @@ fn an_imu_csv_with_its_own_names_and_a_corrupt_cell() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("give --accel-unit g"), "{}", stderr(&o));
+}
 
-    std::fs::write(&imu, text.replacen("\n15,0,", "\n15,0x,", 1)).unwrap();
+/// A corrupt cell names the file, the line and the column; the output may not be the
+/// input.
+#[test]
+fn an_imu_csv_with_a_corrupt_cell_and_the_output_on_the_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let imu = dir.path().join("imu.csv");
+    let out = dir.path().join("log.csv");
+    std::fs::write(&imu, imu_csv_text().replacen("\n15,0,", "\n15,0x,", 1)).unwrap();
     let o = pendtilt(&[
         "replay",
         s(&imu),

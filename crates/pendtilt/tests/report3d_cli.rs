@@ -49,6 +49,83 @@ fn printed_scores(stdout: &str) -> Vec<(String, f64, f64)> {
         .collect()
 }
 
+/// The report's table has every 3-D estimator, scored from 5 s, with the RMS and max that
+/// `estimate` `printed` on the same log.
+fn assert_table_is_estimates(json: &serde_json::Value, printed: &[(String, f64, f64)]) {
+    let rows = json["inclination"].as_array().unwrap();
+    let names: Vec<&str> = rows.iter().map(|r| r["name"].as_str().unwrap()).collect();
+    let registry: Vec<&str> = REGISTRY3D.iter().map(|e| e.name).collect();
+    assert_eq!(names, registry);
+    assert_eq!(json["scored"], 7000, "12 s at 1 kHz, scored from 5 s");
+    assert_eq!(printed.len(), rows.len());
+    for ((name, rms, max), r) in printed.iter().zip(rows) {
+        assert_eq!(name, r["name"].as_str().unwrap());
+        // estimate prints five decimals
+        let (jr, jm) = (
+            r["rms_deg"].as_f64().unwrap(),
+            r["max_deg"].as_f64().unwrap(),
+        );
+        assert!(
+            (rms - jr).abs() <= 6e-6,
+            "{name}: RMS {rms} printed, {jr} reported"
+        );
+        assert!(
+            (max - jm).abs() <= 6e-6,
+            "{name}: max {max} printed, {jm} reported"
+        );
+    }
+}
+
+/// Three figures in `out`, PNG and SVG, non-empty, one panel per estimator, with their
+/// axes labelled.
+fn assert_figures(json: &serde_json::Value, out: &Path) {
+    let figs = json["figures"].as_array().unwrap();
+    assert_eq!(figs.len(), 3);
+    for (f, stem) in figs.iter().zip(["roll", "pitch", "inclination"]) {
+        assert_eq!(f["png"], format!("{stem}.png"));
+        assert_eq!(f["axes"].as_array().unwrap().len(), REGISTRY3D.len());
+        for ext in ["png", "svg"] {
+            let p = out.join(format!("{stem}.{ext}"));
+            let len = std::fs::metadata(&p).map(|m| m.len()).unwrap_or(0);
+            assert!(len > 10_000, "{}: {len} bytes", p.display());
+        }
+    }
+    let svg = std::fs::read_to_string(out.join("pitch.svg")).unwrap();
+    assert!(svg.contains("pitch [deg]") && svg.contains("time [s]"));
+    let svg = std::fs::read_to_string(out.join("inclination.svg")).unwrap();
+    assert!(svg.contains("inclination error [deg]"));
+}
+
+/// The page in `out` shows every estimator and references only files that exist; the
+/// markdown has the table and the figure; a clean log's page claims no warning.
+fn assert_pages(out: &Path) {
+    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
+    for n in REGISTRY3D.iter().map(|e| e.name) {
+        assert!(html.contains(&format!("{n}</td>")), "{n} not in the page");
+    }
+    for r in referenced_paths(&html) {
+        assert!(out.join(&r).is_file(), "{r}");
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("| ekf3d |") && md.contains("![") && md.contains("inclination.png"));
+    // A clean log: the page claims no warning.
+    assert!(!html.contains("Reading the log gave"));
+}
+
+/// `log` with one impossible gyro_x cell (1e6 rad/s on file line 3001), as `dir/bad.csv`.
+fn with_a_bad_gyro_cell(log: &Path, dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(log).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let col = header.iter().position(|h| *h == "gyro_x").unwrap();
+    let mut cells: Vec<String> = lines[3000].split(',').map(str::to_string).collect();
+    cells[col] = "1e6".into();
+    lines[3000] = cells.join(",");
+    let bad = dir.join("bad.csv");
+    std::fs::write(&bad, lines.join("\n") + "\n").unwrap();
+    bad
+}
+
 #[test]
 fn report_agrees_with_estimate_and_writes_its_figures() {
     let dir = tempfile::tempdir().unwrap();
@@ -76,72 +153,14 @@ fn report_agrees_with_estimate_and_writes_its_figures() {
         stdout.contains("Inclination error, t >= t0 + 5 s"),
         "{stdout}"
     );
-
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
-    let rows = json["inclination"].as_array().unwrap();
-    let names: Vec<&str> = rows.iter().map(|r| r["name"].as_str().unwrap()).collect();
-    let registry: Vec<&str> = REGISTRY3D.iter().map(|e| e.name).collect();
-    assert_eq!(names, registry);
-    assert_eq!(json["scored"], 7000, "12 s at 1 kHz, scored from 5 s");
-    assert_eq!(printed.len(), rows.len());
-    for ((name, rms, max), r) in printed.iter().zip(rows) {
-        assert_eq!(name, r["name"].as_str().unwrap());
-        // estimate prints five decimals
-        let (jr, jm) = (
-            r["rms_deg"].as_f64().unwrap(),
-            r["max_deg"].as_f64().unwrap(),
-        );
-        assert!(
-            (rms - jr).abs() <= 6e-6,
-            "{name}: RMS {rms} printed, {jr} reported"
-        );
-        assert!(
-            (max - jm).abs() <= 6e-6,
-            "{name}: max {max} printed, {jm} reported"
-        );
-    }
-
-    // three figures, PNG and SVG, non-empty; one panel per estimator
-    let figs = json["figures"].as_array().unwrap();
-    assert_eq!(figs.len(), 3);
-    for (f, stem) in figs.iter().zip(["roll", "pitch", "inclination"]) {
-        assert_eq!(f["png"], format!("{stem}.png"));
-        assert_eq!(f["axes"].as_array().unwrap().len(), registry.len());
-        for ext in ["png", "svg"] {
-            let p = out.join(format!("{stem}.{ext}"));
-            let len = std::fs::metadata(&p).map(|m| m.len()).unwrap_or(0);
-            assert!(len > 10_000, "{}: {len} bytes", p.display());
-        }
-    }
-    let svg = std::fs::read_to_string(out.join("pitch.svg")).unwrap();
-    assert!(svg.contains("pitch [deg]") && svg.contains("time [s]"));
-    let svg = std::fs::read_to_string(out.join("inclination.svg")).unwrap();
-    assert!(svg.contains("inclination error [deg]"));
-
-    // the page shows every estimator and references only files that exist
-    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
-    for n in &registry {
-        assert!(html.contains(&format!("{n}</td>")), "{n} not in the page");
-    }
-    for r in referenced_paths(&html) {
-        assert!(out.join(&r).is_file(), "{r}");
-    }
-    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(md.contains("| ekf3d |") && md.contains("![") && md.contains("inclination.png"));
-    // A clean log: the page claims no warning.
-    assert!(!html.contains("Reading the log gave"));
+    assert_table_is_estimates(&json, &printed);
+    assert_figures(&json, &out);
+    assert_pages(&out);
 
     // One impossible gyro cell: the page says so at its top, as standard error does.
-    let text = std::fs::read_to_string(&log).unwrap();
-    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
-    let header: Vec<&str> = lines[0].split(',').collect();
-    let col = header.iter().position(|h| *h == "gyro_x").unwrap();
-    let mut cells: Vec<String> = lines[3000].split(',').map(str::to_string).collect();
-    cells[col] = "1e6".into();
-    lines[3000] = cells.join(",");
-    let bad = dir.path().join("bad.csv");
-    std::fs::write(&bad, lines.join("\n") + "\n").unwrap();
+    let bad = with_a_bad_gyro_cell(&log, dir.path());
     let out = dir.path().join("bad_report");
     ok(&[
         "report",

@@ -202,21 +202,35 @@ fn reader_errors_name_file_line_and_column() {
     assert!(e.contains(":1: not a 3-D log: no `phi_x`"), "{e}");
 }
 
+/// Writes the scenario files of the two tests below into `dir`: `part.toml` (one key, no
+/// base), `ship.toml` (the same key on `ship3d` seed 4) and `typo.toml` (a misspelt key).
+fn scenario_files(dir: &std::path::Path) {
+    std::fs::write(
+        dir.join("part.toml"),
+        "[rig.pendulum3d]\ninertia_xx = 0.0026\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("ship.toml"),
+        "scenario = \"ship3d\"\nseed = 4\n[rig.pendulum3d]\ninertia_xx = 0.0026\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("typo.toml"),
+        "[rig.pendulum3d]\ninertia_x = 0.0026\n",
+    )
+    .unwrap();
+}
+
 /// A 3-D scenario file of some keys is applied on top of the named scenario, key by key,
 /// as a planar one is (earlier: with `--scenario scooter3d` it was refused as "is a
 /// scenario" with an empty name; with its own `scenario = "ship3d"` as "missing field
-/// `duration`", no file named). A whole file still reruns to the same bytes; a file naming
-/// another scenario than --scenario, or none at all, is a clear error.
+/// `duration`", no file named). A whole file still reruns to the same bytes.
 #[test]
 fn a_3d_scenario_file_of_some_keys_overrides_the_named_scenario() {
     let dir = tempfile::tempdir().unwrap();
     let p = |name: &str| dir.path().join(name);
-    std::fs::write(p("part.toml"), "[rig.pendulum3d]\ninertia_xx = 0.0026\n").unwrap();
-    std::fs::write(
-        p("ship.toml"),
-        "scenario = \"ship3d\"\nseed = 4\n[rig.pendulum3d]\ninertia_xx = 0.0026\n",
-    )
-    .unwrap();
+    scenario_files(dir.path());
     let base = Scenario3d::named("scooter3d", 1).unwrap();
     ok(&[
         "simulate",
@@ -267,7 +281,15 @@ fn a_3d_scenario_file_of_some_keys_overrides_the_named_scenario() {
         std::fs::read(p("b.csv")).unwrap(),
         std::fs::read(p("c.csv")).unwrap()
     );
-    std::fs::write(p("typo.toml"), "[rig.pendulum3d]\ninertia_x = 0.0026\n").unwrap();
+}
+
+/// A 3-D scenario file naming another scenario than --scenario, or none at all, or with a
+/// misspelt key, is a clear error, and nothing is written.
+#[test]
+fn a_3d_scenario_file_naming_another_scenario_or_none_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name);
+    scenario_files(dir.path());
     // (the --config file, --scenario if any, what the error says)
     let refused: [(&str, Option<&str>, &[&str]); 3] = [
         (

@@ -321,6 +321,22 @@ fn settings_driving_the_pendulum_beyond_physics_write_nothing() {
     assert!(!log.exists() && !h3.exists());
 }
 
+/// Runs `pendtilt simulate --duration 0.01 extra.. -o dir/out`, which must succeed; its
+/// standard error, where the warnings are.
+fn simulate_warnings(dir: &std::path::Path, extra: &[&str], out: &str) -> String {
+    let log = dir.join(out);
+    let mut args = vec!["simulate", "--duration", "0.01"];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["-o", s(&log)]);
+    let o = pendtilt(&args);
+    assert!(
+        o.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
 #[test]
 fn a_length_in_millimetres_on_the_command_line_is_doubted_like_in_a_rig_file() {
     // `--pivot-offset 50` meant 50 mm: every command reading a rig file warned about it,
@@ -328,19 +344,7 @@ fn a_length_in_millimetres_on_the_command_line_is_doubted_like_in_a_rig_file() {
     // now words it for where the value was given.
     let dir = tempfile::tempdir().unwrap();
     let p = |n: &str| dir.path().join(n);
-    let run = |extra: &[&str], out: &str| {
-        let log = p(out);
-        let mut args = vec!["simulate", "--duration", "0.01"];
-        args.extend_from_slice(extra);
-        args.extend_from_slice(&["-o", s(&log)]);
-        let o = pendtilt(&args);
-        assert!(
-            o.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-        String::from_utf8_lossy(&o.stderr).into_owned()
-    };
+    let run = |extra: &[&str], out: &str| simulate_warnings(dir.path(), extra, out);
     let beyond = "a pivot offset l12 of 50 m is beyond 2 m, larger than any vehicle";
     let e = run(&["--scenario", "still", "--pivot-offset", "50"], "a.csv");
     assert!(
@@ -386,7 +390,14 @@ fn a_length_in_millimetres_on_the_command_line_is_doubted_like_in_a_rig_file() {
         "{e}"
     );
     assert!(e.contains("(the scenario file is in metres)"), "{e}");
+}
+
+#[test]
+fn a_3d_length_in_millimetres_in_a_scenario_or_rig_file_is_doubted() {
     // A 3-D scenario file with r12 = 50 m on z; the 3-D rig file it wrote, to estimate.
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| dir.path().join(n);
+    let run = |extra: &[&str], out: &str| simulate_warnings(dir.path(), extra, out);
     run(&["--scenario", "still3d"], "s3.csv");
     for f in ["s3.scenario.toml", "s3.rig.toml"] {
         let t = std::fs::read_to_string(p(f)).unwrap();
@@ -415,7 +426,13 @@ fn a_length_in_millimetres_on_the_command_line_is_doubted_like_in_a_rig_file() {
         o.status.success() && e.contains("pendulum3d.pivot_offset: a pivot offset r12"),
         "{e}"
     );
+}
+
+#[test]
+fn plausible_lengths_or_quiet_give_no_warning() {
     // Plausible lengths (1.5 m, the defaults), or --quiet: not a word.
+    let dir = tempfile::tempdir().unwrap();
+    let run = |extra: &[&str], out: &str| simulate_warnings(dir.path(), extra, out);
     let e = run(
         &[
             "--scenario",

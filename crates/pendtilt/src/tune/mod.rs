@@ -62,13 +62,13 @@ pub mod rig_file;
 pub mod search;
 pub mod spatial;
 pub mod spectrum;
+mod steps;
 pub mod surrogate;
 mod targets;
 pub mod zoo;
 
 use crate::config::RigConfig;
 use crate::peers::{self, PeerSettings};
-use filters::{fit_filters, FilterFits, FitData};
 use pendtilt_core::ekf::ModelSettings;
 use pendtilt_core::estimators::accel::AccelSettings;
 use pendtilt_core::estimators::alg1::Alg1Settings;
@@ -80,6 +80,7 @@ use pendtilt_core::params::STANDARD_GRAVITY;
 use pendtilt_core::{PendulumParams, PlanarEstimator, Sample};
 use search::Budget;
 use std::time::{Duration, Instant};
+use steps::{choose_cutoffs, fit_or_keep, measure, note_fits, scale_jitter, why_not_fit, Columns};
 
 /// The settings tuning starts from (and keeps where the log cannot tell).
 #[derive(Debug, Clone, PartialEq)]
@@ -297,25 +298,6 @@ pub fn sample_rate(samples: &[Sample<f64>]) -> Option<f64> {
     Some(1.0 / d[d.len() / 2])
 }
 
-/// Span of phi's one-second means \[rad\] (how far the body tilted, swing averaged out).
-fn tilt_range(phi: &[f64], rate: f64) -> f64 {
-    let w = (rate.round() as usize).max(1);
-    let means: Vec<f64> = phi
-        .chunks(w)
-        .filter_map(|c| {
-            let f: Vec<f64> = c.iter().copied().filter(|v| v.is_finite()).collect();
-            (!f.is_empty()).then(|| f.iter().sum::<f64>() / f.len() as f64)
-        })
-        .collect();
-    let lo = means.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = means.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    if hi >= lo {
-        hi - lo
-    } else {
-        0.0
-    }
-}
-
 /// Every how many rows Algorithm 2's angle is used in the likelihood fit: a Nyquist
 /// interval of the differentiator's cutoff `fc` \[Hz\] at `rate`, at least 1.
 pub fn decimation(rate: f64, fc: f64) -> usize {
@@ -343,152 +325,9 @@ fn measurements(e: &mut dyn PlanarEstimator<f64>, samples: &[Sample<f64>]) -> Ve
         .collect()
 }
 
-/// Why the filters cannot be fitted on a log of `duration` \[s\] whose tilt spans
-/// `range` \[rad\] (`None`: they can).
-/// Why the log cannot tell the pendulum's forcing, if it cannot: the tilt spans under
-/// [`MIN_TILT_RANGE`] and the accelerometer reads no more above the pendulum's band than
-/// its white noise (1.5 times its RMS there at most). Then nothing forced the pendulum,
-/// and the residual near f_n is the sensors' noise through the filter: on the 20 s still
-/// scenario it gave 0.0037 1/s^3, 40 times below the default, and that rig took the EKF
-/// on 30 s scooter rides (seeds 1-3) from 0.042, 0.055, 0.039 to 0.049, 0.046, 0.045 deg
-/// RMS after 2 s.
-fn unforced(tilt: f64, acc: &Result<accel::AccelNoise, String>) -> Option<String> {
-    let a = acc.as_ref().ok()?;
-    // One-sided density 2 d^2 over the band above the pendulum's, to the Nyquist frequency
-    // (the top band's edge).
-    let top = a.bands.last().map_or(0.0, |b| b.band[1]);
-    let white = a.density * (2.0 * (top - a.pendulum_band).max(0.0)).sqrt();
-    (tilt < MIN_TILT_RANGE && a.vibration_rms <= 1.5 * white).then(|| {
-        format!(
-            "nothing forced the pendulum (tilt spans {:.2} deg, the accelerometer above {:.1} Hz \
-             {:.3} m/s^2 RMS, its white noise alone {:.3}): a still log cannot tell how a ride \
-             forces it",
-            tilt.to_degrees(),
-            a.pendulum_band,
-            a.vibration_rms,
-            white
-        )
-    })
-}
-
-fn why_not_fit(duration: f64, range: f64) -> Option<String> {
-    if duration < MIN_FIT_SECONDS {
-        Some(format!(
-            "log too short ({duration:.1} s, at least {MIN_FIT_SECONDS} s needed): kept the default"
-        ))
-    } else if range < MIN_TILT_RANGE {
-        Some(format!(
-            "log too still (tilt spans {:.2} deg, at least 1 deg needed): kept the default",
-            range.to_degrees()
-        ))
-    } else {
-        None
-    }
-}
-
-/// The differentiator adopted: the gyro-referenced cutoff when there is one, else the
-/// spectral rule's, else the start's.
-fn adopted_differentiator(
-    start: &Start,
-    cutoff_by_gyro: Option<(f64, f64)>,
-    cut: &Result<cutoff::CutoffChoice, String>,
-) -> DiffSettings<f64> {
-    let current = start.alg2.front_end.differentiator;
-    match cutoff_by_gyro {
-        Some((x, _)) => DiffSettings {
-            response: current.response,
-            cutoff: pendtilt_core::filters::diff::Cutoff::TimesNatural(x),
-        },
-        None => cut.as_ref().map_or(current, |c| c.settings),
-    }
-}
-
-/// The differentiator's cutoffs the log tells ([`cutoffs`]).
-struct Cutoffs {
-    /// The spectral rule's choice, or why there is none.
-    cut: Result<cutoff::CutoffChoice, String>,
-    /// Algorithm 2's cutoff against the gyro's reference and its band error.
-    by_gyro: Option<(f64, f64)>,
-    /// Algorithm 1's, the same way.
-    alg1: Option<(f64, f64)>,
-    /// Why the log is too still to choose any.
-    too_still: Option<String>,
-}
-
-/// The cutoffs against the gyro's reference (with the gyro's `bias`, on a log `long_enough`
-/// to fit), and the spectral rule's `cut` unless the log is too still. Without tilt in the
-/// reference's band there is no delay to trade against noise: any cutoff scores alike, and
-/// the lowest was taken (a still log tuned to 0.61 f_n took alg1 on a scooter ride from
-/// 0.61 to 1.00 deg RMS).
-fn cutoffs(
-    start: &Start,
-    fit_samples: &[Sample<f64>],
-    bias: Option<f64>,
-    long_enough: bool,
-    skip: usize,
-    cut: Result<cutoff::CutoffChoice, String>,
-    budget: &mut Budget,
-) -> Cutoffs {
-    let too_still = bias.and_then(|b| too_still(fit_samples, b, skip));
-    let cut = match &too_still {
-        Some(why) => Err(why.clone()),
-        None => cut,
-    };
-    let by_gyro = bias
-        .filter(|_| long_enough && too_still.is_none())
-        .map(|b| cutoff::by_gyro_reference(fit_samples, &start.alg1, &start.alg2, b, skip, budget));
-    Cutoffs {
-        cut,
-        by_gyro: by_gyro.map(|c| c.alg2).filter(|(_, e)| e.is_finite()),
-        alg1: by_gyro.map(|c| c.alg1).filter(|(_, e)| e.is_finite()),
-        too_still,
-    }
-}
-
-/// Why the log is too still for a cutoff: the gyro's integral (less `bias`) above the
-/// reference's corner moves less than [`MIN_BAND_MOTION`]; `None` when it moves enough.
-fn too_still(samples: &[Sample<f64>], bias: f64, skip: usize) -> Option<String> {
-    let motion = reference::band_motion(samples, bias, skip);
-    (motion < MIN_BAND_MOTION).then(|| {
-        format!(
-            "log too still for a cutoff (the gyro's integral above {} Hz moves {:.4} deg \
-             RMS, at least {:.1} deg needed to see the delay)",
-            reference::CORNER_HZ,
-            motion.to_degrees(),
-            MIN_BAND_MOTION.to_degrees()
-        )
-    })
-}
-
-/// The gyro's errors the surrogate fits draw, when its bias was measured.
-fn gyro_errors(
-    gyr: &Result<gyro::GyroNoise, String>,
-    start: &Start,
-) -> Option<surrogate::GyroErrors> {
-    gyr.as_ref().ok().and_then(|g| {
-        g.bias.map(|bias| surrogate::GyroErrors {
-            bias,
-            density: g.density,
-            bias_walk: start.ekf.sensors.gyro_bias_walk,
-        })
-    })
-}
-
-/// The process noise "kept" by the filters' notes is the start's, whose pendulum forcing
-/// was measured: not a default.
-fn forcing_measured(notes: &mut [Note]) {
-    for n in notes.iter_mut().filter(|n| n.key == "ekf.process.pendulum") {
-        if n.kept_default {
-            n.kept_default = false;
-            n.how += " (the start's value is the accelerometer's measured forcing)";
-        }
-    }
-}
-
 /// Tunes every estimator's settings on `samples` (one log, rows in order), starting from
-/// `start`. See the module documentation.
-/// (Long, kept whole: the steps in the order they depend on each other, each one call;
-/// splitting it would pass most of its locals to each part.)
+/// `start`. See the module documentation: the steps run in the order they depend on
+/// each other.
 pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
     // The tuned figures are the log's: the filter runs with them fixed, here and after
     // (the rig file gets `adapt = false`).
@@ -511,111 +350,25 @@ pub fn tune(samples: &[Sample<f64>], start: &Start, opts: &Options) -> Tuned {
         progress: Some(&tell),
     };
     let mut notes = Vec::new();
-    let rate = sample_rate(samples).unwrap_or(1000.0);
-    let col = |f: fn(&Sample<f64>) -> f64| samples.iter().map(f).collect::<Vec<f64>>();
-    let (phi, gyro_v, ax, ay) = (
-        col(|s| s.phi),
-        col(|s| s.gyro),
-        col(|s| s.ax),
-        col(|s| s.ay),
-    );
-    let f_n = start.params.natural_frequency_hz();
-    let start_diff = start.alg2.front_end.differentiator;
-
-    let enc = encoder::estimate(&phi);
-    let gyr = gyro::estimate(&gyro_v, &phi, rate);
-    let acc = accel::estimate(&ax, &ay, rate, f_n);
-    let cut = cutoff::choose(&phi, rate, &start.params, &start_diff);
-    let mut ekf_start = notes::sensor_settings(&start.ekf, &enc, &gyr, &acc, &mut notes);
-    let jit = forcing::jitter(&phi, rate, f_n);
-    notes::jitter(&mut ekf_start, &jit, &mut notes);
-    let duration = samples.len() as f64 / rate;
-    let tilt = tilt_range(&phi, rate);
-    let why_not = why_not_fit(duration, tilt);
-    let fit_rows = samples
-        .len()
-        .min((opts.fit_seconds * rate).round() as usize);
-    let fit_samples = &samples[..fit_rows];
-    let skip = (kalman::BURN_IN * rate).round() as usize;
-    let force = match unforced(tilt, &acc) {
-        Some(why) => Err(why),
-        None => forcing::forcing(&ekf_start, fit_samples, rate, skip),
-    };
-    notes::forcing(&mut ekf_start, &force, &mut notes);
-    let bias = gyr.as_ref().ok().and_then(|g| g.bias);
-    // The measured jitter scaled toward the density it has in the filter's band, by the
-    // EKF's error against the gyro's integral (`forcing::jitter_scale`).
-    let jitter_scale = match (bias, &jit) {
-        (Some(b), Ok(j)) if *j > 0.0 && duration >= MIN_FIT_SECONDS => {
-            forcing::jitter_scale(&ekf_start, fit_samples, b, rate, skip, &mut budget)
-        }
-        _ => None,
-    };
-    if let Some(js) = &jitter_scale {
-        ekf_start.encoder_jitter *= js.scale;
-        notes::jitter_scale(ekf_start.encoder_jitter, js, &mut notes);
-    }
-    let long_enough = duration >= MIN_FIT_SECONDS;
-    let cuts = cutoffs(
-        start,
-        fit_samples,
-        bias,
-        long_enough,
-        skip,
-        cut,
-        &mut budget,
-    );
-    let (cut, cutoff_by_gyro, alg1_cutoff) = (cuts.cut, cuts.by_gyro, cuts.alg1);
-    let differentiator = adopted_differentiator(start, cutoff_by_gyro, &cut);
-    notes::cutoff(&cut, cutoff_by_gyro, &start_diff, &start.params, &mut notes);
-    notes::alg1_cutoff(
-        alg1_cutoff,
-        cuts.too_still.as_deref(),
-        &start.params,
-        &mut notes,
-    );
-    let fits = match why_not {
-        None => {
-            let data = FitData {
-                samples: fit_samples,
-                dt: fit_samples.iter().map(|s| s.dt).collect(),
-                gyro: &gyro_v[..fit_rows],
-                skip,
-                rate,
-                has_accel: ax.iter().any(|v| v.is_finite()),
-                gyro_errors: gyro_errors(&gyr, start),
-            };
-            fit_filters(start, ekf_start, differentiator, &data, opts, &mut budget)
-        }
-        Some(_) => FilterFits::unfitted(start.kalman, ekf_start),
-    };
-    notes::filters(
-        &start.kalman,
-        &fits.kalman,
-        fits.kalman_fit.as_ref(),
-        fits.kalman_surrogate.as_ref(),
-        fits.accel_fit.as_ref(),
-        fits.fused_fit.as_ref(),
-        &ekf_start,
-        fits.ekf_fit.as_ref(),
-        fits.ekf_band,
-        matches!(opts.target, Target::Truth(_)),
-        why_not.as_deref(),
-        &mut notes,
-    );
-    if force.is_ok() {
-        forcing_measured(&mut notes);
-    }
+    let log = Columns::read(samples, opts.fit_seconds);
+    let mut m = measure(&log, start, &mut notes);
+    let bias = m.gyr.as_ref().ok().and_then(|g| g.bias);
+    let jitter_scale = scale_jitter(&mut m, bias, &log, &mut budget, &mut notes);
+    let (cuts, differentiator) = choose_cutoffs(start, &log, bias, &mut budget, &mut notes);
+    let why_not = why_not_fit(log.duration, log.tilt);
+    let why_not = why_not.as_deref();
+    let fits = fit_or_keep(start, &m, differentiator, &log, why_not, opts, &mut budget);
+    note_fits(start, &fits, &m, opts, why_not, &mut notes);
     Tuned {
-        encoder: enc,
-        gyro: gyr,
-        accel: acc,
-        jitter: jit,
+        encoder: m.enc,
+        gyro: m.gyr,
+        accel: m.acc,
+        jitter: m.jit,
         jitter_scale,
-        forcing: force,
-        cutoff: cut,
-        cutoff_by_gyro,
-        alg1_cutoff,
+        forcing: m.force,
+        cutoff: cuts.cut,
+        cutoff_by_gyro: cuts.by_gyro,
+        alg1_cutoff: cuts.alg1,
         differentiator,
         kalman: fits.kalman,
         ekf: fits.ekf,
