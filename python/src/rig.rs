@@ -1,5 +1,5 @@
 //! Rig files: checked and written as the command reads and writes them.
-use pendtilt::bank3d::rig::Rig3dConfig;
+use pendtilt::bank::spatial::rig::Rig3dConfig;
 use pendtilt::config::RigConfig;
 use pyo3::prelude::*;
 
@@ -28,7 +28,7 @@ pub fn rig_check(text: &str, origin: &str) -> PyResult<(String, Option<String>, 
 pub fn rig_default(kind: &str) -> PyResult<String> {
     match kind {
         "planar" => Ok(RigConfig::default().to_toml_string()),
-        "3d" => Ok(pendtilt::bank3d::rig::template()),
+        "3d" => Ok(pendtilt::bank::spatial::rig::template()),
         other => Err(PendtiltError::new_err(format!(
             "unknown rig kind `{other}` (known: planar, 3d)"
         ))),

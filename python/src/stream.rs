@@ -1,8 +1,8 @@
 //! Streaming estimators: one sample in, every chosen estimator's estimate out.
 //!
-//! [`Stream`] is the planar bank ([`pendtilt::bank::Bank`]) that `pendtilt estimate` and
+//! [`Stream`] is the planar bank ([`pendtilt::bank::planar::Bank`]) that `pendtilt estimate` and
 //! `pendtilt stream` run, built from a rig file as they build it; [`Stream3d`] the 3-D
-//! bank ([`pendtilt::bank3d::Bank3d`]) with `estimate`'s 3-D setup. The time steps come
+//! bank ([`pendtilt::bank::spatial::Bank3d`]) with `estimate`'s 3-D setup. The time steps come
 //! from the time stamps through the readers' [`StepGate`]. What the log readers add
 //! around the bank (plausibility bounds, clips found ahead in the log, the unit checks,
 //! the warnings) is not done here: samples go to the bank as given.
@@ -10,8 +10,8 @@ use std::path::PathBuf;
 
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1};
-use pendtilt::bank::Bank;
-use pendtilt::bank3d::Bank3d;
+use pendtilt::bank::planar::Bank;
+use pendtilt::bank::spatial::Bank3d;
 use pendtilt::cli::options::{rig_bank_settings, LogColumns};
 use pendtilt::config::RigConfig;
 use pendtilt::io::ColumnMap;

@@ -4,10 +4,10 @@
 //! `cargo bench -p pendtilt --bench estimate`. The log is generated once per run into a
 //! temporary directory. Peak memory is measured on the command itself (docs/performance.md, "Speed").
 use criterion::{criterion_group, criterion_main, Criterion};
-use pendtilt::bank::{Bank, BankSettings};
+use pendtilt::bank::planar::{Bank, BankSettings};
 use pendtilt::io::{EstimatesWriter, LogReader, ReaderOptions, WriterOptions};
 use pendtilt::pipeline;
-use pendtilt::sim::{output::write_log, Scenario, Simulator};
+use pendtilt::sim::planar::{output::write_log, Scenario, Simulator};
 use pendtilt_core::PendulumParams;
 
 fn bench(c: &mut Criterion) {

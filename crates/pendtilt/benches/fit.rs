@@ -9,8 +9,8 @@
 //! built outside the timed part.
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use pendtilt::fit::{fit, prepare, Algorithm, FitSettings, Method, Target};
-use pendtilt::sim::motion::{Chirp, Motion};
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::motion::{Chirp, Motion};
+use pendtilt::sim::planar::{simulate, Scenario};
 use pendtilt_core::estimators::alg3::Alg3Settings;
 use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::filters::diff::Cutoff;

@@ -4,7 +4,7 @@
 //! restarted at the batch's start (the per-sample work of these filters does not depend on
 //! how far they have converged); criterion reports time per sample (elements).
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use pendtilt::bank::build;
+use pendtilt::bank::planar::build;
 use pendtilt::peers::PeerSettings;
 use pendtilt_core::{PendulumParams, Sample};
 use std::hint::black_box;

@@ -5,8 +5,8 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use pendtilt::sim::output::write_log;
-use pendtilt::sim::{Scenario, Simulator};
+use pendtilt::sim::planar::output::write_log;
+use pendtilt::sim::planar::{Scenario, Simulator};
 
 fn bench(c: &mut Criterion) {
     let mut s = Scenario::named("scooter").unwrap();
@@ -30,7 +30,7 @@ fn bench(c: &mut Criterion) {
         })
     });
     s.vibration = Default::default();
-    s.motion = pendtilt::sim::motion::Motion::Sigmoid(Default::default());
+    s.motion = pendtilt::sim::planar::motion::Motion::Sigmoid(Default::default());
     g.bench_function("sigmoid_10s_rows", |b| {
         b.iter(|| {
             let sim = Simulator::new(&s, 1).unwrap();
@@ -41,7 +41,7 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("sim3d");
     g.sample_size(10);
     for name in ["scooter3d", "ride3d"] {
-        let mut s = pendtilt::sim3d::Scenario3d::named(name, 1).unwrap();
+        let mut s = pendtilt::sim::spatial::Scenario3d::named(name, 1).unwrap();
         s.duration = 2.0;
         g.throughput(Throughput::Elements(s.rows()));
         g.bench_function(format!("{name}_2s_rows"), |b| {

@@ -10,7 +10,7 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use pendtilt::fit::cardan::{fit_cardan, Fit3dSettings, Log3dColumns};
 use pendtilt::fit::Target;
-use pendtilt::sim3d::{LogRow3d, Scenario3d};
+use pendtilt::sim::spatial::{LogRow3d, Scenario3d};
 use pendtilt::tune::spatial::{tune3d, Start3d};
 use pendtilt_core::spatial::cardan::CardanParams;
 use std::hint::black_box;

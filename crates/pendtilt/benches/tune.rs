@@ -6,7 +6,7 @@
 //!
 //! Each run takes seconds: ten samples per log, the fewest criterion takes.
 use criterion::{criterion_group, criterion_main, Criterion};
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::{simulate, Scenario};
 use pendtilt::tune::{tune, Options, Start};
 use pendtilt_core::Sample;
 use std::hint::black_box;

@@ -23,15 +23,15 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
-use pendtilt::bank3d::rig::Pendulum3dConfig;
-use pendtilt::bank3d::Settings3d;
+use pendtilt::bank::spatial::rig::Pendulum3dConfig;
+use pendtilt::bank::spatial::Settings3d;
 use pendtilt::peers::spatial::{madgwick3d, mahony3d, AHRS_PY_MADGWICK_BETA, AHRS_PY_MAHONY_GAINS};
 use pendtilt::replay::benchmark::{score, score_one, Score, TILT_LIMIT_DEG};
 use pendtilt::replay::source::ImuOptions;
 use pendtilt::replay::{replay_with, AddedVibration, Recording, Replay, ReplaySettings};
 use pendtilt::report::figures::{plot_curves, Curve, FigureSpec};
 use pendtilt::report::palette::Palette;
-use pendtilt::sim3d::Mounting;
+use pendtilt::sim::spatial::Mounting;
 
 /// The reference filters' RMS per trial and filter, from `reference.csv`.
 fn reference(dir: &Path) -> BTreeMap<(String, String), [f64; 4]> {

@@ -6,7 +6,7 @@
 //! `cargo run --release -p pendtilt --example estimate_in_memory -- LOG.csv [RIG.toml]`
 use std::time::Instant;
 
-use pendtilt::bank::{Bank, BankSettings};
+use pendtilt::bank::planar::{Bank, BankSettings};
 use pendtilt::config::RigConfig;
 use pendtilt::io::{EstimatesWriter, LogReader, ReaderOptions};
 use pendtilt::pipeline;

@@ -10,7 +10,7 @@
 //! `FIT3D_IDEAL=1` and `FIT3D_NOISE=gyro,accel,enc` take the vibration or sensor errors out.
 use pendtilt::fit::cardan::{fit_cardan, Fit3dSettings, Log3dColumns, NoiseDensities, NAMES};
 use pendtilt::fit::Target;
-use pendtilt::sim3d::{Pendulum3d, Scenario3d};
+use pendtilt::sim::spatial::{Pendulum3d, Scenario3d};
 
 /// A pendulum of natural frequency `hz` and damping ratio `zeta` on both axes (MODEL.md
 /// 7.6's mass and length).

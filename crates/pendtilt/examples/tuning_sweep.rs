@@ -4,7 +4,7 @@
 //! where theta'' comes from (Eq 22 window or the matched differentiator).
 //!
 //! `cargo run --release -p pendtilt --example tuning_sweep [SECONDS] [SEEDS]`
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::{simulate, Scenario};
 use pendtilt_core::estimators::alg1::{Alg1, Alg1Settings};
 use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
 use pendtilt_core::estimators::front_end::FrontEndSettings;
@@ -13,7 +13,7 @@ use pendtilt_core::estimators::PhiSource;
 use pendtilt_core::filters::diff::{Cutoff, DiffSettings, Response};
 use pendtilt_core::{PendulumParams, PlanarEstimator};
 
-fn rms(est: &mut dyn PlanarEstimator<f64>, rows: &[pendtilt::sim::SimRow]) -> f64 {
+fn rms(est: &mut dyn PlanarEstimator<f64>, rows: &[pendtilt::sim::planar::SimRow]) -> f64 {
     let (mut acc, mut n) = (0.0, 0usize);
     for r in rows {
         let e = est.update(&r.sample());
@@ -28,7 +28,7 @@ fn rms(est: &mut dyn PlanarEstimator<f64>, rows: &[pendtilt::sim::SimRow]) -> f6
 /// Mean over `rides` of the RMS error \[deg\] of the estimator `make` builds, one fresh per
 /// ride.
 fn mean_rms<E: PlanarEstimator<f64>>(
-    rides: &[Vec<pendtilt::sim::SimRow>],
+    rides: &[Vec<pendtilt::sim::planar::SimRow>],
     make: impl Fn() -> E,
 ) -> f64 {
     rides.iter().map(|r| rms(&mut make(), r)).sum::<f64>() / rides.len() as f64
@@ -37,7 +37,7 @@ fn mean_rms<E: PlanarEstimator<f64>>(
 /// One row of the table: alg1, alg2 with each theta'' source and alg2 with delay
 /// compensation, all with the front end `fe`.
 fn row(
-    rides: &[Vec<pendtilt::sim::SimRow>],
+    rides: &[Vec<pendtilt::sim::planar::SimRow>],
     params: PendulumParams<f64>,
     fe: FrontEndSettings<f64>,
 ) -> [f64; 6] {

@@ -15,7 +15,7 @@
 //! `cargo run --release -p pendtilt --example tuning_zoo [-- --rides N --seconds S]`
 //! (default 20 rides of 40 s).
 use pendtilt::peers::tune::{search_peer_gains, Log};
-use pendtilt::sim::Scenario;
+use pendtilt::sim::planar::Scenario;
 use pendtilt::tune::zoo::ride;
 use pendtilt::tune::zoo::score::{bank_rms, RideLog};
 use pendtilt::tune::zoo::score::{score, RideScore, ESTIMATORS};

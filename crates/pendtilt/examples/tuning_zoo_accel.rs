@@ -6,7 +6,7 @@
 //!
 //! `cargo run --release -p pendtilt --example tuning_zoo_accel [-- --rides N --seconds S]`
 //! (default 20 rides of 40 s, the zoo's).
-use pendtilt::bank::{Bank, BankSettings, Inputs};
+use pendtilt::bank::planar::{Bank, BankSettings, Inputs};
 use pendtilt::config::RigConfig;
 use pendtilt::tune::zoo::ride;
 use pendtilt::tune::zoo::score::RideLog;

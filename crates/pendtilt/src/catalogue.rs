@@ -5,7 +5,7 @@
 //! Everything that names estimators reads this table: the two registries (which add how
 //! each one is built), `--help`, the report's panels and palette, the peers' columns and
 //! the hint that tells a 3-D name given for a planar log. Adding an estimator is a row
-//! here and an entry in its registry (`bank/registry.rs` or `bank3d/mod.rs`), then the
+//! here and an entry in its registry (`bank/planar/registry.rs` or `bank/spatial/mod.rs`), then the
 //! golden outputs' re-bless.
 use crate::sensors::Inputs;
 
@@ -356,8 +356,14 @@ mod tests {
     /// Each registry builds exactly its model's estimators, in the catalogue's order.
     #[test]
     fn the_registries_build_the_catalogue_in_its_order() {
-        let planar: Vec<&str> = crate::bank::REGISTRY.iter().map(|e| e.name).collect();
-        let spatial: Vec<&str> = crate::bank3d::REGISTRY3D.iter().map(|e| e.name).collect();
+        let planar: Vec<&str> = crate::bank::planar::REGISTRY
+            .iter()
+            .map(|e| e.name)
+            .collect();
+        let spatial: Vec<&str> = crate::bank::spatial::REGISTRY3D
+            .iter()
+            .map(|e| e.name)
+            .collect();
         assert_eq!(planar, names(Model::Planar).collect::<Vec<_>>());
         assert_eq!(spatial, names(Model::Spatial).collect::<Vec<_>>());
     }

@@ -6,7 +6,6 @@
 pub use pendtilt_core as core;
 
 pub mod bank;
-pub mod bank3d;
 pub mod catalogue;
 pub mod cli;
 pub mod config;
@@ -19,6 +18,5 @@ pub mod replay;
 pub mod report;
 pub mod sensors;
 pub mod sim;
-pub mod sim3d;
 pub mod tune;
 pub mod units;

@@ -10,11 +10,8 @@ const LAYERS: [(&str, &[&str]); 7] = [
         &["sensors", "catalogue"],
     ),
     ("data: logs, units, rig files", &["io", "units", "config"]),
-    ("models: the simulators", &["sim", "sim3d"]),
-    (
-        "estimators: the banks and the peers",
-        &["bank", "bank3d", "peers"],
-    ),
+    ("models: the simulators", &["sim"]),
+    ("estimators: the banks and the peers", &["bank", "peers"]),
     (
         "runs: the pass, replay, fit, tune",
         &["pipeline", "replay", "fit", "tune"],
@@ -137,7 +134,7 @@ fn the_reader_of_imports_finds_plain_and_grouped_paths() {
         ["bank", "sensors", "report"]
     );
     assert_eq!(
-        named("let x = crate::units::f(crate::bank::RESTART_GAP);"),
+        named("let x = crate::units::f(crate::bank::planar::RESTART_GAP);"),
         ["units", "bank"]
     );
     assert!(named("use super::x;").is_empty());
@@ -177,7 +174,7 @@ fn edges() -> Vec<(String, String, String)> {
 
 /// Within a layer modules may import each other one way only: two that import each
 /// other are one module in two places (the pairs io/units, config/io, bank/peers and
-/// sim/sim3d once did).
+/// the planar and 3-D simulators once did).
 #[test]
 fn no_two_modules_import_each_other() {
     let e = edges();
@@ -207,9 +204,7 @@ fn no_two_modules_import_each_other() {
 fn the_simulators_import_only_the_cores_model() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut files = Vec::new();
-    for m in ["sim", "sim3d"] {
-        sources(&src.join(m), &mut files);
-    }
+    sources(&src.join("sim"), &mut files);
     assert!(files.len() > 10, "{} simulator files", files.len());
     let mut wrong = Vec::new();
     for f in &files {

@@ -4,12 +4,12 @@
 //! from the first movement on (MODEL.md 7.9, 7.10).
 use std::path::PathBuf;
 
-use pendtilt::bank3d::rig::Pendulum3dConfig;
-use pendtilt::bank3d::Settings3d;
+use pendtilt::bank::spatial::rig::Pendulum3dConfig;
+use pendtilt::bank::spatial::Settings3d;
 use pendtilt::replay::benchmark::{score, Score};
 use pendtilt::replay::source::ImuOptions;
 use pendtilt::replay::{replay, Recording, Replay, ReplaySettings};
-use pendtilt::sim3d::Mounting;
+use pendtilt::sim::spatial::Mounting;
 
 const TRIALS: [&str; 5] = [
     "06_undisturbed_fast_rotation_A",
@@ -171,7 +171,7 @@ fn without_guard_and_adaptation_ekf3d_loses_the_attitude() {
 /// later, not a recovery fault: see docs/real-motion.md).
 #[test]
 fn after_the_pendulum_tumbles_ekf3d_takes_it_back() {
-    use pendtilt::bank3d::Bank3d;
+    use pendtilt::bank::spatial::Bank3d;
     use pendtilt_core::spatial::attitude::inclination_between;
     use pendtilt_core::spatial::attitude::up_from_roll_pitch;
     use pendtilt_core::{Flags, StepGate};

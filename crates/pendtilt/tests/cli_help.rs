@@ -6,9 +6,9 @@ use clap::CommandFactory;
 
 mod common;
 use common::{pendtilt, s, stderr};
-use pendtilt::bank::REGISTRY;
+use pendtilt::bank::planar::REGISTRY;
 use pendtilt::cli::Cli;
-use pendtilt::sim::{Scenario, SCENARIO_NAMES};
+use pendtilt::sim::planar::{Scenario, SCENARIO_NAMES};
 
 fn help(args: &[&str]) -> String {
     let o = pendtilt(args);

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 use pendtilt::report::html::referenced_paths;
 mod common;
 use common::bin;
-use pendtilt::sim::{rig_toml, simulate, Scenario};
+use pendtilt::sim::planar::{rig_toml, simulate, Scenario};
 
 /// A 4 s scooter log with (or without) the theta column, and its rig file.
 fn write_log(dir: &Path, with_theta: bool) -> (PathBuf, PathBuf) {

@@ -8,7 +8,7 @@ use std::process::Output;
 mod common;
 use common::{pendtilt, s, stderr};
 use pendtilt::config::RigConfig;
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::{simulate, Scenario};
 
 /// A directory with a 3 s sigmoid log (`t,phi,gyro,ax,ay,theta`) and a rig file.
 struct Fixture {

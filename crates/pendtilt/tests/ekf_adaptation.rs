@@ -7,7 +7,7 @@ use ekf_common::*;
 use pendtilt::config::RigConfig;
 use pendtilt::core::ekf::{Ekf, ModelSettings, Ukf};
 use pendtilt::core::Estimator;
-use pendtilt::sim::Scenario;
+use pendtilt::sim::planar::Scenario;
 
 /// RMS error \[deg\] after [`SKIP`] and the last forcing factor of `e` over `r`.
 fn run(e: &mut Ekf<f64>, r: &Ride) -> (f64, f64) {

@@ -97,7 +97,7 @@ fn f32_ekf_tracks_a_still_pendulum() {
 /// and theta'' are loosened when the gyro goes missing it ends within 0.04 deg too.
 #[test]
 fn a_long_gap_of_every_sensor_restarts_instead_of_extrapolating() {
-    use pendtilt::sim::{simulate, Scenario};
+    use pendtilt::sim::planar::{simulate, Scenario};
     let mut sc = Scenario::named("scooter").unwrap();
     sc.duration = 10.0;
     let p = sc.physical().normalised();

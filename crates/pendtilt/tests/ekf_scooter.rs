@@ -87,8 +87,8 @@ fn alg2_offset_removes_the_pivot_term_the_paper_dropped() {
     // theta'^2 sin phi) with c = l12 / g = 0.02 s^2, 4 times b: without it alg2 misreads
     // the pivot's acceleration as tilt. What is left with it is the differentiator's delay
     // on the correction (about 0.1 s, a fifth of the correction at 0.3 Hz).
-    use pendtilt::sim::motion::{Motion, Sine};
-    use pendtilt::sim::Scenario;
+    use pendtilt::sim::planar::motion::{Motion, Sine};
+    use pendtilt::sim::planar::Scenario;
     let mut sc = Scenario::with_motion(
         Motion::Sine(Sine {
             frequency: 0.3,

@@ -16,7 +16,7 @@ use pendtilt::core::kalman::tilt::KalmanOn;
 use pendtilt::core::kalman::KalmanSettings;
 use pendtilt::core::supervision::{SupervisedAlg3, SupervisedAlg3Settings};
 use pendtilt::core::{PendulumParams, PlanarEstimator, Real, Sample, StepGate};
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::{simulate, Scenario};
 
 type Bank<T> = Vec<(&'static str, Box<dyn PlanarEstimator<T>>)>;
 

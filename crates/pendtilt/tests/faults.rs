@@ -12,10 +12,10 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use pendtilt::bank::{Bank, BankSettings, Inputs};
+use pendtilt::bank::planar::{Bank, BankSettings, Inputs};
 use pendtilt::core::{Estimate, Flags, Sample};
 use pendtilt::sensors::Sensor;
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::{simulate, Scenario};
 
 // ---------------------------------------------------------------------------------------
 // Item 1: bad files through `pendtilt estimate`.

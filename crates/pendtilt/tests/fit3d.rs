@@ -2,7 +2,7 @@
 //! MODEL.md 7.6's recovered with and without the true angles, a still log refused as
 //! unidentifiable, an implausible rig named, and the fitted rig read back by the 3-D rig
 //! reader.
-use pendtilt::bank3d::rig::Rig3dConfig;
+use pendtilt::bank::spatial::rig::Rig3dConfig;
 use pendtilt::core::spatial::cardan::CardanParams;
 use pendtilt::fit::cardan::{
     check, fit_cardan, rig::rig_toml, Fit3dReport, Fit3dSettings, Implausible3d, Log3dColumns,
@@ -10,7 +10,7 @@ use pendtilt::fit::cardan::{
 };
 use pendtilt::fit::plausibility::LogSpan;
 use pendtilt::fit::{FitError, Target};
-use pendtilt::sim3d::{Pendulum3d, Scenario3d};
+use pendtilt::sim::spatial::{Pendulum3d, Scenario3d};
 
 /// A pendulum of natural frequency `hz` and damping ratio `zeta` on both axes, MODEL.md
 /// 7.6's mass and length.

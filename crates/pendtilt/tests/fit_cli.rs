@@ -2,7 +2,7 @@
 use clap::Parser;
 use pendtilt::cli::{run, Cli};
 use pendtilt::config::RigConfig;
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::{simulate, Scenario};
 use pendtilt_core::PendulumParams;
 use std::io::Write;
 
@@ -111,7 +111,7 @@ fn fit_refuses_a_negative_start_and_a_log_without_truth() {
 /// `scooter` vibration with broadband floor vibration): within 5 % of a and b.
 #[test]
 fn fit_cost_output_recovers_a_and_b_on_a_vibrating_log() {
-    use pendtilt::sim::motion::{Chirp, Motion};
+    use pendtilt::sim::planar::motion::{Chirp, Motion};
     let dir = tempfile::tempdir().unwrap();
     let motion = Motion::Chirp(Chirp {
         f0: 0.2,
@@ -187,7 +187,7 @@ fn fit_cost_output_recovers_a_and_b_on_a_vibrating_log() {
 }
 
 /// Writes `rows` as a CSV log, time multiplied by `time_scale` (1000: milliseconds).
-fn write_rows(path: &std::path::Path, rows: &[pendtilt::sim::SimRow], time_scale: f64) {
+fn write_rows(path: &std::path::Path, rows: &[pendtilt::sim::planar::SimRow], time_scale: f64) {
     let mut f = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
     writeln!(f, "t,phi,gyro,ax,ay,theta").unwrap();
     for r in rows {
@@ -213,7 +213,7 @@ fn write_rows(path: &std::path::Path, rows: &[pendtilt::sim::SimRow], time_scale
 /// vibration started 50 % off: within 5 %.
 #[test]
 fn default_fit_is_within_5_percent_under_vibration_and_noise() {
-    use pendtilt::sim::motion::{Chirp, Motion};
+    use pendtilt::sim::planar::motion::{Chirp, Motion};
     let dir = tempfile::tempdir().unwrap();
     let t = PendulumParams::<f64>::default();
     let err = |p: &PendulumParams<f64>| ((p.a / t.a - 1.0).abs(), (p.b / t.b - 1.0).abs());

@@ -1,7 +1,7 @@
 //! Live supervision (Eq 29) of Algorithm 3 (Eq 30) in the core: convergence from a start
 //! 50 % off and tracking of a step change of the damping.
-use pendtilt::sim::motion::{Chirp, Motion};
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::motion::{Chirp, Motion};
+use pendtilt::sim::planar::{simulate, Scenario};
 use pendtilt_core::estimators::alg3::{Alg3, Alg3Settings};
 use pendtilt_core::estimators::equations::Alg3Gains;
 use pendtilt_core::filters::diff::Cutoff;

@@ -1,7 +1,7 @@
 //! Offline fits (Eqs 23-28, and Levenberg-Marquardt) on simulated logs.
 use pendtilt::fit::{fit_log, Algorithm, Cost, FitError, FitSettings, Method, Target};
-use pendtilt::sim::motion::{Chirp, Motion};
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::motion::{Chirp, Motion};
+use pendtilt::sim::planar::{simulate, Scenario};
 use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::{PendulumParams, Sample};
 

@@ -290,7 +290,7 @@ fn a_planar_gyro_clipped_at_an_unknown_full_scale_is_found_and_flagged() {
     let hold = (pendtilt::core::estimators::clip_gate::CLIP_HOLD * 1e3) as usize;
     for n in est.estimators() {
         let sat = est.saturated(&n);
-        let gated = pendtilt::bank::REGISTRY
+        let gated = pendtilt::bank::planar::REGISTRY
             .iter()
             .any(|e| e.name == n && e.gyro_gated);
         let mut beyond = 0;

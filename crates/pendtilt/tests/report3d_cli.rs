@@ -3,7 +3,7 @@
 //! figures and pages are written, and bad input stops with the file and place.
 use std::path::{Path, PathBuf};
 
-use pendtilt::bank3d::REGISTRY3D;
+use pendtilt::bank::spatial::REGISTRY3D;
 use pendtilt::report::html::referenced_paths;
 
 mod common;

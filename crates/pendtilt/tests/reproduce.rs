@@ -2,15 +2,15 @@
 //! table that is computed from the run.
 use std::path::Path;
 
-use pendtilt::bank::Inputs;
-use pendtilt::bank3d::REGISTRY3D;
+use pendtilt::bank::spatial::REGISTRY3D;
 use pendtilt::experiment::claims::{paper_claims, Alg3Gains, DifferentiatorInfo};
 use pendtilt::experiment::estimate::run_estimators;
 use pendtilt::experiment::standard::{standard_report, FIR_VIEW};
 use pendtilt::experiment::{reproduce, simulate_ride, Calibration, NoProgress, ReproduceConfig};
 use pendtilt::report::claims::{fmt_sig, MetricKind};
 use pendtilt::report::html::referenced_paths;
-use pendtilt::sim::vibration::Vibration;
+use pendtilt::sensors::Inputs;
+use pendtilt::sim::planar::vibration::Vibration;
 
 mod common;
 
@@ -371,7 +371,8 @@ fn claim_verdict_changes_with_the_vibration() {
             sc.vibration = v;
         }
         let ride = simulate_ride("ride", &sc, 5, &NoProgress).unwrap();
-        let settings = pendtilt::bank::BankSettings::from_params(sc.physical().normalised());
+        let settings =
+            pendtilt::bank::planar::BankSettings::from_params(sc.physical().normalised());
         let series =
             run_estimators(&ride, &settings, Inputs::ALL, Vec::new(), &NoProgress).unwrap();
         let (report, has_fir) =

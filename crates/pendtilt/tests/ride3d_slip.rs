@@ -12,13 +12,13 @@
 //! loses the pendulum), 0.57 on plain ride3d there; during the spin 0.35 deg with the
 //! detector, 78 without, 0.32 on plain ride3d. The 1 deg holds. ride3d_yawbias
 //! (120 s): ekf3d 0.284 deg RMS, 0.70 max (inclination).
-use pendtilt::bank3d::score::Inclination;
-use pendtilt::bank3d::Settings3d;
+use pendtilt::bank::spatial::score::Inclination;
+use pendtilt::bank::spatial::Settings3d;
 use pendtilt::core::spatial::attitude::inclination_error;
 use pendtilt::core::spatial::ekf::{Ekf, Settings};
 use pendtilt::core::{Estimator, Flags, StepGate};
-use pendtilt::sim3d::scenario::Scenario3d;
-use pendtilt::sim3d::LogRow3d;
+use pendtilt::sim::spatial::scenario::Scenario3d;
+use pendtilt::sim::spatial::LogRow3d;
 use std::sync::OnceLock;
 
 mod common;

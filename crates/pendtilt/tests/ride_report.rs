@@ -7,7 +7,7 @@ use std::path::Path;
 use pendtilt::experiment::spatial::{simulate3d, Record3d};
 use pendtilt::experiment::NoProgress;
 use pendtilt::report::spatial::phases::{detect, Phase, PhaseKind};
-use pendtilt::sim3d::Scenario3d;
+use pendtilt::sim::spatial::Scenario3d;
 
 mod common;
 use common::{pendtilt, s, stderr};

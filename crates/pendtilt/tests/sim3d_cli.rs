@@ -3,7 +3,7 @@
 //! the library simulates; the scenario file reruns to the same bytes; clear errors.
 
 use pendtilt::io::{read_log3d, Log3dReader};
-use pendtilt::sim3d::{LogRow3d, Rig3d, Scenario3d};
+use pendtilt::sim::spatial::{LogRow3d, Rig3d, Scenario3d};
 
 mod common;
 use common::{pendtilt, s, stderr};

@@ -2,10 +2,10 @@
 //! small-angle frequencies, the planar reduction, and a residual check of the vector form.
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
-use pendtilt::sim::motion::{Chirp, Motion, MotionFn, Sine};
-use pendtilt::sim::{PendulumTable, Scenario, Simulator};
-use pendtilt::sim3d::motion::{AccelSine, Component};
-use pendtilt::sim3d::{
+use pendtilt::sim::planar::motion::{Chirp, Motion, MotionFn, Sine};
+use pendtilt::sim::planar::{PendulumTable, Scenario, Simulator};
+use pendtilt::sim::spatial::motion::{AccelSine, Component};
+use pendtilt::sim::spatial::{
     BodyKinematics, BodyMotion, JointState, Pendulum3d, Simulator3d, SineMotion, Truth3d,
 };
 use rand::SeedableRng;

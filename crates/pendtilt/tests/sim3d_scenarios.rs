@@ -3,8 +3,8 @@
 //! vehicle's velocity and the `speed` column; a simulated log satisfies the joint equations of
 //! 7.3 (computed here from the log's columns alone); at rest the encoders read roll and pitch.
 
-use pendtilt::sim3d::motion::{attitude, BodyMotion};
-use pendtilt::sim3d::{specific_force_at, LogRow3d, Pendulum3d, Scenario3d, VehicleMotion};
+use pendtilt::sim::spatial::motion::{attitude, BodyMotion};
+use pendtilt::sim::spatial::{specific_force_at, LogRow3d, Pendulum3d, Scenario3d, VehicleMotion};
 use std::f64::consts::TAU;
 
 const G: f64 = 9.80665;
@@ -47,7 +47,7 @@ fn still3d_is_two_sigmoid_steps() {
     assert!(!s.motion.has_vibration());
     assert_eq!(
         s.sensors,
-        pendtilt::sim3d::Sensors3d::default(),
+        pendtilt::sim::spatial::Sensors3d::default(),
         "ideal sensors"
     );
 }
@@ -424,7 +424,7 @@ fn simulated_logs_satisfy_the_joint_equations() {
 fn encoders_at_rest_equal_roll_and_pitch() {
     let mut s = Scenario3d::named("still3d", 1).unwrap();
     s.duration = 12.0;
-    s.motion.yaw[0].shape = pendtilt::sim3d::timefn::Shape::Const { value: 40.0 };
+    s.motion.yaw[0].shape = pendtilt::sim::spatial::timefn::Shape::Const { value: 40.0 };
     let rows: Vec<LogRow3d> = s.run(1).unwrap().map(|(_, r)| r).collect();
     let (first, last) = (rows[0], rows[rows.len() - 1]);
     assert_eq!(first.phi, [first.roll, first.pitch]);

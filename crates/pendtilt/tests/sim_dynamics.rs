@@ -1,8 +1,8 @@
 //! The simulator's pendulum against the physics of MODEL.md section 2: energy, free decay,
 //! equilibrium, the accelerometer at rest, the paper's Eq (18), and the pivot-offset term.
 
-use pendtilt::sim::motion::{Motion, Sigmoid, Sine, Still};
-use pendtilt::sim::{simulate, Scenario, SimRow, Simulator};
+use pendtilt::sim::planar::motion::{Motion, Sigmoid, Sine, Still};
+use pendtilt::sim::planar::{simulate, Scenario, SimRow, Simulator};
 
 mod common;
 use common::{fit_sine, ideal};
@@ -149,7 +149,7 @@ fn eq18_holds_along_the_trajectory_when_l12_is_zero() {
     let p = s.physical();
     for r in simulate(&s, 1).unwrap() {
         let t = r.truth;
-        let res = pendtilt::sim::dynamics::eq18_residual(
+        let res = pendtilt::sim::planar::dynamics::eq18_residual(
             &p,
             [t.phi, t.phi_dot, t.phi_ddot],
             t.theta,

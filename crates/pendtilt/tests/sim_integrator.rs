@@ -1,9 +1,9 @@
 //! RK4 convergence of the whole simulator: the error of beta falls about 16-fold each time
 //! the step is halved (substeps doubled), with the body tilting, vibrating and l12 != 0.
 
-use pendtilt::sim::motion::{Motion, Sine};
-use pendtilt::sim::vibration::{AngularHarmonic, Harmonic};
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::motion::{Motion, Sine};
+use pendtilt::sim::planar::vibration::{AngularHarmonic, Harmonic};
+use pendtilt::sim::planar::{simulate, Scenario};
 
 fn scenario(substeps: u32) -> Scenario {
     let mut s = Scenario::with_motion(

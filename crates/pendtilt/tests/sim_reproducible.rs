@@ -1,7 +1,7 @@
 //! Same seed, same bytes; different seed, different noise; streams independent per part.
 
-use pendtilt::sim::output::write_log;
-use pendtilt::sim::{simulate, Scenario, SimRow, Simulator};
+use pendtilt::sim::planar::output::write_log;
+use pendtilt::sim::planar::{simulate, Scenario, SimRow, Simulator};
 
 fn scooter(duration: f64) -> Scenario {
     let mut s = Scenario::named("scooter").unwrap();
@@ -99,7 +99,7 @@ fn threaded_writer_matches_row_by_row_formatting() {
     let s = scooter(2.5);
     let mut expected = b"t,phi,gyro,ax,ay,theta\n".to_vec();
     for r in simulate(&s, 9).unwrap() {
-        pendtilt::sim::output::write_row(&mut expected, &r).unwrap();
+        pendtilt::sim::planar::output::write_row(&mut expected, &r).unwrap();
     }
     let mut calls = Vec::new();
     let mut got = Vec::new();

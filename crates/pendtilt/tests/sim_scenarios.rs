@@ -1,7 +1,7 @@
 //! The named scenarios run and look like what they stand for; bad settings are refused
 //! with the key named.
 
-use pendtilt::sim::{simulate, Scenario, SimError, Simulator, SCENARIO_NAMES};
+use pendtilt::sim::planar::{simulate, Scenario, SimError, Simulator, SCENARIO_NAMES};
 
 #[test]
 fn every_named_scenario_runs_with_finite_values() {
@@ -53,7 +53,7 @@ fn scooter_looks_like_the_papers_ride() {
     let ay_rms = (rows.iter().map(|r| (r.ay - mean_ay).powi(2)).sum::<f64>() / n).sqrt();
     assert!((2.0..6.0).contains(&ay_rms), "ay rms {ay_rms}");
     // The paper's point: the raw pendulum beats the accelerometer angle under vibration.
-    let rms = |f: &dyn Fn(&pendtilt::sim::SimRow) -> f64| {
+    let rms = |f: &dyn Fn(&pendtilt::sim::planar::SimRow) -> f64| {
         (rows.iter().map(|r| f(r).powi(2)).sum::<f64>() / n).sqrt()
     };
     let accel_err = rms(&|r| r.ax.atan2(r.ay) - r.truth.theta);

@@ -3,9 +3,9 @@
 //! transfer function predicts; broadband vibration has its RMS; angular vibration reaches
 //! the gyro.
 
-use pendtilt::sim::motion::{Motion, Still};
-use pendtilt::sim::vibration::{AngularHarmonic, Broadband, Harmonic};
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::motion::{Motion, Still};
+use pendtilt::sim::planar::vibration::{AngularHarmonic, Broadband, Harmonic};
+use pendtilt::sim::planar::{simulate, Scenario};
 use std::f64::consts::{PI, TAU};
 
 mod common;
@@ -40,7 +40,7 @@ fn harmonic_reaches_accelerometer_and_pendulum_as_predicted() {
     ];
     let rows = simulate(&s, 1).unwrap();
     let w = TAU * f;
-    let tail = |g: &dyn Fn(&pendtilt::sim::SimRow) -> f64| -> Vec<(f64, f64)> {
+    let tail = |g: &dyn Fn(&pendtilt::sim::planar::SimRow) -> f64| -> Vec<(f64, f64)> {
         rows.iter()
             .filter(|r| r.t >= 4.0)
             .map(|r| (r.t, g(r)))

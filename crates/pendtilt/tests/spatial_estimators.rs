@@ -1,7 +1,7 @@
 //! The spatial estimators against the 3-D simulator's truth: a body that
 //! rolls, pitches and yaws at once, with linear and angular vibration and noisy sensors
 //! (MODEL.md 7.8's "noisy" grade). Scored by the inclination error of MODEL.md 7.9.
-use pendtilt::bank3d::score::Inclination;
+use pendtilt::bank::spatial::score::Inclination;
 use pendtilt::core::spatial::accel::{Accel, AccelSettings};
 use pendtilt::core::spatial::attitude::inclination_error;
 use pendtilt::core::spatial::ekf::{Ekf, Settings, Ukf};
@@ -9,8 +9,10 @@ use pendtilt::core::spatial::inv::{Inv3d, Inv3dSettings};
 use pendtilt::core::spatial::pendulum::{Pendulum, PendulumSettings};
 use pendtilt::core::spatial::{SpatialEstimator, SpatialSample};
 use pendtilt::core::{Estimator, StepGate};
-use pendtilt::sim3d::motion::{AccelSine, Component};
-use pendtilt::sim3d::{LogRow3d, Pendulum3d, SensorBank3d, Sensors3d, Simulator3d, SineMotion};
+use pendtilt::sim::spatial::motion::{AccelSine, Component};
+use pendtilt::sim::spatial::{
+    LogRow3d, Pendulum3d, SensorBank3d, Sensors3d, Simulator3d, SineMotion,
+};
 
 fn deg(x: f64) -> f64 {
     x.to_radians()

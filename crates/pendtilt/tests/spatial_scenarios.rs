@@ -21,8 +21,8 @@
 //! accelerometer's readings, too few for its recovery, which needs 90 %, so it runs on the
 //! gyro; without rejection 1.30 at gain 2.87, as Mahony); ship3d 1.95; still3d 0.0047 at
 //! its defaults.
-use pendtilt::bank3d::score::Inclination;
-use pendtilt::bank3d::Settings3d;
+use pendtilt::bank::spatial::score::Inclination;
+use pendtilt::bank::spatial::Settings3d;
 use pendtilt::core::spatial::attitude::inclination_error;
 use pendtilt::core::spatial::ekf::{Ekf, Settings, Ukf};
 use pendtilt::core::spatial::pendulum::{Pendulum, PendulumSettings};
@@ -31,8 +31,8 @@ use pendtilt::core::StepGate;
 use pendtilt::peers::fusion::FusionSettings;
 use pendtilt::peers::spatial::{fusion3d, madgwick3d, mahony3d, vqf};
 use pendtilt::peers::tune::golden_log;
-use pendtilt::sim3d::scenario::Scenario3d;
-use pendtilt::sim3d::LogRow3d;
+use pendtilt::sim::spatial::scenario::Scenario3d;
+use pendtilt::sim::spatial::LogRow3d;
 
 fn run(name: &str, secs: f64, seed: u64) -> (Scenario3d, Vec<LogRow3d>) {
     let mut s = Scenario3d::named(name, seed).unwrap();
@@ -170,7 +170,7 @@ fn still3d_steps() {
     assert!(fus.0 < 0.05, "{fus:?}");
     // With ideal sensors pendulum3d is exact on a body at rest (still3d's sigmoids are
     // never quite still: 8e-6 rad of motion at t = 0), at any roll, pitch and yaw.
-    use pendtilt::sim3d::{Pendulum3d, SensorBank3d, Sensors3d, Simulator3d, SineMotion};
+    use pendtilt::sim::spatial::{Pendulum3d, SensorBank3d, Sensors3d, Simulator3d, SineMotion};
     let mut worst = 0.0f64;
     for (r0, p0, y0) in [(0.3, -0.2, 1.0), (-0.7, 0.4, -2.5), (0.0, 0.0, 0.0)] {
         let sim = Simulator3d::new(

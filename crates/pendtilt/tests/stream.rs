@@ -9,7 +9,7 @@ use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::{simulate, Scenario};
 
 const TIMEOUT: Duration = Duration::from_secs(10);
 

@@ -3,8 +3,8 @@
 //! and logs too short or too still to identify a value.
 use pendtilt::core::kalman::KalmanSettings;
 use pendtilt::core::Sample;
-use pendtilt::sim::vibration::{Broadband, Harmonic};
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::vibration::{Broadband, Harmonic};
+use pendtilt::sim::planar::{simulate, Scenario};
 use pendtilt::tune::kalman::{fit, KalmanData};
 use pendtilt::tune::search::Budget;
 use pendtilt::tune::{accel, encoder, gyro, tune, Options, Start};
@@ -470,7 +470,7 @@ fn a_log_without_tilt_in_the_band_keeps_the_cutoffs_and_says_so() {
     let start = Start::default();
     let mut idle = Scenario::named("scooter").unwrap();
     idle.duration = 15.0;
-    idle.motion = pendtilt::sim::motion::Motion::Still(Default::default());
+    idle.motion = pendtilt::sim::planar::motion::Motion::Still(Default::default());
     for (name, sc) in [("still", Scenario::named("still").unwrap()), ("idle", idle)] {
         let (samples, _) = columns(&sc, 11);
         let t = tune(&samples, &start, &Options::default());
@@ -500,10 +500,10 @@ fn a_log_without_tilt_in_the_band_keeps_the_cutoffs_and_says_so() {
 /// them from `rig`, on `log` after its first 2 s.
 fn rms_deg(
     rig: &pendtilt::config::RigConfig,
-    log: &[pendtilt::sim::SimRow],
+    log: &[pendtilt::sim::planar::SimRow],
     names: &[&str],
 ) -> Vec<f64> {
-    use pendtilt::bank::{Bank, BankSettings, Inputs};
+    use pendtilt::bank::planar::{Bank, BankSettings, Inputs};
     let only: Vec<String> = ["accel", "alg2"]
         .iter()
         .chain(names)

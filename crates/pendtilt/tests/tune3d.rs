@@ -2,7 +2,7 @@
 //! noise it measures, ekf3d tuned by it against ekf3d at its defaults on a rig the
 //! defaults were not chosen on, the zoo's pinned rides against ekf3d tuned on the truth,
 //! and what it keeps (and says) when the log cannot tell.
-use pendtilt::sim3d::{Scenario3d, Sensors3d};
+use pendtilt::sim::spatial::{Scenario3d, Sensors3d};
 use pendtilt::tune::spatial::zoo::{ride, rig_of, score, Log3d};
 use pendtilt::tune::spatial::{tune3d, Start3d};
 
@@ -63,7 +63,7 @@ fn the_tuned_ekf3d_beats_its_defaults_on_an_unseen_rig() {
     let rig = rig_of(&r);
     let start = Start3d::from_rig(&rig);
     let t = tune3d(&log.samples, &start);
-    let tuned = pendtilt::bank3d::rig::Rig3dConfig {
+    let tuned = pendtilt::bank::spatial::rig::Rig3dConfig {
         ekf3d: t.config,
         ..rig
     };
@@ -122,7 +122,7 @@ fn a_log_too_short_keeps_the_start_and_says_so() {
     );
     let text = pendtilt::tune::spatial::rig_file::tuned_toml("[pendulum3d]\n", &t, &[]);
     assert!(text.contains("# doubts"), "{text}");
-    pendtilt::bank3d::rig::Rig3dConfig::from_toml_str(&text, "t").unwrap();
+    pendtilt::bank::spatial::rig::Rig3dConfig::from_toml_str(&text, "t").unwrap();
 }
 
 /// The speed column sets the jerk density: a car's (ride3d, 30 s) most likely value lies

@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 
 mod common;
 use common::{pendtilt, s, stderr};
-use pendtilt::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
-use pendtilt::sim3d::output::write_log;
-use pendtilt::sim3d::Rig3d;
+use pendtilt::bank::spatial::rig::{Pendulum3dConfig, Rig3dConfig};
+use pendtilt::sim::spatial::output::write_log;
+use pendtilt::sim::spatial::Rig3d;
 use pendtilt::tune::spatial::zoo::ride;
 
 /// Zoo ride 0 (scooter3d on an unseen rig: 1.2 Hz, zeta 0.15, 5 mm pivot offset,

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 mod common;
 use common::{pendtilt, s, stderr};
 use pendtilt::config::RigConfig;
-use pendtilt::sim::simulate;
+use pendtilt::sim::planar::simulate;
 use pendtilt::tune::zoo;
 
 /// A ride of the zoo written as a log without a true angle (t, phi, gyro, ax, ay), its rig

@@ -4,7 +4,7 @@
 use anyhow::{bail, ensure, Context};
 
 use super::fit::Args;
-use crate::bank3d::rig::Rig3dConfig;
+use crate::bank::spatial::rig::Rig3dConfig;
 use crate::fit::cardan::{
     self, fit_cardan, Fit3dReport, Fit3dSettings, Implausible3d, Log3dColumns, NoiseDensities,
     NAMES, NP, UNITS,
@@ -127,7 +127,7 @@ fn start_rig(args: &Args) -> anyhow::Result<Rig3dConfig> {
 /// The mass and length of the physical form: with --mass or --length, the other from the
 /// start rig's physical form.
 fn mass_length(args: &Args, rig: &Rig3dConfig) -> anyhow::Result<Option<(f64, f64)>> {
-    use crate::bank3d::rig::Pendulum3dConfig;
+    use crate::bank::spatial::rig::Pendulum3dConfig;
     if args.mass.is_none() && args.length.is_none() {
         return Ok(None);
     }

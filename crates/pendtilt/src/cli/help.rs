@@ -1,10 +1,10 @@
 //! Help texts made from the code's own tables (the estimator registry, the named
 //! scenarios, the default rig), so that `--help` shows every default and name without a
 //! second copy that could drift.
-use crate::bank::{Inputs, REGISTRY};
+use crate::bank::planar::{Inputs, REGISTRY};
 use crate::config::RigConfig;
-use crate::sim::motion::Motion;
-use crate::sim::{Scenario, SCENARIO_NAMES};
+use crate::sim::planar::motion::Motion;
+use crate::sim::planar::{Scenario, SCENARIO_NAMES};
 
 /// The input columns and their units (MODEL.md section 5), for `estimate` and `stream`.
 pub const INPUT_UNITS: &str = "Input columns (MODEL.md section 5, SI units): t [s], strictly \
@@ -49,9 +49,9 @@ pub fn estimate_after_help() -> String {
     )
 }
 
-/// The 3-D estimators ([`crate::bank3d::REGISTRY3D`]) and how a 3-D log is told.
+/// The 3-D estimators ([`crate::bank::spatial::REGISTRY3D`]) and how a 3-D log is told.
 pub fn estimator3d_list() -> String {
-    use crate::bank3d::REGISTRY3D;
+    use crate::bank::spatial::REGISTRY3D;
     let width = REGISTRY3D.iter().map(|e| e.name.len()).max().unwrap_or(0);
     let mut s = String::from(
         "3-D logs (MODEL.md 7.6: a header with t, phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, \
@@ -120,7 +120,7 @@ pub fn substeps() -> String {
 }
 
 /// `simulate --mass`, `--length`, ...: the scenario's pendulum (the MODEL.md rig).
-pub fn pendulum(text: &str, field: fn(&crate::sim::PendulumTable) -> f64) -> String {
+pub fn pendulum(text: &str, field: fn(&crate::sim::planar::PendulumTable) -> f64) -> String {
     with_scenario_default(text, |s| num(field(&s.pendulum)))
 }
 

@@ -3,7 +3,7 @@
 use std::io::BufRead;
 use std::path::PathBuf;
 
-use crate::bank::{Bank, BankSettings};
+use crate::bank::planar::{Bank, BankSettings};
 use crate::config::RigConfig;
 use crate::io::{LogReader, LogWarning, ReaderOptions, WriterOptions};
 use crate::pipeline;

@@ -6,14 +6,14 @@ use std::time::Instant;
 
 use anyhow::{bail, Context};
 
-use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
+use crate::bank::spatial::rig::{Pendulum3dConfig, Rig3dConfig};
 use crate::io::output::{self as safe, NamedPath, OutputFile};
 use crate::io::{AccelUnit, TimeUnit};
 use crate::replay::source::{ImuOptions, IMU_COLUMNS};
 use crate::replay::{
     replay_with, AddedVibration, Recording, Replay, ReplaySettings, SUBSTEP_TOLERANCE,
 };
-use crate::sim3d::{LogRow3d, Mounting, Pendulum3d, Rig3d};
+use crate::sim::spatial::{LogRow3d, Mounting, Pendulum3d, Rig3d};
 
 /// Replay a recorded IMU through a virtual Cardan pendulum and write the 3-D log it
 /// would have given (MODEL.md 7.10): would a pendulum help on this device?
@@ -219,7 +219,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let log = args.output.clone();
     let rig_path = match &args.rig_out {
         Some(p) => Some(p.clone()),
-        None => (!safe::has_no_beside(&log)).then(|| crate::sim::output::rig_path_for(&log)),
+        None => {
+            (!safe::has_no_beside(&log)).then(|| crate::sim::planar::output::rig_path_for(&log))
+        }
     };
     let mut inputs = vec![NamedPath::new("IMU_LOG", &args.input)];
     if let Some(p) = &args.params {
@@ -264,10 +266,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 fn added_vibration(args: &Args) -> anyhow::Result<Option<AddedVibration>> {
     Ok(match &args.vibration {
         Some(name) => {
-            if !crate::sim3d::SCENARIO3D_NAMES.contains(&name.as_str()) {
+            if !crate::sim::spatial::SCENARIO3D_NAMES.contains(&name.as_str()) {
                 bail!(
                     "--vibration {name}: not a 3-D scenario (they are: {})",
-                    crate::sim3d::SCENARIO3D_NAMES.join(", ")
+                    crate::sim::spatial::SCENARIO3D_NAMES.join(", ")
                 );
             }
             if !(args.accel_full_scale.is_finite() && args.accel_full_scale > 0.0) {

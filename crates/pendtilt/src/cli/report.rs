@@ -64,9 +64,9 @@ pub struct Args {
 pub fn read_log(
     path: &std::path::Path,
     options: ReaderOptions,
-    settings: &crate::bank::BankSettings,
+    settings: &crate::bank::planar::BankSettings,
     progress: &dyn Progress,
-) -> anyhow::Result<(Ride, crate::bank::Inputs, Vec<String>, usize)> {
+) -> anyhow::Result<(Ride, crate::sensors::Inputs, Vec<String>, usize)> {
     let mut said = Vec::new();
     let mut warn = |w: String| {
         progress.message(&format!("warning: {w}"));
@@ -176,7 +176,7 @@ fn report(args: &Args, dir: &std::path::Path, bars: &Bars) -> anyhow::Result<Pat
     let settings = rig_bank_settings(&rig);
     let options = args.columns.reader_options(&rig);
     let (ride, inputs, warnings, total) = read_log(&args.log, options, &settings, bars)?;
-    let extras = if inputs.covers(crate::bank::Inputs::PHI_GYRO) {
+    let extras = if inputs.covers(crate::sensors::Inputs::PHI_GYRO) {
         vec![alg2_delay_compensated(&settings)]
     } else {
         Vec::new()
@@ -296,7 +296,7 @@ pub(crate) fn warnings_paragraph(warnings: &[String], total: usize) -> Option<St
 /// and the delay-compensation claim when its estimator ran.
 fn paper_claims(
     metrics: &[crate::report::metrics::Metrics],
-    settings: &crate::bank::BankSettings,
+    settings: &crate::bank::planar::BankSettings,
     rig: &RigConfig,
 ) -> Vec<crate::report::claims::ClaimSpec> {
     let info = DifferentiatorInfo::of(settings);

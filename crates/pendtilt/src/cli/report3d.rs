@@ -4,14 +4,14 @@
 //! [`crate::report::spatial::SpatialReport`]: roll, pitch and inclination error figures, the
 //! RMS / max / mean table, `report.md`, `report.json`, `index.html`. On a log with a
 //! `speed` column it is a ride report too ([`crate::report::spatial::ride`]): `ekf3d` is
-//! run once more without the speed ([`crate::bank3d::ride::WithoutSpeed`]) and set beside
+//! run once more without the speed ([`crate::bank::spatial::ride::WithoutSpeed`]) and set beside
 //! itself per phase of the ride.
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
 use super::report::Args;
-use crate::bank3d::ride::WithoutSpeed;
+use crate::bank::spatial::ride::WithoutSpeed;
 use crate::io::output::{self, OutputDir};
 use crate::pipeline::spatial::{pass, setup, Options3d, Row, Sink3d};
 use crate::report::markdown::text_table_markdown;
@@ -152,7 +152,7 @@ fn report(args: &Args, opts: &Options3d, dir: &Path) -> anyhow::Result<PathBuf> 
     let compared = mem
         .est
         .iter()
-        .any(|e| e.name == crate::bank3d::ride::COMPENSATED);
+        .any(|e| e.name == crate::bank::spatial::ride::COMPENSATED);
     for s in mem.est {
         report = report.estimate(s)?;
     }

@@ -30,7 +30,7 @@ pub struct Args {
 pub fn template(kind: Kind) -> String {
     match kind {
         Kind::Planar => crate::config::RigConfig::default().to_toml_string(),
-        Kind::Spatial => crate::bank3d::rig::template(),
+        Kind::Spatial => crate::bank::spatial::rig::template(),
     }
 }
 

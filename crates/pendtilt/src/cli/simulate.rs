@@ -14,8 +14,7 @@ use indicatif::ProgressBar;
 
 use super::help;
 use crate::io::output::{self as safe, NamedPath, OutputFile};
-use crate::sim::{self, output, Scenario, Simulator};
-use crate::sim3d;
+use crate::sim::planar::{self, output, Scenario, Simulator};
 
 /// Seed used when neither `--seed` nor the scenario TOML gives one.
 pub const DEFAULT_SEED: u64 = 1;
@@ -137,15 +136,15 @@ pub struct Settings {
 pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
     let o = &args.settings;
     let (mut s, file_seed) = match (&args.config, &args.scenario) {
-        (Some(path), name) => sim::load_config(path, name.as_deref())?,
+        (Some(path), name) => planar::load_config(path, name.as_deref())?,
         (None, Some(name)) => (Scenario::named(name)?, None),
         (None, None) => bail!(
             "give --scenario NAME (one of {}) or --config FILE",
-            sim::SCENARIO_NAMES.join(", ")
+            planar::SCENARIO_NAMES.join(", ")
         ),
     };
     if let Some(path) = &o.rig {
-        s.pendulum = sim::load_rig(path)?;
+        s.pendulum = planar::load_rig(path)?;
     }
     apply_rig_and_timing(&mut s, args);
     apply_motion_and_vibration(&mut s, o)?;
@@ -260,7 +259,7 @@ fn apply_motion_and_vibration(s: &mut Scenario, o: &Settings) -> anyhow::Result<
     }
     if let Some(f) = o.frequency {
         match &mut s.motion {
-            sim::motion::Motion::Sine(m) => m.frequency = f,
+            planar::motion::Motion::Sine(m) => m.frequency = f,
             m => bail!(
                 "--frequency applies to the sine motion, this scenario's motion is '{}' \
                  (use --set motion.KEY=VALUE)",
@@ -468,8 +467,8 @@ where
 fn unknown_scenario(name: &str) -> anyhow::Error {
     anyhow::anyhow!(
         "unknown scenario '{name}' (planar: {}; 3-D: {})",
-        sim::SCENARIO_NAMES.join(", "),
-        sim3d::SCENARIO3D_NAMES.join(", ")
+        planar::SCENARIO_NAMES.join(", "),
+        crate::sim::SCENARIO3D_NAMES.join(", ")
     )
 }
 
@@ -479,10 +478,10 @@ fn unknown_scenario(name: &str) -> anyhow::Error {
 /// [`super::simulate3d`].
 pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(name) = &args.scenario {
-        if sim3d::SCENARIO3D_NAMES.contains(&name.as_str()) {
+        if crate::sim::SCENARIO3D_NAMES.contains(&name.as_str()) {
             return super::simulate3d::run(args);
         }
-        if args.config.is_none() && !sim::SCENARIO_NAMES.contains(&name.as_str()) {
+        if args.config.is_none() && !planar::SCENARIO_NAMES.contains(&name.as_str()) {
             return Err(unknown_scenario(name));
         }
     }

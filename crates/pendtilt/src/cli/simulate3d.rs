@@ -16,7 +16,7 @@ use anyhow::{bail, Context};
 
 use super::simulate::{progress_bar, write_files, Args, Outputs, DEFAULT_SEED};
 use crate::io::output::{NamedPath, OutputFile};
-use crate::sim3d::{output, Scenario3d, SCENARIO3D_NAMES};
+use crate::sim::spatial::{output, Scenario3d, SCENARIO3D_NAMES};
 
 /// True when `path` reads as a scenario file of a 3-D scenario (`scenario = "...3d"`).
 /// Anything else (unreadable, not TOML, planar) is left to the planar loader's errors.
@@ -93,7 +93,7 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario3d, String, u64)> {
     super::simulate::at_least_one_row(s.duration, s.rate, s.rows())?;
     // Only a --config file sets the 3-D pendulum (no option does), so it is named.
     if let (Some(path), false) = (&args.config, args.quiet) {
-        let p = crate::bank3d::rig::Pendulum3dConfig::Physical(s.rig.pendulum3d);
+        let p = crate::bank::spatial::rig::Pendulum3dConfig::Physical(s.rig.pendulum3d);
         for d in p.length_doubts("rig.pendulum3d") {
             eprintln!(
                 "warning: {}: {}",
@@ -135,7 +135,7 @@ fn of_config(args: &Args, path: &std::path::Path) -> anyhow::Result<(Scenario3d,
     };
     // The seed draws the base's random parts: the file's, if it has one.
     let file_seed = match &table {
-        Some(t) => crate::sim::scenario::seed_of(t, &origin)?,
+        Some(t) => crate::sim::planar::scenario::seed_of(t, &origin)?,
         None => None,
     };
     let seed = args.seed.or(file_seed).unwrap_or(DEFAULT_SEED);

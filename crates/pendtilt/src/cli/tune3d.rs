@@ -7,8 +7,8 @@ use pendtilt_core::spatial::SpatialSample;
 use pendtilt_core::StepGate;
 
 use super::tune::{Args, TuneTarget};
-use crate::bank3d::rig::Rig3dConfig;
-use crate::sim3d::Pendulum3d;
+use crate::bank::spatial::rig::Rig3dConfig;
+use crate::sim::spatial::Pendulum3d;
 use crate::tune::spatial::{self, rig_file, Start3d, Tuned3d};
 use crate::units::AccelMagnitude;
 

@@ -217,7 +217,7 @@ pub struct Alg1Table {
 /// Name used in errors for configurations built in memory rather than read from a file.
 pub const IN_MEMORY: &str = "<rig parameters>";
 
-/// The tables of a 3-D rig file (MODEL.md 7.6; read by [`crate::bank3d::rig`]): named
+/// The tables of a 3-D rig file (MODEL.md 7.6; read by [`crate::bank::spatial::rig`]): named
 /// here so that a planar file holding one is told it is the wrong kind of file.
 pub const TABLES_3D: [&str; 4] = ["pendulum3d", "mounting", "ekf3d", "gyro"];
 

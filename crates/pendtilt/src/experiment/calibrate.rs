@@ -5,7 +5,7 @@ use pendtilt_core::estimators::equations::Alg3Gains;
 use pendtilt_core::estimators::front_end::FrontEndSettings;
 use pendtilt_core::PendulumParams;
 
-use crate::bank::BankSettings;
+use crate::bank::planar::BankSettings;
 use crate::fit::{self, Algorithm, FitReport, FitSettings, Method, Target};
 
 use super::progress::Progress;

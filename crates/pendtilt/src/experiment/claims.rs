@@ -25,7 +25,7 @@ pub struct DifferentiatorInfo {
 
 impl DifferentiatorInfo {
     /// The differentiator of `settings` (every pendulum algorithm's) and its pendulum.
-    pub fn of(settings: &crate::bank::BankSettings) -> Self {
+    pub fn of(settings: &crate::bank::planar::BankSettings) -> Self {
         let diff = settings.rig.differentiator;
         let cutoff_hz = diff.cutoff_hz(&settings.params());
         Self {

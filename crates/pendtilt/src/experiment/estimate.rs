@@ -2,7 +2,7 @@
 use pendtilt_core::estimators::alg2::{Alg2, Alg2Settings};
 use pendtilt_core::{Estimate, PlanarEstimator};
 
-use crate::bank::{Bank, BankSettings, Inputs};
+use crate::bank::planar::{Bank, BankSettings, Inputs};
 
 use super::progress::{Progress, CHUNK};
 use super::rides::Ride;

@@ -33,12 +33,12 @@ use pendtilt_core::kalman::KalmanSettings;
 use pendtilt_core::PendulumParams;
 use serde::Serialize;
 
-use crate::bank::Inputs;
 use crate::report::claims::Claim;
 use crate::report::metrics::Metrics;
 use crate::report::spatial::SpatialOutput;
 use crate::report::{FigureGroup, ReportOutput, ViewMetrics};
-use crate::sim::Scenario;
+use crate::sensors::Inputs;
+use crate::sim::planar::Scenario;
 
 pub use calibrate::{calibrate, Calibration};
 pub use progress::{NoProgress, Progress};
@@ -100,7 +100,10 @@ impl ReproduceConfig {
 }
 
 fn unreachable_scenario() -> Scenario {
-    Scenario::with_motion(crate::sim::motion::Motion::Still(Default::default()), 1.0)
+    Scenario::with_motion(
+        crate::sim::planar::motion::Motion::Still(Default::default()),
+        1.0,
+    )
 }
 
 /// Wall time of each step.
@@ -448,7 +451,7 @@ fn engine_running_comparison(
 fn ride_report(
     which: &str,
     (scenario, seed): (&Scenario, u64),
-    (settings, calibration): (&crate::bank::BankSettings, &Calibration),
+    (settings, calibration): (&crate::bank::planar::BankSettings, &Calibration),
     out: &Path,
     progress: &dyn Progress,
     timings: &mut Timings,
@@ -507,7 +510,7 @@ fn ride_report(
 fn intro(
     cfg: &ReproduceConfig,
     calibration: &Calibration,
-    settings: &crate::bank::BankSettings,
+    settings: &crate::bank::planar::BankSettings,
     info: &claims::DifferentiatorInfo,
     scooter: &ReportOutput,
 ) -> Vec<String> {

@@ -1,9 +1,9 @@
 //! The built-in data: simulated rides held in memory as sensor samples and the true angle.
 use pendtilt_core::Sample;
 
-use crate::bank::Inputs;
+use crate::sensors::Inputs;
 
-use crate::sim::{Scenario, SimError, Simulator};
+use crate::sim::planar::{Scenario, SimError, Simulator};
 
 use super::progress::{Progress, CHUNK};
 

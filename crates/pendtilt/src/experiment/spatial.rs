@@ -1,6 +1,6 @@
 //! The 3-D part of `reproduce`: MODEL.md 7.8's scenarios simulated with
 //! fixed seeds ([`Scenario3d::named`]), every estimator of the 3-D registry
-//! ([`crate::bank3d::REGISTRY3D`], so a new entry appears here by itself) with the
+//! ([`crate::bank::spatial::REGISTRY3D`], so a new entry appears here by itself) with the
 //! scenario's rig and sensor figures (as `pendtilt estimate --scenario` takes them), one
 //! [`SpatialReport`] per scenario, and the inclination error table of the top page.
 use std::path::Path;
@@ -12,17 +12,17 @@ use pendtilt_core::StepGate;
 
 use super::progress::{Progress, CHUNK};
 use super::Timings;
-use crate::bank3d::ride::WithoutSpeed;
-use crate::bank3d::{Bank3d, Settings3d};
+use crate::bank::spatial::ride::WithoutSpeed;
+use crate::bank::spatial::{Bank3d, Settings3d};
 use crate::report::claims::fmt_sig;
 use crate::report::html::TextTable;
 use crate::report::spatial::{secs, Ride, RollPitch, SpatialOutput, SpatialReport};
-use crate::sim3d::Scenario3d;
+use crate::sim::spatial::Scenario3d;
 
 /// One 3-D scenario of `reproduce`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpatialRide {
-    /// Its name in [`crate::sim3d::SCENARIO3D_NAMES`]; also the report's directory.
+    /// Its name in [`crate::sim::spatial::SCENARIO3D_NAMES`]; also the report's directory.
     pub name: String,
     /// The seed of its random parts and sensor noise.
     pub seed: u64,

@@ -5,7 +5,7 @@
 //! on a row marks the readings at its level from that many rows before it.
 use std::collections::VecDeque;
 
-use crate::bank::{BankSettings, Inputs};
+use crate::bank::planar::{BankSettings, Inputs};
 use crate::io::plateau::{NewLevel, PlateauWatch};
 use crate::io::{Column, LogReader, LogRecord, LogWarning, WarningKind};
 use crate::sensors::Sensor;

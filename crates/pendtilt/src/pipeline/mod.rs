@@ -4,8 +4,8 @@
 //! [`Scorer`]) and how a log's columns are read ([`LogColumns`]).
 use std::io::BufRead;
 
-use crate::bank::Inputs;
 use crate::io::{Column, LogReader};
+use crate::sensors::Inputs;
 use crate::units::Finding;
 
 mod clips;

@@ -12,8 +12,8 @@ use std::sync::mpsc;
 use pendtilt_core::Estimate;
 
 use super::{ClipFinder, ErrorStats, PassSummary, Scorer};
-use crate::bank::check_settings_against_rate;
-use crate::bank::{Bank, Inputs, Restart};
+use crate::bank::planar::check_settings_against_rate;
+use crate::bank::planar::{Bank, Inputs, Restart};
 use crate::io::plateau::LOOK_AHEAD_ROWS;
 use crate::io::{Column, EstimatesWriter, LogError, LogReader, LogRecord, LogWarning, WarningKind};
 use crate::units::Finding;
@@ -534,7 +534,7 @@ pub enum PassError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bank::BankSettings;
+    use crate::bank::planar::BankSettings;
     use crate::io::{ReaderOptions, WriterOptions};
     use crate::pipeline::{error_table, inputs_of};
     use pendtilt_core::PendulumParams;

@@ -1,6 +1,6 @@
 //! The 3-D pass (MODEL.md 7.6), shared by `estimate`, `report`, `stream` and `batch`: a
 //! log with the columns t, phi_x, phi_y, gyro_x, gyro_y, gyro_z, ax, ay, az (speed, roll, pitch
-//! optional) through the 3-D bank ([`crate::bank3d::REGISTRY3D`]).
+//! optional) through the 3-D bank ([`crate::bank::spatial::REGISTRY3D`]).
 //!
 //! The rig is `--params` (`[pendulum3d]` physical or normalised, `[mounting]`), else the
 //! rig of the `--scenario` file, else MODEL.md 7.6's. The sensors' noise figures come from
@@ -32,8 +32,8 @@ use std::path::Path;
 use pendtilt_core::spatial::{Attitude, SpatialSample};
 
 use super::LogColumns;
-use crate::bank3d::score::Inclination;
-use crate::bank3d::Bank3d;
+use crate::bank::spatial::score::Inclination;
+use crate::bank::spatial::Bank3d;
 use crate::io::output::NamedPath;
 use crate::io::plausibility::{DEFAULT_ACCEL_LIMIT, DEFAULT_GYRO_LIMIT};
 use crate::io::{Column3d, Log3dReader, Log3dRecord};

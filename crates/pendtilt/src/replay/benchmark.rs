@@ -6,7 +6,7 @@ use pendtilt_core::spatial::SpatialEstimator;
 use pendtilt_core::StepGate;
 
 use super::{Recording, Replay};
-use crate::bank3d::{Bank3d, Settings3d};
+use crate::bank::spatial::{Bank3d, Settings3d};
 
 /// The true tilt \[deg\] under which a row also counts towards the "tilt < 60 deg" scores
 /// (MODEL.md 7.10): beyond it a real rig's pendulum is at its stops or past them.

@@ -9,7 +9,7 @@
 //!   with 7.1's rigid-body transport.
 use pendtilt_core::filters::biquad::LowPass2;
 
-use crate::sim3d::specific_force_at;
+use crate::sim::spatial::specific_force_at;
 
 /// Cutoff of the gyro's zero-phase low-pass \[Hz\] (MODEL.md 7.10): 40 Hz, or 0.4 of the
 /// sampling rate when that is lower. Above 40 Hz a hand-held or vehicle body's rate is

@@ -17,8 +17,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 
-use crate::sim::integrator::{rk4_step, Node};
-use crate::sim3d::{JointState, LogRow3d, Pendulum3d, Scenario3d, VehicleMotion};
+use crate::sim::planar::integrator::{rk4_step, Node};
+use crate::sim::spatial::{JointState, LogRow3d, Pendulum3d, Scenario3d, VehicleMotion};
 
 pub mod benchmark;
 pub mod drive;

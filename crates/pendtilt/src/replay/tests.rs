@@ -1,6 +1,6 @@
 use super::*;
-use crate::sim3d::motion::Component;
-use crate::sim3d::{Simulator3d, SineMotion};
+use crate::sim::spatial::motion::Component;
+use crate::sim::spatial::{Simulator3d, SineMotion};
 
 /// A body that rests 1.5 s, then rolls, pitches and yaws in steps, simulated exactly at
 /// `rate`: the recording an ideal IMU at P1 would give, and the simulator's own encoders.

@@ -25,7 +25,10 @@ mod tests {
     /// The 17 outputs of `reproduce` fall into five panels, none with more than six lines.
     #[test]
     fn the_bank_splits_into_five_small_panels() {
-        let names: Vec<&str> = crate::bank::REGISTRY.iter().map(|e| e.name).collect();
+        let names: Vec<&str> = crate::bank::planar::REGISTRY
+            .iter()
+            .map(|e| e.name)
+            .collect();
         let g = group(names.iter().copied());
         let fams: Vec<Family> = g.iter().map(|(f, _)| *f).collect();
         assert_eq!(

@@ -108,7 +108,10 @@ mod tests {
     fn each_panel_s_series_have_fixed_colours_far_apart() {
         use crate::report::families::group;
         // Every series of the planar bank, as `reproduce` draws them.
-        let bank: Vec<&str> = crate::bank::REGISTRY.iter().map(|e| e.name).collect();
+        let bank: Vec<&str> = crate::bank::planar::REGISTRY
+            .iter()
+            .map(|e| e.name)
+            .collect();
         let all = default_colours();
         let fixed = |n: &str| all.iter().find(|(m, _)| *m == n).map(|c| c.1);
         for (family, names) in group(bank.iter().copied()) {

@@ -216,7 +216,7 @@ pub(crate) fn doubling_search(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::vibration::Vibration;
+    use crate::sim::planar::vibration::Vibration;
     use crate::tune::zoo::score::RideLog;
 
     #[test]

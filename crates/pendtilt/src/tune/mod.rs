@@ -40,7 +40,7 @@
 //!
 //! ```
 //! use pendtilt::tune::{tune, Options, Start};
-//! use pendtilt::sim::{simulate, Scenario};
+//! use pendtilt::sim::planar::{simulate, Scenario};
 //! let mut sc = Scenario::named("sine").unwrap();
 //! sc.duration = 12.0;
 //! let samples: Vec<_> = simulate(&sc, 1).unwrap().iter().map(|r| r.sample()).collect();

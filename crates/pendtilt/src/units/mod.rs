@@ -20,7 +20,7 @@
 //! kept) and reports one that g (or mg) explains, with the fix (`--accel-unit`).
 //!
 //! **Settings against the rate** are the bank's to check
-//! ([`crate::bank::check_settings_against_rate`], with [`MIN_DIFF_CUTOFF_TIMES_NATURAL`]).
+//! ([`crate::bank::planar::check_settings_against_rate`], with [`MIN_DIFF_CUTOFF_TIMES_NATURAL`]).
 use pendtilt_core::estimators::equations::accel_angle;
 use pendtilt_core::filters::biquad::LowPass2;
 use pendtilt_core::Sample;

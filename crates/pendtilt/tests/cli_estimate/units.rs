@@ -3,7 +3,7 @@
 //! time unit judged by the physics.
 use crate::common::bin;
 use crate::common::cli_estimate::write_log;
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::{simulate, Scenario};
 use std::path::Path;
 
 /// Every command that reads the rig (`estimate`, `fit`, `report`, `tune`), given a rig

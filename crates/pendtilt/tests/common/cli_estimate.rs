@@ -1,6 +1,6 @@
 //! Shared by the cli_estimate tests: a small simulated log written under any names, the
 //! written estimates read back, temporary paths.
-use pendtilt::sim::{simulate, Scenario};
+use pendtilt::sim::planar::{simulate, Scenario};
 use std::path::Path;
 
 /// Writes a 3 s scooter log as `t,phi,gyro,ax,ay,theta` (or renamed / in degrees).

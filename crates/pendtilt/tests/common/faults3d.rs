@@ -2,7 +2,7 @@
 //! `pendtilt estimate` on it, and how each estimator came through against the fault-free
 //! run and the truth.
 use super::{pendtilt, s, stderr};
-use pendtilt::bank3d::REGISTRY3D;
+use pendtilt::bank::spatial::REGISTRY3D;
 use pendtilt::core::spatial::attitude::inclination_error;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -11,8 +11,8 @@ pub mod plausibility;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use pendtilt::sim::motion::Motion;
-use pendtilt::sim::Scenario;
+use pendtilt::sim::planar::motion::Motion;
+use pendtilt::sim::planar::Scenario;
 
 /// The `pendtilt` binary built for the tests.
 pub fn bin() -> Command {

@@ -1,12 +1,12 @@
 //! Shared by the plausibility tests: a simulated ride as log text, a pass of the bank
 //! over it, and when each estimator is back within 0.05 deg of the clean run.
-use pendtilt::bank::{Bank, Inputs};
+use pendtilt::bank::planar::{Bank, Inputs};
 use pendtilt::cli::options::rig_bank_settings;
 use pendtilt::config::RigConfig;
 use pendtilt::core::Estimate;
 use pendtilt::io::{EstimatesWriter, LogReader, LogWarning, ReaderOptions, WarningKind};
 use pendtilt::pipeline::{self, PassError, PassSummary};
-use pendtilt::sim::{simulate, Scenario, SimRow};
+use pendtilt::sim::planar::{simulate, Scenario, SimRow};
 
 /// A simulated ride and the rig file `simulate` writes for it (with the full scales).
 pub fn ride(name: &str, secs: f64, seed: u64) -> (Vec<SimRow>, RigConfig) {

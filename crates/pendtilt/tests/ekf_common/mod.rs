@@ -1,13 +1,13 @@
 //! Shared by the ekf_* tests: the scooter ride with a pivot offset, and running estimators
 //! over it.
 #![allow(dead_code)]
-use pendtilt::bank::build;
+use pendtilt::bank::planar::build;
 use pendtilt::core::estimators::{alg1::*, alg2::*, alg3::*};
 use pendtilt::core::kalman::{KalmanOn, KalmanSettings};
 use pendtilt::core::{PendulumParams, PlanarEstimator, Sample};
 use pendtilt::peers::PeerSettings;
 use pendtilt::report::metrics::{lag_by_xcorr, ErrorSamples};
-use pendtilt::sim::{simulate, Scenario, SimRow};
+use pendtilt::sim::planar::{simulate, Scenario, SimRow};
 
 /// Pivot offset l12 of the test rig [m]: the pendulum 20 cm above the rotation axis.
 pub const L12: f64 = 0.2;

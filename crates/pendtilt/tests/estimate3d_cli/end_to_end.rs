@@ -2,7 +2,7 @@
 //! the rig's table reaching the filter, restarts past the gap, the scoring window.
 use crate::common::estimate3d::{ok, printed, read_csv, simulate, HEAD};
 use crate::common::{pendtilt, s, stderr, write};
-use pendtilt::bank3d::REGISTRY3D;
+use pendtilt::bank::spatial::REGISTRY3D;
 use pendtilt::core::spatial::attitude::inclination_error;
 use std::path::Path;
 

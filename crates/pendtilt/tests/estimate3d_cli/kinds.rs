@@ -2,7 +2,7 @@
 //! never read as the wrong kind; the rig's forms and the output's safety.
 use crate::common::estimate3d::{level_log, ok, simulate};
 use crate::common::{bin, pendtilt, s, stderr, write};
-use pendtilt::bank3d::REGISTRY3D;
+use pendtilt::bank::spatial::REGISTRY3D;
 
 #[test]
 fn only_with_an_unknown_name_lists_the_3d_estimators_and_planar_options_are_refused() {
@@ -180,9 +180,9 @@ fn a_planar_log_through_a_pipe_reads_as_the_file_does() {
     // check used to read the pipe's first 8 kB, and the reader then took a line from the
     // middle for the header ("no `t` column ... the first line looks like data").
     let dir = tempfile::tempdir().unwrap();
-    let mut sc = pendtilt::sim::Scenario::named("sine").unwrap();
+    let mut sc = pendtilt::sim::planar::Scenario::named("sine").unwrap();
     sc.duration = 2.0;
-    let rows = pendtilt::sim::simulate(&sc, 1).unwrap();
+    let rows = pendtilt::sim::planar::simulate(&sc, 1).unwrap();
     let mut text = String::from("t,phi,gyro,ax,ay,theta\n");
     for r in &rows {
         let x = r.sample();

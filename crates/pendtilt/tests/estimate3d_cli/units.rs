@@ -404,7 +404,7 @@ fn a_3d_accelerometer_in_g_or_mg_is_named_from_gravity_and_the_fix_works() {
     let wrong = dir.path().join("ing.csv");
     let (in_g, _) = run(&wrong, &[]);
     assert!(printed(&in_g, "ekf3d").0 > 2.0 * printed(&right, "ekf3d").0);
-    for &scenario in pendtilt::sim3d::SCENARIO3D_NAMES {
+    for &scenario in pendtilt::sim::spatial::SCENARIO3D_NAMES {
         let log = simulate(dir.path(), scenario, &["--duration", "10", "--seed", "2"]);
         let rig = dir.path().join(format!("{scenario}.rig.toml"));
         let e = inv3d_stderr(&log, &rig);

@@ -5,8 +5,8 @@ use crate::common::faults3d::{
     SENSORS, TRUTH_ABS_DEG, TRUTH_REL, T_FAULT,
 };
 
-use pendtilt::bank::Inputs;
-use pendtilt::bank3d::REGISTRY3D;
+use pendtilt::bank::spatial::REGISTRY3D;
+use pendtilt::sensors::Inputs;
 use pendtilt::sensors::Sensor;
 
 const ACCEL_CLIP: f64 = 12.0;

@@ -3,7 +3,7 @@ use crate::common::faults3d::{
     estimate, fmt_recovery, outcome, simulate, simulate_as, truth, Csv, BOUND_DEG, SENSORS, T_FAULT,
 };
 
-use pendtilt::bank3d::REGISTRY3D;
+use pendtilt::bank::spatial::REGISTRY3D;
 use pendtilt::core::spatial::attitude::inclination_error;
 
 /// A twin of the ride: the same readings but over `[from, to)` \[s\], where `edit` changes

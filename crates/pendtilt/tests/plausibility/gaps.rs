@@ -7,7 +7,7 @@ use crate::common::plausibility::{
 use pendtilt::core::Flags;
 use pendtilt::io::WarningKind;
 use pendtilt::pipeline::PassError;
-use pendtilt::sim::{simulate, Scenario, SimRow};
+use pendtilt::sim::planar::{simulate, Scenario, SimRow};
 
 /// The best a restart after a gap ending at row `k1` could do for estimator `name`, whose
 /// two runs on the same readings close as `exp(-rate t)`: start at the truth plus the
@@ -307,7 +307,7 @@ fn a_gap_shorter_than_the_restart_gap_is_bridged_not_restarted() {
         "{w}"
     );
     // Only the estimators reading the gyro restarted: accel and pendulum did not.
-    let n_gyro = pendtilt::bank::REGISTRY
+    let n_gyro = pendtilt::bank::planar::REGISTRY
         .iter()
         .filter(|e| r.names.contains(&e.name) && e.needs().has(pendtilt::sensors::Sensor::Gyro))
         .count();

@@ -5,10 +5,10 @@ use crate::common::plausibility::{
     assert_nothing_poisoned, cells, gyro, madgwick_resolution_deg, phi, print, recovery, retimed,
     ride, run, text, Run, TOLERANCE_DEG,
 };
-use pendtilt::bank::Inputs;
 use pendtilt::config::RigConfig;
 use pendtilt::core::Flags;
 use pendtilt::io::{LogWarning, WarningKind};
+use pendtilt::sensors::Inputs;
 
 use std::process::Command;
 
@@ -98,7 +98,7 @@ fn told_once(bad: &Run, value: &str, says: &str) {
 /// Flagged on exactly the estimators that read `sensor`, on row `k` only.
 fn flagged_where_read(bad: &Run, k: usize, sensor: Inputs, value: &str) {
     let mut settings_needs = Vec::new();
-    for e in pendtilt::bank::REGISTRY {
+    for e in pendtilt::bank::planar::REGISTRY {
         if let Some(j) = bad.names.iter().position(|n| *n == e.name) {
             settings_needs.push((j, e.needs()));
         }
@@ -192,7 +192,7 @@ fn madgwick_cannot_come_within_0_05_deg_of_itself() {
     let base = cells(&rows);
     let clean = run(&text(&base), &rig);
     let sd = {
-        let mut s = pendtilt::sim::Scenario::named("scooter").unwrap();
+        let mut s = pendtilt::sim::planar::Scenario::named("scooter").unwrap();
         s.duration = 1.0;
         s.sensors.gyro.noise_density * 1000f64.sqrt()
     };

@@ -6,7 +6,7 @@ use crate::common::plausibility::{cells, retimed, ride, run, run_with, text, Run
 use pendtilt::config::RigConfig;
 use pendtilt::core::filters::diff::Cutoff;
 use pendtilt::io::{AccelUnit, ReaderOptions, TimeUnit};
-use pendtilt::sim::{simulate, Scenario, SimRow};
+use pendtilt::sim::planar::{simulate, Scenario, SimRow};
 
 #[test]
 fn time_in_ms_or_us_is_an_error_with_the_fix_and_the_fix_works() {

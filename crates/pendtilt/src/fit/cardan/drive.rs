@@ -16,7 +16,7 @@
 //! over `r = r12 - accel_at`, which is linear in r: each node keeps the force for the held
 //! part of r and the force per metre of r12_z, so that a fitted c_z costs no extra pass.
 use crate::replay::drive::{fill_gaps, filtfilt, Drive, Rest, GYRO_CUTOFF_HZ};
-use crate::sim3d::{specific_force_at, LogRow3d};
+use crate::sim::spatial::{specific_force_at, LogRow3d};
 
 use super::super::{FitError, Target};
 use super::Fit3dSettings;

@@ -3,7 +3,7 @@
 //!
 //! The joint equations are the core's normalised MODEL.md 7.3 ([`CardanParams`], the
 //! ones ekf3d predicts with), integrated with the simulator's RK4 step
-//! ([`crate::sim::integrator::rk4_step`]), one step per sample interval on the nodes the
+//! ([`crate::sim::planar::integrator::rk4_step`]), one step per sample interval on the nodes the
 //! drive keeps. The residuals are `phi_sim + offset - phi_measured` per axis, two per used
 //! row (rows whose encoders are missing are simulated but not compared).
 use nalgebra::{SMatrix, SVector};
@@ -15,7 +15,7 @@ use super::{Fit3dSettings, NP};
 use crate::fit::lm::{Gradient, LeastSquares, Normal};
 use crate::fit::problem::MIN_ROWS;
 use crate::fit::FitError;
-use crate::sim::integrator::{rk4_step, Node as RkNode};
+use crate::sim::planar::integrator::{rk4_step, Node as RkNode};
 
 /// The parameter vector of a 3-D fit: a_x, a_y, b_x + b_ring, b_y, c_z, and the encoder
 /// offsets of phi_x and phi_y.

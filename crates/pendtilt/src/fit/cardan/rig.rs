@@ -4,8 +4,8 @@
 //! LOG --params RIG` reads it as it is.
 use pendtilt_core::spatial::cardan::CardanParams;
 
-use crate::bank3d::rig::Rig3dConfig;
-use crate::sim3d::Pendulum3d;
+use crate::bank::spatial::rig::Rig3dConfig;
+use crate::sim::spatial::Pendulum3d;
 
 /// A value written so that it reads back exactly (Rust's shortest round-trip form).
 fn num(x: f64) -> String {

@@ -25,7 +25,7 @@ impl GyroUnits {
     pub(super) fn new(params: &pendtilt_core::spatial::cardan::CardanParams<f64>) -> Self {
         // The accelerometer's tilt about each axis stands in for the planar check's angle:
         // its signs are checked against the encoder and the gyro.
-        let inputs = crate::bank::Inputs::ALL;
+        let inputs = crate::sensors::Inputs::ALL;
         let w = params.natural_frequencies();
         Self {
             turn: TurnCheck::new(),

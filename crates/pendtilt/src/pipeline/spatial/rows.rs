@@ -7,11 +7,11 @@ use pendtilt_core::StepGate;
 
 use super::setup::Setup;
 use super::{MAX_ACCEL, MAX_RATE, MAX_WARNINGS, ROW_ISSUES_LISTED};
-use crate::bank::Inputs;
-use crate::bank3d::Clips;
+use crate::bank::spatial::Clips;
 use crate::io::plateau::{NewLevel, PlateauWatch};
 use crate::io::plausibility::FULL_SCALE_ROUNDING;
 use crate::io::Log3dRecord;
+use crate::sensors::Inputs;
 use crate::sensors::Sensor;
 use crate::units::Pair;
 
@@ -131,7 +131,7 @@ impl<'a> RowInput<'a> {
             self.file,
             r.sensors.spatial_names(),
             r.gap,
-            crate::bank::RESTART_GAP
+            crate::bank::planar::RESTART_GAP
         ));
     }
 

@@ -6,10 +6,10 @@ use std::path::Path;
 use anyhow::Context;
 
 use super::Options3d;
-use crate::bank3d::rig::{mounting_doubts, Pendulum3dConfig, Rig3dConfig};
-use crate::bank3d::Settings3d;
+use crate::bank::spatial::rig::{mounting_doubts, Pendulum3dConfig, Rig3dConfig};
+use crate::bank::spatial::Settings3d;
 use crate::config::{doubt_gravity, doubt_gyro_full_scale};
-use crate::sim3d::Scenario3d;
+use crate::sim::spatial::Scenario3d;
 
 /// What the options and files give the run.
 #[derive(Debug, Clone)]

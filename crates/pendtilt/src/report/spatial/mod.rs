@@ -4,7 +4,7 @@
 //!
 //! Like the planar [`Report`](super::Report) it knows no estimator: it takes the time, the
 //! true roll and pitch and named (roll, pitch) series \[rad\]. The scores are those
-//! `pendtilt estimate` prints on a 3-D log: [`crate::bank3d::score::Inclination`] over the
+//! `pendtilt estimate` prints on a 3-D log: [`crate::bank::spatial::score::Inclination`] over the
 //! rows with `t >= t0 + score_from` (t0 the first finite time).
 //!
 //! - [`draw`]: the three figures (one panel per estimator each);
@@ -19,7 +19,7 @@ use serde::Serialize;
 use super::figures::{AxisInfo, FigureFiles};
 use super::palette::Palette;
 use super::ReportError;
-use crate::bank3d::score::Inclination;
+use crate::bank::spatial::score::Inclination;
 
 pub mod draw;
 pub mod page;
@@ -28,7 +28,7 @@ pub mod ride;
 
 pub use ride::{Ride, RideData};
 
-pub use crate::bank3d::RollPitch;
+pub use crate::bank::spatial::RollPitch;
 
 /// One row of the inclination error table \[deg\].
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -39,13 +39,13 @@ pub struct Ride {
 impl Ride {
     /// The ride of a log with `speed` and `gyro_z` per row, beside `without_speed`'s run
     /// (as many rows), or `None` when the vehicle does not move
-    /// ([`crate::bank3d::ride::moves`]): nothing to compare.
+    /// ([`crate::bank::spatial::ride::moves`]): nothing to compare.
     pub fn of(
-        without_speed: crate::bank3d::ride::WithoutSpeed,
+        without_speed: crate::bank::spatial::ride::WithoutSpeed,
         speed: Vec<f64>,
         gyro_z: Vec<f64>,
     ) -> Option<Ride> {
-        use crate::bank3d::ride::{moves, peers, COMPENSATED, HOW};
+        use crate::bank::spatial::ride::{moves, peers, COMPENSATED, HOW};
         if !moves(&speed) {
             return None;
         }

@@ -19,7 +19,7 @@
 //! walk (a doubt, in the file).
 //!
 //! ```
-//! use pendtilt::sim3d::Scenario3d;
+//! use pendtilt::sim::spatial::Scenario3d;
 //! use pendtilt::tune::spatial::{tune3d, Start3d};
 //! let mut sc = Scenario3d::named("scooter3d", 1).unwrap();
 //! sc.duration = 12.0;
@@ -35,8 +35,8 @@ pub mod speed;
 pub mod zoo;
 
 use super::Note;
-use crate::bank3d::rig::{Ekf3dConfig, Rig3dConfig};
-use crate::bank3d::Settings3d;
+use crate::bank::spatial::rig::{Ekf3dConfig, Rig3dConfig};
+use crate::bank::spatial::Settings3d;
 use pendtilt_core::spatial::ekf::Settings;
 use pendtilt_core::spatial::SpatialSample;
 

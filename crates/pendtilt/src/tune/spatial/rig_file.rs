@@ -3,7 +3,7 @@
 //! it was kept: a doubt). The tune's own header lines go inside the table, so that tuning
 //! a tuned file again replaces them too. `pendtilt estimate --params` reads it as it is.
 use super::Tuned3d;
-use crate::bank3d::rig::Ekf3dConfig;
+use crate::bank::spatial::rig::Ekf3dConfig;
 use crate::tune::Note;
 
 /// `text` without its `[ekf3d]` table (the header line to the next table's).
@@ -167,7 +167,7 @@ mod tests {
             .map(|(k, v)| format!("{k} = {v}\n"))
             .collect();
         let rig = format!("[pendulum3d]\n[ekf3d]\n{text}");
-        let r = crate::bank3d::rig::Rig3dConfig::from_toml_str(&rig, "t").unwrap();
+        let r = crate::bank::spatial::rig::Rig3dConfig::from_toml_str(&rig, "t").unwrap();
         assert_eq!(r.ekf3d, c);
     }
 }

@@ -27,11 +27,11 @@
 //! defaults (the better taken, and never worse than the self-tuned filter). The peers
 //! (vqf, mahony3d, madgwick3d) get their main gain searched against the truth the same way.
 use super::{tune3d, Start3d};
-use crate::bank3d::rig::{Pendulum3dConfig, Rig3dConfig};
-use crate::bank3d::score::Inclination;
+use crate::bank::spatial::rig::{Pendulum3dConfig, Rig3dConfig};
+use crate::bank::spatial::score::Inclination;
 use crate::peers::spatial::{madgwick3d, mahony3d, vqf};
 use crate::peers::tune::golden_log;
-use crate::sim3d::{LogRow3d, Pendulum3d, Scenario3d, Sensors3d};
+use crate::sim::spatial::{LogRow3d, Pendulum3d, Scenario3d, Sensors3d};
 use pendtilt_core::spatial::ekf::{Ekf, Settings};
 use pendtilt_core::spatial::{SpatialEstimator, SpatialSample};
 use pendtilt_core::StepGate;

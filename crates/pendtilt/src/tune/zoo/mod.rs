@@ -16,9 +16,9 @@
 //!   (5-15 deg, 0.1-1.2 Hz), a chirp (3-8 deg, 0.05 -> 1-2 Hz).
 pub mod score;
 
-use crate::sim::motion::{Chirp, Manoeuvres, Motion, Sine};
-use crate::sim::vibration::{AngularHarmonic, Broadband, Harmonic, Vibration};
-use crate::sim::{PendulumTable, Scenario};
+use crate::sim::planar::motion::{Chirp, Manoeuvres, Motion, Sine};
+use crate::sim::planar::vibration::{AngularHarmonic, Broadband, Harmonic, Vibration};
+use crate::sim::planar::{PendulumTable, Scenario};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::{PI, TAU};

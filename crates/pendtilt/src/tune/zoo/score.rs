@@ -3,7 +3,7 @@
 //! no true angle), and tuned by a brute-force grid against the true angle (the oracle).
 //!
 //! Every figure comes from the estimators as `pendtilt estimate` builds them from a rig
-//! file ([`crate::bank::Bank`]); the grids search with the same filters run directly
+//! file ([`crate::bank::planar::Bank`]); the grids search with the same filters run directly
 //! (the Kalman filter's arithmetic through [`crate::tune::kalman::innovation_pass`]) and
 //! the best point found is then run through the bank. The oracle's grids:
 //! - alg1, alg2: the differentiator cutoff, 0.4-10 times the natural frequency (17
@@ -15,10 +15,10 @@
 //!   and pendulum-forcing densities at 1e-3..1e3 times their defaults (a point per
 //!   decade), the adaptation off (fixed figures, as the self-tuned).
 use super::Ride;
-use crate::bank::{build_alone, Bank, BankSettings, Inputs};
+use crate::bank::planar::{build_alone, Bank, BankSettings, Inputs};
 use crate::config::{EkfConfig, RigConfig};
 use crate::peers::{self, PeerSettings};
-use crate::sim::{simulate, Scenario};
+use crate::sim::planar::{simulate, Scenario};
 use crate::tune::kalman::{innovation_pass, KalmanData};
 use crate::tune::{rig_file, tune, Options, Start};
 use pendtilt_core::ekf::{Ekf, ModelSettings, SensorNoise};

@@ -9,7 +9,7 @@ use pendtilt_core::params::GyroSettings;
 use pendtilt_core::spatial::cardan::CardanParams;
 
 use crate::config::{doubt_length, doubt_length_beyond, plain, LengthDoubt, DOUBTFUL_SPEED_POINT};
-use crate::sim3d::{Mounting, Pendulum3d};
+use crate::sim::spatial::{Mounting, Pendulum3d};
 
 pub use crate::config::TABLES_3D;
 
@@ -191,7 +191,9 @@ mod tests {
     /// or an impossible value is an error naming the file, the key and (for a key) the line.
     #[test]
     fn the_ekf3d_table_sets_the_filter_settings() {
-        let rig = crate::sim3d::Rig3d::default().to_toml_string().unwrap();
+        let rig = crate::sim::spatial::Rig3d::default()
+            .to_toml_string()
+            .unwrap();
         let text = format!("{rig}\n[ekf3d]\nvibration_density = 0.15\njerk_density = 5.0\n");
         let c = Rig3dConfig::from_toml_str(&text, "r.toml").unwrap();
         let mut s = ekf::Settings::<f64>::default();
@@ -247,7 +249,7 @@ mod tests {
             pivot_offset: [0.01, 0.0, 0.1],
             ..Pendulum3d::default()
         };
-        let phys = crate::sim3d::Rig3d {
+        let phys = crate::sim::spatial::Rig3d {
             pendulum3d: p,
             mounting: Mounting::default(),
         }

@@ -2,12 +2,12 @@
 //!
 //! The state is u = (a + roll, b + pitch) and u', as 7.3 recommends: u is smooth under
 //! angular vibration of the body (under pure roll u_x is the planar beta, so this is the
-//! planar simulator's state). RK4 from [`crate::sim::integrator`] at `substeps` steps per
+//! planar simulator's state). RK4 from [`crate::sim::planar::integrator`] at `substeps` steps per
 //! sample; the body's kinematics are evaluated once per node (start, middle, end of each
 //! step), exactly as the planar simulator does, so a pure-roll run reproduces it (7.4).
 
-use crate::sim::integrator::{rk4_step, Node};
-use crate::sim::SimError;
+use crate::sim::planar::integrator::{rk4_step, Node};
+use crate::sim::planar::SimError;
 
 use super::dynamics::{specific_force_at, JointState};
 use super::motion::{BodyKinematics, BodyMotion};
@@ -103,9 +103,9 @@ impl<M: BodyMotion> Simulator3d<M> {
         let (k, m) = (pend.stiffness(0.0), pend.inertia(0.0));
         let c = [pend.damping_x, pend.damping_y];
         let lambda = (0..2)
-            .map(|i| crate::sim::integrator::fastest_mode(k[i] / m[i], c[i] / m[i]))
+            .map(|i| crate::sim::planar::integrator::fastest_mode(k[i] / m[i], c[i] / m[i]))
             .fold(0.0, f64::max);
-        crate::sim::integrator::check_step(lambda, rate, substeps)?;
+        crate::sim::planar::integrator::check_step(lambda, rate, substeps)?;
         let k0 = motion.kinematics(0.0, pend.gravity);
         let start = JointState::hanging_still(k0.euler[0][0], k0.euler[1][0], k0.w);
         Ok(Self {

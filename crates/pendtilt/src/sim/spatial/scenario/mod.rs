@@ -27,7 +27,7 @@ use super::params::Pendulum3d;
 use super::sensors::{LogRow3d, SensorBank3d, Sensors3d};
 use super::simulator::{Simulator3d, Truth3d};
 use super::vehicle::{MotionSpec, VehicleMotion};
-use crate::sim::{SimError, SCENARIO_NAMES};
+use crate::sim::planar::{SimError, SCENARIO_NAMES};
 
 /// The names [`Scenario3d::named`] knows (listed beside the planar ones, so that the
 /// planar simulator names both without importing this one).
@@ -254,11 +254,12 @@ impl Scenario3d {
         };
         let mut over: toml::Table = toml::from_str(text).map_err(|e| config(e.to_string()))?;
         over.remove("scenario");
-        let seed = crate::sim::scenario::seed_of(&over, origin)?;
+        let seed = crate::sim::planar::scenario::seed_of(&over, origin)?;
         over.remove("seed");
         let base = toml::Table::try_from(self)
             .map_err(|e| config(format!("cannot represent the base scenario: {e}")))?;
-        let s: Self = crate::sim::scenario::merge_into(base, over, Some(text)).map_err(config)?;
+        let s: Self =
+            crate::sim::planar::scenario::merge_into(base, over, Some(text)).map_err(config)?;
         s.validate().map_err(|e| config(e.to_string()))?;
         Ok((s, seed))
     }

@@ -2,7 +2,7 @@
 //! --template 3d`).
 use pendtilt_core::spatial::ekf;
 
-use crate::sim3d::{Mounting, Pendulum3d};
+use crate::sim::spatial::{Mounting, Pendulum3d};
 
 /// A table's (key, value, comment) lines.
 type Keys = Vec<(&'static str, String, &'static str)>;

@@ -9,8 +9,8 @@ use serde::Deserialize;
 use super::{
     Ekf3dConfig, Pendulum3dConfig, Rig3dConfig, NORMALISED_KEYS, NORMALISED_UNITS, TABLES_PLANAR,
 };
-use crate::sim3d::scenario::check_mounting;
-use crate::sim3d::{Mounting, Pendulum3d};
+use crate::sim::spatial::scenario::check_mounting;
+use crate::sim::spatial::{Mounting, Pendulum3d};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -30,7 +30,7 @@ pub fn write_log<W: Write>(run: Run3d, mut w: W, mut progress: impl FnMut(u64)) 
             ("true roll", row.roll),
             ("true pitch", row.pitch),
         ] {
-            crate::sim::output::check_angle(row.t, name, x)?;
+            crate::sim::planar::output::check_angle(row.t, name, x)?;
         }
         write_row(&mut w, &row)?;
         n += 1;

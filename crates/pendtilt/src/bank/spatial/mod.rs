@@ -29,7 +29,7 @@ use crate::peers::spatial::{
     VQF_TAU_ACC,
 };
 use crate::sensors::{GapEnd, GapWatch, Inputs, Sensor, RESTART_GAP};
-use crate::sim3d::Sensors3d;
+use crate::sim::spatial::Sensors3d;
 
 pub mod ride;
 pub mod rig;
@@ -94,7 +94,7 @@ impl Settings3d {
 
     /// The settings for a simulated scenario: its rig's pendulum and mounting and its
     /// sensors' figures, as `pendtilt estimate --scenario FILE` takes them.
-    pub fn of_scenario(s: &crate::sim3d::Scenario3d) -> Self {
+    pub fn of_scenario(s: &crate::sim::spatial::Scenario3d) -> Self {
         let rig = rig::Pendulum3dConfig::Physical(s.rig.pendulum3d);
         Self::new(rig.params(), s.rig.mounting, Some(&s.sensors))
     }

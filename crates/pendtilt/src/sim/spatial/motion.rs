@@ -5,7 +5,7 @@
 //! exact time derivative, so the dynamics never see a finite difference. The translation of
 //! P1 is a sum of sines per world axis, plus an optional vibration given in body axes.
 
-use crate::sim::motion::logistic;
+use crate::sim::planar::motion::logistic;
 use std::f64::consts::TAU;
 
 /// One term of an angle's time function; every variant has exact 1st and 2nd derivatives

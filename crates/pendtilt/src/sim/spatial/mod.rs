@@ -16,7 +16,7 @@
 //! - [`output`]: the CSV log of 7.6 (read back by [`crate::io::Log3dReader`]).
 //!
 //! ```
-//! use pendtilt::sim3d::Scenario3d;
+//! use pendtilt::sim::spatial::Scenario3d;
 //! // A named scenario (random parts from the seed), shortened; rows of truth and readings.
 //! let mut s = Scenario3d::named("ride3d", 7).unwrap();
 //! s.duration = 0.05;
@@ -25,7 +25,7 @@
 //! ```
 //!
 //! ```
-//! use pendtilt::sim3d::{motion::SineMotion, Pendulum3d, Simulator3d};
+//! use pendtilt::sim::spatial::{motion::SineMotion, Pendulum3d, Simulator3d};
 //! // A body at rest, rolled 10 deg and pitched -5 deg: the encoders read roll and pitch.
 //! let (r, p) = (10f64.to_radians(), -5f64.to_radians());
 //! let sim = Simulator3d::new(Pendulum3d::default(), SineMotion::at_rest(r, p, 0.3), 1000.0, 2, 0.1)

@@ -4,7 +4,7 @@
 use pendtilt_core::model::cardan::CardanParams;
 use serde::{Deserialize, Serialize};
 
-use crate::sim::SimError;
+use crate::sim::planar::SimError;
 
 /// A two-axis pendulum on a Cardan joint, SI units (MODEL.md 7.2; the `[pendulum3d]` table
 /// of 7.6). The outer ring turns about body x, the pendulum about the ring's y axis.

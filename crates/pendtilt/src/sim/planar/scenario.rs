@@ -546,7 +546,7 @@ pub fn load_config(path: &Path, name: Option<&str>) -> Result<(Scenario, Option<
                 "no base scenario: give --scenario NAME or a top-level `scenario = \"NAME\"` \
                  (one of {}, or a 3-D one: {})",
                 SCENARIO_NAMES.join(", "),
-                super::SCENARIO3D_NAMES.join(", ")
+                crate::sim::SCENARIO3D_NAMES.join(", ")
             ),
         });
     };

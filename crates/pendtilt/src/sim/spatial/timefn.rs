@@ -9,7 +9,7 @@
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
-use crate::sim::motion::logistic;
+use crate::sim::planar::motion::logistic;
 
 /// (x, x', x'', x''') at one instant.
 pub type Jet = [f64; 4];

@@ -19,7 +19,7 @@ use std::f64::consts::TAU;
 use super::dynamics::cross;
 use super::motion::{attitude, body_rate, world_to_body, BodyKinematics, BodyMotion};
 use super::timefn::{self, add, mul, scale, Context, Jet, Shape, ZERO};
-use crate::sim::SimError;
+use crate::sim::planar::SimError;
 
 /// One term of an angle or of the heave: a shape, optionally setting the direction of travel
 /// (`path`, pitch and yaw only) and optionally scaled by v(t) / speed_ref (road-induced).

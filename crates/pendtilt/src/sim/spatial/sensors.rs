@@ -82,7 +82,7 @@ impl SpeedFault {
         (1.0 - e + e * self.gain) * speed + e * self.offset
     }
 
-    fn validate(&self, k: usize) -> Result<(), crate::sim::SimError> {
+    fn validate(&self, k: usize) -> Result<(), crate::sim::planar::SimError> {
         let all = [
             self.t0,
             self.rise,
@@ -93,7 +93,7 @@ impl SpeedFault {
         ];
         let times = [self.rise, self.hold, self.fall];
         if all.iter().any(|v| !v.is_finite()) || times.iter().any(|&v| v < 0.0) {
-            return Err(crate::sim::SimError::invalid(
+            return Err(crate::sim::planar::SimError::invalid(
                 format!("sensors.speed_faults[{k}]"),
                 "values must be finite, rise, hold and fall >= 0 s",
             ));
@@ -203,7 +203,7 @@ impl Sensors3d {
     }
 
     /// Checks every value; errors name the `sensors.<key>`.
-    pub fn validate(&self) -> Result<(), crate::sim::SimError> {
+    pub fn validate(&self) -> Result<(), crate::sim::planar::SimError> {
         let non_negative = [
             ("encoder_noise", self.encoder_noise),
             ("gyro_noise_density", self.gyro_noise_density),
@@ -213,7 +213,7 @@ impl Sensors3d {
         ];
         for (key, v) in non_negative {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(crate::sim::SimError::invalid(
+                return Err(crate::sim::planar::SimError::invalid(
                     format!("sensors.{key}"),
                     format!("must be finite and >= 0, got {v:?}"),
                 ));
@@ -226,7 +226,7 @@ impl Sensors3d {
             .chain(&self.accel_at)
             .chain([&self.speed_scale]);
         if finite.into_iter().any(|x| !x.is_finite()) {
-            return Err(crate::sim::SimError::invalid(
+            return Err(crate::sim::planar::SimError::invalid(
                 "sensors",
                 "biases, accel_at and speed_scale must be finite",
             ));
@@ -235,7 +235,7 @@ impl Sensors3d {
             f.validate(k)?;
         }
         if self.encoder_bits > 32 {
-            return Err(crate::sim::SimError::invalid(
+            return Err(crate::sim::planar::SimError::invalid(
                 "sensors.encoder_bits",
                 format!("must be 0 (none) to 32, got {}", self.encoder_bits),
             ));
@@ -388,8 +388,8 @@ impl SensorBank3d {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim3d::motion::Component;
-    use crate::sim3d::{Pendulum3d, Simulator3d, SineMotion};
+    use crate::sim::spatial::motion::Component;
+    use crate::sim::spatial::{Pendulum3d, Simulator3d, SineMotion};
 
     fn truth(secs: f64) -> Vec<Truth3d> {
         let m = SineMotion {

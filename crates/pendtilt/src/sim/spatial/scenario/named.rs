@@ -4,9 +4,11 @@ use rand::Rng;
 use std::f64::consts::TAU;
 
 use super::{Rig3d, Scenario3d};
-use crate::sim3d::sensors::{Sensors3d, SpeedFault};
-use crate::sim3d::timefn::{Context, Shape};
-use crate::sim3d::vehicle::{Axis, EngineMod, EngineSpec, MotionSpec, Term, Tones, Vibration};
+use crate::sim::spatial::sensors::{Sensors3d, SpeedFault};
+use crate::sim::spatial::timefn::{Context, Shape};
+use crate::sim::spatial::vehicle::{
+    Axis, EngineMod, EngineSpec, MotionSpec, Term, Tones, Vibration,
+};
 
 fn base(duration: f64, score_from: f64, sensors: Sensors3d, motion: MotionSpec) -> Scenario3d {
     Scenario3d {
@@ -66,7 +68,7 @@ fn random_sines<R: Rng>(
         .collect();
     let ctx = Context::default();
     let peak = (0..=(duration * 50.0) as usize)
-        .map(|k| crate::sim3d::timefn::eval_sum(&shapes, k as f64 / 50.0, &ctx)[0].abs())
+        .map(|k| crate::sim::spatial::timefn::eval_sum(&shapes, k as f64 / 50.0, &ctx)[0].abs())
         .fold(0.0, f64::max);
     for s in &mut shapes {
         *s = s.scaled(max / peak);

@@ -385,7 +385,7 @@ pub enum MotionFn {
 }
 
 /// S and its first three derivatives of the logistic function, without overflow for large
-/// |x| (the 3-D motion, `sim3d::motion`, needs the third for the body's angular acceleration).
+/// |x| (the 3-D motion, `sim::spatial::motion`, needs the third for the body's angular acceleration).
 pub(crate) fn logistic(x: f64) -> [f64; 4] {
     let s = if x >= 0.0 {
         1.0 / (1.0 + (-x).exp())
