@@ -1,5 +1,6 @@
-//! `reset` forgets the run and nothing else: after a run and a reset, every estimator gives
-//! on a log what a new one built from the same settings gives: the same flags and the
+//! `reset` forgets the run and nothing else: after a run and a reset, every estimator (and
+//! inv3d, its spatial counterpart) gives on a log what a new one built from the same
+//! settings gives: the same flags and the
 //! same angles to 1e-12 rad. Resets rebuild the state only (the settings and the
 //! coefficients derived from them stay), so a state field a reset forgets shows up here.
 //! (Not bit for bit: the differentiator keeps its discretisation for steps within 1e-9 of
@@ -14,8 +15,10 @@ use pendtilt_core::estimators::pendulum::{Pendulum, PendulumSettings};
 use pendtilt_core::estimators::theta_dd::ThetaDdSource;
 use pendtilt_core::kalman::{KalmanOn, KalmanSettings};
 use pendtilt_core::params::GyroSettings;
+use pendtilt_core::spatial::inv::{Inv3d, Inv3dSettings};
+use pendtilt_core::spatial::{Attitude, SpatialSample};
 use pendtilt_core::supervision::{SupervisedAlg3, SupervisedAlg3Settings};
-use pendtilt_core::{Estimate, PendulumParams, PlanarEstimator, Sample, StepGate};
+use pendtilt_core::{Estimate, Estimator, PendulumParams, PlanarEstimator, Sample, StepGate};
 
 /// A tilting, vibrating body with a jittered step, a missing phi, a gyro gap, a clipped
 /// gyro and a repeated stamp: every path of the estimators' state is taken.
@@ -141,5 +144,55 @@ fn reset_equals_a_new_estimator() {
     ];
     for (name, make) in &all {
         check(name, make(), make());
+    }
+}
+
+/// The planar log on two axes, with a speed that comes and goes: every path of inv3d's
+/// front ends and of its travel filters is taken.
+fn spatial_log(seconds: f64, phase: f64) -> Vec<SpatialSample<f64>> {
+    log(seconds, phase)
+        .iter()
+        .enumerate()
+        .map(|(k, s)| SpatialSample {
+            speed: if k % 700 < 40 {
+                f64::NAN
+            } else {
+                6.0 + (k as f64 * 1e-3 + phase).sin()
+            },
+            ..SpatialSample::new(
+                s.dt,
+                [s.phi, 0.5 * s.phi - 0.02],
+                [s.gyro, 0.5 * s.gyro, 0.1 * s.gyro],
+                [s.ax, 0.3, s.ay],
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn inv3d_reset_equals_a_new_estimator() {
+    let mut settings = Inv3dSettings::<f64>::default();
+    settings.params.c = [0.002, -0.001, 0.01];
+    settings.mounting.speed_at = [0.4, 0.1, -0.3];
+    settings.front_end.gyro = GyroSettings {
+        full_scale: Some(1.5),
+    };
+    let run = |e: &mut Inv3d<f64>, log: &[SpatialSample<f64>]| -> Vec<Attitude<f64>> {
+        log.iter().map(|s| e.update(s)).collect()
+    };
+    let (mut used, mut fresh) = (Inv3d::new(settings), Inv3d::new(settings));
+    let before = run(&mut used, &spatial_log(3.0, 0.0));
+    assert!(before.iter().any(|a| a.roll.is_finite()), "inv3d ran");
+    used.reset();
+    let second = spatial_log(2.0, 0.7);
+    let (again, want) = (run(&mut used, &second), run(&mut fresh, &second));
+    for (k, (a, w)) in again.iter().zip(&want).enumerate() {
+        assert_eq!(a.flags, w.flags, "inv3d sample {k}");
+        for (x, y) in [(a.roll, w.roll), (a.pitch, w.pitch)] {
+            assert!(
+                (x - y).abs() <= 1e-12 || (x.is_nan() && y.is_nan()),
+                "inv3d sample {k}: {a:?} after reset, {w:?} new"
+            );
+        }
     }
 }

@@ -150,11 +150,12 @@ impl<T: Real> ProcessNoise<T> {
 /// Settings of [`super::Ekf`] and [`super::Ukf`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ModelSettings<T> {
-    /// The pendulum's normalised parameters a, b and c = l12 / g.
+    /// The pendulum's normalised parameters a, b and c = l12 / g. Default: the MODEL.md
+    /// rig ([`PendulumParams::default`]).
     pub params: PendulumParams<T>,
     /// Gravity g [m/s^2]. Default 9.80665.
     pub gravity: T,
-    /// Sensor noise figures (measurement noise).
+    /// Sensor noise figures (measurement noise). Default: [`SensorNoise::default`].
     pub sensors: SensorNoise<T>,
     /// Process noise densities. Default [`ProcessNoise::derive`] with the default
     /// [`Environment`].

@@ -9,7 +9,8 @@ use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Alg1Settings<T> {
     /// The pendulum, the differentiator and which phi enters the equation (the front
-    /// end's theta'' and gyro settings are not read by Algorithm 1).
+    /// end's theta'' and gyro settings are not read by Algorithm 1). Default:
+    /// [`FrontEndSettings::default`].
     pub front_end: FrontEndSettings<T>,
 }
 

@@ -10,7 +10,8 @@ use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 /// Settings of [`Alg2`]: its front end and its own two options.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Alg2Settings<T> {
-    /// The pendulum, the differentiator, phi, theta'' and the gyro.
+    /// The pendulum, the differentiator, phi, theta'' and the gyro. Default:
+    /// [`FrontEndSettings::default`].
     pub front_end: FrontEndSettings<T>,
     /// Add `c (theta'' cos phi - theta'^2 sin phi)`, c = l12 / g (MODEL.md section 3).
     /// Default false (the paper's Eq 21).

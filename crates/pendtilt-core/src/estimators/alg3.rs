@@ -11,7 +11,8 @@ use crate::{Estimate, Estimator, PendulumParams, Real, Sample};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Alg3Settings<T> {
     /// The pendulum (its natural frequency sets a relative differentiator cutoff), the
-    /// differentiator, phi, G_d (theta'') and the gyro.
+    /// differentiator, phi, G_d (theta'') and the gyro. Default:
+    /// [`FrontEndSettings::default`].
     pub front_end: FrontEndSettings<T>,
     /// K, L, M, N. Default: those that make Eq (30) equal Eq (21) (K = a, L = b, M = -b,
     /// N = 0).

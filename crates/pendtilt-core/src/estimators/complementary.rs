@@ -57,8 +57,49 @@ impl<T: Real> Default for ComplementarySettings<T> {
 #[derive(Debug, Clone)]
 pub struct Complementary<T: Real> {
     settings: ComplementarySettings<T>,
-    /// The crossover time constant, negative ones taken as 0 (a coefficient).
+    coeffs: Coefficients<T>,
+    state: State<T>,
+}
+
+/// What the settings give once, so that the per-sample path and `reset` read them
+/// rather than derive them again.
+#[derive(Debug, Clone, Copy)]
+struct Coefficients<T> {
+    /// The crossover time constant, negative ones taken as 0.
     tau: T,
+    /// The rate at which the filter forgets an angle error, `1 / tau` (0 for `tau = 0`):
+    /// how much of a gap's error is left when its correction comes.
+    forget_rate: T,
+    /// The prefilter's settling time \[s\] (0 without it).
+    settle: T,
+}
+
+impl<T: Real> Coefficients<T> {
+    fn new(settings: &ComplementarySettings<T>) -> Self {
+        let tau = settings.time_constant.max(T::zero());
+        // The Butterworth's start from one reading decays as exp(-omega_c t / sqrt 2):
+        // to 1 % in 4 sqrt(2) / omega_c (0.18 s at 5 Hz).
+        let settle = match settings.accel_prefilter_hz {
+            Some(f) if f > T::zero() => {
+                T::lit(4.0 * core::f64::consts::SQRT_2 / core::f64::consts::TAU) / f
+            }
+            _ => T::zero(),
+        };
+        Self {
+            tau,
+            forget_rate: if tau > T::zero() {
+                T::one() / tau
+            } else {
+                T::zero()
+            },
+            settle,
+        }
+    }
+}
+
+/// Everything a run changes: what `reset` starts again and `resume` keeps part of.
+#[derive(Debug, Clone)]
+struct State<T: Real> {
     lx: LowPass2<T>,
     ly: LowPass2<T>,
     input: InputHold<T>,
@@ -69,9 +110,36 @@ pub struct Complementary<T: Real> {
     offset: SteadyOffset<T>,
     /// The offset kept through a restart \[rad\] (0 on a first start).
     kept: T,
-    /// The prefilter's settling time \[s\] and how much of it is left since the start.
-    settle: T,
+    /// How much of the prefilter's settling time is left since the start \[s\].
     settling: T,
+}
+
+impl<T: Real> State<T> {
+    fn new(settings: &ComplementarySettings<T>, coeffs: &Coefficients<T>) -> Self {
+        let f = settings.accel_prefilter_hz.unwrap_or(T::one());
+        Self {
+            lx: LowPass2::new(f),
+            ly: LowPass2::new(f),
+            input: InputHold::new(),
+            theta: T::nan(),
+            elapsed: T::zero(),
+            offset: SteadyOffset::new(),
+            kept: T::zero(),
+            settling: coeffs.settle,
+        }
+    }
+
+    /// Back to the state before the first sample; the low-passes keep their design.
+    fn reset(&mut self, coeffs: &Coefficients<T>) {
+        self.lx.reset();
+        self.ly.reset();
+        self.input = InputHold::new();
+        self.theta = T::nan();
+        self.elapsed = T::zero();
+        self.offset = SteadyOffset::new();
+        self.kept = T::zero();
+        self.settling = coeffs.settle;
+    }
 }
 
 /// The running mean of a filter's tilt less the accelerometer angle in steady state, over
@@ -123,27 +191,11 @@ pub const OFFSET_WINDOW: f64 = 10.0;
 impl<T: Real> Complementary<T> {
     /// A new estimator.
     pub fn new(settings: ComplementarySettings<T>) -> Self {
-        let f = settings.accel_prefilter_hz.unwrap_or(T::one());
-        // The Butterworth's start from one reading decays as exp(-omega_c t / sqrt 2):
-        // to 1 % in 4 sqrt(2) / omega_c (0.18 s at 5 Hz).
-        let settle = match settings.accel_prefilter_hz {
-            Some(f) if f > T::zero() => {
-                T::lit(4.0 * core::f64::consts::SQRT_2 / core::f64::consts::TAU) / f
-            }
-            _ => T::zero(),
-        };
+        let coeffs = Coefficients::new(&settings);
         Self {
-            tau: settings.time_constant.max(T::zero()),
+            state: State::new(&settings, &coeffs),
+            coeffs,
             settings,
-            lx: LowPass2::new(f),
-            ly: LowPass2::new(f),
-            input: InputHold::new(),
-            theta: T::nan(),
-            elapsed: T::zero(),
-            offset: SteadyOffset::new(),
-            kept: T::zero(),
-            settle,
-            settling: settle,
         }
     }
 
@@ -156,14 +208,15 @@ impl<T: Real> Complementary<T> {
         if !(s.ax.is_finite() && s.ay.is_finite()) {
             return None;
         }
+        let st = &mut self.state;
         let a = match self.settings.accel_prefilter_hz {
-            Some(_) => accel_angle(self.lx.update(s.ax, dt), self.ly.update(s.ay, dt)),
+            Some(_) => accel_angle(st.lx.update(s.ax, dt), st.ly.update(s.ay, dt)),
             None => accel_angle(s.ax, s.ay),
         };
         if !a.is_finite() {
             // The prefilter overflowed on an input near the type's largest value: restart it.
-            self.lx.reset();
-            self.ly.reset();
+            st.lx.reset();
+            st.ly.reset();
             return None;
         }
         Some(a)
@@ -175,11 +228,12 @@ impl<T: Real> Complementary<T> {
     fn start(&mut self, s: &Sample<T>, flags: Flags) -> Estimate<T> {
         match self.accel(s, T::one()) {
             Some(a) => {
-                self.theta = a + self.kept;
-                self.elapsed = T::zero();
-                self.input.started();
+                let st = &mut self.state;
+                st.theta = a + st.kept;
+                st.elapsed = T::zero();
+                st.input.started();
                 Estimate {
-                    theta: self.theta,
+                    theta: st.theta,
                     flags: flags | Flags::INITIALISING,
                 }
             }
@@ -194,17 +248,13 @@ impl<T: Real> Complementary<T> {
     /// the gyro held wrong, once the readings after it tell.
     #[inline]
     fn predict(&mut self, gyro: T, dt: T, flags: &mut Flags) -> T {
-        let gain = if self.tau > T::zero() {
-            T::one() / self.tau
-        } else {
-            T::zero()
-        };
-        let predicted = self.theta + gyro * dt + self.input.bridged(gain);
+        let st = &mut self.state;
+        let predicted = st.theta + gyro * dt + st.input.bridged(self.coeffs.forget_rate);
         if !predicted.is_finite() {
             // A rate near the type's largest value over a long step overflows (found by
             // fuzzing): do not integrate it, keep the angle, flag the gyro.
             *flags |= Flags::SATURATED;
-            return self.theta;
+            return st.theta;
         }
         predicted
     }
@@ -219,21 +269,22 @@ impl<T: Real> Complementary<T> {
         if d.abs() > T::pi() {
             d = d.sin().atan2(d.cos());
         }
-        if self.settling > T::zero() {
+        let (c, st) = (&self.coeffs, &mut self.state);
+        if st.settling > T::zero() {
             // The prefilter still carries its first reading: follow it.
-            self.settling -= dt;
+            st.settling -= dt;
             *flags |= Flags::INITIALISING;
-            return a + self.kept;
+            return a + st.kept;
         }
-        let steady = self.elapsed >= self.tau;
-        self.elapsed += dt;
-        let tau = self.tau.min(self.elapsed);
+        let steady = st.elapsed >= c.tau;
+        st.elapsed += dt;
+        let tau = c.tau.min(st.elapsed);
         let alpha = tau / (tau + dt);
         if steady {
-            self.offset.update(-d, dt);
-        } else if self.kept != T::zero() && self.tau > T::zero() {
+            st.offset.update(-d, dt);
+        } else if st.kept != T::zero() && c.tau > T::zero() {
             // Restarting: the part of the kept offset the mean has not built up.
-            d += self.kept * (T::one() - self.elapsed / self.tau).max(T::zero());
+            d += st.kept * (T::one() - st.elapsed / c.tau).max(T::zero());
         }
         predicted + (T::one() - alpha) * d
     }
@@ -245,10 +296,10 @@ impl<T: Real> Estimator for Complementary<T> {
 
     #[inline]
     fn update(&mut self, s: &Sample<T>) -> Estimate<T> {
-        let (dt, gyro, mut flags) = match self.input.begin(s) {
+        let (dt, gyro, mut flags) = match self.state.input.begin(s) {
             Step::BadTime => {
                 return Estimate {
-                    theta: self.theta,
+                    theta: self.state.theta,
                     flags: Flags::BAD_TIME_STEP,
                 }
             }
@@ -256,39 +307,33 @@ impl<T: Real> Estimator for Complementary<T> {
             Step::Next { dt, gyro, flags } => (dt, gyro, flags),
         };
         let predicted = self.predict(gyro, dt, &mut flags);
-        self.theta = match self.accel(s, dt) {
+        self.state.theta = match self.accel(s, dt) {
             Some(a) => self.blend(predicted, a, dt, &mut flags),
             None => {
                 flags |= Flags::MEASUREMENT_SKIPPED;
                 predicted
             }
         };
-        if self.theta.abs() > T::pi() {
-            self.theta = self.theta.sin().atan2(self.theta.cos());
+        let theta = &mut self.state.theta;
+        if theta.abs() > T::pi() {
+            *theta = theta.sin().atan2(theta.cos());
         }
         Estimate {
-            theta: self.theta,
+            theta: self.state.theta,
             flags,
         }
     }
 
     fn reset(&mut self) {
-        self.lx.reset();
-        self.ly.reset();
-        self.input = InputHold::new();
-        self.theta = T::nan();
-        self.elapsed = T::zero();
-        self.offset = SteadyOffset::new();
-        self.kept = T::zero();
-        self.settling = self.settle;
+        self.state.reset(&self.coeffs);
     }
 
     /// Starts again on the next reading, keeping the steady offset (see the type's
     /// documentation).
     fn resume(&mut self) {
-        let kept = self.offset.value().unwrap_or(self.kept);
+        let kept = self.state.offset.value().unwrap_or(self.state.kept);
         self.reset();
-        self.kept = kept;
+        self.state.kept = kept;
     }
 }
 

@@ -88,17 +88,31 @@ impl<T: Real> FrontEndSettings<T> {
 /// differentiated signals: 1 (phi) for Algorithm 1, 2 (phi and the gyro) with a gyro.
 #[derive(Debug, Clone)]
 pub(crate) struct FrontEnd<T: Real, const W: usize, const C: usize = 2> {
+    coeffs: Coefficients<T>,
+    state: State<T, W, C>,
+}
+
+/// What the settings give once (the gyro's full scale can be replaced later, for a clip
+/// found in the log): kept apart so that `reset` cannot touch them.
+#[derive(Debug, Clone, Copy)]
+struct Coefficients<T> {
     phi_source: PhiSource,
+    /// The differentiator's DC delay \[s\], for Algorithm 2's delay compensation.
+    delay: T,
+    gyro_full_scale: Option<T>,
+}
+
+/// Everything a run changes: what `reset` starts again.
+#[derive(Debug, Clone)]
+struct State<T: Real, const W: usize, const C: usize> {
     // Signal 0 is phi, signal 1 the gyro: one discretisation, one step check, and both
     // carry the same delay by construction.
     diff: SmoothingDifferentiator<T, C>,
     gyro: Option<ThetaDd<T, W>>,
-    gyro_full_scale: Option<T>,
     gyro_seen: bool,
     clock: StepClock<T>,
     encoder: Unwrapper<T>,
     last_gyro: T,
-    delay: T,
     last_theta: T,
 }
 
@@ -108,34 +122,40 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
         let diff = &settings.differentiator;
         let d = SmoothingDifferentiator::new(diff.response, diff.cutoff_hz(&settings.params));
         Self {
-            delay: diff.response.dc_delay(d.cutoff_rad_s()),
-            phi_source: settings.phi,
-            gyro: with_gyro.then(|| ThetaDd::new(settings.theta_dd)),
-            gyro_full_scale: settings.gyro.checked_full_scale(),
-            gyro_seen: false,
-            diff: d,
-            clock: StepClock::new(),
-            encoder: Unwrapper::new(),
-            last_gyro: T::zero(),
-            last_theta: T::nan(),
+            coeffs: Coefficients {
+                delay: diff.response.dc_delay(d.cutoff_rad_s()),
+                phi_source: settings.phi,
+                gyro_full_scale: settings.gyro.checked_full_scale(),
+            },
+            state: State {
+                gyro: with_gyro.then(|| ThetaDd::new(settings.theta_dd)),
+                gyro_seen: false,
+                diff: d,
+                clock: StepClock::new(),
+                encoder: Unwrapper::new(),
+                last_gyro: T::zero(),
+                last_theta: T::nan(),
+            },
         }
     }
 
     /// Replaces the gyro's full scale (`None`: unknown), from the next sample on.
     pub fn set_gyro_full_scale(&mut self, full_scale: Option<T>) {
-        self.gyro_full_scale = full_scale.filter(|f| crate::real::is_positive(*f));
+        self.coeffs.gyro_full_scale = full_scale.filter(|f| crate::real::is_positive(*f));
     }
 
+    /// Back to the state before the first sample; the differentiator keeps its design.
     pub fn reset(&mut self) {
-        self.diff.reset();
-        if let Some(g) = self.gyro.as_mut() {
+        let st = &mut self.state;
+        st.diff.reset();
+        if let Some(g) = st.gyro.as_mut() {
             g.reset();
         }
-        self.gyro_seen = false;
-        self.clock.restart();
-        self.encoder = Unwrapper::new();
-        self.last_gyro = T::zero();
-        self.last_theta = T::nan();
+        st.gyro_seen = false;
+        st.clock.restart();
+        st.encoder = Unwrapper::new();
+        st.last_gyro = T::zero();
+        st.last_theta = T::nan();
     }
 
     /// Processes the sample; `Err(flags)` means "hold the previous estimate". The flags
@@ -146,19 +166,19 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
         let (phi, dt, flags) = self.accept_phi(s)?;
         let first = flags.contains(Flags::INITIALISING);
         let gyro = self.read_gyro(s.gyro, first);
-        let mut u = [self.last_gyro; C];
+        let mut u = [self.state.last_gyro; C];
         u[0] = phi;
         if first {
-            self.diff.start_all(u);
+            self.state.diff.start_all(u);
         } else {
-            self.diff.update_all(u, dt);
+            self.state.diff.update_all(u, dt);
         }
         // Read phi's derivatives before the gyro's step, right after the update: read
         // after it, the compiler re-loaded the state just stored, a store-forwarding stall
         // that made alg1 (f64) 1.4x slower (docs/performance.md).
-        let d = self.diff.signal(0);
+        let d = self.state.diff.signal(0);
         let (theta_dd, gyro_filtered, gyro_flags) = self.theta_dd(s.gyro, gyro, dt);
-        let phi_used = match self.phi_source {
+        let phi_used = match self.coeffs.phi_source {
             PhiSource::Raw => phi,
             PhiSource::Filtered => d.value,
         };
@@ -167,10 +187,10 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
                 phi: phi_used,
                 dphi: d.d1,
                 ddphi: d.d2,
-                gyro: self.last_gyro,
+                gyro: self.state.last_gyro,
                 theta_dd,
                 gyro_filtered,
-                delay: self.delay,
+                delay: self.coeffs.delay,
                 dt,
                 gyro_flags,
             },
@@ -183,7 +203,7 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
     /// flags of a sample to hold on.
     #[inline]
     fn accept_phi(&mut self, s: &Sample<T>) -> Result<(T, T, Flags), Flags> {
-        let step = self.clock.offer(s.dt)?;
+        let step = self.state.clock.offer(s.dt)?;
         let first = if step.is_none() {
             Flags::INITIALISING
         } else {
@@ -192,8 +212,8 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
         if !is_reading(s.phi) {
             return Err(Flags::SAMPLE_MISSING | first);
         }
-        let (phi, wrapped) = self.encoder.unwrap(s.phi);
-        self.clock.accept();
+        let (phi, wrapped) = self.state.encoder.unwrap(s.phi);
+        self.state.clock.accept();
         let mut flags = first;
         if wrapped {
             flags |= Flags::ENCODER_WRAPPED;
@@ -207,17 +227,21 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
     /// clipped plateau is not theta'': theta'' is held instead.
     #[inline]
     fn read_gyro(&mut self, gyro: T, first: bool) -> GyroReading {
-        let reading = self.gyro.is_some() && gyro.is_finite();
+        let reading = self.state.gyro.is_some() && gyro.is_finite();
         if !reading {
             return GyroReading::Missing;
         }
-        self.last_gyro = gyro;
-        if !self.gyro_seen && !first {
+        self.state.last_gyro = gyro;
+        if !self.state.gyro_seen && !first {
             // The gyro starts later than phi: start its signal at rest on it.
-            self.diff.restart_signal(1, gyro);
+            self.state.diff.restart_signal(1, gyro);
         }
-        self.gyro_seen = true;
-        if self.gyro_full_scale.is_some_and(|fs| gyro.abs() >= fs) {
+        self.state.gyro_seen = true;
+        if self
+            .coeffs
+            .gyro_full_scale
+            .is_some_and(|fs| gyro.abs() >= fs)
+        {
             GyroReading::Saturated
         } else {
             GyroReading::Good
@@ -228,10 +252,10 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
     /// empty without a gyro), once the differentiator has taken this sample.
     #[inline]
     fn theta_dd(&mut self, gyro: T, reading: GyroReading, dt: T) -> (T, T, Flags) {
-        let Some(g) = self.gyro.as_mut() else {
+        let Some(g) = self.state.gyro.as_mut() else {
             return (T::zero(), T::zero(), Flags::empty());
         };
-        let gd = self.diff.signal(1);
+        let gd = self.state.diff.signal(1);
         g.advance(dt);
         match reading {
             GyroReading::Good => {
@@ -255,12 +279,12 @@ impl<T: Real, const W: usize, const C: usize> FrontEnd<T, W, C> {
         match self.step(s) {
             Ok((k, phi_flags)) => {
                 let (theta, flags) = eq.estimate(&k, phi_flags);
-                self.last_theta = theta;
+                self.state.last_theta = theta;
                 (Estimate { theta, flags }, Some(k))
             }
             Err(flags) => (
                 Estimate {
-                    theta: self.last_theta,
+                    theta: self.state.last_theta,
                     flags,
                 },
                 None,

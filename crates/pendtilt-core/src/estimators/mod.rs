@@ -1,6 +1,8 @@
 //! The paper's estimators, one per module, all implementing [`crate::Estimator`]:
 //! a settings struct with documented defaults, `new(settings)`, `update(sample)` and
-//! per-sample [`crate::Flags`].
+//! per-sample [`crate::Flags`]. As VQF does, each keeps its settings, the coefficients
+//! it derives from them once and its running state apart: `reset` and `resume` touch the
+//! state alone.
 //!
 //! | module | output | equation | inputs |
 //! |---|---|---|---|

@@ -92,8 +92,24 @@ impl<T: Real> Inv3dSettings<T> {
 #[derive(Debug, Clone)]
 pub struct Inv3d<T: Real, const W: usize = DEFAULT_WINDOW_CAPACITY> {
     settings: Inv3dSettings<T>,
+    coeffs: Coefficients<T>,
+    state: State<T, W>,
+}
+
+/// What the settings give once, so that no sample derives it again.
+#[derive(Debug, Clone, Copy)]
+struct Coefficients<T: Real> {
+    /// The pivot P2 from O, `c g - speed_at` \[m\], body axes.
+    pivot_from_centre: Vector3<T>,
+}
+
+/// Everything a run changes: what `reset` starts again.
+#[derive(Debug, Clone)]
+struct State<T: Real, const W: usize> {
+    /// x, y (the encoders with their gyro axes) and z (the z gyro's theta'' only).
     axes: [FrontEnd<T, W>; 3],
     travel: Travel<T>,
+    /// The last estimate, held while none is made.
     last: Attitude<T>,
 }
 
@@ -101,11 +117,17 @@ impl<T: Real, const W: usize> Inv3d<T, W> {
     /// A new estimator.
     pub fn new(settings: Inv3dSettings<T>) -> Self {
         let fe = FrontEnd::new(&settings.front_end, true);
+        let p = &settings.params;
         Self {
-            axes: [fe.clone(), fe.clone(), fe],
-            travel: Travel::new(settings.travel),
+            coeffs: Coefficients {
+                pivot_from_centre: settings.mounting.from_centre(p.c.map(|c| c * p.gravity)),
+            },
+            state: State {
+                axes: [fe.clone(), fe.clone(), fe],
+                travel: Travel::new(settings.travel),
+                last: Attitude::unknown(),
+            },
             settings,
-            last: Attitude::unknown(),
         }
     }
 
@@ -115,7 +137,10 @@ impl<T: Real, const W: usize> Inv3d<T, W> {
     }
 
     fn hold(&self, flags: Flags) -> Attitude<T> {
-        Attitude { flags, ..self.last }
+        Attitude {
+            flags,
+            ..self.state.last
+        }
     }
 
     /// Feeds the speed and the gyro to the travel filters on every row with a usable time
@@ -124,22 +149,19 @@ impl<T: Real, const W: usize> Inv3d<T, W> {
         if !(s.dt.is_finite() && s.dt >= T::zero()) {
             return;
         }
+        let travel = &mut self.state.travel;
         if s.gyro.iter().all(|g| g.is_finite()) {
-            self.travel.gyro(&Vector3::from(s.gyro), s.dt);
+            travel.gyro(&Vector3::from(s.gyro), s.dt);
         }
-        self.travel.speed(s.speed, s.dt);
+        travel.speed(s.speed, s.dt);
     }
 
     /// The pivot's acceleration \[m/s^2\], body axes: O's from the speed and the gyro,
     /// and the lever arm from O at the front ends' rate `w` and angular acceleration `wd`.
     fn pivot_accel(&self, w: [T; 3], wd: [T; 3]) -> [T; 3] {
         let (w, wd) = (Vector3::from(w), Vector3::from(wd));
-        let p = &self.settings.params;
-        let r = self
-            .settings
-            .mounting
-            .from_centre(p.c.map(|c| c * p.gravity));
-        (self.travel.centre_accel(&Vector3::zeros()) + lever_arm(&w, &wd, &r)).into()
+        let r = &self.coeffs.pivot_from_centre;
+        (self.state.travel.centre_accel(&Vector3::zeros()) + lever_arm(&w, &wd, r)).into()
     }
 }
 
@@ -166,7 +188,7 @@ impl<T: Real, const W: usize> Inv3d<T, W> {
         ];
         let mut k = [None; 3];
         let mut flags = Flags::empty();
-        for (i, (fe, x)) in self.axes.iter_mut().zip(&inputs).enumerate() {
+        for (i, (fe, x)) in self.state.axes.iter_mut().zip(&inputs).enumerate() {
             match fe.step(x) {
                 Ok((kin, f)) => {
                     flags |= f | kin.gyro_flags;
@@ -256,16 +278,17 @@ impl<T: Real, const W: usize> Estimator for Inv3d<T, W> {
         if !(roll.is_finite() && pitch.is_finite()) {
             return self.hold(flags | Flags::SAMPLE_MISSING);
         }
-        self.last = Attitude { roll, pitch, flags };
-        self.last
+        self.state.last = Attitude { roll, pitch, flags };
+        self.state.last
     }
 
     fn reset(&mut self) {
-        for fe in &mut self.axes {
+        let st = &mut self.state;
+        for fe in &mut st.axes {
             fe.reset();
         }
-        self.travel.reset();
-        self.last = Attitude::unknown();
+        st.travel.reset();
+        st.last = Attitude::unknown();
     }
 }
 

@@ -54,7 +54,7 @@ pub struct TravelSettings<T> {
     /// longitudinal acceleration from the `speed` column. Default 5 Hz: see
     /// [`DEFAULT_SPEED_RATE_HZ`].
     pub speed_rate_hz: T,
-    /// The path's turn and pitch rates.
+    /// The path's turn and pitch rates. Default: [`PathSettings::default`].
     pub path: PathSettings<T>,
 }
 

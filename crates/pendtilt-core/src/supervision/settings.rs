@@ -35,7 +35,8 @@ pub struct SupervisorSettings<T> {
     pub newton: NewtonSettings<T>,
     /// What Newton minimises. Default [`Objective::Rms`] (Eq 29 as printed).
     pub objective: Objective,
-    /// RLS forgetting, initial covariance (relative), wind-up guard.
+    /// RLS forgetting, initial covariance (relative), wind-up guard. Default:
+    /// [`RlsSettings::default`].
     pub rls: RlsSettings<T>,
     /// Which of K, L, M, N are supervised. Default all four (the paper).
     pub adapt: [bool; 4],
@@ -81,9 +82,9 @@ impl<T: Real> Default for SupervisorSettings<T> {
 /// Settings of [`SupervisedAlg3`](super::SupervisedAlg3): the estimator's and the supervisor's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SupervisedAlg3Settings<T> {
-    /// Algorithm 3 (its gains are the start values).
+    /// Algorithm 3 (its gains are the start values). Default: [`Alg3Settings::default`].
     pub alg3: Alg3Settings<T>,
-    /// The supervisor.
+    /// The supervisor. Default: [`SupervisorSettings::default`].
     pub supervisor: SupervisorSettings<T>,
 }
 

@@ -93,15 +93,67 @@ pub struct SupervisedAlg3<
     const W: usize = DEFAULT_WINDOW_CAPACITY,
 > {
     settings: SupervisedAlg3Settings<T>,
+    coeffs: Coefficients<T>,
+    state: State<T, CAP, W>,
+}
+
+/// What the settings give once: the gains' scales and the start gains in them, to which
+/// `reset` returns.
+#[derive(Debug, Clone, Copy)]
+struct Coefficients<T: Real> {
+    /// K, L, M, N are fitted relative to these (|K0|, |L0|, |M0|, |K0|, a fallback for a
+    /// zero one), so that `dp` and `p0` are relative.
+    scale: [T; 4],
+    /// The start gains, scaled.
+    start: SVector<T, 4>,
+}
+
+/// Everything a run changes: what `reset` starts again.
+#[derive(Debug, Clone)]
+struct State<T: Real, const CAP: usize, const W: usize> {
+    /// The estimator, its gains the supervisor's latest.
     alg3: Alg3<T, W>,
+    /// The Eq (29) terms of the window (Newton).
     ring: Ring<T, CAP>,
     rls: Rls<T, 4>,
-    scale: [T; 4],
     prev: Option<Prev<T>>,
+    /// Usable samples so far (the warm-up counts them).
     seen: usize,
     since_refit: usize,
     refits: usize,
     last_cost: T,
+}
+
+impl<T: Real, const CAP: usize, const W: usize> State<T, CAP, W> {
+    fn new(settings: &SupervisedAlg3Settings<T>, coeffs: &Coefficients<T>) -> Self {
+        let sup = &settings.supervisor;
+        Self {
+            alg3: Alg3::new(settings.alg3),
+            ring: Ring::new(),
+            rls: Rls::new(coeffs.start, sup.adapt, sup.rls),
+            prev: None,
+            seen: 0,
+            since_refit: 0,
+            refits: 0,
+            last_cost: T::nan(),
+        }
+    }
+
+    /// Back to the state before the first sample, the start gains in the estimator.
+    fn reset(&mut self, settings: &SupervisedAlg3Settings<T>, coeffs: &Coefficients<T>) {
+        // The estimator's state restarts and its gains return to the start ones (checked
+        // finite by `new`); its coefficients stay.
+        self.alg3.reset();
+        self.alg3.set_gains(settings.alg3.gains);
+        self.ring.clear();
+        let sup = &settings.supervisor;
+        self.rls = Rls::new(coeffs.start, sup.adapt, sup.rls);
+        self.prev = None;
+        self.seen = 0;
+        self.since_refit = 0;
+        self.refits = 0;
+        self.last_cost = T::nan();
+    }
 }
 
 fn nonzero<T: Real>(v: T, fallback: T) -> T {
@@ -116,22 +168,17 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
     /// A new supervised estimator; refuses unusable settings.
     pub fn new(settings: SupervisedAlg3Settings<T>) -> Result<Self, SettingsError> {
         settings.check(CAP)?;
-        let sup = &settings.supervisor;
         let g = settings.alg3.gains;
         let sk = nonzero(g.k, T::lit(1e-2));
         let sl = nonzero(g.l, T::lit(1e-3));
         let scale = [sk, sl, nonzero(g.m, sl), sk];
-        let q0 = Self::to_scaled(&g, &scale);
-        Ok(Self {
-            alg3: Alg3::new(settings.alg3),
-            ring: Ring::new(),
-            rls: Rls::new(q0, sup.adapt, sup.rls),
+        let coeffs = Coefficients {
+            start: Self::to_scaled(&g, &scale),
             scale,
-            prev: None,
-            seen: 0,
-            since_refit: 0,
-            refits: 0,
-            last_cost: T::nan(),
+        };
+        Ok(Self {
+            state: State::new(&settings, &coeffs),
+            coeffs,
             settings,
         })
     }
@@ -151,7 +198,7 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
 
     /// The gains K, L, M, N in use.
     pub fn gains(&self) -> Alg3Gains<T> {
-        self.alg3.gains()
+        self.state.alg3.gains()
     }
 
     /// The settings.
@@ -161,18 +208,18 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
 
     /// How many refits changed the gains so far.
     pub fn refits(&self) -> usize {
-        self.refits
+        self.state.refits
     }
 
     /// The Eq (29) cost over the window after the last Newton refit (NaN before the first
     /// one, and with RLS).
     pub fn last_cost(&self) -> T {
-        self.last_cost
+        self.state.last_cost
     }
 
     /// The Eq (29) cost over the current window for gains `g` (NaN while it is empty).
     pub fn window_cost(&self, g: &Alg3Gains<T>) -> T {
-        self.ring.cost(
+        self.state.ring.cost(
             &[g.k, g.l, g.m, g.n],
             self.settings.supervisor.window,
             self.settings.supervisor.objective,
@@ -181,11 +228,11 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
 
     /// One sample: the Eq (30) estimate, then the supervisor's step.
     pub fn update_supervised(&mut self, s: &Sample<T>) -> SupervisedEstimate<T> {
-        let (estimate, terms) = self.alg3.update_with_terms(s);
+        let (estimate, terms) = self.state.alg3.update_with_terms(s);
         let supervision = match terms {
             Some(t) if s.gyro.is_finite() => self.supervise(s.gyro, &t),
             _ => {
-                self.prev = None;
+                self.state.prev = None;
                 SupervisionFlags::SKIPPED
             }
         };
@@ -198,7 +245,7 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
     /// The supervisor's step on a usable sample: the Eq (29) terms of the interval since
     /// the previous one go to the ring (Newton) or to RLS, then a refit when it is due.
     fn supervise(&mut self, raw_gyro: T, terms: &Alg3Terms<T>) -> SupervisionFlags {
-        self.seen = self.seen.saturating_add(1);
+        self.state.seen = self.state.seen.saturating_add(1);
         let sup = self.settings.supervisor;
         // Matched: the gyro through the estimator's own phi low-pass for G and for the N
         // term; "phi" carries phi' (the rate of the low-passed phi), see `matched`.
@@ -213,16 +260,16 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
             terms.gd,
             if sup.matched { gyro } else { terms.gk },
         ];
-        let prev = self.prev.replace(Prev {
+        let prev = self.state.prev.replace(Prev {
             phi: phi_or_rate,
             gyro,
             x,
         });
-        if self.seen <= sup.warmup {
+        if self.state.seen <= sup.warmup {
             return SupervisionFlags::WARMING_UP;
         }
         let Some(prev) = prev else {
-            self.ring.push(x, T::zero(), T::zero(), false);
+            self.state.ring.push(x, T::zero(), T::zero(), false);
             return SupervisionFlags::WARMING_UP;
         };
         let inv_dt = T::one() / terms.dt;
@@ -233,22 +280,22 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
         } else {
             (raw_gyro + prev.gyro) * half - (phi_or_rate - prev.phi) * inv_dt
         };
-        self.since_refit += 1;
+        self.state.since_refit += 1;
         // RLS needs no window: only Newton fills the ring.
         let filled = match sup.method {
             Method::Rls => {
                 self.rls_step(&prev.x, &x, y, inv_dt);
-                self.seen > sup.warmup + sup.window
+                self.state.seen > sup.warmup + sup.window
             }
             Method::Newton => {
-                self.ring.push(x, y, inv_dt, true);
-                self.ring.len() >= sup.window
+                self.state.ring.push(x, y, inv_dt, true);
+                self.state.ring.len() >= sup.window
             }
         };
         if !filled {
             SupervisionFlags::WARMING_UP
-        } else if self.since_refit >= sup.refit_interval {
-            self.since_refit = 0;
+        } else if self.state.since_refit >= sup.refit_interval {
+            self.state.since_refit = 0;
             self.refit()
         } else {
             SupervisionFlags::empty()
@@ -257,7 +304,7 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
 
     #[inline]
     fn rls_step(&mut self, x0: &[T; 4], x1: &[T; 4], y: T, inv_dt: T) {
-        let g = self.alg3.gains();
+        let g = self.state.alg3.gains();
         let u = g.k * x1[0] + g.l * x1[1] + g.m * x1[2];
         let one = T::one();
         let c = if u.abs() < T::lit(0.99) {
@@ -265,14 +312,14 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
         } else {
             one
         };
-        let sc = &self.scale;
+        let sc = &self.coeffs.scale;
         let z = SVector::<T, 4>::new(
             c * (x1[0] - x0[0]) * inv_dt * sc[0],
             c * (x1[1] - x0[1]) * inv_dt * sc[1],
             c * (x1[2] - x0[2]) * inv_dt * sc[2],
             (x1[3] - x0[3]) * inv_dt * sc[3],
         );
-        self.rls.update(&z, y);
+        self.state.rls.update(&z, y);
     }
 
     /// [`SupervisorSettings::newton_iterations`](super::SupervisorSettings::newton_iterations) iterations of Newton's method from `old`:
@@ -281,7 +328,7 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
     /// and whether they moved.
     fn newton_refit(&mut self, old: &Alg3Gains<T>) -> (SVector<T, 4>, T, bool) {
         let sup = self.settings.supervisor;
-        let scale = self.scale;
+        let scale = self.coeffs.scale;
         let dp = sup.newton.dp;
         let mut dg = [T::zero(); 4];
         for j in 0..4 {
@@ -299,7 +346,7 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
                 q[2] * scale[2],
                 q[3] * scale[3],
             ];
-            let sums = self.ring.differences(&g, &dg, sup.window);
+            let sums = self.state.ring.differences(&g, &dg, sup.window);
             if sums.count == 0 {
                 break;
             }
@@ -309,7 +356,7 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
             let m0 = sums.s0.value() * inv_n;
             let (f0, d) = objective_differences(sup.objective, m0, &m1, &m2, 1);
             f = f0;
-            let ring = &self.ring;
+            let ring = &self.state.ring;
             let q0 = q;
             // Tries of the step halving that the quadratic model of the mean square (from
             // the same differences) predicts to raise it are skipped: `m(t) = t G + t^2 C`
@@ -345,21 +392,21 @@ impl<T: Real, const CAP: usize, const W: usize> SupervisedAlg3<T, CAP, W> {
 
     fn refit(&mut self) -> SupervisionFlags {
         let sup = self.settings.supervisor;
-        let scale = self.scale;
-        let old = self.alg3.gains();
+        let scale = self.coeffs.scale;
+        let old = self.state.alg3.gains();
         let new = match sup.method {
-            Method::Rls => Self::from_scaled(self.rls.params(), &scale),
+            Method::Rls => Self::from_scaled(self.state.rls.params(), &scale),
             Method::Newton => {
                 let (q, f, moved) = self.newton_refit(&old);
-                self.last_cost = f;
+                self.state.last_cost = f;
                 if !moved {
                     return SupervisionFlags::REFIT_REJECTED;
                 }
                 Self::from_scaled(&q, &scale)
             }
         };
-        if new != old && self.alg3.set_gains(new) {
-            self.refits += 1;
+        if new != old && self.state.alg3.set_gains(new) {
+            self.state.refits += 1;
             SupervisionFlags::REFIT
         } else {
             SupervisionFlags::REFIT_REJECTED
@@ -378,22 +425,7 @@ impl<T: Real, const CAP: usize, const W: usize> Estimator for SupervisedAlg3<T, 
 
     /// Forgets all history and returns to the start gains.
     fn reset(&mut self) {
-        // The estimator's state restarts and its gains return to the start ones (checked
-        // finite by `new`); its coefficients stay.
-        self.alg3.reset();
-        self.alg3.set_gains(self.settings.alg3.gains);
-        self.ring.clear();
-        let q0 = Self::to_scaled(&self.settings.alg3.gains, &self.scale);
-        self.rls = Rls::new(
-            q0,
-            self.settings.supervisor.adapt,
-            self.settings.supervisor.rls,
-        );
-        self.prev = None;
-        self.seen = 0;
-        self.since_refit = 0;
-        self.refits = 0;
-        self.last_cost = T::nan();
+        self.state.reset(&self.settings, &self.coeffs);
     }
 }
 
