@@ -93,7 +93,8 @@ impl<T: Real> Estimator for Accel<T> {
             };
         }
         let mut flags = Flags::empty();
-        if let Some(fs) = self.settings.full_scale {
+        // A full scale that is not positive is no full scale (as every estimator takes it).
+        if let Some(fs) = self.settings.checked_full_scale() {
             if s.ax.abs() >= fs || s.ay.abs() >= fs {
                 flags |= Flags::SATURATED;
             }
@@ -138,6 +139,27 @@ impl<T: Real> Estimator for Accel<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A full scale of 0 or below (a library user's placeholder) flags nothing, as
+    /// [`AccelSettings::checked_full_scale`] says; a positive one flags a reading at it.
+    #[test]
+    fn only_a_positive_full_scale_flags_saturation() {
+        let s = Sample {
+            dt: 0.0,
+            phi: f64::NAN,
+            gyro: f64::NAN,
+            ax: 0.0,
+            ay: 9.8,
+        };
+        for (fs, saturated) in [(Some(0.0), false), (Some(-1.0), false), (Some(9.8), true)] {
+            let mut a = Accel::<f64>::new(AccelSettings {
+                prefilter_hz: None,
+                full_scale: fs,
+            });
+            let e = a.update(&s);
+            assert_eq!(e.flags.contains(Flags::SATURATED), saturated, "{fs:?}");
+        }
+    }
 
     #[test]
     fn prefilter_overflow_holds_flags_and_recovers() {

@@ -55,7 +55,7 @@ impl<T: Real> Estimator for Accel<T> {
             return self.hold(Flags::SAMPLE_MISSING);
         }
         let mut flags = Flags::empty();
-        if let Some(fs) = self.settings.full_scale {
+        if let Some(fs) = self.settings.checked_full_scale() {
             if s.accel.iter().any(|v| v.abs() >= fs) {
                 flags |= Flags::SATURATED;
             }
@@ -90,6 +90,20 @@ impl<T: Real> Estimator for Accel<T> {
 mod tests {
     use super::*;
     use crate::spatial::attitude::up_from_roll_pitch;
+
+    /// A full scale of 0 or below flags nothing; a positive one flags a reading at it.
+    #[test]
+    fn only_a_positive_full_scale_flags_saturation() {
+        let s = SpatialSample::new(0.0, [f64::NAN; 2], [f64::NAN; 3], [0.0, 0.0, 9.8]);
+        for (fs, saturated) in [(Some(0.0), false), (Some(-1.0), false), (Some(9.8), true)] {
+            let mut a = Accel::<f64>::new(AccelSettings {
+                prefilter_hz: None,
+                full_scale: fs,
+            });
+            let e = a.update(&s);
+            assert_eq!(e.flags.contains(Flags::SATURATED), saturated, "{fs:?}");
+        }
+    }
 
     #[test]
     fn a_still_accelerometer_gives_its_roll_and_pitch_for_any_yaw() {
