@@ -14,6 +14,7 @@ use indicatif::ProgressBar;
 
 use super::help;
 use crate::io::output::{self as safe, NamedPath, OutputFile};
+use crate::sim::planar::overrides::Overrides;
 use crate::sim::planar::{self, output, Scenario, Simulator};
 
 /// Seed used when neither `--seed` nor the scenario TOML gives one.
@@ -146,12 +147,35 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
     if let Some(path) = &o.rig {
         s.pendulum = planar::load_rig(path)?;
     }
-    apply_rig_and_timing(&mut s, args);
-    apply_motion_and_vibration(&mut s, o)?;
-    apply_sensors(&mut s, o)?;
+    overrides(args).apply(&mut s)?;
     s.validate()?;
     super::simulate::at_least_one_row(s.duration, s.rate, s.rows())?;
     Ok((s, args.seed.or(file_seed).unwrap_or(DEFAULT_SEED)))
+}
+
+/// The changes to the scenario the options give.
+fn overrides(args: &Args) -> Overrides {
+    let o = &args.settings;
+    Overrides {
+        mass: o.mass,
+        length: o.length,
+        inertia: o.inertia,
+        damping: o.damping,
+        pivot_offset: o.pivot_offset,
+        duration: args.duration,
+        rate: args.rate,
+        substeps: o.substeps,
+        amplitude: o.amplitude,
+        frequency: o.frequency,
+        engine_hz: o.engine_hz,
+        vibration_scale: o.vibration_scale,
+        accel_mount: o.accel_mount.clone(),
+        encoder_bits: o.encoder_bits,
+        set: o.set.clone(),
+        no_noise: o.no_noise,
+        ideal_sensors: o.ideal_sensors,
+        no_vibration: o.no_vibration,
+    }
 }
 
 /// The resolved pendulum's doubtful lengths ([`crate::config::doubt_length`], the check
@@ -224,88 +248,6 @@ pub fn unit_doubts(args: &Args, s: &Scenario) -> Vec<String> {
         out.extend(d);
     }
     out
-}
-
-/// The pendulum's and the timing's overrides.
-fn apply_rig_and_timing(s: &mut Scenario, args: &Args) {
-    let o = &args.settings;
-    let p = &mut s.pendulum;
-    for (flag, v) in [
-        (&mut p.mass, o.mass),
-        (&mut p.length, o.length),
-        (&mut p.inertia, o.inertia),
-        (&mut p.damping, o.damping),
-        (&mut p.pivot_offset, o.pivot_offset),
-    ] {
-        if let Some(v) = v {
-            *flag = v;
-        }
-    }
-    if let Some(d) = args.duration {
-        s.duration = d;
-    }
-    if let Some(r) = args.rate {
-        s.rate = r;
-    }
-    if let Some(n) = o.substeps {
-        s.substeps = n;
-    }
-}
-
-/// The motion's and the vibration's overrides.
-fn apply_motion_and_vibration(s: &mut Scenario, o: &Settings) -> anyhow::Result<()> {
-    if let Some(a) = o.amplitude {
-        s.motion.set_amplitude(a);
-    }
-    if let Some(f) = o.frequency {
-        match &mut s.motion {
-            planar::motion::Motion::Sine(m) => m.frequency = f,
-            m => bail!(
-                "--frequency applies to the sine motion, this scenario's motion is '{}' \
-                 (use --set motion.KEY=VALUE)",
-                m.kind()
-            ),
-        }
-    }
-    if let Some(hz) = o.engine_hz {
-        if s.vibration.harmonics.is_empty() {
-            bail!("--engine-hz: this scenario has no vibration harmonics");
-        }
-        s.vibration.set_engine_frequency(hz);
-    }
-    if let Some(k) = o.vibration_scale {
-        if !(k.is_finite() && k >= 0.0) {
-            bail!("--vibration-scale: must be >= 0, got {k}");
-        }
-        s.vibration.scale(k);
-    }
-    Ok(())
-}
-
-/// The sensors' overrides, `--set`, then the switches that clear noise or vibration.
-fn apply_sensors(s: &mut Scenario, o: &Settings) -> anyhow::Result<()> {
-    if let Some(m) = &o.accel_mount {
-        let &[x, y] = m.as_slice() else {
-            bail!("--accel-mount: give X,Y in metres, e.g. 0.02,-0.1 (got {m:?})");
-        };
-        s.sensors.accel.mount = [x, y];
-    }
-    if let Some(b) = o.encoder_bits {
-        s.sensors.encoder.bits = b;
-    }
-    for a in &o.set {
-        s.set(a)?;
-    }
-    if o.no_noise {
-        s.sensors = std::mem::take(&mut s.sensors).without_noise();
-    }
-    if o.ideal_sensors {
-        s.sensors = std::mem::take(&mut s.sensors).ideal();
-    }
-    if o.no_vibration {
-        s.vibration = Default::default();
-    }
-    Ok(())
 }
 
 /// A progress bar on standard error for `total` rows (hidden when quiet or not a terminal).
