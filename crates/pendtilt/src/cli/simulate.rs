@@ -13,7 +13,8 @@ use anyhow::{bail, Context};
 use indicatif::ProgressBar;
 
 use super::help;
-use crate::io::output::{self as safe, NamedPath, OutputFile};
+use crate::io::output::{NamedPath, OutputFile};
+pub(super) use crate::sim::planar::output::Outputs;
 use crate::sim::planar::overrides::Overrides;
 use crate::sim::planar::{self, output, Scenario, Simulator};
 
@@ -329,22 +330,8 @@ fn write_outputs(
     Ok(n)
 }
 
-/// What one run writes: the texts of the rig and scenario files, the inputs the outputs must
-/// not overwrite, and the log writer.
-pub(super) struct Outputs<'a, F> {
-    /// The rig TOML.
-    pub rig_text: String,
-    /// The resolved scenario TOML.
-    pub scenario_text: String,
-    /// Files read (`--config`, `--rig`) that no output may overwrite.
-    pub inputs: Vec<NamedPath<'a>>,
-    /// Writes the log into the (uncommitted) file; returns its rows.
-    pub write_log: F,
-}
-
-/// Writes the log, the rig file and the scenario file (refusing an output that is an input
-/// or another output) and renames them into place only when all were written. Returns the
-/// rows written and the rig and scenario paths shown in the summary.
+/// Writes the log, the rig file and the scenario file ([`output::write_files`]). Returns
+/// the rows written and the rig and scenario paths shown in the summary.
 pub(super) fn write_files<F>(
     args: &Args,
     out: Outputs<'_, F>,
@@ -355,42 +342,7 @@ where
     let Some(log) = args.output.clone() else {
         bail!("give -o LOG.csv");
     };
-    // On standard output or a device the log has no "beside": the rig file is written
-    // only when --rig-out names it, the scenario file not at all.
-    let no_beside = safe::has_no_beside(&log);
-    let rig_path = match &args.rig_out {
-        Some(p) => Some(p.clone()),
-        None => (!no_beside).then(|| output::rig_path_for(&log)),
-    };
-    let scen_path = (!no_beside).then(|| output::scenario_path_for(&log));
-    let mut outputs = vec![NamedPath::new("-o", &log)];
-    outputs.extend(rig_path.as_deref().map(|p| NamedPath::new("--rig-out", p)));
-    outputs.extend(
-        scen_path
-            .as_deref()
-            .map(|p| NamedPath::new("the scenario file written beside -o,", p)),
-    );
-    safe::check_distinct(&out.inputs, &outputs)?;
-    let files = outputs
-        .iter()
-        .map(|o| OutputFile::create(o.option, o.path))
-        .collect::<Result<Vec<_>, _>>()?;
-    let texts = [out.rig_text, out.scenario_text];
-    let n = (out.write_log)(&files[0])
-        .and_then(|n| {
-            for (f, text) in files[1..].iter().zip(&texts) {
-                f.write_all(text.as_bytes())?;
-            }
-            Ok(n)
-        })
-        .with_context(|| {
-            let not: Vec<String> = outputs.iter().map(|o| safe::not_written(o.path)).collect();
-            not.join("; ")
-        })?;
-    // Every file was written: only now do they replace any earlier ones.
-    for f in files {
-        f.commit()?;
-    }
+    let (n, rig_path, scen_path) = output::write_files(&log, args.rig_out.as_deref(), out)?;
     let shown = |p: &Option<PathBuf>, none: &str| {
         p.as_ref()
             .map_or(none.to_string(), |p| p.display().to_string())
