@@ -9,6 +9,7 @@ use crate::io::input::LogSource;
 use crate::io::output::{self, NamedPath, OutputFile};
 use crate::io::{Column, EstimatesWriter, LogReader};
 use crate::pipeline;
+pub use crate::pipeline::batch::{Outcome, Score};
 
 /// Options of `pendtilt estimate`.
 #[derive(Debug, clap::Args)]
@@ -38,36 +39,6 @@ pub struct Args {
     /// score_from (3-D), else 5 s (the whole log when it lasts less than 10 s).
     #[arg(long, value_name = "SECONDS")]
     pub score_from: Option<f64>,
-}
-
-/// One estimator's error against the truth over the scored rows.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Score {
-    /// The estimator.
-    pub name: String,
-    /// RMS error \[rad\] (inclination error on a 3-D log, MODEL.md 7.9).
-    pub rms: f64,
-    /// Largest error \[rad\].
-    pub max: f64,
-    /// Rows scored (a finite estimate and truth).
-    pub scored: u64,
-}
-
-/// What `estimate` did with one log, for its own report and for `batch`'s summary.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Outcome {
-    /// Rows read and written (one per input row).
-    pub rows: u64,
-    /// The estimators run, in column order.
-    pub estimators: Vec<String>,
-    /// Warnings on the input (each also said on standard error unless quiet).
-    pub warnings: u64,
-    /// What is said after the run: the warnings' summary (planar) or the warnings (3-D).
-    pub notes: Vec<String>,
-    /// The error table as printed, when the log has the truth.
-    pub table: Option<String>,
-    /// Each estimator's error, when the log has the truth.
-    pub scores: Vec<Score>,
 }
 
 /// Runs `pendtilt estimate`: refuses an output that is an input, writes the estimates to a

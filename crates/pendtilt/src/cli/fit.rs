@@ -6,12 +6,9 @@ use std::path::PathBuf;
 use anyhow::Context;
 
 use crate::config::RigConfig;
-use crate::fit::{self, Algorithm, Cost, FitSettings, Iteration, Method, Target};
+use crate::fit::steps::{check_result, check_smoothing, fitted_rig, time_hint, FitLog, FitOptions};
+use crate::fit::{self, Algorithm, Cost, Iteration, Method, Target};
 use crate::io::output::{self, NamedPath};
-use crate::io::{Column, LogReader};
-use pendtilt_core::estimators::front_end::FrontEndSettings;
-use pendtilt_core::filters::diff::Cutoff;
-use pendtilt_core::supervision::Objective;
 use pendtilt_core::PendulumParams;
 
 /// Options of `pendtilt fit`.
@@ -127,6 +124,28 @@ impl Args {
     fn planar_method(&self) -> Method {
         self.method.unwrap_or(Method::Newton)
     }
+
+    /// The planar fit's options these arguments give.
+    fn options(&self) -> FitOptions {
+        FitOptions {
+            algorithm: self.algorithm,
+            target: self.target,
+            method: self.planar_method(),
+            cost: self.cost,
+            start_given: self.a.is_some() || self.b.is_some(),
+            mean_square: self.mean_square,
+            skip: self.skip,
+            unmatched: self.unmatched,
+            h: self.h,
+            dp: self.dp,
+            max_iterations: self.max_iterations,
+            ftol: self.ftol,
+            xtol: self.xtol,
+            smoothing_hz: self.smoothing_hz,
+            accel_drive: self.accel_drive,
+            no_accel_drive: self.no_accel_drive,
+        }
+    }
 }
 
 /// Runs `pendtilt fit`: refuses an output that is an input, fits, and writes the rig file
@@ -161,34 +180,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// A slow median step is the usual sign of time in ms: said beside any failure.
-fn time_hint(span: Option<fit::plausibility::LogSpan>) -> String {
-    match span {
-        Some(s) if s.median_step >= 0.05 => format!(
-            " (the log's median time step is {:.3} s, i.e. {:.2} Hz: if its time column is in \
-             ms, divide it by 1000)",
-            s.median_step,
-            1.0 / s.median_step
-        ),
-        _ => String::new(),
-    }
-}
-
-/// The output cost's smoothing must lie below the log's Nyquist frequency.
-fn check_smoothing(args: &Args, s: &fit::plausibility::LogSpan) -> anyhow::Result<()> {
-    // Seven significant digits, written plainly (500, not 499.99999999999955).
-    let tidy = |x: f64| format!("{x:.6e}").parse::<f64>().unwrap_or(x);
-    let nyquist = tidy(0.5 / s.median_step);
-    anyhow::ensure!(
-        args.smoothing_hz < nyquist,
-        "--smoothing-hz {} Hz is at or above the Nyquist frequency {nyquist} Hz of this log \
-         (median time step {} s): valid above 0 up to below {nyquist} Hz",
-        args.smoothing_hz,
-        tidy(s.median_step)
-    );
-    Ok(())
-}
-
 /// Reads the log, fits, prints the iterations and the result, and returns the fitted rig:
 /// the command's steps, in order.
 fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
@@ -211,7 +202,7 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
          (Eq 29)",
         args.log.display()
     );
-    let settings = fit_settings(args, &rig, start);
+    let settings = args.options().settings(&rig, start);
     let cost = args.cost.resolve(args.target, args.algorithm);
     anyhow::ensure!(
         !(args.accel_drive || args.no_accel_drive) || cost == Cost::Output,
@@ -222,7 +213,7 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
     let truth_opt = log.has_theta.then_some(&log.truth[..]);
     let hint = time_hint(span);
     if let (Cost::Output, Some(s)) = (cost, span) {
-        check_smoothing(args, &s)?;
+        check_smoothing(args.smoothing_hz, &s)?;
     }
     let with_hint = |e: fit::FitError| anyhow::anyhow!("{e}{hint}");
     let problem = match cost {
@@ -267,54 +258,35 @@ fn fit_rig(args: &Args) -> anyhow::Result<RigConfig> {
         &implausible,
         crate::io::output::is_stdout(&args.output),
     );
-    check_result(args, &report, &fitted, &implausible)?;
-    fitted_rig(args, rig, &report, fitted, problem.as_ref())
+    check(args, &report, &fitted, &implausible)?;
+    fitted_rig(args.algorithm, rig, &report, fitted, problem.as_ref())
 }
 
-/// The log's columns as the fit reads them.
-struct FitLog {
-    samples: Vec<pendtilt_core::Sample<f64>>,
-    /// The rows' time stamps \[s\].
-    stamps: Vec<f64>,
-    /// The true angle (NaN where missing, or everywhere without a `theta` column).
-    truth: Vec<f64>,
-    has_theta: bool,
-}
-
-/// Reads the whole log (warnings printed unless `--quiet`).
+/// Reads the whole log (what it finds said on stderr unless `--quiet`).
 fn read_log(args: &Args, rig: &RigConfig) -> anyhow::Result<FitLog> {
-    let options = args.columns.reader_options(rig);
-    let mut log = LogReader::open(&args.log, options)?;
-    if !args.quiet {
-        eprintln!("{}: {}", log.file(), log.columns());
-    }
-    let has_theta = log.columns().has(Column::Theta);
-    let mut samples = Vec::new();
-    let mut stamps = Vec::new();
-    let mut truth = Vec::new();
-    while let Some(rec) = log.next_record()? {
+    FitLog::read(&args.log, args.columns.reader_options(rig), |m| {
         if !args.quiet {
-            for w in log.drain_warnings() {
-                eprintln!("warning: {w}");
-            }
+            eprintln!("{m}");
         }
-        samples.push(rec.sample);
-        stamps.push(rec.t);
-        truth.push(rec.theta.unwrap_or(f64::NAN));
-    }
-    if !args.quiet {
-        // The end of the log's warnings: the unit check's.
-        for w in log.drain_warnings() {
-            eprintln!("warning: {w}");
-        }
-        eprintln!("read {} samples", samples.len());
-    }
-    Ok(FitLog {
-        samples,
-        stamps,
-        truth,
-        has_theta,
     })
+}
+
+/// [`check_result`] with the command's options, its warning on stderr.
+fn check(
+    args: &Args,
+    report: &fit::FitReport,
+    fitted: &PendulumParams<f64>,
+    implausible: &[fit::plausibility::Implausible],
+) -> anyhow::Result<()> {
+    let warn = |w: &str| eprintln!("{w}");
+    check_result(
+        args.accept_implausible,
+        &args.output,
+        report,
+        fitted,
+        implausible,
+        warn,
+    )
 }
 
 /// The numeric options no fit can run with, refused with the option's name and the valid
@@ -363,45 +335,6 @@ fn check_options(args: &Args) -> anyhow::Result<()> {
         anyhow::ensure!(ok, "{name} {v}: must be {range}");
     }
     Ok(())
-}
-
-/// The fit's settings from the options and the rig, starting at `start`.
-fn fit_settings(
-    args: &Args,
-    rig: &RigConfig,
-    start: pendtilt_core::PendulumParams<f64>,
-) -> FitSettings {
-    let mut settings = FitSettings {
-        algorithm: args.algorithm,
-        target: args.target,
-        method: args.planar_method(),
-        cost: args.cost,
-        front_end: FrontEndSettings {
-            differentiator: rig.diff_settings(),
-            ..FrontEndSettings::from_params(start)
-        },
-        start_gains: (args.algorithm == Algorithm::Alg3 && args.a.is_none() && args.b.is_none())
-            .then(|| rig.alg3_gains()),
-        objective: if args.mean_square {
-            Objective::MeanSquare
-        } else {
-            Objective::Rms
-        },
-        ..FitSettings::default()
-    };
-    settings.kinematics.skip = args.skip;
-    settings.kinematics.matched_target = !args.unmatched;
-    settings.newton.h = args.h;
-    settings.newton.dp = args.dp;
-    settings.newton.max_iterations = args.max_iterations;
-    settings.newton.ftol = args.ftol;
-    settings.newton.xtol = args.xtol;
-    settings.lm.max_iterations = args.max_iterations;
-    settings.output.smoothing_hz = args.smoothing_hz;
-    settings.output.accel = args.accel_drive;
-    settings.output.auto_accel = !args.no_accel_drive;
-    settings.output.skip = args.skip.max(settings.output.skip);
-    settings
 }
 
 /// What is fitted, on which cost, and the iteration table's header (stderr).
@@ -486,69 +419,6 @@ fn print_result(
             fitted.damping_ratio()
         ));
     }
-}
-
-/// Refuses a fit outside the physical region, and an implausible one unless
-/// `--accept-implausible` (then it warns).
-fn check_result(
-    args: &Args,
-    report: &fit::FitReport,
-    fitted: &pendtilt_core::PendulumParams<f64>,
-    implausible: &[fit::plausibility::Implausible],
-) -> anyhow::Result<()> {
-    anyhow::ensure!(
-        fitted.a >= 0.0 && fitted.b > 0.0,
-        "the fit left the physical region ({} = {:.4e}, {} = {:.4e}): not written; check the \
-         log's columns and units, or start closer",
-        report.names[0],
-        fitted.a,
-        report.names[1],
-        fitted.b
-    );
-    if !implausible.is_empty() {
-        let why: Vec<String> = implausible.iter().map(|i| format!("  - {i}")).collect();
-        // A non-zero exit, and no rig file: a wrong pendulum written quietly would spoil
-        // every later `estimate`, and scripts read exit codes, not warnings.
-        anyhow::ensure!(
-            args.accept_implausible,
-            "the fitted pendulum is implausible for this log:\n{}\n{} not written; check the \
-             log's units (time in s, angles in rad or --deg) and that it moves the pendulum, \
-             or pass --accept-implausible to write it anyway",
-            why.join("\n"),
-            args.output.display()
-        );
-        eprintln!(
-            "warning: the fitted pendulum is implausible for this log (written anyway, \
-             --accept-implausible):\n{}",
-            why.join("\n")
-        );
-    }
-    Ok(())
-}
-
-/// The rig file to write: the fitted pendulum, the differentiator the fit used, alg3's
-/// gains when fitted.
-fn fitted_rig(
-    args: &Args,
-    rig: RigConfig,
-    report: &fit::FitReport,
-    fitted: pendtilt_core::PendulumParams<f64>,
-    problem: Option<&fit::Problem>,
-) -> anyhow::Result<RigConfig> {
-    let mut differentiator = rig.differentiator;
-    let mut rig = RigConfig::from_params(fitted)?;
-    // The differentiator the fit used, fixed in Hz as its kinematics were, so that
-    // `pendtilt estimate` with this file computes exactly what was fitted.
-    // (The output cost uses no differentiator: the rig's own settings are kept.)
-    if let Some(problem) = problem {
-        differentiator.cutoff = Cutoff::Hz(problem.cutoff_hz());
-    }
-    rig.differentiator = differentiator;
-    if args.algorithm == Algorithm::Alg3 {
-        rig.alg3.gains = report.gains();
-    }
-    rig.validate()?;
-    Ok(rig)
 }
 
 /// One line on how the output cost ran: with or without the accelerometer, and why.

@@ -1,13 +1,13 @@
 //! `pendtilt fit LOG3D -o RIG`: the Cardan pendulum's parameters from a 3-D log
 //! ([`crate::fit::cardan`]), written as a 3-D rig file that `pendtilt estimate LOG3D
 //! --params RIG` reads as it is.
-use anyhow::{bail, ensure, Context};
+use anyhow::{ensure, Context};
 
 use super::fit::Args;
 use crate::bank::spatial::rig::Rig3dConfig;
+use crate::fit::cardan::steps::{mass_length, mounting_warning, read_log, settings, Fit3dOptions};
 use crate::fit::cardan::{
-    self, fit_cardan, Fit3dReport, Fit3dSettings, Implausible3d, Log3dColumns, NoiseDensities,
-    NAMES, NP, UNITS,
+    self, fit_cardan, Fit3dReport, Fit3dSettings, Implausible3d, NAMES, NP, UNITS,
 };
 use crate::fit::plausibility::LogSpan;
 use crate::fit::{Algorithm, Cost, Iteration, Method, Target};
@@ -70,52 +70,6 @@ fn refuse_planar_options(args: &Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Reads the whole 3-D log with the column options (`--map`'s 3-D names, `--deg`,
-/// `--time-unit`, `--accel-unit`).
-fn read_log(args: &Args) -> anyhow::Result<(Log3dColumns, bool)> {
-    let name = args.log.display().to_string();
-    let (records, speed) = crate::pipeline::spatial::read_si(&args.log, &name, &args.columns)?;
-    let mut log = Log3dColumns::default();
-    for r in &records {
-        log.t.push(r.t);
-        log.phi.push(r.phi);
-        log.gyro.push(r.gyro);
-        log.accel.push(r.accel);
-        log.truth
-            .push([r.roll.unwrap_or(f64::NAN), r.pitch.unwrap_or(f64::NAN)]);
-    }
-    if !args.quiet {
-        eprintln!("{name}: read {} rows of a 3-D log", log.t.len());
-    }
-    Ok((log, speed))
-}
-
-/// The warning when the rig written will have no `[mounting]` (the start rig had none):
-/// the fit took the accelerometer as at P1, and `estimate` will take the speed's point and
-/// the body's centre there too. Measured on the README's quick start (scooter3d, 60 s,
-/// seed 1): ekf3d 0.044 deg with its `[mounting]`, 0.063 without.
-fn mounting_warning(args: &Args, rig: &Rig3dConfig, speed: bool) -> Option<String> {
-    if rig.mounting_given {
-        return None;
-    }
-    let start = match &args.params {
-        Some(p) => format!("the start rig {} has no [mounting]", p.display()),
-        None => "no --params was given".to_string(),
-    };
-    let speed = if speed {
-        " and the point whose speed the log's `speed` column gives"
-    } else {
-        ""
-    };
-    Some(format!(
-        "warning: {start}, so the fit took the accelerometer as at P1, the pendulum's pivot, \
-         and the rig written has no [mounting]: estimate will take the body's centre of \
-         rotation{speed} there too. If the IMU or the vehicle's centre is elsewhere, fit with \
-         --params RIG whose [mounting] says where (docs/rig-file.md); on a standing scooter \
-         leaving it out took ekf3d from 0.044 to 0.063 deg RMS"
-    ))
-}
-
 /// The start rig: `--params` (a 3-D rig file) or MODEL.md 7.6's.
 fn start_rig(args: &Args) -> anyhow::Result<Rig3dConfig> {
     match &args.params {
@@ -124,74 +78,30 @@ fn start_rig(args: &Args) -> anyhow::Result<Rig3dConfig> {
     }
 }
 
-/// The mass and length of the physical form: with --mass or --length, the other from the
-/// start rig's physical form.
-fn mass_length(args: &Args, rig: &Rig3dConfig) -> anyhow::Result<Option<(f64, f64)>> {
-    use crate::bank::spatial::rig::Pendulum3dConfig;
-    if args.mass.is_none() && args.length.is_none() {
-        return Ok(None);
-    }
-    let (m0, l0) = match rig.pendulum3d {
-        Pendulum3dConfig::Physical(p) => (Some(p.mass), Some(p.length)),
-        Pendulum3dConfig::Normalised(_) => (None, None),
-    };
-    match (args.mass.or(m0), args.length.or(l0)) {
-        (Some(m), Some(l)) => Ok(Some((m, l))),
-        _ => bail!(
-            "the physical form needs both the mass and the length, and the start rig is \
-             normalised: give --mass and --length"
-        ),
-    }
-}
-
-/// The fit's settings from the options; the noise densities from them or from the log's
-/// initial rest, with where they came from.
-fn settings(args: &Args, log: &Log3dColumns) -> (Fit3dSettings, String) {
-    let rest = NoiseDensities::from_initial_rest(log);
-    let accel = args.accel_noise.map(|d| [d; 2]).or(rest.map(|r| r.accel));
-    let gyro = args.gyro_noise.map(|d| [d; 2]).or(rest.map(|r| r.gyro));
-    let noise = (accel.is_some() || gyro.is_some()).then(|| NoiseDensities {
-        accel: accel.unwrap_or([0.0; 2]),
-        gyro: gyro.unwrap_or([0.0; 2]),
-    });
-    let said = match noise {
-        Some(d) => format!(
-            "noise taken out: accelerometer {:.3e}, {:.3e} m/s^2/sqrt(Hz), gyro {:.3e}, {:.3e} \
-             rad/s/sqrt(Hz) ({})",
-            d.accel[0],
-            d.accel[1],
-            d.gyro[0],
-            d.gyro[1],
-            if args.accel_noise.is_some() || args.gyro_noise.is_some() {
-                "options, the rest from the log's initial rest"
-            } else {
-                "measured over the log's initial rest"
-            }
-        ),
-        None => "no noise correction: the log has no initial rest and no --accel-noise or \
-                 --gyro-noise was given (the sensors' noise then pulls the damping up and \
-                 the inertia down: see docs/fitting-and-tuning.md)"
-            .to_string(),
-    };
-    let mut s = Fit3dSettings {
+/// The 3-D fit's options these arguments give.
+fn options(args: &Args) -> Fit3dOptions {
+    Fit3dOptions {
         target: args.target,
-        skip: args.skip.max(1.0),
+        skip: args.skip,
         smoothing_hz: args.smoothing_hz,
-        encoder_offsets: !args.no_encoder_offset,
-        noise,
-        ..Fit3dSettings::default()
-    };
-    s.lm.max_iterations = args.max_iterations;
-    (s, said)
+        no_encoder_offset: args.no_encoder_offset,
+        max_iterations: args.max_iterations,
+        accel_noise: args.accel_noise,
+        gyro_noise: args.gyro_noise,
+    }
 }
 
 /// Reads, fits, prints, checks; returns the rig file's text.
 fn fit(args: &Args) -> anyhow::Result<String> {
     refuse_planar_options(args)?;
     let rig = start_rig(args)?;
-    let mass_length = mass_length(args, &rig)?;
-    let (log, speed) = read_log(args)?;
-    if let Some(w) = mounting_warning(args, &rig, speed) {
+    let mass_length = mass_length(args.mass, args.length, &rig)?;
+    let name = args.log.display().to_string();
+    let (log, speed) = read_log(&args.log, &name, &args.columns)?;
+    if !args.quiet {
+        eprintln!("{name}: read {} rows of a 3-D log", log.t.len());
+    }
+    if let Some(w) = mounting_warning(args.params.as_deref(), &rig, speed) {
         eprintln!("{w}");
     }
     // The fit is driven by the specific force: a wrong unit is said before it runs.
@@ -207,7 +117,7 @@ fn fit(args: &Args) -> anyhow::Result<String> {
          log's own gyro and accelerometer",
         args.log.display()
     );
-    let (settings, noise) = settings(args, &log);
+    let (settings, noise) = settings(&options(args), &log);
     let start = rig.pendulum3d.params();
     let quiet = args.quiet;
     if !quiet {

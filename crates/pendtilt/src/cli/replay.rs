@@ -1,19 +1,17 @@
 //! `pendtilt replay IMU_LOG -o LOG`: a virtual pendulum on a recorded IMU (MODEL.md 7.10).
 //! Writes a 3-D log (7.6) that `estimate` and `report` read, and its rig file beside it.
-use std::io::{BufWriter, Write};
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context};
 
-use crate::bank::spatial::rig::{Pendulum3dConfig, Rig3dConfig};
+use crate::bank::spatial::rig::Rig3dConfig;
 use crate::io::output::{self as safe, NamedPath, OutputFile};
 use crate::io::{AccelUnit, TimeUnit};
+use crate::replay::output::{accel_unit_doubt, added_vibration, physical, rig_text, write_log};
 use crate::replay::source::{ImuOptions, IMU_COLUMNS};
-use crate::replay::{
-    replay_with, AddedVibration, Recording, Replay, ReplaySettings, SUBSTEP_TOLERANCE,
-};
-use crate::sim::spatial::{LogRow3d, Mounting, Pendulum3d, Rig3d};
+use crate::replay::{replay_with, Recording, Replay, ReplaySettings, SUBSTEP_TOLERANCE};
 
 /// Replay a recorded IMU through a virtual Cardan pendulum and write the 3-D log it
 /// would have given (MODEL.md 7.10): would a pendulum help on this device?
@@ -136,55 +134,6 @@ fn travel(arg: &Option<String>) -> anyhow::Result<Option<[f64; 2]>> {
     }
 }
 
-/// The physical pendulum of a rig's `[pendulum3d]`: a normalised one is given m g l = 1
-/// (unobservable, MODEL.md 7.3: the dynamics are the same).
-fn physical(p: &Pendulum3dConfig) -> Pendulum3d {
-    match *p {
-        Pendulum3dConfig::Physical(p) => p,
-        Pendulum3dConfig::Normalised(c) => Pendulum3d {
-            mass: 1.0,
-            length: 1.0 / c.gravity,
-            inertia_xx: c.b_x,
-            inertia_yy: c.b_y,
-            inertia_zz: c.b_z,
-            ring_inertia: c.b_ring,
-            damping_x: c.a_x,
-            damping_y: c.a_y,
-            pivot_offset: c.c.map(|x| x * c.gravity),
-            gravity: c.gravity,
-        },
-    }
-}
-
-/// Writes the replay's rows as a 7.6 log: the IMU columns, the encoders, the truth when
-/// the recording has one. Shortest round-trip numbers: a wrapped encoder never prints
-/// beyond pi.
-fn write_log<W: Write>(r: &Replay, has_truth: bool, mut w: W) -> std::io::Result<()> {
-    let cols = if has_truth { 11 } else { 9 };
-    let names: Vec<&str> = LogRow3d::COLUMNS
-        .iter()
-        .copied()
-        .filter(|c| *c != "speed")
-        .take(cols)
-        .collect();
-    writeln!(w, "{}", names.join(","))?;
-    let mut buf = ryu::Buffer::new();
-    for row in &r.rows {
-        let v = row.values();
-        let vals = v[..9].iter().chain(v[10..].iter()).take(cols);
-        for (i, x) in vals.enumerate() {
-            if i > 0 {
-                w.write_all(b",")?;
-            }
-            if x.is_finite() {
-                w.write_all(buf.format(*x).as_bytes())?;
-            }
-        }
-        w.write_all(b"\n")?;
-    }
-    w.flush()
-}
-
 /// Runs `pendtilt replay`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let started = Instant::now();
@@ -207,7 +156,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(r) = &rig {
         settings.pendulum = physical(&r.pendulum3d);
     }
-    let vibration = added_vibration(&args)?;
+    let vibration = added_vibration(args.vibration.as_deref(), args.seed, args.accel_full_scale)?;
     // A BROAD trial of 10 MB takes about 2 s.
     let bar = super::options::progress(&args.input, "replaying {spinner} {elapsed}", args.quiet);
     let replayed = Recording::open(&args.input, &options)
@@ -234,7 +183,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .iter()
         .map(|o| OutputFile::create(o.option, o.path))
         .collect::<Result<Vec<_>, _>>()?;
-    let rig_text = rig_text(&args, &out, rig.as_ref())?;
+    let rig_text = rig_text(&args.input, &out, rig.as_ref())?;
     (|| -> anyhow::Result<()> {
         write_log(
             &out,
@@ -253,73 +202,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for f in files {
         f.commit()?;
     }
-    if let Some(w) = accel_unit_doubt(&args, out.report.gravity) {
+    if let Some(w) = accel_unit_doubt(&args.input, out.report.gravity) {
         eprintln!("{w}");
     }
     if !args.quiet {
         summary(&args, &rec, &out, rig_path.as_deref(), started);
     }
     Ok(())
-}
-
-/// `--vibration`: the named 3-D scenario's vibration to add, at `--accel-full-scale`.
-fn added_vibration(args: &Args) -> anyhow::Result<Option<AddedVibration>> {
-    Ok(match &args.vibration {
-        Some(name) => {
-            if !crate::sim::spatial::SCENARIO3D_NAMES.contains(&name.as_str()) {
-                bail!(
-                    "--vibration {name}: not a 3-D scenario (they are: {})",
-                    crate::sim::spatial::SCENARIO3D_NAMES.join(", ")
-                );
-            }
-            if !(args.accel_full_scale.is_finite() && args.accel_full_scale > 0.0) {
-                bail!(
-                    "--accel-full-scale {}: must be > 0 m/s^2",
-                    args.accel_full_scale
-                );
-            }
-            let mut v = AddedVibration::of_scenario(name, args.seed)?;
-            v.accel_full_scale = args.accel_full_scale;
-            Some(v)
-        }
-        None => None,
-    })
-}
-
-/// The rig file written beside the log: the virtual pendulum (its gravity the recording's
-/// at rest) and the `--params` rig's mounting.
-fn rig_text(args: &Args, out: &Replay, rig: Option<&Rig3dConfig>) -> anyhow::Result<String> {
-    let rig_text = Rig3d {
-        pendulum3d: out.pendulum,
-        mounting: rig.map_or(Mounting::default(), |r| r.mounting),
-    }
-    .to_toml_string()?;
-    Ok(format!(
-        "# Written by `pendtilt replay` for {}: the virtual pendulum, its gravity the\n\
-         # recording's mean |a| at rest.\n{rig_text}",
-        args.input.display()
-    ))
-}
-
-/// A warning when the specific force at rest is not gravity's in size (an accelerometer in
-/// g or mg, read as m/s^2), with the option that fixes it.
-fn accel_unit_doubt(args: &Args, gravity: f64) -> Option<String> {
-    let g = crate::io::STANDARD_GRAVITY;
-    if (0.5 * g..=2.0 * g).contains(&gravity) {
-        return None;
-    }
-    let fix = if (0.5..=2.0).contains(&gravity) {
-        "--accel-unit g"
-    } else if (500.0..=2000.0).contains(&gravity) {
-        "--accel-unit mg"
-    } else {
-        "--accel-unit"
-    };
-    Some(format!(
-        "warning: {}: the specific force at rest is {gravity:.4} in the accelerometer's \
-         unit, not gravity's 9.81 m/s^2: give {fix} (the pendulum was driven as read)",
-        args.input.display()
-    ))
 }
 
 /// The initial rest the replay found (the gyro's bias and gravity), or its absence.

@@ -13,7 +13,9 @@ use anyhow::{bail, Context};
 use indicatif::ProgressBar;
 
 use super::help;
-use crate::io::output::{self as safe, NamedPath, OutputFile};
+use crate::io::output::{NamedPath, OutputFile};
+pub(super) use crate::sim::planar::output::Outputs;
+use crate::sim::planar::overrides::Overrides;
 use crate::sim::planar::{self, output, Scenario, Simulator};
 
 /// Seed used when neither `--seed` nor the scenario TOML gives one.
@@ -146,12 +148,35 @@ pub fn resolve(args: &Args) -> anyhow::Result<(Scenario, u64)> {
     if let Some(path) = &o.rig {
         s.pendulum = planar::load_rig(path)?;
     }
-    apply_rig_and_timing(&mut s, args);
-    apply_motion_and_vibration(&mut s, o)?;
-    apply_sensors(&mut s, o)?;
+    overrides(args).apply(&mut s)?;
     s.validate()?;
     super::simulate::at_least_one_row(s.duration, s.rate, s.rows())?;
     Ok((s, args.seed.or(file_seed).unwrap_or(DEFAULT_SEED)))
+}
+
+/// The changes to the scenario the options give.
+fn overrides(args: &Args) -> Overrides {
+    let o = &args.settings;
+    Overrides {
+        mass: o.mass,
+        length: o.length,
+        inertia: o.inertia,
+        damping: o.damping,
+        pivot_offset: o.pivot_offset,
+        duration: args.duration,
+        rate: args.rate,
+        substeps: o.substeps,
+        amplitude: o.amplitude,
+        frequency: o.frequency,
+        engine_hz: o.engine_hz,
+        vibration_scale: o.vibration_scale,
+        accel_mount: o.accel_mount.clone(),
+        encoder_bits: o.encoder_bits,
+        set: o.set.clone(),
+        no_noise: o.no_noise,
+        ideal_sensors: o.ideal_sensors,
+        no_vibration: o.no_vibration,
+    }
 }
 
 /// The resolved pendulum's doubtful lengths ([`crate::config::doubt_length`], the check
@@ -224,88 +249,6 @@ pub fn unit_doubts(args: &Args, s: &Scenario) -> Vec<String> {
         out.extend(d);
     }
     out
-}
-
-/// The pendulum's and the timing's overrides.
-fn apply_rig_and_timing(s: &mut Scenario, args: &Args) {
-    let o = &args.settings;
-    let p = &mut s.pendulum;
-    for (flag, v) in [
-        (&mut p.mass, o.mass),
-        (&mut p.length, o.length),
-        (&mut p.inertia, o.inertia),
-        (&mut p.damping, o.damping),
-        (&mut p.pivot_offset, o.pivot_offset),
-    ] {
-        if let Some(v) = v {
-            *flag = v;
-        }
-    }
-    if let Some(d) = args.duration {
-        s.duration = d;
-    }
-    if let Some(r) = args.rate {
-        s.rate = r;
-    }
-    if let Some(n) = o.substeps {
-        s.substeps = n;
-    }
-}
-
-/// The motion's and the vibration's overrides.
-fn apply_motion_and_vibration(s: &mut Scenario, o: &Settings) -> anyhow::Result<()> {
-    if let Some(a) = o.amplitude {
-        s.motion.set_amplitude(a);
-    }
-    if let Some(f) = o.frequency {
-        match &mut s.motion {
-            planar::motion::Motion::Sine(m) => m.frequency = f,
-            m => bail!(
-                "--frequency applies to the sine motion, this scenario's motion is '{}' \
-                 (use --set motion.KEY=VALUE)",
-                m.kind()
-            ),
-        }
-    }
-    if let Some(hz) = o.engine_hz {
-        if s.vibration.harmonics.is_empty() {
-            bail!("--engine-hz: this scenario has no vibration harmonics");
-        }
-        s.vibration.set_engine_frequency(hz);
-    }
-    if let Some(k) = o.vibration_scale {
-        if !(k.is_finite() && k >= 0.0) {
-            bail!("--vibration-scale: must be >= 0, got {k}");
-        }
-        s.vibration.scale(k);
-    }
-    Ok(())
-}
-
-/// The sensors' overrides, `--set`, then the switches that clear noise or vibration.
-fn apply_sensors(s: &mut Scenario, o: &Settings) -> anyhow::Result<()> {
-    if let Some(m) = &o.accel_mount {
-        let &[x, y] = m.as_slice() else {
-            bail!("--accel-mount: give X,Y in metres, e.g. 0.02,-0.1 (got {m:?})");
-        };
-        s.sensors.accel.mount = [x, y];
-    }
-    if let Some(b) = o.encoder_bits {
-        s.sensors.encoder.bits = b;
-    }
-    for a in &o.set {
-        s.set(a)?;
-    }
-    if o.no_noise {
-        s.sensors = std::mem::take(&mut s.sensors).without_noise();
-    }
-    if o.ideal_sensors {
-        s.sensors = std::mem::take(&mut s.sensors).ideal();
-    }
-    if o.no_vibration {
-        s.vibration = Default::default();
-    }
-    Ok(())
 }
 
 /// A progress bar on standard error for `total` rows (hidden when quiet or not a terminal).
@@ -387,22 +330,8 @@ fn write_outputs(
     Ok(n)
 }
 
-/// What one run writes: the texts of the rig and scenario files, the inputs the outputs must
-/// not overwrite, and the log writer.
-pub(super) struct Outputs<'a, F> {
-    /// The rig TOML.
-    pub rig_text: String,
-    /// The resolved scenario TOML.
-    pub scenario_text: String,
-    /// Files read (`--config`, `--rig`) that no output may overwrite.
-    pub inputs: Vec<NamedPath<'a>>,
-    /// Writes the log into the (uncommitted) file; returns its rows.
-    pub write_log: F,
-}
-
-/// Writes the log, the rig file and the scenario file (refusing an output that is an input
-/// or another output) and renames them into place only when all were written. Returns the
-/// rows written and the rig and scenario paths shown in the summary.
+/// Writes the log, the rig file and the scenario file ([`output::write_files`]). Returns
+/// the rows written and the rig and scenario paths shown in the summary.
 pub(super) fn write_files<F>(
     args: &Args,
     out: Outputs<'_, F>,
@@ -413,42 +342,7 @@ where
     let Some(log) = args.output.clone() else {
         bail!("give -o LOG.csv");
     };
-    // On standard output or a device the log has no "beside": the rig file is written
-    // only when --rig-out names it, the scenario file not at all.
-    let no_beside = safe::has_no_beside(&log);
-    let rig_path = match &args.rig_out {
-        Some(p) => Some(p.clone()),
-        None => (!no_beside).then(|| output::rig_path_for(&log)),
-    };
-    let scen_path = (!no_beside).then(|| output::scenario_path_for(&log));
-    let mut outputs = vec![NamedPath::new("-o", &log)];
-    outputs.extend(rig_path.as_deref().map(|p| NamedPath::new("--rig-out", p)));
-    outputs.extend(
-        scen_path
-            .as_deref()
-            .map(|p| NamedPath::new("the scenario file written beside -o,", p)),
-    );
-    safe::check_distinct(&out.inputs, &outputs)?;
-    let files = outputs
-        .iter()
-        .map(|o| OutputFile::create(o.option, o.path))
-        .collect::<Result<Vec<_>, _>>()?;
-    let texts = [out.rig_text, out.scenario_text];
-    let n = (out.write_log)(&files[0])
-        .and_then(|n| {
-            for (f, text) in files[1..].iter().zip(&texts) {
-                f.write_all(text.as_bytes())?;
-            }
-            Ok(n)
-        })
-        .with_context(|| {
-            let not: Vec<String> = outputs.iter().map(|o| safe::not_written(o.path)).collect();
-            not.join("; ")
-        })?;
-    // Every file was written: only now do they replace any earlier ones.
-    for f in files {
-        f.commit()?;
-    }
+    let (n, rig_path, scen_path) = output::write_files(&log, args.rig_out.as_deref(), out)?;
     let shown = |p: &Option<PathBuf>, none: &str| {
         p.as_ref()
             .map_or(none.to_string(), |p| p.display().to_string())

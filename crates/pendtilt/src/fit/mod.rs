@@ -64,6 +64,7 @@ pub mod problem;
 mod report;
 mod run;
 mod settings;
+pub mod steps;
 
 pub use lm::LmSettings;
 pub use problem::{fixed_cutoff, KinematicsSettings, Problem};

@@ -8,6 +8,8 @@ use crate::io::{Column, LogReader};
 use crate::sensors::Inputs;
 use crate::units::Finding;
 
+pub mod batch;
+
 mod clips;
 pub(crate) use clips::ClipFinder;
 

@@ -22,6 +22,7 @@ use crate::sim::spatial::{JointState, LogRow3d, Pendulum3d, Scenario3d, VehicleM
 
 pub mod benchmark;
 pub mod drive;
+pub mod output;
 pub mod source;
 
 pub use drive::{Drive, Rest};

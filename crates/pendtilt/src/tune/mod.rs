@@ -56,6 +56,7 @@ mod filters;
 pub mod forcing;
 pub mod gyro;
 pub mod kalman;
+pub mod log;
 mod notes;
 pub mod reference;
 pub mod rig_file;

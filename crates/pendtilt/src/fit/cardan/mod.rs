@@ -37,6 +37,7 @@ pub mod problem;
 mod report;
 pub mod rig;
 mod run;
+pub mod steps;
 
 pub use drive::Log3dColumns;
 pub use plausibility::{check, Implausible3d};

@@ -25,6 +25,7 @@ pub mod dynamics;
 pub mod integrator;
 pub mod motion;
 pub mod output;
+pub mod overrides;
 pub mod scenario;
 pub mod sensors;
 pub mod sines;

@@ -1,7 +1,12 @@
-//! Writing a run: the CSV log of MODEL.md section 5, streamed row by row.
+//! Writing a run: the CSV log of MODEL.md section 5, streamed row by row, and the log, rig
+//! and scenario files of a run written together.
 
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+
+use crate::io::output::{self as safe, NamedPath, OutputFile};
 
 use super::{SimRow, Simulator};
 
@@ -110,6 +115,69 @@ fn sibling(log: &Path, ext: &str) -> PathBuf {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "log".into());
     log.with_file_name(format!("{stem}.{ext}"))
+}
+
+/// What one run writes: the texts of the rig and scenario files, the inputs the outputs must
+/// not overwrite, and the log writer.
+pub struct Outputs<'a, F> {
+    /// The rig TOML.
+    pub rig_text: String,
+    /// The resolved scenario TOML.
+    pub scenario_text: String,
+    /// Files read (`--config`, `--rig`) that no output may overwrite.
+    pub inputs: Vec<NamedPath<'a>>,
+    /// Writes the log into the (uncommitted) file; returns its rows.
+    pub write_log: F,
+}
+
+/// Writes the log to `log`, the rig file to `rig_out` (default: beside the log) and the
+/// scenario file beside the log, refusing an output that is an input or another output, and
+/// renames them into place only when all were written. On standard output or a device the
+/// log has no "beside": the rig file is written only when `rig_out` names it, the scenario
+/// file not at all. Returns the rows written and the rig and scenario paths written.
+pub fn write_files<F>(
+    log: &Path,
+    rig_out: Option<&Path>,
+    out: Outputs<'_, F>,
+) -> anyhow::Result<(u64, Option<PathBuf>, Option<PathBuf>)>
+where
+    F: FnOnce(&OutputFile) -> anyhow::Result<u64>,
+{
+    let no_beside = safe::has_no_beside(log);
+    let rig_path = match rig_out {
+        Some(p) => Some(p.to_path_buf()),
+        None => (!no_beside).then(|| rig_path_for(log)),
+    };
+    let scen_path = (!no_beside).then(|| scenario_path_for(log));
+    let mut outputs = vec![NamedPath::new("-o", log)];
+    outputs.extend(rig_path.as_deref().map(|p| NamedPath::new("--rig-out", p)));
+    outputs.extend(
+        scen_path
+            .as_deref()
+            .map(|p| NamedPath::new("the scenario file written beside -o,", p)),
+    );
+    safe::check_distinct(&out.inputs, &outputs)?;
+    let files = outputs
+        .iter()
+        .map(|o| OutputFile::create(o.option, o.path))
+        .collect::<Result<Vec<_>, _>>()?;
+    let texts = [out.rig_text, out.scenario_text];
+    let n = (out.write_log)(&files[0])
+        .and_then(|n| {
+            for (f, text) in files[1..].iter().zip(&texts) {
+                f.write_all(text.as_bytes())?;
+            }
+            Ok(n)
+        })
+        .with_context(|| {
+            let not: Vec<String> = outputs.iter().map(|o| safe::not_written(o.path)).collect();
+            not.join("; ")
+        })?;
+    // Every file was written: only now do they replace any earlier ones.
+    for f in files {
+        f.commit()?;
+    }
+    Ok((n, rig_path, scen_path))
 }
 
 #[cfg(test)]
