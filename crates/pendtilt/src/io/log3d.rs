@@ -31,7 +31,7 @@ const LOG3D_COUNT: usize = {
 };
 
 /// The columns of a 3-D log (MODEL.md 7.6): `t`, then each sensor's of the table
-/// ([`SENSORS`], the required ones first), then [`LOG3D_TAIL`].
+/// ([`SENSORS`], the required ones first), then `speed`, `roll` and `pitch`.
 pub const LOG3D_COLUMNS: [&str; LOG3D_COUNT] = {
     let mut all = ["t"; LOG3D_COUNT];
     let mut k = 1;

@@ -60,7 +60,7 @@ impl TuneLog {
 }
 
 /// What the file's first comment lines and standard output say: the log, the target, the
-/// likelihood (or error) before and after each fit ([`fit_lines`]), and whether the time
+/// likelihood (or error) before and after each fit (`fit_lines`), and whether the time
 /// limit cut in. `path` is the log's, `params` the start rig's file (None: the default rig),
 /// `time_limit` the `--time-limit` in seconds.
 pub fn header(
