@@ -68,57 +68,23 @@ fn named(line: &str) -> Vec<String> {
 
 #[test]
 fn no_import_runs_back_up_a_layer() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut files = Vec::new();
-    sources(&src, &mut files);
-    files.sort();
-    let mut wrong = Vec::new();
-    for f in &files {
-        let rel = f.strip_prefix(&src).unwrap();
-        let first = rel
-            .components()
-            .next()
-            .unwrap()
-            .as_os_str()
-            .to_string_lossy();
-        let module = first.trim_end_matches(".rs");
-        let Some(own) = layer_of(module) else {
-            wrong.push(format!(
-                "{}: module `{module}` is in no layer",
-                rel.display()
-            ));
-            continue;
-        };
-        let text = std::fs::read_to_string(f).unwrap();
-        for (k, line) in text.lines().enumerate() {
-            // Unit tests may reach anywhere; the module's own code may not.
-            if line.starts_with("#[cfg(test)]") {
-                break;
-            }
-            if line.trim_start().starts_with("//") {
-                continue;
-            }
-            for m in named(line) {
-                match layer_of(&m) {
-                    Some(l) if l > own => wrong.push(format!(
-                        "{}:{}: `{module}` ({}) imports `{m}` ({}): {}",
-                        rel.display(),
-                        k + 1,
-                        LAYERS[own].0,
-                        LAYERS[l].0,
-                        line.trim()
-                    )),
-                    _ => {}
-                }
+    let (modules, imports) = read_imports();
+    assert!(modules.len() > 100, "read {} files", modules.len());
+    let mut wrong: Vec<String> = modules
+        .iter()
+        .filter(|(_, module)| layer_of(module).is_none())
+        .map(|(file, module)| format!("{file}: module `{module}` is in no layer"))
+        .collect();
+    for i in &imports {
+        if let (Some(own), Some(l)) = (layer_of(&i.importer), layer_of(&i.imported)) {
+            if l > own {
+                wrong.push(format!(
+                    "{}: `{}` ({}) imports `{}` ({}): {}",
+                    i.at, i.importer, LAYERS[own].0, i.imported, LAYERS[l].0, i.line
+                ));
             }
         }
     }
-    assert!(
-        files.len() > 100,
-        "read {} files from {}",
-        files.len(),
-        src.display()
-    );
     assert!(
         wrong.is_empty(),
         "imports running back up:\n{}",
@@ -142,18 +108,28 @@ fn the_reader_of_imports_finds_plain_and_grouped_paths() {
     assert!(layer_of("cli") > layer_of("report") && layer_of("sensors") < layer_of("io"));
 }
 
-/// Every `(importer, imported, where)` of the crate's own code (unit tests left out),
-/// by top-level module.
-fn edges() -> Vec<(String, String, String)> {
+/// One import of another top-level module by the crate's own code.
+struct Import {
+    importer: String,
+    imported: String,
+    /// `file:line`.
+    at: String,
+    line: String,
+}
+
+/// Every source file with its top-level module, and every import of another top-level
+/// module in the crate's own code (unit tests may reach anywhere, comments say nothing).
+fn read_imports() -> (Vec<(String, String)>, Vec<Import>) {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut files = Vec::new();
     sources(&src, &mut files);
     files.sort();
-    let mut out = Vec::new();
+    let (mut modules, mut imports) = (Vec::new(), Vec::new());
     for f in &files {
         let rel = f.strip_prefix(&src).unwrap();
         let first = rel.components().next().unwrap().as_os_str();
         let module = first.to_string_lossy().trim_end_matches(".rs").to_string();
+        modules.push((rel.display().to_string(), module.clone()));
         let text = std::fs::read_to_string(f).unwrap();
         for (k, line) in text.lines().enumerate() {
             if line.starts_with("#[cfg(test)]") {
@@ -163,13 +139,28 @@ fn edges() -> Vec<(String, String, String)> {
                 continue;
             }
             for m in named(line) {
-                if m != module && layer_of(&m).is_some() {
-                    out.push((module.clone(), m, format!("{}:{}", rel.display(), k + 1)));
+                if m != module {
+                    imports.push(Import {
+                        importer: module.clone(),
+                        imported: m,
+                        at: format!("{}:{}", rel.display(), k + 1),
+                        line: line.trim().to_string(),
+                    });
                 }
             }
         }
     }
-    out
+    (modules, imports)
+}
+
+/// Every `(importer, imported, where)` between the layers' modules.
+fn edges() -> Vec<(String, String, String)> {
+    let (_, imports) = read_imports();
+    imports
+        .into_iter()
+        .filter(|i| layer_of(&i.imported).is_some())
+        .map(|i| (i.importer, i.imported, i.at))
+        .collect()
 }
 
 /// Within a layer modules may import each other one way only: two that import each

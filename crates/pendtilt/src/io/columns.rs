@@ -69,11 +69,15 @@ impl Column {
         self as usize
     }
 
-    /// The sensor whose reading this column holds (`None`: the time and the truth).
+    /// The sensor whose reading this column holds (`None`: the time and the truth). A
+    /// `match`, not a search of the table by name: the planar pass asks it per row.
     pub fn sensor(self) -> Option<Sensor> {
-        Sensor::ALL
-            .into_iter()
-            .find(|s| s.spec().planar_columns.contains(&self.name()))
+        match self {
+            Column::Phi => Some(Sensor::Encoder),
+            Column::Gyro => Some(Sensor::Gyro),
+            Column::Ax | Column::Ay => Some(Sensor::Accel),
+            Column::T | Column::Theta => None,
+        }
     }
 
     /// True when `present` holds every column of `sensor`: a planar log provides it

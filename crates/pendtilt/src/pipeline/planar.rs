@@ -414,9 +414,10 @@ impl Pass {
         self.check_rate(rec.t, bank, false)?;
         bank.update_clipped(&rec.sample, clipped, &mut self.est);
         let i = &rec.issues;
-        let bad = Inputs::from_fn(|s| {
-            (Column::ALL.into_iter()).any(|c| c.sensor() == Some(s) && i.is_implausible(c))
-        });
+        let bad = (Column::ALL.into_iter())
+            .filter(|c| i.is_implausible(*c))
+            .filter_map(Column::sensor)
+            .fold(Inputs::NONE, Inputs::with);
         bank.flag_implausible(bad, &mut self.est);
         if let Some(r) = bank.restarted() {
             if let Some(w) = self.restart_warning(rec.line, r, bank.settings().restart_gap) {

@@ -469,3 +469,17 @@ fn a_trailing_comma_on_every_line_names_its_unnamed_field() {
     assert_eq!(records.len(), 2);
     assert!(warnings.is_empty(), "{warnings:?}");
 }
+
+/// Each column's sensor is the one whose planar columns name it in the sensor table.
+#[test]
+fn each_columns_sensor_is_the_tables() {
+    use pendtilt::io::Column;
+    use pendtilt::sensors::Sensor;
+    for c in Column::ALL {
+        let by_table =
+            (Sensor::ALL.into_iter()).find(|s| s.spec().planar_columns.contains(&c.name()));
+        assert_eq!(c.sensor(), by_table, "{c}");
+    }
+    assert!(Column::provides(Sensor::Accel, |c| c != Column::T));
+    assert!(!Column::provides(Sensor::Accel, |c| c != Column::Ay));
+}
